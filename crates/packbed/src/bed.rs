@@ -1,0 +1,103 @@
+//! The `Bed`: the one hand-off type between deposition, file readers, analysis and
+//! renderers. Particles are stored as structure of arrays, in deposition order.
+
+use crate::container::Container;
+use crate::math::{ball_volume, Real, Vector};
+use crate::species::Species;
+
+/// A packed bed: the box and its particles (spheres or beads of chains).
+#[derive(Clone, Debug)]
+pub struct Bed<const D: usize> {
+    /// The box.
+    pub container: Container<D>,
+    /// Centre of each particle.
+    pub centres: Vec<Vector<D>>,
+    /// Radius of each particle.
+    pub radii: Vec<Real>,
+    /// Species index of each particle (into `species`).
+    pub species: Vec<u32>,
+    /// Body index of each particle (beads of one chain share it).
+    pub bodies: Vec<u32>,
+    /// The species of this bed (names and sizes, for reports).
+    pub species_info: Vec<Species>,
+}
+
+/// A bed of either dimension: the one place the dimension is chosen at run time.
+#[derive(Clone, Debug)]
+pub enum AnyBed {
+    /// A 2D bed of discs.
+    D2(Bed<2>),
+    /// A 3D bed of spheres.
+    D3(Bed<3>),
+}
+
+impl<const D: usize> Bed<D> {
+    /// An empty bed in this container.
+    pub fn new(container: Container<D>, species_info: Vec<Species>) -> Self {
+        Bed {
+            container,
+            centres: Vec::new(),
+            radii: Vec::new(),
+            species: Vec::new(),
+            bodies: Vec::new(),
+            species_info,
+        }
+    }
+
+    /// Number of particles (spheres or beads).
+    pub fn len(&self) -> usize {
+        self.centres.len()
+    }
+
+    /// True when the bed has no particle.
+    pub fn is_empty(&self) -> bool {
+        self.centres.is_empty()
+    }
+
+    /// Number of bodies (a sphere is a body of one bead).
+    pub fn body_count(&self) -> usize {
+        self.bodies.iter().max().map_or(0, |&b| b as usize + 1)
+    }
+
+    /// Appends a particle that is a body of its own.
+    pub fn push(&mut self, centre: Vector<D>, radius: Real, species: u32) {
+        let body = self.body_count() as u32;
+        self.push_bead(centre, radius, species, body);
+    }
+
+    /// Appends a particle belonging to body `body`.
+    pub fn push_bead(&mut self, centre: Vector<D>, radius: Real, species: u32, body: u32) {
+        self.centres.push(centre);
+        self.radii.push(radius);
+        self.species.push(species);
+        self.bodies.push(body);
+    }
+
+    /// Largest particle radius (0 for an empty bed).
+    pub fn r_max(&self) -> Real {
+        self.radii.iter().copied().fold(0.0, Real::max)
+    }
+
+    /// Smallest particle radius (0 for an empty bed).
+    pub fn r_min(&self) -> Real {
+        if self.radii.is_empty() {
+            0.0
+        } else {
+            self.radii.iter().copied().fold(Real::INFINITY, Real::min)
+        }
+    }
+
+    /// Height of the highest particle top (0 for an empty bed).
+    pub fn top(&self) -> Real {
+        self.centres
+            .iter()
+            .zip(&self.radii)
+            .map(|(c, r)| c.height() + r)
+            .fold(0.0, Real::max)
+    }
+
+    /// Total solid volume (area in 2D), each particle counted whole.
+    pub fn solid_volume(&self) -> Real {
+        self.radii.iter().map(|&r| ball_volume::<D>(r)).sum()
+    }
+}

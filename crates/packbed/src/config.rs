@@ -1,0 +1,650 @@
+//! The run configuration: the TOML schema of `spec/interfaces.md` (strict: unknown
+//! keys are errors) and its validation into a [`Plan`] the engine can run.
+
+use crate::container::Container;
+use crate::error::{Error, Result};
+use crate::math::{Real, Vector};
+use crate::species::{Shape, SizeDist, Species};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// Deposition under gravity, or random sequential addition.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    /// Sequential drop-and-roll deposition.
+    #[default]
+    Deposit,
+    /// Random sequential addition (no gravity).
+    Rsa,
+}
+
+/// How the floor is prepared before deposition.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BaseLayerKind {
+    /// Random saturated layer on the floor, then a gap-filling sweep.
+    #[default]
+    Random,
+    /// Bare floor.
+    None,
+}
+
+/// The whole configuration file, as written by the user (defaults filled in).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Config {
+    /// 2 or 3.
+    #[serde(default = "default_dim")]
+    pub dim: u8,
+    /// Seed of the run's random generator.
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    /// `deposit` or `rsa`.
+    #[serde(default)]
+    pub mode: Mode,
+    /// The container.
+    #[serde(default, rename = "box")]
+    pub container: BoxConfig,
+    /// When to stop, and the base layer.
+    #[serde(default)]
+    pub fill: FillConfig,
+    /// The species, at least one.
+    #[serde(default = "default_species")]
+    pub species: Vec<SpeciesConfig>,
+    /// Analysis settings.
+    #[serde(default)]
+    pub analysis: AnalysisConfig,
+}
+
+/// `[box]`: a preset, a cube of `diameters` large diameters, or explicit sizes.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoxConfig {
+    /// `"thesis"` (the default when nothing else is given).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub preset: Option<String>,
+    /// A cube (square in 2D) of side `diameters × 2 r_max`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub diameters: Option<Real>,
+    /// Explicit width (x).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub width: Option<Real>,
+    /// Explicit depth (y, 3D only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth: Option<Real>,
+    /// Explicit height (roof).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<Real>,
+    /// Periodic side boundaries.
+    #[serde(default)]
+    pub periodic: bool,
+}
+
+/// `[fill]`: stop at the roof or after a count; base layer.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FillConfig {
+    /// `"roof"` (default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub until: Option<String>,
+    /// Place exactly this many particles (the roof is ignored).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub count: Option<u64>,
+    /// Overflows past the roof tolerated before stopping.
+    #[serde(default)]
+    pub roof_misses: u64,
+    /// `random` or `none`.
+    #[serde(default)]
+    pub base_layer: BaseLayerKind,
+}
+
+impl Default for FillConfig {
+    fn default() -> Self {
+        FillConfig {
+            until: None,
+            count: None,
+            roof_misses: 0,
+            base_layer: BaseLayerKind::Random,
+        }
+    }
+}
+
+/// `[[species]]`: one species.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpeciesConfig {
+    /// Optional name used in reports.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Fixed radius (or give `size`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<Real>,
+    /// A size distribution instead of a fixed radius.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size: Option<SizeConfig>,
+    /// Number ratio.
+    #[serde(default = "default_ratio")]
+    pub ratio: Real,
+    /// `sphere` (default) or `chain`.
+    #[serde(default = "default_shape")]
+    pub shape: String,
+    /// Beads per chain.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beads: Option<u32>,
+    /// Bead centre distance in radii.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spacing: Option<Real>,
+    /// Chain orientation on entry.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orientation: Option<String>,
+}
+
+/// `size = { dist = "...", ... }` or `size = { table = "psd.csv" }`.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SizeConfig {
+    /// `normal`, `lognormal` or `uniform`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dist: Option<String>,
+    /// Normal: mean radius.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mean: Option<Real>,
+    /// Normal: standard deviation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sd: Option<Real>,
+    /// Lognormal: median radius.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub median: Option<Real>,
+    /// Lognormal: geometric standard deviation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gsd: Option<Real>,
+    /// Uniform: smallest radius.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min: Option<Real>,
+    /// Uniform: largest radius.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max: Option<Real>,
+    /// CSV file of `radius,weight` rows (relative to the config file).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub table: Option<PathBuf>,
+}
+
+/// `[analysis]`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnalysisConfig {
+    /// Contact tolerance relative to the smaller radius.
+    #[serde(default = "default_contact_tol")]
+    pub contact_tol: Real,
+    /// Percolation: particles with `r >=` this are large (default: largest class).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub large_radius: Option<Real>,
+}
+
+impl Default for AnalysisConfig {
+    fn default() -> Self {
+        AnalysisConfig {
+            contact_tol: default_contact_tol(),
+            large_radius: None,
+        }
+    }
+}
+
+fn default_dim() -> u8 {
+    3
+}
+fn default_seed() -> u64 {
+    1
+}
+fn default_ratio() -> Real {
+    1.0
+}
+fn default_shape() -> String {
+    "sphere".into()
+}
+fn default_contact_tol() -> Real {
+    1e-6
+}
+fn default_species() -> Vec<SpeciesConfig> {
+    [20.0, 10.0]
+        .iter()
+        .map(|&r| SpeciesConfig {
+            name: None,
+            radius: Some(r),
+            size: None,
+            ratio: 1.0,
+            shape: default_shape(),
+            beads: None,
+            spacing: None,
+            orientation: None,
+        })
+        .collect()
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config {
+            dim: default_dim(),
+            seed: default_seed(),
+            mode: Mode::default(),
+            container: BoxConfig::default(),
+            fill: FillConfig::default(),
+            species: default_species(),
+            analysis: AnalysisConfig::default(),
+        }
+    }
+}
+
+impl Config {
+    /// Parses a TOML configuration; `origin` names the file in error messages.
+    pub fn from_toml(text: &str, origin: &str) -> Result<Config> {
+        toml::from_str(text).map_err(|e| {
+            let msg = e.message().to_string();
+            let at = e
+                .span()
+                .map(|s| {
+                    let line = text[..s.start.min(text.len())].matches('\n').count() + 1;
+                    format!(":{line}")
+                })
+                .unwrap_or_default();
+            Error::config(format!("{origin}{at}: {msg}"))
+        })
+    }
+
+    /// Reads and parses a TOML configuration file.
+    pub fn from_file(path: &Path) -> Result<Config> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let mut c = Config::from_toml(&text, &path.display().to_string())?;
+        // PSD tables are relative to the config file.
+        if let Some(dir) = path.parent() {
+            for s in &mut c.species {
+                if let Some(SizeConfig {
+                    table: Some(t), ..
+                }) = &mut s.size
+                {
+                    if t.is_relative() {
+                        *t = dir.join(&*t);
+                    }
+                }
+            }
+        }
+        Ok(c)
+    }
+}
+
+/// When deposition stops.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Fill {
+    /// Until a particle would stick out above the roof, `misses` overflows tolerated.
+    Roof {
+        /// Overflows (each discarded) tolerated before stopping.
+        misses: u64,
+    },
+    /// Exactly this many particles (spheres or bodies), roof ignored.
+    Count(u64),
+}
+
+/// A validated configuration in the engine's terms, for dimension `D`.
+#[derive(Clone, Debug)]
+pub struct Plan<const D: usize> {
+    /// Seed of the run.
+    pub seed: u64,
+    /// Deposit or RSA.
+    pub mode: Mode,
+    /// The box.
+    pub container: Container<D>,
+    /// Stop rule.
+    pub fill: Fill,
+    /// Base layer.
+    pub base_layer: BaseLayerKind,
+    /// The species, in config order.
+    pub species: Vec<Species>,
+    /// Contact tolerance relative to the smaller radius.
+    pub contact_tol: Real,
+    /// Percolation threshold radius.
+    pub large_radius: Real,
+}
+
+fn positive(v: Real, what: &str) -> Result<Real> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(Error::config(format!("{what} must be a positive number, got {v}")))
+    }
+}
+
+impl SpeciesConfig {
+    fn resolve(&self, index: usize) -> Result<Species> {
+        let at = format!("species[{index}]");
+        let size = match (&self.radius, &self.size) {
+            (Some(_), Some(_)) => {
+                return Err(Error::config(format!(
+                    "{at}: give either `radius` or `size`, not both"
+                )))
+            }
+            (None, None) => {
+                return Err(Error::config(format!(
+                    "{at}: missing `radius` (or a `size` distribution)"
+                )))
+            }
+            (Some(r), None) => SizeDist::Fixed(positive(*r, &format!("{at}.radius"))?),
+            (None, Some(s)) => s.resolve(&at)?,
+        };
+        if !(self.ratio.is_finite() && self.ratio >= 0.0) {
+            return Err(Error::config(format!(
+                "{at}.ratio must be a non-negative number, got {}",
+                self.ratio
+            )));
+        }
+        let shape = match self.shape.as_str() {
+            "sphere" | "disc" => {
+                if self.beads.is_some_and(|b| b != 1) {
+                    return Err(Error::config(format!(
+                        "{at}: `beads` needs shape = \"chain\""
+                    )));
+                }
+                Shape::Sphere
+            }
+            "chain" => {
+                let beads = self.beads.unwrap_or(1);
+                if beads == 0 {
+                    return Err(Error::config(format!("{at}.beads must be at least 1")));
+                }
+                let spacing = positive(self.spacing.unwrap_or(1.0), &format!("{at}.spacing"))?;
+                if beads == 1 {
+                    Shape::Sphere
+                } else {
+                    Shape::Chain { beads, spacing }
+                }
+            }
+            other => {
+                return Err(Error::config(format!(
+                    "{at}.shape: unknown shape `{other}` (expected \"sphere\" or \"chain\")"
+                )))
+            }
+        };
+        if let Some(o) = &self.orientation {
+            if !["vertical", "random", "horizontal"].contains(&o.as_str()) {
+                return Err(Error::config(format!(
+                    "{at}.orientation: unknown `{o}` (expected vertical, random or horizontal)"
+                )));
+            }
+        }
+        Ok(Species {
+            name: self.name.clone().unwrap_or_default(),
+            shape,
+            size,
+            ratio: self.ratio,
+        })
+    }
+}
+
+impl SizeConfig {
+    fn resolve(&self, at: &str) -> Result<SizeDist> {
+        let need = |v: Option<Real>, key: &str| -> Result<Real> {
+            let v = v.ok_or_else(|| Error::config(format!("{at}.size: missing `{key}`")))?;
+            if v.is_finite() && v >= 0.0 {
+                Ok(v)
+            } else {
+                Err(Error::config(format!(
+                    "{at}.size.{key} must be a non-negative number, got {v}"
+                )))
+            }
+        };
+        if let Some(t) = &self.table {
+            if self.dist.is_some() {
+                return Err(Error::config(format!(
+                    "{at}.size: give either `table` or `dist`, not both"
+                )));
+            }
+            return SizeDist::read_table(t);
+        }
+        let dist = self.dist.as_deref().ok_or_else(|| {
+            Error::config(format!("{at}.size: missing `dist` (normal, lognormal, uniform) or `table`"))
+        })?;
+        let d = match dist {
+            "normal" => {
+                let mean = positive(need(self.mean, "mean")?, &format!("{at}.size.mean"))?;
+                SizeDist::Normal {
+                    mean,
+                    sd: need(self.sd, "sd")?,
+                }
+            }
+            "lognormal" => {
+                let median = positive(need(self.median, "median")?, &format!("{at}.size.median"))?;
+                let gsd = need(self.gsd, "gsd")?;
+                if gsd < 1.0 {
+                    return Err(Error::config(format!(
+                        "{at}.size.gsd must be >= 1 (a geometric standard deviation), got {gsd}"
+                    )));
+                }
+                SizeDist::Lognormal { median, gsd }
+            }
+            "uniform" => {
+                let min = positive(need(self.min, "min")?, &format!("{at}.size.min"))?;
+                let max = need(self.max, "max")?;
+                if max < min {
+                    return Err(Error::config(format!(
+                        "{at}.size: max ({max}) is smaller than min ({min})"
+                    )));
+                }
+                SizeDist::Uniform { min, max }
+            }
+            other => {
+                return Err(Error::config(format!(
+                    "{at}.size.dist: unknown distribution `{other}` (expected normal, lognormal or uniform)"
+                )))
+            }
+        };
+        Ok(d)
+    }
+}
+
+/// Bytes of memory a run may use per particle, used to refuse impossible counts.
+const BYTES_PER_PARTICLE_BUDGET: u64 = 256;
+
+impl Config {
+    /// The largest particle extent that sets the thesis box: the largest radius.
+    fn r_max(species: &[Species]) -> Real {
+        species.iter().map(|s| s.size.bounds().1).fold(0.0, Real::max)
+    }
+
+    /// Validates the configuration for dimension `D` (which must equal `self.dim`).
+    pub fn plan<const D: usize>(&self) -> Result<Plan<D>> {
+        assert_eq!(D, self.dim as usize, "plan::<D>() called for another dimension");
+        if self.species.is_empty() {
+            return Err(Error::config("at least one [[species]] is needed"));
+        }
+        let species = self
+            .species
+            .iter()
+            .enumerate()
+            .map(|(i, s)| s.resolve(i))
+            .collect::<Result<Vec<_>>>()?;
+        let total: Real = species.iter().map(|s| s.ratio).sum();
+        if total <= 0.0 {
+            return Err(Error::config("the species ratios sum to zero"));
+        }
+        let species = name_species(species);
+        let r_max = Self::r_max(&species);
+        let container = self.container.resolve::<D>(&species, r_max)?;
+        let fill = match (&self.fill.until, self.fill.count) {
+            (Some(_), Some(_)) => {
+                return Err(Error::config(
+                    "fill: give either `until = \"roof\"` or `count`, not both",
+                ))
+            }
+            (_, Some(0)) => return Err(Error::config("fill.count must be at least 1")),
+            (_, Some(n)) => Fill::Count(n),
+            (Some(u), None) if u != "roof" => {
+                return Err(Error::config(format!(
+                    "fill.until: unknown value `{u}` (expected \"roof\", or use `count = N`)"
+                )))
+            }
+            _ => Fill::Roof {
+                misses: self.fill.roof_misses,
+            },
+        };
+        let r_min = species
+            .iter()
+            .map(|s| s.size.bounds().0)
+            .fold(Real::INFINITY, Real::min);
+        // Refuse requests that cannot fit in memory, before allocating anything.
+        let estimate = match fill {
+            Fill::Count(n) => n as Real,
+            Fill::Roof { .. } => {
+                container.volume() / crate::math::ball_volume::<D>(r_min) + 1.0
+            }
+        };
+        let budget = memory_budget_bytes() as Real / BYTES_PER_PARTICLE_BUDGET as Real;
+        if estimate > budget {
+            return Err(Error::Impossible(format!(
+                "this run would place up to {estimate:.3e} particles, more than this machine's memory holds (about {budget:.3e})"
+            )));
+        }
+        let tol = self.analysis.contact_tol;
+        if !(tol.is_finite() && tol >= 0.0) {
+            return Err(Error::config(format!(
+                "analysis.contact_tol must be a non-negative number, got {tol}"
+            )));
+        }
+        let large_radius = match self.analysis.large_radius {
+            Some(r) => positive(r, "analysis.large_radius")?,
+            None => r_max,
+        };
+        Ok(Plan {
+            seed: self.seed,
+            mode: self.mode,
+            container,
+            fill,
+            base_layer: self.fill.base_layer,
+            species,
+            contact_tol: tol,
+            large_radius,
+        })
+    }
+}
+
+/// Gives unnamed species a name: "large"/"small" for two sizes, else "s0", "s1", ….
+fn name_species(mut species: Vec<Species>) -> Vec<Species> {
+    let unnamed = species.iter().all(|s| s.name.is_empty());
+    if unnamed && species.len() == 2 {
+        let (a, b) = (species[0].size.bounds().1, species[1].size.bounds().1);
+        if a != b {
+            let (big, small) = if a > b { (0, 1) } else { (1, 0) };
+            species[big].name = "large".into();
+            species[small].name = "small".into();
+            return species;
+        }
+    }
+    for (i, s) in species.iter_mut().enumerate() {
+        if s.name.is_empty() {
+            s.name = format!("s{i}");
+        }
+    }
+    species
+}
+
+/// Physical memory of this machine (from /proc/meminfo), or 8 GiB if unknown.
+pub fn memory_budget_bytes() -> u64 {
+    std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|m| {
+            m.lines()
+                .find(|l| l.starts_with("MemTotal:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|kb| kb.parse::<u64>().ok())
+        })
+        .map(|kb| kb * 1024)
+        .unwrap_or(8 << 30)
+}
+
+impl BoxConfig {
+    fn resolve<const D: usize>(&self, species: &[Species], r_max: Real) -> Result<Container<D>> {
+        let explicit = self.width.is_some() || self.depth.is_some() || self.height.is_some();
+        let chosen = [self.preset.is_some(), self.diameters.is_some(), explicit]
+            .iter()
+            .filter(|&&b| b)
+            .count();
+        if chosen > 1 {
+            return Err(Error::config(
+                "box: give one of `preset`, `diameters` or `width`/`depth`/`height`",
+            ));
+        }
+        let mut size = Vector::<D>::zero();
+        if let Some(n) = self.diameters {
+            let n = positive(n, "box.diameters")?;
+            for k in 0..D {
+                size[k] = n * 2.0 * r_max;
+            }
+        } else if explicit {
+            let w = positive(
+                self.width.ok_or_else(|| Error::config("box: missing `width`"))?,
+                "box.width",
+            )?;
+            let h = positive(
+                self.height.ok_or_else(|| Error::config("box: missing `height`"))?,
+                "box.height",
+            )?;
+            size[0] = w;
+            size[D - 1] = h;
+            if D == 3 {
+                size[1] = positive(self.depth.unwrap_or(w), "box.depth")?;
+            } else if self.depth.is_some() {
+                return Err(Error::config("box.depth is only for dim = 3"));
+            }
+        } else {
+            match self.preset.as_deref().unwrap_or("thesis") {
+                "thesis" => {
+                    // 2D: 15 large diameters; 3D: 6. 2D chains stretch the box by beads/2.
+                    let mut side = if D == 2 { 30.0 * r_max } else { 12.0 * r_max };
+                    if D == 2 {
+                        let beads = species
+                            .iter()
+                            .map(|s| match s.shape {
+                                crate::species::Shape::Chain { beads, .. } => beads,
+                                _ => 1,
+                            })
+                            .max()
+                            .unwrap_or(1);
+                        if beads > 2 {
+                            side *= beads as Real / 2.0;
+                        }
+                    }
+                    for k in 0..D {
+                        size[k] = side;
+                    }
+                }
+                other => {
+                    return Err(Error::config(format!(
+                        "box.preset: unknown preset `{other}` (expected \"thesis\")"
+                    )))
+                }
+            }
+        }
+        for k in 0..D {
+            if size[k] < 2.0 * r_max {
+                return Err(Error::config(format!(
+                    "the box ({}) is smaller than the largest particle (diameter {})",
+                    fmt_size(&size),
+                    2.0 * r_max
+                )));
+            }
+        }
+        Ok(Container {
+            size,
+            periodic: self.periodic,
+        })
+    }
+}
+
+fn fmt_size<const D: usize>(s: &Vector<D>) -> String {
+    s.0.iter()
+        .map(|v| format!("{v}"))
+        .collect::<Vec<_>>()
+        .join(" × ")
+}

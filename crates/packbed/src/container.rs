@@ -1,0 +1,100 @@
+//! The box particles settle into: floor, side walls or periodic sides, roof.
+
+use crate::math::{Real, Vector};
+
+/// The container: `[0, W] × [0, D] × [0, H]` (3D) or `[0, W] × [0, H]` (2D).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Container<const D: usize> {
+    /// Extent along each axis; the last entry is the roof height `H`.
+    pub size: Vector<D>,
+    /// Periodic side boundaries (no side walls) when true.
+    pub periodic: bool,
+}
+
+/// A flat, hard, frictionless boundary of the container.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Wall {
+    /// The floor, `z = 0`.
+    Floor,
+    /// The side wall at coordinate 0 of a horizontal axis.
+    Low(usize),
+    /// The side wall at the far end of a horizontal axis.
+    High(usize),
+}
+
+impl Wall {
+    /// The name used in `wall_contacts.csv`: `floor, x0, x1, y0, y1`.
+    pub fn name(&self) -> &'static str {
+        const LOW: [&str; 2] = ["x0", "y0"];
+        const HIGH: [&str; 2] = ["x1", "y1"];
+        match self {
+            Wall::Floor => "floor",
+            Wall::Low(k) => LOW[*k],
+            Wall::High(k) => HIGH[*k],
+        }
+    }
+}
+
+impl<const D: usize> Container<D> {
+    /// Width along horizontal axis `k`.
+    #[inline]
+    pub fn extent(&self, k: usize) -> Real {
+        self.size[k]
+    }
+
+    /// Roof height `H`.
+    #[inline]
+    pub fn height(&self) -> Real {
+        self.size[D - 1]
+    }
+
+    /// Area (2D) or volume (3D) of the box up to the roof.
+    pub fn volume(&self) -> Real {
+        self.size.0.iter().product()
+    }
+
+    /// The walls of this container: the floor, and the side walls unless periodic.
+    pub fn walls(&self) -> Vec<Wall> {
+        let mut w = vec![Wall::Floor];
+        if !self.periodic {
+            for k in 0..D - 1 {
+                w.push(Wall::Low(k));
+                w.push(Wall::High(k));
+            }
+        }
+        w
+    }
+
+    /// Signed distance from `p` to the wall's surface (positive inside the box).
+    #[inline]
+    pub fn wall_distance(&self, wall: Wall, p: &Vector<D>) -> Real {
+        match wall {
+            Wall::Floor => p[D - 1],
+            Wall::Low(k) => p[k],
+            Wall::High(k) => self.size[k] - p[k],
+        }
+    }
+
+    /// The inward unit normal of a wall.
+    #[inline]
+    pub fn wall_normal(&self, wall: Wall) -> Vector<D> {
+        match wall {
+            Wall::Floor => Vector::up(),
+            Wall::Low(k) => Vector::axis(k),
+            Wall::High(k) => -Vector::axis(k),
+        }
+    }
+
+    /// Shortest displacement `b − a`, taking periodic sides into account.
+    #[inline]
+    pub fn displacement(&self, a: &Vector<D>, b: &Vector<D>) -> Vector<D> {
+        let mut d = *b - *a;
+        if self.periodic {
+            for k in 0..D - 1 {
+                let w = self.size[k];
+                d[k] -= w * (d[k] / w).round();
+            }
+        }
+        d
+    }
+}

@@ -1,0 +1,43 @@
+//! The one error type of the library: every variant is a user-facing problem
+//! (bad config, unreadable file, impossible request) reported with exit code 2.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong because of what the user asked for.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The configuration is invalid; the message names the key.
+    #[error("config: {0}")]
+    Config(String),
+    /// A file could not be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file concerned.
+        path: PathBuf,
+        /// What the operating system said.
+        source: std::io::Error,
+    },
+    /// A data file (PSD table, bed file) has bad content; names file and line.
+    #[error("{path}:{line}: {message}")]
+    Data {
+        /// The file concerned.
+        path: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong on that line.
+        message: String,
+    },
+    /// The request cannot be carried out (e.g. would need too much memory).
+    #[error("{0}")]
+    Impossible(String),
+}
+
+/// Result with packbed's [`Error`].
+pub type Result<T> = std::result::Result<T, Error>;
+
+impl Error {
+    /// A configuration error.
+    pub fn config(msg: impl Into<String>) -> Self {
+        Error::Config(msg.into())
+    }
+}

@@ -1,0 +1,1 @@
+//! Uniform cell grid for neighbour queries.

@@ -1,0 +1,377 @@
+//! Real type, fixed-size vectors and the dimension of space.
+//!
+//! Every geometric routine in packbed is generic over `const D: usize` (2 or 3) and
+//! works on [`Vector<D>`]. This module is the only place that names a concrete
+//! dimension; the last axis is always vertical ("up").
+
+use std::ops::{Add, AddAssign, Div, Index, IndexMut, Mul, Neg, Sub, SubAssign};
+
+/// The real number type of all geometry.
+pub type Real = f64;
+
+/// A point or direction in `D`-dimensional space; the last component is height.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Vector<const D: usize>(pub [Real; D]);
+
+/// A 2D vector `(x, y)`, `y` up.
+pub type Vector2 = Vector<2>;
+/// A 3D vector `(x, y, z)`, `z` up.
+pub type Vector3 = Vector<3>;
+
+impl<const D: usize> Default for Vector<D> {
+    fn default() -> Self {
+        Self::zero()
+    }
+}
+
+impl<const D: usize> Vector<D> {
+    /// Index of the vertical axis.
+    pub const UP: usize = D - 1;
+
+    /// The zero vector.
+    #[inline]
+    pub const fn zero() -> Self {
+        Vector([0.0; D])
+    }
+
+    /// The unit vector pointing up (against gravity).
+    #[inline]
+    pub fn up() -> Self {
+        Self::axis(D - 1)
+    }
+
+    /// The unit vector along axis `k`.
+    #[inline]
+    pub fn axis(k: usize) -> Self {
+        let mut v = Self::zero();
+        v.0[k] = 1.0;
+        v
+    }
+
+    /// Height (the vertical component).
+    #[inline]
+    pub fn height(&self) -> Real {
+        self.0[D - 1]
+    }
+
+    /// Scalar product.
+    #[inline]
+    pub fn dot(&self, o: &Self) -> Real {
+        let mut s = 0.0;
+        for k in 0..D {
+            s += self.0[k] * o.0[k];
+        }
+        s
+    }
+
+    /// Squared Euclidean length.
+    #[inline]
+    pub fn norm2(&self) -> Real {
+        self.dot(self)
+    }
+
+    /// Euclidean length.
+    #[inline]
+    pub fn norm(&self) -> Real {
+        self.norm2().sqrt()
+    }
+
+    /// This vector scaled to unit length, or `None` for a (near) zero vector.
+    #[inline]
+    pub fn normalized(&self) -> Option<Self> {
+        let n = self.norm();
+        if n > 0.0 && n.is_finite() {
+            Some(*self / n)
+        } else {
+            None
+        }
+    }
+
+    /// The horizontal part (vertical component set to zero).
+    #[inline]
+    pub fn horizontal(&self) -> Self {
+        let mut v = *self;
+        v.0[D - 1] = 0.0;
+        v
+    }
+
+    /// True when every component is finite.
+    pub fn is_finite(&self) -> bool {
+        self.0.iter().all(|c| c.is_finite())
+    }
+}
+
+impl<const D: usize> Index<usize> for Vector<D> {
+    type Output = Real;
+    #[inline]
+    fn index(&self, k: usize) -> &Real {
+        &self.0[k]
+    }
+}
+
+impl<const D: usize> IndexMut<usize> for Vector<D> {
+    #[inline]
+    fn index_mut(&mut self, k: usize) -> &mut Real {
+        &mut self.0[k]
+    }
+}
+
+impl<const D: usize> Add for Vector<D> {
+    type Output = Self;
+    #[inline]
+    fn add(mut self, o: Self) -> Self {
+        for k in 0..D {
+            self.0[k] += o.0[k];
+        }
+        self
+    }
+}
+
+impl<const D: usize> AddAssign for Vector<D> {
+    #[inline]
+    fn add_assign(&mut self, o: Self) {
+        for k in 0..D {
+            self.0[k] += o.0[k];
+        }
+    }
+}
+
+impl<const D: usize> Sub for Vector<D> {
+    type Output = Self;
+    #[inline]
+    fn sub(mut self, o: Self) -> Self {
+        for k in 0..D {
+            self.0[k] -= o.0[k];
+        }
+        self
+    }
+}
+
+impl<const D: usize> SubAssign for Vector<D> {
+    #[inline]
+    fn sub_assign(&mut self, o: Self) {
+        for k in 0..D {
+            self.0[k] -= o.0[k];
+        }
+    }
+}
+
+impl<const D: usize> Mul<Real> for Vector<D> {
+    type Output = Self;
+    #[inline]
+    fn mul(mut self, s: Real) -> Self {
+        for k in 0..D {
+            self.0[k] *= s;
+        }
+        self
+    }
+}
+
+impl<const D: usize> Div<Real> for Vector<D> {
+    type Output = Self;
+    #[inline]
+    fn div(self, s: Real) -> Self {
+        self * (1.0 / s)
+    }
+}
+
+impl<const D: usize> Neg for Vector<D> {
+    type Output = Self;
+    #[inline]
+    fn neg(self) -> Self {
+        self * -1.0
+    }
+}
+
+/// Volume of a `D`-ball of radius `r` (area of a disc in 2D).
+pub fn ball_volume<const D: usize>(r: Real) -> Real {
+    match D {
+        1 => 2.0 * r,
+        2 => std::f64::consts::PI * r * r,
+        3 => 4.0 / 3.0 * std::f64::consts::PI * r * r * r,
+        _ => unreachable!("packbed works in 2 or 3 dimensions"),
+    }
+}
+
+/// Non-negative least squares for at most a handful of vectors:
+/// minimise `|target − Σ λ_i a_i|` over `λ_i ≥ 0` (Lawson–Hanson active set).
+///
+/// Returns the coefficients (written into `lambda`, same length as `a`) and the
+/// residual vector `target − Σ λ_i a_i`. Used for the rest test: a particle rests
+/// when "up" is a non-negative combination of its contact normals.
+pub fn nnls<const D: usize>(a: &[Vector<D>], target: Vector<D>, lambda: &mut [Real]) -> Vector<D> {
+    let m = a.len();
+    debug_assert!(lambda.len() >= m);
+    const MAX: usize = 16;
+    assert!(m <= MAX, "nnls: too many vectors");
+    for l in lambda.iter_mut().take(m) {
+        *l = 0.0;
+    }
+    let mut passive = [false; MAX];
+    let residual = |lam: &[Real]| {
+        let mut r = target;
+        for i in 0..m {
+            r -= a[i] * lam[i];
+        }
+        r
+    };
+    let tol = 1e-13;
+    for _outer in 0..(3 * m + 3) {
+        let r = residual(lambda);
+        // Gradient of the objective: w_i = a_i · r.
+        let mut best = None;
+        let mut best_w = tol;
+        for i in 0..m {
+            if !passive[i] {
+                let w = a[i].dot(&r);
+                if w > best_w {
+                    best_w = w;
+                    best = Some(i);
+                }
+            }
+        }
+        let Some(j) = best else { break };
+        passive[j] = true;
+        // Inner loop: solve the unconstrained problem on the passive set and step
+        // back towards feasibility while a coefficient would turn negative.
+        for _inner in 0..(3 * m + 3) {
+            let mut z = [0.0; MAX];
+            if !least_squares_subset(a, target, &passive[..m], &mut z) {
+                return residual(lambda);
+            }
+            let mut alpha = 1.0;
+            let mut any_neg = false;
+            for i in 0..m {
+                if passive[i] && z[i] <= 0.0 {
+                    any_neg = true;
+                    let denom = lambda[i] - z[i];
+                    if denom > 0.0 {
+                        alpha = Real::min(alpha, lambda[i] / denom);
+                    }
+                }
+            }
+            if !any_neg {
+                lambda[..m].copy_from_slice(&z[..m]);
+                break;
+            }
+            for i in 0..m {
+                lambda[i] += alpha * (z[i] - lambda[i]);
+                if passive[i] && lambda[i] <= tol {
+                    lambda[i] = 0.0;
+                    passive[i] = false;
+                }
+            }
+        }
+    }
+    residual(lambda)
+}
+
+/// Least squares `target ≈ Σ z_i a_i` over the vectors marked in `subset`
+/// (normal equations, Gaussian elimination with partial pivoting).
+/// Returns false when the chosen vectors are (nearly) linearly dependent.
+fn least_squares_subset<const D: usize>(
+    a: &[Vector<D>],
+    target: Vector<D>,
+    subset: &[bool],
+    z: &mut [Real],
+) -> bool {
+    let mut idx = [0usize; 3];
+    let mut k = 0;
+    for i in 0..a.len() {
+        if subset[i] {
+            if k == D || k == 3 {
+                return false;
+            }
+            idx[k] = i;
+            k += 1;
+        }
+    }
+    if k == 0 {
+        return true;
+    }
+    let idx = &idx[..k];
+    let mut g = [[0.0; 4]; 3];
+    for (r, &i) in idx.iter().enumerate() {
+        for (c, &j) in idx.iter().enumerate() {
+            g[r][c] = a[i].dot(&a[j]);
+        }
+        g[r][k] = a[i].dot(&target);
+    }
+    if !solve_in_place(&mut g, k) {
+        return false;
+    }
+    for (r, &i) in idx.iter().enumerate() {
+        z[i] = g[r][k];
+    }
+    true
+}
+
+/// Solves the `k × k` system stored as an augmented matrix (column `k` holds the
+/// right-hand side); the solution replaces that column.
+pub(crate) fn solve_in_place(g: &mut [[Real; 4]; 3], k: usize) -> bool {
+    for col in 0..k {
+        let mut piv = col;
+        for r in col + 1..k {
+            if g[r][col].abs() > g[piv][col].abs() {
+                piv = r;
+            }
+        }
+        if g[piv][col].abs() < 1e-14 {
+            return false;
+        }
+        g.swap(col, piv);
+        for r in 0..k {
+            if r != col {
+                let f = g[r][col] / g[col][col];
+                for c in col..=k {
+                    g[r][c] -= f * g[col][c];
+                }
+            }
+        }
+    }
+    for r in 0..k {
+        g[r][k] /= g[r][r];
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nnls_two_supports_in_2d() {
+        let s = 0.5f64.sqrt();
+        let a = [Vector([s, s]), Vector([-s, s])];
+        let mut l = [0.0; 2];
+        let r = nnls(&a, Vector::up(), &mut l);
+        assert!(r.norm() < 1e-14);
+        assert!((l[0] - s).abs() < 1e-14 && (l[1] - s).abs() < 1e-14);
+    }
+
+    #[test]
+    fn nnls_releases_tensile_contact() {
+        // One support to the right and below: cannot hold the particle.
+        let a = [Vector([0.6, 0.8]), Vector([0.6, -0.8])];
+        let mut l = [0.0; 2];
+        let r = nnls(&a, Vector::up(), &mut l);
+        assert!(l[1] == 0.0);
+        assert!((l[0] - 0.8).abs() < 1e-14);
+        assert!(r.norm() > 0.1);
+    }
+
+    #[test]
+    fn nnls_three_supports_in_3d() {
+        let mut n = Vec::new();
+        for k in 0..3 {
+            let a = 2.0 * std::f64::consts::PI * k as f64 / 3.0;
+            n.push(Vector([0.5 * a.cos(), 0.5 * a.sin(), 0.75f64.sqrt()]));
+        }
+        let mut l = [0.0; 3];
+        let r = nnls(&n, Vector::up(), &mut l);
+        assert!(r.norm() < 1e-14, "{r:?}");
+        for v in l {
+            assert!((v - 1.0 / (3.0 * 0.75f64.sqrt())).abs() < 1e-12);
+        }
+    }
+}
