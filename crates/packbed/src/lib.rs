@@ -11,6 +11,7 @@ pub mod container;
 pub mod deposit;
 pub mod error;
 pub mod grid;
+pub mod io;
 pub mod math;
 pub mod species;
 

@@ -1,0 +1,158 @@
+//! Atomic output: every file of a run is first written to a temporary file in the
+//! output directory, and only renamed to its real name once all of them are
+//! complete. An interrupted or failed run therefore never leaves a half-written
+//! file under a name that looks finished, and a run that fails before its first
+//! file leaves no directory behind.
+
+use crate::error::{Error, Result};
+use std::fs::{self, File};
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+/// An output directory being filled: files are staged, then committed together.
+#[derive(Debug)]
+pub struct Staging {
+    dir: PathBuf,
+    /// Directories this staging created, outermost first, removed again on failure.
+    created: Vec<PathBuf>,
+    /// (temporary path, final path) of each staged file, in commit order.
+    staged: Vec<(PathBuf, PathBuf)>,
+    committed: bool,
+}
+
+fn io_err(path: &Path, source: std::io::Error) -> Error {
+    Error::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+impl Staging {
+    /// Creates `dir` (and missing parents) to stage files in.
+    pub fn new(dir: &Path) -> Result<Staging> {
+        let mut missing = Vec::new();
+        let mut p = Some(dir);
+        while let Some(d) = p {
+            if d.as_os_str().is_empty() || d.exists() {
+                break;
+            }
+            missing.push(d.to_path_buf());
+            p = d.parent();
+        }
+        missing.reverse();
+        let mut staging = Staging {
+            dir: dir.to_path_buf(),
+            created: Vec::new(),
+            staged: Vec::new(),
+            committed: false,
+        };
+        for d in missing {
+            fs::create_dir(&d).map_err(|e| io_err(&d, e))?;
+            staging.created.push(d);
+        }
+        if !dir.is_dir() {
+            return Err(io_err(
+                dir,
+                std::io::Error::other("exists and is not a directory"),
+            ));
+        }
+        Ok(staging)
+    }
+
+    /// The directory files end up in.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Writes `name` (a plain file name) to a temporary file through `fill`.
+    pub fn stage(
+        &mut self,
+        name: &str,
+        fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+    ) -> Result<()> {
+        let target = self.dir.join(name);
+        // Hidden and named after the process, so that two runs into the same
+        // directory never write the same temporary file.
+        let tmp = self.dir.join(format!(".{name}.{}.tmp", std::process::id()));
+        let file = File::create(&tmp).map_err(|e| io_err(&tmp, e))?;
+        // Registered before writing, so that a failure below still removes it.
+        self.staged.push((tmp.clone(), target.clone()));
+        let mut w = BufWriter::new(file);
+        fill(&mut w)
+            .and_then(|()| w.flush())
+            .map_err(|e| io_err(&target, e))?;
+        let file = w
+            .into_inner()
+            .map_err(|e| io_err(&target, e.into_error()))?;
+        // The data must be on disk before the rename makes it visible.
+        file.sync_all().map_err(|e| io_err(&target, e))?;
+        Ok(())
+    }
+
+    /// Renames every staged file to its final name, in the order staged.
+    pub fn commit(mut self) -> Result<Vec<PathBuf>> {
+        let mut done = Vec::with_capacity(self.staged.len());
+        for (tmp, target) in &self.staged {
+            fs::rename(tmp, target).map_err(|e| io_err(target, e))?;
+            done.push(target.clone());
+        }
+        self.committed = true;
+        Ok(done)
+    }
+}
+
+impl Drop for Staging {
+    fn drop(&mut self) {
+        if self.committed {
+            return;
+        }
+        // Best effort: the run has already failed, and the error that matters is
+        // the one being reported, not a failure to tidy up.
+        for (tmp, _) in &self.staged {
+            let _ = fs::remove_file(tmp);
+        }
+        for d in self.created.iter().rev() {
+            let _ = fs::remove_dir(d);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scratch(tag: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("packbed-atomic-{tag}-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&d);
+        d
+    }
+
+    #[test]
+    fn commit_makes_files_visible() {
+        let root = scratch("commit");
+        let dir = root.join("a/b");
+        let mut s = Staging::new(&dir).unwrap();
+        s.stage("x.txt", |w| w.write_all(b"hello")).unwrap();
+        assert!(!dir.join("x.txt").exists());
+        s.commit().unwrap();
+        assert_eq!(fs::read_to_string(dir.join("x.txt")).unwrap(), "hello");
+        assert_eq!(fs::read_dir(&dir).unwrap().count(), 1);
+        fs::remove_dir_all(&root).unwrap();
+    }
+
+    #[test]
+    fn failure_leaves_nothing() {
+        let root = scratch("fail");
+        let dir = root.join("out");
+        {
+            let mut s = Staging::new(&dir).unwrap();
+            s.stage("x.txt", |w| w.write_all(b"complete")).unwrap();
+            let e = s.stage("y.txt", |w| {
+                w.write_all(b"half")?;
+                Err(std::io::Error::other("disk full"))
+            });
+            assert!(e.is_err());
+        }
+        assert!(!root.exists());
+    }
+}

@@ -1,0 +1,42 @@
+//! Files: what a run writes (`particles.csv`, `contacts.csv`, `wall_contacts.csv`,
+//! `summary.json`), written atomically. Layouts are in `spec/interfaces.md`.
+
+pub mod atomic;
+mod finite;
+pub mod summary;
+pub mod tables;
+
+pub use atomic::Staging;
+pub use summary::{RunSummary, Timing};
+
+use crate::analysis::Contacts;
+use crate::bed::Bed;
+use crate::error::Result;
+use std::path::{Path, PathBuf};
+
+/// Names of the files [`write_run`] writes, in the order they appear.
+pub const RUN_FILES: [&str; 4] = [
+    "particles.csv",
+    "contacts.csv",
+    "wall_contacts.csv",
+    "summary.json",
+];
+
+/// Writes the files of one run into `dir` (created if needed). Either all files
+/// appear, or none does and a directory created for them is removed again.
+pub fn write_run<const D: usize>(
+    dir: &Path,
+    bed: &Bed<D>,
+    contacts: &Contacts,
+    summary: &RunSummary,
+) -> Result<Vec<PathBuf>> {
+    // Rendered before touching the disk: a bad value must not leave a directory.
+    let json = summary.to_json()?;
+    let mut out = Staging::new(dir)?;
+    out.stage(RUN_FILES[0], |w| tables::write_particles(w, bed))?;
+    out.stage(RUN_FILES[1], |w| tables::write_contacts(w, contacts))?;
+    out.stage(RUN_FILES[2], |w| tables::write_wall_contacts(w, contacts))?;
+    // Last, so that a complete summary.json means a complete run.
+    out.stage(RUN_FILES[3], |w| w.write_all(json.as_bytes()))?;
+    out.commit()
+}

@@ -1,0 +1,281 @@
+//! `summary.json`: what was asked (the config as used), what was built (box,
+//! counts, species) and what was measured (the analysis summary), with timings.
+//!
+//! The keys listed in `spec/interfaces.md` are a contract with users' scripts:
+//! add keys freely, never rename one.
+
+use crate::analysis::Summary;
+use crate::bed::Bed;
+use crate::config::{Config, Mode};
+use crate::deposit::DepositReport;
+use crate::error::{Error, Result};
+use crate::math::Real;
+use crate::species::Shape;
+use serde::Serialize;
+
+/// The whole of `summary.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunSummary {
+    /// Version of packbed that wrote the file.
+    pub packbed_version: &'static str,
+    /// 2 or 3.
+    pub dim: u8,
+    /// Seed of the run.
+    pub seed: u64,
+    /// Deposit or RSA.
+    pub mode: Mode,
+    /// The container as built.
+    #[serde(rename = "box")]
+    pub container: BoxSummary,
+    /// Particle counts.
+    pub counts: Counts,
+    /// Every measure of the analysis (`packing.*`, `coordination.*`, …).
+    #[serde(flatten)]
+    pub analysis: Summary,
+    /// Wall times.
+    pub timing: Timing,
+    /// The species, in config order (the `species` column of `particles.csv`).
+    pub species: Vec<SpeciesSummary>,
+    /// The configuration as used: overrides applied, defaults filled in.
+    pub config: Config,
+}
+
+/// `box.*`.
+#[derive(Clone, Debug, Serialize)]
+pub struct BoxSummary {
+    /// Extent along x.
+    pub width: Real,
+    /// Extent along y (3D only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub depth: Option<Real>,
+    /// Roof height.
+    pub height: Real,
+    /// Periodic side boundaries.
+    pub periodic: bool,
+}
+
+/// `counts.*`.
+#[derive(Clone, Debug, Serialize)]
+pub struct Counts {
+    /// Spheres or beads in the bed (rows of `particles.csv`).
+    pub particles: u64,
+    /// Rigid bodies (a sphere is a body of one bead).
+    pub bodies: u64,
+    /// Particles dropped again because they found no rest.
+    pub redrops: u64,
+    /// Particles placed by the base layer.
+    pub base_layer: u64,
+    /// Particles placed by drop and roll.
+    pub dropped: u64,
+    /// Particles discarded above the roof.
+    pub roof_overflows: u64,
+}
+
+/// `timing.*`, in seconds of wall time.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct Timing {
+    /// Deposition.
+    pub deposit_seconds: f64,
+    /// Analysis.
+    pub analysis_seconds: f64,
+    /// The whole run, file writing included up to the summary itself.
+    pub total_seconds: f64,
+}
+
+/// One entry of `species`.
+#[derive(Clone, Debug, Serialize)]
+pub struct SpeciesSummary {
+    /// Name ("large", "small", or from the config).
+    pub name: String,
+    /// Size, e.g. `r = 10` or `r ~ lognormal(median 10, gsd 1.3)`.
+    pub size: String,
+    /// `sphere`, or `chain of 5 beads, spacing 1`.
+    pub shape: String,
+    /// Number ratio as configured.
+    pub ratio: Real,
+    /// Bodies of this species in the bed.
+    pub placed: u64,
+    /// Spheres or beads of this species in the bed.
+    pub particles: u64,
+}
+
+impl RunSummary {
+    /// Gathers the summary of a finished run.
+    pub fn new<const D: usize>(
+        config: &Config,
+        bed: &Bed<D>,
+        report: &DepositReport,
+        analysis: &Summary,
+        timing: Timing,
+    ) -> RunSummary {
+        let size = bed.container.size;
+        RunSummary {
+            packbed_version: env!("CARGO_PKG_VERSION"),
+            dim: D as u8,
+            seed: config.seed,
+            mode: config.mode,
+            container: BoxSummary {
+                width: size[0],
+                depth: (D == 3).then(|| size[1]),
+                height: size[D - 1],
+                periodic: bed.container.periodic,
+            },
+            counts: Counts {
+                particles: bed.len() as u64,
+                bodies: bed.body_count() as u64,
+                redrops: report.redrops,
+                base_layer: report.base_layer,
+                dropped: report.dropped,
+                roof_overflows: report.roof_overflows,
+            },
+            analysis: analysis.clone(),
+            timing,
+            species: species_summaries(bed),
+            config: config_as_used(config),
+        }
+    }
+
+    /// The JSON text, refused if any number in it is NaN or infinite.
+    pub fn to_json(&self) -> Result<String> {
+        if let Some(key) = super::finite::first_non_finite(self) {
+            return Err(Error::Impossible(format!(
+                "summary.json: `{key}` is not a finite number; the run's results are unusable (please report this bug)"
+            )));
+        }
+        let mut text = serde_json::to_string_pretty(self)
+            .map_err(|e| Error::Impossible(format!("summary.json: {e}")))?;
+        text.push('\n');
+        Ok(text)
+    }
+}
+
+fn species_summaries<const D: usize>(bed: &Bed<D>) -> Vec<SpeciesSummary> {
+    let n = bed.species_info.len();
+    let mut particles = vec![0u64; n];
+    let mut placed = vec![0u64; n];
+    let mut last_body = None;
+    for (&s, &b) in bed.species.iter().zip(&bed.bodies) {
+        let s = s as usize;
+        if s >= n {
+            continue;
+        }
+        particles[s] += 1;
+        // Beads of one body are consecutive rows, so a new body starts where the
+        // body index changes.
+        if last_body != Some(b) {
+            placed[s] += 1;
+            last_body = Some(b);
+        }
+    }
+    bed.species_info
+        .iter()
+        .enumerate()
+        .map(|(i, s)| SpeciesSummary {
+            name: s.name.clone(),
+            size: s.size.describe(),
+            shape: match s.shape {
+                Shape::Sphere => "sphere".into(),
+                Shape::Chain { beads, spacing } => {
+                    format!("chain of {beads} beads, spacing {spacing}")
+                }
+            },
+            ratio: s.ratio,
+            placed: placed[i],
+            particles: particles[i],
+        })
+        .collect()
+}
+
+/// The config with the implicit choices spelled out, so that the summary alone
+/// tells how the bed was made.
+fn config_as_used(config: &Config) -> Config {
+    let mut c = config.clone();
+    let b = &mut c.container;
+    if b.preset.is_none()
+        && b.diameters.is_none()
+        && b.width.is_none()
+        && b.depth.is_none()
+        && b.height.is_none()
+    {
+        b.preset = Some("thesis".into());
+    }
+    if c.fill.until.is_none() && c.fill.count.is_none() {
+        c.fill.until = Some("roof".into());
+    }
+    c
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::container::Container;
+    use crate::math::Vector;
+
+    fn small_run() -> (Config, Bed<3>) {
+        let config = Config::default();
+        let plan = config.plan::<3>().unwrap();
+        let mut bed = Bed::new(
+            Container {
+                size: Vector([240.0; 3]),
+                periodic: false,
+            },
+            plan.species.clone(),
+        );
+        bed.push(Vector([20.0, 20.0, 20.0]), 20.0, 0);
+        bed.push(Vector([60.0, 20.0, 10.0]), 10.0, 1);
+        bed.push(Vector([90.0, 20.0, 10.0]), 10.0, 1);
+        (config, bed)
+    }
+
+    #[test]
+    fn keys_of_the_contract() {
+        let (config, bed) = small_run();
+        let s = RunSummary::new(
+            &config,
+            &bed,
+            &DepositReport::default(),
+            &Summary::default(),
+            Timing::default(),
+        );
+        let v: serde_json::Value = serde_json::from_str(&s.to_json().unwrap()).unwrap();
+        for key in [
+            "/dim",
+            "/seed",
+            "/box/width",
+            "/box/depth",
+            "/box/height",
+            "/box/periodic",
+            "/counts/particles",
+            "/counts/bodies",
+            "/counts/redrops",
+            "/packing/global",
+            "/packing/bulk",
+            "/coordination/mean",
+            "/coordination/mean_bulk",
+            "/timing/deposit_seconds",
+            "/config/box/preset",
+            "/config/fill/until",
+        ] {
+            assert!(v.pointer(key).is_some(), "missing {key}");
+        }
+        assert_eq!(v["counts"]["particles"], 3);
+        assert_eq!(v["species"][1]["placed"], 2);
+        assert_eq!(v["species"][0]["name"], "large");
+    }
+
+    #[test]
+    fn nan_is_refused_with_its_key() {
+        let (config, bed) = small_run();
+        let mut analysis = Summary::default();
+        analysis.coordination.mean_bulk = f64::NAN;
+        let s = RunSummary::new(
+            &config,
+            &bed,
+            &DepositReport::default(),
+            &analysis,
+            Timing::default(),
+        );
+        let e = s.to_json().unwrap_err().to_string();
+        assert!(e.contains("coordination.mean_bulk"), "{e}");
+    }
+}
