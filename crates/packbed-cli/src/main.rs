@@ -1,1 +1,107 @@
-fn main() {}
+//! The `packbed` command: argument parsing and dispatch onto the `packbed` library.
+//! Every user error ends here as one line `packbed: error: …` and exit code 2.
+
+mod bench;
+mod overrides;
+mod progress;
+mod report;
+mod run;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// The commented default configuration printed by `packbed example`.
+const EXAMPLE_CONFIG: &str = include_str!("../../../examples/default.toml");
+
+/// Exit code of every user error (bad arguments, config or input files).
+const EXIT_USER_ERROR: u8 = 2;
+
+/// packbed: exact sequential deposition of packed beds of spheres (3D) and discs (2D).
+#[derive(Debug, Parser)]
+#[command(name = "packbed", version, arg_required_else_help = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Build one bed, analyse it and write its files (default bed without arguments).
+    Run(run::RunArgs),
+    /// Measure deposition throughput on a bed of equal spheres (or discs).
+    Bench(bench::BenchArgs),
+    /// Print a commented configuration file (the default bed).
+    Example,
+}
+
+fn main() -> ExitCode {
+    install_panic_hook();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return clap_exit(e),
+    };
+    let result = match cli.command {
+        Command::Run(args) => run::run(args),
+        Command::Bench(args) => bench::bench(args),
+        Command::Example => {
+            print!("{EXAMPLE_CONFIG}");
+            Ok(())
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // `{:#}` joins the context chain on one line: "what: why".
+            eprintln!("packbed: error: {}", one_line(&format!("{e:#}")));
+            ExitCode::from(EXIT_USER_ERROR)
+        }
+    }
+}
+
+/// Help and version go to stdout with success; usage errors become one line.
+fn clap_exit(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    match e.kind() {
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+            let _ = e.print();
+            ExitCode::SUCCESS
+        }
+        ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            let _ = e.print();
+            ExitCode::from(EXIT_USER_ERROR)
+        }
+        _ => {
+            let text = e.render().to_string();
+            let first = text.lines().next().unwrap_or("invalid arguments");
+            let first = first.strip_prefix("error: ").unwrap_or(first);
+            eprintln!("packbed: error: {first} (see `packbed --help`)");
+            ExitCode::from(EXIT_USER_ERROR)
+        }
+    }
+}
+
+/// Error messages from parsers may span lines; a script reading stderr wants one.
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// A panic is a bug in packbed, never the user's fault: say so in one line
+/// instead of the default message that suggests setting RUST_BACKTRACE.
+fn install_panic_hook() {
+    std::panic::set_hook(Box::new(|info| {
+        let msg = info
+            .payload()
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| info.payload().downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown panic".into());
+        let at = info
+            .location()
+            .map(|l| format!(" at {}:{}", l.file(), l.line()))
+            .unwrap_or_default();
+        eprintln!(
+            "packbed: internal error (a bug in packbed, please report it): {}{at}",
+            one_line(&msg)
+        );
+    }));
+}

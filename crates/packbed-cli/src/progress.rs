@@ -1,0 +1,136 @@
+//! The progress bar of long runs: shown on a terminal only, and only once a run
+//! has lasted long enough for it to help.
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use packbed::config::{Config, Fill};
+use packbed::math::ball_volume;
+use packbed::species::{Shape, SizeDist};
+use std::io::IsTerminal;
+use std::time::{Duration, Instant};
+
+/// Runs shorter than this never show a bar: it would only flicker.
+const SHOW_AFTER: Duration = Duration::from_millis(500);
+
+/// Packing fraction used to guess how many particles fill the box up to the roof.
+fn typical_packing(dim: u8) -> f64 {
+    if dim == 2 {
+        0.8
+    } else {
+        0.6
+    }
+}
+
+/// Counts placed particles against an estimated total.
+pub struct Progress {
+    bar: Option<ProgressBar>,
+    start: Instant,
+    shown: bool,
+}
+
+impl Progress {
+    /// A bar for `config`, or a silent one if `quiet` or stderr is not a terminal.
+    pub fn new(config: &Config, quiet: bool) -> Progress {
+        let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
+            let bar = ProgressBar::with_draw_target(
+                Some(estimated_total(config)),
+                ProgressDrawTarget::hidden(),
+            );
+            bar.set_style(
+                ProgressStyle::with_template(
+                    "{spinner} {human_pos}/~{human_len} particles  {per_sec}  ETA {eta}  [{bar:30}]",
+                )
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> "),
+            );
+            bar
+        });
+        Progress {
+            bar,
+            start: Instant::now(),
+            shown: false,
+        }
+    }
+
+    /// Records that `placed` particles are in the bed.
+    pub fn update(&mut self, placed: u64) {
+        let Some(bar) = &self.bar else { return };
+        if !self.shown && self.start.elapsed() >= SHOW_AFTER {
+            bar.set_draw_target(ProgressDrawTarget::stderr());
+            self.shown = true;
+        }
+        // The total is a guess; never let the bar claim more than 100 %.
+        if bar.length().is_some_and(|len| placed >= len) {
+            bar.set_length(placed + placed / 10 + 1);
+        }
+        bar.set_position(placed);
+    }
+
+    /// Removes the bar from the terminal.
+    pub fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+/// How many particles the run will place: exact for `count`, a guess for the roof
+/// (box volume × typical packing ÷ mean particle volume).
+fn estimated_total(config: &Config) -> u64 {
+    let guess = match config.dim {
+        2 => config.plan::<2>().ok().map(|p| (p.fill, roof_guess(&p))),
+        _ => config.plan::<3>().ok().map(|p| (p.fill, roof_guess(&p))),
+    };
+    match guess {
+        Some((Fill::Count(n), _)) => n,
+        Some((Fill::Roof { .. }, n)) => n,
+        None => 0,
+    }
+}
+
+fn roof_guess<const D: usize>(plan: &packbed::config::Plan<D>) -> u64 {
+    // Mean volume per particle (bead), weighting each species by its ratio and
+    // its beads per body.
+    let (mut beads, mut volume) = (0.0, 0.0);
+    for s in &plan.species {
+        let n = match s.shape {
+            Shape::Sphere => 1.0,
+            Shape::Chain { beads, .. } => beads as f64,
+        };
+        beads += s.ratio * n;
+        volume += s.ratio * n * ball_volume::<D>(typical_radius(&s.size));
+    }
+    if beads <= 0.0 || volume <= 0.0 {
+        return 0;
+    }
+    let mean = volume / beads;
+    let n = plan.container.volume() * typical_packing(D as u8) / mean;
+    if n.is_finite() {
+        n as u64
+    } else {
+        0
+    }
+}
+
+/// A radius representative of a distribution, good enough for an estimate.
+fn typical_radius(size: &SizeDist) -> f64 {
+    match size {
+        SizeDist::Fixed(r) => *r,
+        SizeDist::Normal { mean, .. } => *mean,
+        SizeDist::Lognormal { median, .. } => *median,
+        SizeDist::Uniform { min, max } => 0.5 * (min + max),
+        SizeDist::Table {
+            radii, cumulative, ..
+        } => {
+            let mut prev = 0.0;
+            radii
+                .iter()
+                .zip(cumulative)
+                .map(|(r, c)| {
+                    let w = c - prev;
+                    prev = *c;
+                    r * w
+                })
+                .sum()
+        }
+    }
+}
