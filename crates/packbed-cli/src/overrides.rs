@@ -28,7 +28,7 @@ pub struct Overrides {
     #[arg(long, value_name = "N,N,...", allow_hyphen_values = true)]
     pub ratio: Option<String>,
     /// Make every species a rigid chain of N beads.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub beads: Option<u32>,
     /// Box: thesis | W,H | W,D,H | diameters=N.
     #[arg(long = "box", value_name = "BOX", allow_hyphen_values = true)]
@@ -37,10 +37,10 @@ pub struct Overrides {
     #[arg(long)]
     pub periodic: bool,
     /// Place exactly N particles (the roof is ignored).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub count: Option<u64>,
     /// Seed of the random generator.
-    #[arg(long, value_name = "S")]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub seed: Option<u64>,
     /// deposit (drop and roll) or rsa (random sequential addition).
     #[arg(long, value_enum)]

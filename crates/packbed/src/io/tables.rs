@@ -1,12 +1,31 @@
 //! The CSV files of a run: `particles.csv`, `contacts.csv`, `wall_contacts.csv`.
 //!
-//! Numbers are written with Rust's `Display` for `f64`, the shortest text that
-//! reads back to the same bits, so the files round-trip exactly. The columns are
-//! numeric (wall names aside) and never quoted, so a plain writer is enough.
+//! Numbers are written as the shortest text that reads back to the same bits
+//! (Rust's `Display`/`LowerExp` for `f64`), so the files round-trip exactly. The
+//! columns are numeric (wall names aside) and never quoted, so a plain writer is
+//! enough.
 
 use crate::analysis::Contacts;
 use crate::bed::Bed;
+use std::fmt;
 use std::io::{Error, Write};
+
+/// An `f64` in the shortest exact form: plain decimals for ordinary magnitudes,
+/// exponent notation for tiny or huge ones (a contact gap of 3.6e-15 would
+/// otherwise take 30 characters of zeros).
+#[derive(Clone, Copy, Debug)]
+pub struct Num(pub f64);
+
+impl fmt::Display for Num {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || (1e-5..1e16).contains(&a) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
 
 /// A non-finite number would make the file unreadable for numpy and hide a bug;
 /// refuse it with the row it is in.
@@ -37,9 +56,9 @@ pub fn write_particles<const D: usize>(w: &mut dyn Write, bed: &Bed<D>) -> std::
     for id in 0..bed.len() {
         write!(w, "{id},{},{}", bed.species[id], bed.bodies[id])?;
         for (k, axis) in AXES.iter().enumerate().take(D) {
-            write!(w, ",{}", finite(bed.centres[id][k], axis, id)?)?;
+            write!(w, ",{}", Num(finite(bed.centres[id][k], axis, id)?))?;
         }
-        writeln!(w, ",{}", finite(bed.radii[id], "r", id)?)?;
+        writeln!(w, ",{}", Num(finite(bed.radii[id], "r", id)?))?;
     }
     Ok(())
 }
@@ -48,7 +67,8 @@ pub fn write_particles<const D: usize>(w: &mut dyn Write, bed: &Bed<D>) -> std::
 pub fn write_contacts(w: &mut dyn Write, contacts: &Contacts) -> std::io::Result<()> {
     writeln!(w, "i,j,gap")?;
     for c in &contacts.pairs {
-        writeln!(w, "{},{},{}", c.i, c.j, finite(c.gap, "gap", c.i as usize)?)?;
+        let gap = Num(finite(c.gap, "gap", c.i as usize)?);
+        writeln!(w, "{},{},{gap}", c.i, c.j)?;
     }
     Ok(())
 }
@@ -57,7 +77,7 @@ pub fn write_contacts(w: &mut dyn Write, contacts: &Contacts) -> std::io::Result
 pub fn write_wall_contacts(w: &mut dyn Write, contacts: &Contacts) -> std::io::Result<()> {
     writeln!(w, "i,wall,gap")?;
     for c in &contacts.walls {
-        let gap = finite(c.gap, "gap", c.i as usize)?;
+        let gap = Num(finite(c.gap, "gap", c.i as usize)?);
         writeln!(w, "{},{},{gap}", c.i, c.wall.name())?;
     }
     Ok(())
@@ -106,6 +126,26 @@ mod tests {
     }
 
     #[test]
+    fn numbers_round_trip_in_every_range() {
+        for v in [
+            0.0,
+            -0.0,
+            1e-300,
+            -3.552713678800501e-15,
+            1e-5,
+            0.1,
+            1.0 / 3.0,
+            12.5,
+            1e16,
+            1e300,
+        ] {
+            let t = Num(v).to_string();
+            assert_eq!(t.parse::<f64>().unwrap().to_bits(), v.to_bits(), "{t}");
+            assert!(t.len() <= 24, "{t}");
+        }
+    }
+
+    #[test]
     fn nan_is_refused() {
         let mut bed = bed3();
         bed.centres[1][2] = f64::NAN;
@@ -129,7 +169,7 @@ mod tests {
             }],
         };
         let pairs = text(|w| write_contacts(w, &c));
-        assert_eq!(pairs.lines().nth(1), Some("0,1,-0.000000000001"));
+        assert_eq!(pairs.lines().nth(1), Some("0,1,-1e-12"));
         let walls = text(|w| write_wall_contacts(w, &c));
         assert_eq!(walls, "i,wall,gap\n0,y1,0\n");
     }

@@ -1,0 +1,470 @@
+//! Integration tests of the `packbed` command: each runs the built binary in a
+//! fresh temporary directory and checks exit code, messages and files.
+
+use packbed::config::Config;
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use tempfile::TempDir;
+
+/// The outcome of one `packbed` invocation.
+struct Outcome {
+    code: i32,
+    stdout: String,
+    stderr: String,
+}
+
+/// A scratch directory: `work/` is the current directory of the command (and
+/// must stay empty when a run fails), `inputs/` holds configs and tables.
+struct Scratch {
+    _root: TempDir,
+    work: PathBuf,
+    inputs: PathBuf,
+}
+
+impl Scratch {
+    fn new() -> Scratch {
+        let root = tempfile::tempdir().unwrap();
+        let work = root.path().join("work");
+        let inputs = root.path().join("inputs");
+        std::fs::create_dir(&work).unwrap();
+        std::fs::create_dir(&inputs).unwrap();
+        Scratch {
+            _root: root,
+            work,
+            inputs,
+        }
+    }
+
+    /// Writes an input file and returns its path.
+    fn input(&self, name: &str, text: &str) -> PathBuf {
+        let p = self.inputs.join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    fn packbed(&self, args: &[&str]) -> Outcome {
+        let out = Command::new(env!("CARGO_BIN_EXE_packbed"))
+            .args(args)
+            .current_dir(&self.work)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        Outcome {
+            code: out.status.code().unwrap_or(-1),
+            stdout: String::from_utf8(out.stdout).unwrap(),
+            stderr: String::from_utf8(out.stderr).unwrap(),
+        }
+    }
+
+    /// Paths under `work/`, to check that a failed run created nothing.
+    fn work_entries(&self) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(&self.work)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    fn read(&self, rel: &str) -> String {
+        std::fs::read_to_string(self.work.join(rel)).unwrap()
+    }
+}
+
+/// Exit code 2, one line `packbed: error: …` containing every needle, nothing on
+/// stdout, and no file or directory left behind.
+fn assert_user_error(s: &Scratch, args: &[&str], needles: &[&str]) {
+    let o = s.packbed(args);
+    assert_eq!(o.code, 2, "{args:?}: exit code; stderr: {}", o.stderr);
+    let lines: Vec<&str> = o.stderr.lines().collect();
+    assert_eq!(
+        lines.len(),
+        1,
+        "{args:?}: one line expected, got:\n{}",
+        o.stderr
+    );
+    assert!(lines[0].starts_with("packbed: error: "), "{}", lines[0]);
+    for n in needles {
+        assert!(lines[0].contains(n), "{args:?}: `{n}` not in: {}", lines[0]);
+    }
+    assert!(!o.stderr.contains("panicked"), "{}", o.stderr);
+    assert!(o.stdout.is_empty(), "{args:?}: stdout: {}", o.stdout);
+    assert!(
+        s.work_entries().is_empty(),
+        "{args:?} left {:?}",
+        s.work_entries()
+    );
+}
+
+/// A small, fast bed: 2D thesis box of equal discs of radius 10 (~600 discs).
+const SMALL_2D: &str = "dim = 2\nseed = 5\n[[species]]\nradius = 10\n";
+
+// ---- user errors ---------------------------------------------------------
+
+#[test]
+fn negative_radius_is_refused() {
+    let s = Scratch::new();
+    assert_user_error(
+        &s,
+        &["run", "--radii=-10,20"],
+        &["species[0].radius", "-10"],
+    );
+    assert_user_error(&s, &["run", "--radii", "-10"], &["species[0].radius"]);
+    let c = s.input("neg.toml", "[[species]]\nradius = -5\n");
+    assert_user_error(&s, &["run", c.to_str().unwrap()], &["neg.toml", "radius"]);
+}
+
+#[test]
+fn nan_radius_is_refused() {
+    let s = Scratch::new();
+    assert_user_error(
+        &s,
+        &["run", "--radii", "nan,10"],
+        &["species[0].radius", "NaN"],
+    );
+    let c = s.input("nan.toml", "dim = 2\n[[species]]\nradius = nan\n");
+    assert_user_error(&s, &["run", c.to_str().unwrap()], &["radius", "NaN"]);
+    let c = s.input("inf.toml", "[[species]]\nradius = 10\nratio = inf\n");
+    assert_user_error(&s, &["run", c.to_str().unwrap()], &["ratio"]);
+}
+
+#[test]
+fn unknown_key_is_named_with_its_line() {
+    let s = Scratch::new();
+    let c = s.input("typo.toml", "dim = 3\n\n[box]\nwidht = 300\n");
+    assert_user_error(&s, &["run", c.to_str().unwrap()], &["widht", "typo.toml:4"]);
+    let c = s.input("top.toml", "seeed = 3\n");
+    assert_user_error(&s, &["run", c.to_str().unwrap()], &["seeed", "top.toml:1"]);
+}
+
+#[test]
+fn box_smaller_than_particle_is_refused() {
+    let s = Scratch::new();
+    assert_user_error(
+        &s,
+        &["run", "--dim", "2", "--radii", "20", "--box", "30,100"],
+        &["smaller than the largest particle"],
+    );
+    let c = s.input("box.toml", "[box]\ndiameters = 0.5\n");
+    assert_user_error(&s, &["run", c.to_str().unwrap()], &["smaller"]);
+}
+
+#[test]
+fn unreadable_psd_table_is_refused() {
+    let s = Scratch::new();
+    let c = s.input(
+        "psd.toml",
+        "[[species]]\nsize = { table = \"missing-psd.csv\" }\n",
+    );
+    assert_user_error(&s, &["run", c.to_str().unwrap()], &["missing-psd.csv"]);
+    s.input("bad.csv", "radius,weight\n10,1\n12,abc\n");
+    let c = s.input("bad.toml", "[[species]]\nsize = { table = \"bad.csv\" }\n");
+    assert_user_error(&s, &["run", c.to_str().unwrap()], &["bad.csv:3"]);
+}
+
+#[test]
+fn ratios_summing_to_zero_are_refused() {
+    let s = Scratch::new();
+    assert_user_error(&s, &["run", "--ratio", "0,0"], &["sum to zero"]);
+}
+
+#[test]
+fn bad_override_syntax_is_explained() {
+    let s = Scratch::new();
+    assert_user_error(&s, &["run", "--radii", "10,abc"], &["--radii", "abc"]);
+    assert_user_error(&s, &["run", "--box", "big"], &["--box", "big"]);
+    assert_user_error(&s, &["run", "--dim", "2", "--box", "1,2,3"], &["--box"]);
+    assert_user_error(
+        &s,
+        &["run", "--radii", "10,20", "--ratio", "1"],
+        &["--ratio"],
+    );
+    assert_user_error(&s, &["run", "--dim", "4"], &["--dim"]);
+    assert_user_error(&s, &["run", "--mode", "fast"], &["--mode"]);
+    assert_user_error(&s, &["run", "--count", "-3"], &["--count"]);
+    assert_user_error(&s, &["run", "--frobnicate"], &["--frobnicate"]);
+    assert_user_error(&s, &["bench", "--n", "0"], &["--n"]);
+    assert_user_error(&s, &["analyze"], &["analyze"]);
+}
+
+#[test]
+fn missing_config_file_is_refused() {
+    let s = Scratch::new();
+    assert_user_error(&s, &["run", "no-such.toml"], &["no-such.toml"]);
+}
+
+#[test]
+fn out_path_that_is_a_file_is_refused() {
+    let s = Scratch::new();
+    let f = s.input("taken", "not a directory");
+    let o = s.packbed(&["run", "--out", f.to_str().unwrap()]);
+    assert_eq!(o.code, 2, "{}", o.stderr);
+    assert!(o.stderr.contains("not a directory"), "{}", o.stderr);
+    assert_eq!(std::fs::read_to_string(&f).unwrap(), "not a directory");
+}
+
+#[test]
+fn help_and_version_succeed() {
+    let s = Scratch::new();
+    for args in [&["--help"][..], &["run", "--help"], &["--version"]] {
+        let o = s.packbed(args);
+        assert_eq!(o.code, 0, "{args:?}: {}", o.stderr);
+        assert!(!o.stdout.is_empty());
+    }
+    // No command: the help, as a usage error.
+    assert_eq!(s.packbed(&[]).code, 2);
+}
+
+// ---- example configs -------------------------------------------------------
+
+fn as_json(c: &Config) -> Value {
+    serde_json::to_value(c).unwrap()
+}
+
+#[test]
+fn example_parses_back_to_the_default() {
+    let s = Scratch::new();
+    let o = s.packbed(&["example"]);
+    assert_eq!(o.code, 0);
+    let parsed = Config::from_toml(&o.stdout, "example").unwrap();
+    assert_eq!(as_json(&parsed), as_json(&Config::default()));
+}
+
+#[test]
+fn example_files_are_valid() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let mut n = 0;
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "toml") {
+            let c = Config::from_file(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+            let ok = match c.dim {
+                2 => c.plan::<2>().map(drop),
+                _ => c.plan::<3>().map(drop),
+            };
+            ok.unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+            n += 1;
+        }
+    }
+    assert!(n >= 3, "only {n} example configs");
+}
+
+// ---- runs (need the deposition engine and the analysis) ---------------------
+
+/// Runs the small 2D bed into `work/<out>` and returns the outcome.
+fn small_run(s: &Scratch, out: &str, extra: &[&str]) -> Outcome {
+    let c = s.input("small.toml", SMALL_2D);
+    let mut args = vec!["run", c.to_str().unwrap(), "--out", out];
+    args.extend_from_slice(extra);
+    let o = s.packbed(&args);
+    assert_eq!(o.code, 0, "{args:?}: {}", o.stderr);
+    o
+}
+
+fn summary(s: &Scratch, out: &str) -> Value {
+    serde_json::from_str(&s.read(&format!("{out}/summary.json"))).unwrap()
+}
+
+#[test]
+fn run_writes_the_files_of_the_contract() {
+    let s = Scratch::new();
+    let o = small_run(&s, "out", &[]);
+    assert!(o.stdout.contains("packing fraction"), "{}", o.stdout);
+    assert!(o.stdout.contains("out"), "{}", o.stdout);
+    let mut names: Vec<_> = std::fs::read_dir(s.work.join("out"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    names.sort();
+    // Exactly these: no temporary file is left behind.
+    assert_eq!(
+        names,
+        [
+            "contacts.csv",
+            "particles.csv",
+            "summary.json",
+            "wall_contacts.csv"
+        ]
+    );
+
+    let particles = s.read("out/particles.csv");
+    let mut lines = particles.lines();
+    assert_eq!(lines.next(), Some("id,species,body,x,y,r"));
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|f| f.parse().unwrap()).collect())
+        .collect();
+    assert!(rows.len() > 100, "{} particles", rows.len());
+    for (id, row) in rows.iter().enumerate() {
+        assert_eq!(row.len(), 6);
+        assert_eq!(row[0] as usize, id);
+        assert!(row.iter().all(|v| v.is_finite()));
+        assert_eq!(row[5], 10.0);
+    }
+    assert!(s.read("out/contacts.csv").starts_with("i,j,gap\n"));
+    let walls = s.read("out/wall_contacts.csv");
+    assert!(walls.starts_with("i,wall,gap\n"));
+    for l in walls.lines().skip(1) {
+        let wall = l.split(',').nth(1).unwrap();
+        assert!(["floor", "x0", "x1"].contains(&wall), "{l}");
+    }
+
+    let v = summary(&s, "out");
+    assert_eq!(v["counts"]["particles"], rows.len() as u64);
+    assert_eq!(v["dim"], 2);
+    assert_eq!(v["seed"], 5);
+    assert!(v["box"].get("depth").is_none(), "2D box has no depth");
+}
+
+#[test]
+fn summary_has_every_key_scripts_rely_on() {
+    let s = Scratch::new();
+    let o = s.packbed(&["run", "--radii", "10,20", "--out", "out3", "--quiet"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(o.stdout.is_empty(), "--quiet: {}", o.stdout);
+    let v = summary(&s, "out3");
+    for key in [
+        "/dim",
+        "/seed",
+        "/box/width",
+        "/box/depth",
+        "/box/height",
+        "/box/periodic",
+        "/counts/particles",
+        "/counts/bodies",
+        "/counts/redrops",
+        "/counts/base_layer",
+        "/counts/dropped",
+        "/counts/roof_overflows",
+        "/packing/global",
+        "/packing/bulk",
+        "/coordination/mean",
+        "/coordination/mean_bulk",
+        "/timing/deposit_seconds",
+        "/timing/analysis_seconds",
+        "/timing/total_seconds",
+        "/species/0/name",
+        "/species/0/size",
+        "/species/0/ratio",
+        "/species/0/placed",
+        "/config/dim",
+        "/config/seed",
+        "/config/box/periodic",
+        "/config/species/1/radius",
+        "/config/fill/until",
+        "/config/analysis/contact_tol",
+    ] {
+        assert!(v.pointer(key).is_some(), "summary.json lacks {key}");
+    }
+    assert_eq!(v["dim"], 3);
+    let g = v["packing"]["global"].as_f64().unwrap();
+    assert!(g > 0.2 && g < 0.75, "global packing {g}");
+    let placed: u64 = v["species"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["placed"].as_u64().unwrap())
+        .sum();
+    assert_eq!(placed, v["counts"]["bodies"].as_u64().unwrap());
+    assert_no_null(&v, "");
+}
+
+/// serde_json writes NaN as null: a null anywhere means a NaN got through.
+fn assert_no_null(v: &Value, at: &str) {
+    match v {
+        Value::Null => panic!("null (a NaN?) at {at}"),
+        Value::Array(a) => a
+            .iter()
+            .enumerate()
+            .for_each(|(i, x)| assert_no_null(x, &format!("{at}[{i}]"))),
+        Value::Object(o) => o
+            .iter()
+            .for_each(|(k, x)| assert_no_null(x, &format!("{at}.{k}"))),
+        _ => {}
+    }
+}
+
+#[test]
+fn same_seed_gives_identical_files() {
+    let s = Scratch::new();
+    small_run(&s, "a", &["--quiet"]);
+    small_run(&s, "b", &["--quiet"]);
+    for f in ["particles.csv", "contacts.csv", "wall_contacts.csv"] {
+        assert!(
+            s.read(&format!("a/{f}")) == s.read(&format!("b/{f}")),
+            "{f} differs between two runs with the same seed"
+        );
+    }
+    small_run(&s, "c", &["--quiet", "--seed", "6"]);
+    assert_ne!(s.read("a/particles.csv"), s.read("c/particles.csv"));
+    let a = summary(&s, "a");
+    let c = summary(&s, "c");
+    assert_eq!(a["seed"], 5);
+    assert_eq!(c["seed"], 6);
+}
+
+#[test]
+fn default_run_needs_no_arguments() {
+    let s = Scratch::new();
+    let o = s.packbed(&["run"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(o.stdout.contains("3D"), "{}", o.stdout);
+    let v = summary(&s, "packbed-out");
+    assert_eq!(v["dim"], 3);
+    assert_eq!(v["seed"], 1);
+    assert_eq!(v["config"]["box"]["preset"], "thesis");
+    assert_eq!(v["box"]["width"], 240.0);
+}
+
+#[test]
+fn overrides_reach_the_bed() {
+    let s = Scratch::new();
+    let o = s.packbed(&[
+        "run",
+        "--dim",
+        "2",
+        "--radii",
+        "8",
+        "--box",
+        "200,150",
+        "--periodic",
+        "--count",
+        "120",
+        "--seed",
+        "9",
+        "--out",
+        "o",
+        "--quiet",
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let v = summary(&s, "o");
+    assert_eq!(v["counts"]["particles"], 120);
+    assert_eq!(v["box"]["width"], 200.0);
+    assert_eq!(v["box"]["height"], 150.0);
+    assert_eq!(v["box"]["periodic"], true);
+    assert_eq!(v["seed"], 9);
+    assert_eq!(v["config"]["fill"]["count"], 120);
+}
+
+#[test]
+fn bench_json_is_one_object_with_the_keys() {
+    let s = Scratch::new();
+    let o = s.packbed(&["bench", "--dim", "2", "--n", "300", "--periodic", "--json"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert_eq!(o.stdout.lines().count(), 1, "{}", o.stdout);
+    let v: Value = serde_json::from_str(&o.stdout).unwrap();
+    for key in [
+        "dim",
+        "n",
+        "seconds",
+        "particles_per_second",
+        "peak_rss_bytes",
+    ] {
+        assert!(v.get(key).is_some(), "bench --json lacks {key}: {v}");
+    }
+    assert_eq!(v["dim"], 2);
+    assert_eq!(v["n"], 300);
+    assert!(v["particles_per_second"].as_f64().unwrap() > 0.0);
+    assert!(v["peak_rss_bytes"].as_u64().unwrap() > 0);
+    assert!(s.work_entries().is_empty(), "bench writes no files");
+}
