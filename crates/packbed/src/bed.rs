@@ -59,9 +59,9 @@ impl<const D: usize> Bed<D> {
         self.bodies.iter().max().map_or(0, |&b| b as usize + 1)
     }
 
-    /// Appends a particle that is a body of its own.
+    /// Appends a particle that is a body of its own (numbered after the last body).
     pub fn push(&mut self, centre: Vector<D>, radius: Real, species: u32) {
-        let body = self.body_count() as u32;
+        let body = self.bodies.last().map_or(0, |&b| b + 1);
         self.push_bead(centre, radius, species, body);
     }
 

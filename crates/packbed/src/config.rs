@@ -262,10 +262,7 @@ impl Config {
         // PSD tables are relative to the config file.
         if let Some(dir) = path.parent() {
             for s in &mut c.species {
-                if let Some(SizeConfig {
-                    table: Some(t), ..
-                }) = &mut s.size
-                {
+                if let Some(SizeConfig { table: Some(t), .. }) = &mut s.size {
                     if t.is_relative() {
                         *t = dir.join(&*t);
                     }
@@ -313,7 +310,9 @@ fn positive(v: Real, what: &str) -> Result<Real> {
     if v.is_finite() && v > 0.0 {
         Ok(v)
     } else {
-        Err(Error::config(format!("{what} must be a positive number, got {v}")))
+        Err(Error::config(format!(
+            "{what} must be a positive number, got {v}"
+        )))
     }
 }
 
@@ -404,7 +403,9 @@ impl SizeConfig {
             return SizeDist::read_table(t);
         }
         let dist = self.dist.as_deref().ok_or_else(|| {
-            Error::config(format!("{at}.size: missing `dist` (normal, lognormal, uniform) or `table`"))
+            Error::config(format!(
+                "{at}.size: missing `dist` (normal, lognormal, uniform) or `table`"
+            ))
         })?;
         let d = match dist {
             "normal" => {
@@ -450,12 +451,18 @@ const BYTES_PER_PARTICLE_BUDGET: u64 = 256;
 impl Config {
     /// The largest particle extent that sets the thesis box: the largest radius.
     fn r_max(species: &[Species]) -> Real {
-        species.iter().map(|s| s.size.bounds().1).fold(0.0, Real::max)
+        species
+            .iter()
+            .map(|s| s.size.bounds().1)
+            .fold(0.0, Real::max)
     }
 
     /// Validates the configuration for dimension `D` (which must equal `self.dim`).
     pub fn plan<const D: usize>(&self) -> Result<Plan<D>> {
-        assert_eq!(D, self.dim as usize, "plan::<D>() called for another dimension");
+        assert_eq!(
+            D, self.dim as usize,
+            "plan::<D>() called for another dimension"
+        );
         if self.species.is_empty() {
             return Err(Error::config("at least one [[species]] is needed"));
         }
@@ -496,9 +503,7 @@ impl Config {
         // Refuse requests that cannot fit in memory, before allocating anything.
         let estimate = match fill {
             Fill::Count(n) => n as Real,
-            Fill::Roof { .. } => {
-                container.volume() / crate::math::ball_volume::<D>(r_min) + 1.0
-            }
+            Fill::Roof { .. } => container.volume() / crate::math::ball_volume::<D>(r_min) + 1.0,
         };
         let budget = memory_budget_bytes() as Real / BYTES_PER_PARTICLE_BUDGET as Real;
         if estimate > budget {
@@ -583,11 +588,13 @@ impl BoxConfig {
             }
         } else if explicit {
             let w = positive(
-                self.width.ok_or_else(|| Error::config("box: missing `width`"))?,
+                self.width
+                    .ok_or_else(|| Error::config("box: missing `width`"))?,
                 "box.width",
             )?;
             let h = positive(
-                self.height.ok_or_else(|| Error::config("box: missing `height`"))?,
+                self.height
+                    .ok_or_else(|| Error::config("box: missing `height`"))?,
                 "box.height",
             )?;
             size[0] = w;

@@ -1,1 +1,229 @@
-//! Uniform cell grid for neighbour queries.
+//! Uniform cell grid for neighbour queries, growing upwards as the bed grows.
+//!
+//! Cells are at least as wide as the largest interaction distance, so a query box
+//! touches only a few cells. Each cell keeps a singly linked list of particle ids
+//! (`head` per cell, `next` per particle): 4 bytes per particle and per cell, no
+//! allocation per particle. A height map keeps the highest particle top of each
+//! column of cells, so a falling particle can start just above the bed.
+
+use crate::container::Container;
+use crate::math::{Real, Vector};
+
+const EMPTY: u32 = u32::MAX;
+
+/// The neighbour grid over a container.
+#[derive(Clone, Debug)]
+pub struct Grid<const D: usize> {
+    cell: [Real; D],
+    inv_cell: [Real; D],
+    counts: [usize; D],
+    extent: [Real; D],
+    periodic: bool,
+    head: Vec<u32>,
+    next: Vec<u32>,
+    column_top: Vec<Real>,
+    columns: usize,
+}
+
+impl<const D: usize> Grid<D> {
+    /// A grid whose cells are at least `reach` wide on every axis.
+    pub fn new(container: &Container<D>, reach: Real) -> Self {
+        let mut cell = [0.0; D];
+        let mut counts = [1usize; D];
+        let mut extent = [0.0; D];
+        let mut columns = 1;
+        for k in 0..D - 1 {
+            let w = container.extent(k);
+            // Cap the cell count so that tiny particles in a huge box cannot
+            // exhaust memory with empty cells; cells only get wider (still valid).
+            let n = ((w / reach).floor() as usize).clamp(1, 1 << 14);
+            counts[k] = n;
+            cell[k] = w / n as Real;
+            extent[k] = w;
+            columns *= n;
+        }
+        cell[D - 1] = reach;
+        counts[D - 1] = 0;
+        let mut inv_cell = [0.0; D];
+        for k in 0..D {
+            inv_cell[k] = 1.0 / cell[k];
+        }
+        Grid {
+            cell,
+            inv_cell,
+            counts,
+            extent,
+            periodic: container.periodic,
+            head: Vec::new(),
+            next: Vec::new(),
+            column_top: vec![0.0; columns],
+            columns,
+        }
+    }
+
+    /// Reserves room for `n` particles.
+    pub fn reserve(&mut self, n: usize) {
+        self.next.reserve(n);
+    }
+
+    #[inline]
+    fn layer_of(&self, z: Real) -> usize {
+        ((z * self.inv_cell[D - 1]).floor().max(0.0)) as usize
+    }
+
+    #[inline]
+    fn column_of(&self, p: &Vector<D>) -> usize {
+        let mut idx = 0;
+        for k in (0..D - 1).rev() {
+            let n = self.counts[k];
+            let i = ((p[k] * self.inv_cell[k]).floor() as isize).clamp(0, n as isize - 1);
+            idx = idx * n + i as usize;
+        }
+        idx
+    }
+
+    /// Adds particle `id` (ids must be added in order 0, 1, 2, …) with centre `p`
+    /// (inside the box laterally) and radius `r`.
+    pub fn insert(&mut self, id: u32, p: &Vector<D>, r: Real) {
+        debug_assert_eq!(id as usize, self.next.len());
+        let layer = self.layer_of(p[D - 1]);
+        if layer >= self.counts[D - 1] {
+            let layers = layer + 1;
+            self.head.resize(layers * self.columns, EMPTY);
+            self.counts[D - 1] = layers;
+        }
+        let col = self.column_of(p);
+        let cell = layer * self.columns + col;
+        self.next.push(self.head[cell]);
+        self.head[cell] = id;
+        let top = p[D - 1] + r;
+        if top > self.column_top[col] {
+            self.column_top[col] = top;
+        }
+    }
+
+    /// Highest particle top over the columns that overlap the horizontal box
+    /// `[lo, hi]` (vertical components ignored); 0 when they are empty.
+    pub fn max_top(&self, lo: &Vector<D>, hi: &Vector<D>) -> Real {
+        let mut best: Real = 0.0;
+        self.for_each_column(lo, hi, |col, _| {
+            best = best.max(self.column_top[col]);
+        });
+        best
+    }
+
+    /// Calls `f(column, shift)` for every column (as an image with its periodic
+    /// shift) overlapping the horizontal box `[lo, hi]`.
+    #[inline]
+    fn for_each_column(&self, lo: &Vector<D>, hi: &Vector<D>, mut f: impl FnMut(usize, Vector<D>)) {
+        let mut from = [0isize; D];
+        let mut to = [0isize; D];
+        for k in 0..D - 1 {
+            let n = self.counts[k] as isize;
+            let mut a = (lo[k] * self.inv_cell[k]).floor() as isize;
+            let mut b = (hi[k] * self.inv_cell[k]).floor() as isize;
+            if !self.periodic {
+                a = a.max(0);
+                b = b.min(n - 1);
+            } else if b - a >= 4 * n {
+                // A query wider than several periods: clamp, it cannot matter.
+                b = a + 4 * n - 1;
+            }
+            if a > b {
+                return;
+            }
+            from[k] = a;
+            to[k] = b;
+        }
+        let mut idx = from;
+        loop {
+            let mut col = 0usize;
+            let mut shift = Vector::<D>::zero();
+            for k in (0..D - 1).rev() {
+                let n = self.counts[k] as isize;
+                let i = idx[k].rem_euclid(n);
+                shift[k] = idx[k].div_euclid(n) as Real * self.extent[k];
+                col = col * n as usize + i as usize;
+            }
+            f(col, shift);
+            // Odometer over the horizontal axes.
+            let mut k = 0;
+            loop {
+                if k == D - 1 {
+                    return;
+                }
+                if idx[k] < to[k] {
+                    idx[k] += 1;
+                    break;
+                }
+                idx[k] = from[k];
+                k += 1;
+            }
+        }
+    }
+
+    /// Calls `f(id, shift)` for every particle in the cells overlapping the box
+    /// `[lo, hi]`; `shift` is the periodic image offset to add to its centre.
+    #[inline]
+    pub fn for_each_in_box(
+        &self,
+        lo: &Vector<D>,
+        hi: &Vector<D>,
+        mut f: impl FnMut(u32, Vector<D>),
+    ) {
+        let layers = self.counts[D - 1];
+        if layers == 0 || hi[D - 1] < 0.0 {
+            return;
+        }
+        let z0 = self.layer_of(lo[D - 1]);
+        let z1 = self.layer_of(hi[D - 1]).min(layers - 1);
+        if z0 > z1 {
+            return;
+        }
+        self.for_each_column(lo, hi, |col, shift| {
+            for layer in z0..=z1 {
+                let mut id = self.head[layer * self.columns + col];
+                while id != EMPTY {
+                    f(id, shift);
+                    id = self.next[id as usize];
+                }
+            }
+        });
+    }
+
+    /// Like [`Grid::for_each_in_box`], one layer at a time from the top down, for
+    /// as long as `f` returns the lowest height still worth scanning: layers whose
+    /// top lies below it are skipped.
+    pub fn scan_down(
+        &self,
+        lo: &Vector<D>,
+        hi: &Vector<D>,
+        mut f: impl FnMut(u32, Vector<D>) -> Real,
+    ) {
+        let layers = self.counts[D - 1];
+        if layers == 0 || hi[D - 1] < 0.0 {
+            return;
+        }
+        let z0 = self.layer_of(lo[D - 1]);
+        let z1 = self.layer_of(hi[D - 1]).min(layers - 1);
+        let mut floor_height: Real = Real::NEG_INFINITY;
+        for layer in (z0..=z1).rev() {
+            let layer_top = (layer + 1) as Real * self.cell[D - 1];
+            if layer_top < floor_height {
+                break;
+            }
+            self.for_each_column(lo, hi, |col, shift| {
+                let mut id = self.head[layer * self.columns + col];
+                while id != EMPTY {
+                    floor_height = floor_height.max(f(id, shift));
+                    id = self.next[id as usize];
+                }
+            });
+        }
+    }
+
+    /// Bytes held by the grid.
+    pub fn memory_bytes(&self) -> usize {
+        self.head.capacity() * 4 + self.next.capacity() * 4 + self.column_top.capacity() * 8
+    }
+}

@@ -10,6 +10,7 @@ pub mod config;
 pub mod container;
 pub mod deposit;
 pub mod error;
+pub mod geometry;
 pub mod grid;
 pub mod io;
 pub mod math;

@@ -57,7 +57,10 @@ impl SizeDist {
             SizeDist::Fixed(r) => (*r, *r),
             SizeDist::Normal { mean, sd } => {
                 let lo = mean - TRUNCATION_SIGMAS * sd;
-                (if lo > 0.0 { lo } else { mean * 1e-3 }, mean + TRUNCATION_SIGMAS * sd)
+                (
+                    if lo > 0.0 { lo } else { mean * 1e-3 },
+                    mean + TRUNCATION_SIGMAS * sd,
+                )
             }
             SizeDist::Lognormal { median, gsd } => {
                 let f = gsd.powf(TRUNCATION_SIGMAS);
@@ -160,7 +163,10 @@ impl SizeDist {
             if fields.len() != 2 {
                 return Err(data_err(
                     i + 1,
-                    format!("expected two columns `radius,weight`, found {}", fields.len()),
+                    format!(
+                        "expected two columns `radius,weight`, found {}",
+                        fields.len()
+                    ),
                 ));
             }
             let (Some(r), Some(w)) = (parsed[0], parsed[1]) else {

@@ -1,0 +1,461 @@
+//! Drop and roll of one sphere (disc in 2D) onto the fixed bed: fall, roll along
+//! the steepest descent that keeps the active contacts, until at rest.
+//!
+//! The moving centre stays outside the inflated obstacles. With the contacts that
+//! carry a compressive force it moves along a known curve (a vertical line, or a
+//! circle), so each move is "find the first event on the curve" in closed form:
+//! a new contact, or a contact force turning tensile (the contact is released).
+
+use super::obstacle::{is_floor, particle_key, wall_obstacle, Obstacle};
+use crate::container::Container;
+use crate::geometry::{Arc, Surface, Trig};
+use crate::grid::Grid;
+use crate::math::{nnls, Real, Vector};
+use rand::RngExt;
+
+/// Most contacts tracked at once (more happen only in degenerate ties).
+const MAX_ACTIVE: usize = 8;
+/// Moves after which a particle counts as stuck and is dropped again elsewhere.
+pub(crate) const MAX_MOVES: usize = 500;
+/// Relative size of "zero" for gaps (times the moving radius).
+const GAP_TOL: Real = 1e-12;
+/// Length of the NNLS residual (out of the unit "up") below which forces balance.
+const REST_TOL: Real = 1e-10;
+/// Contact forces below this (relative to the weight) are no forces.
+const FORCE_TOL: Real = 1e-12;
+
+/// The fixed bed as the rolling particle sees it.
+pub(crate) struct Terrain<'a, const D: usize> {
+    pub container: &'a Container<D>,
+    pub grid: &'a Grid<D>,
+    pub centres: &'a [Vector<D>],
+    pub radii: &'a [Real],
+    /// Largest radius of any fixed particle.
+    pub r_fixed_max: Real,
+}
+
+/// A small set of contacts with its forces.
+#[derive(Clone, Copy)]
+struct ContactSet<const D: usize> {
+    items: [Option<Obstacle<D>>; MAX_ACTIVE],
+    len: usize,
+}
+
+impl<const D: usize> ContactSet<D> {
+    fn new() -> Self {
+        ContactSet {
+            items: [None; MAX_ACTIVE],
+            len: 0,
+        }
+    }
+    fn get(&self, i: usize) -> Obstacle<D> {
+        self.items[i].expect("in range")
+    }
+    fn push(&mut self, o: Obstacle<D>) {
+        if self.len < MAX_ACTIVE && !self.contains(o.key) {
+            self.items[self.len] = Some(o);
+            self.len += 1;
+        }
+    }
+    fn contains(&self, key: u64) -> bool {
+        (0..self.len).any(|i| self.get(i).key == key)
+    }
+    fn remove_key(&mut self, key: u64) {
+        if let Some(i) = (0..self.len).find(|&i| self.get(i).key == key) {
+            self.items[i] = self.items[self.len - 1];
+            self.items[self.len - 1] = None;
+            self.len -= 1;
+        }
+    }
+    fn clear(&mut self) {
+        self.items = [None; MAX_ACTIVE];
+        self.len = 0;
+    }
+}
+
+/// Settles a sphere of radius `r` dropped at the horizontal position of `start`.
+/// Returns its resting centre (not wrapped into the periodic box), or `None` if
+/// it found no rest within [`MAX_MOVES`] moves.
+pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
+    terrain: &Terrain<'_, D>,
+    r: Real,
+    start: Vector<D>,
+    rng: &mut R,
+) -> Option<Vector<D>> {
+    let reach = r + terrain.r_fixed_max;
+    let tol = GAP_TOL * r;
+    let mut p = start;
+    {
+        let (mut lo, mut hi) = (p, p);
+        for k in 0..D - 1 {
+            lo[k] -= reach;
+            hi[k] += reach;
+        }
+        // Just above everything the particle could touch on its way down.
+        p[D - 1] = terrain.grid.max_top(&lo, &hi) + r;
+    }
+    let mut active = ContactSet::<D>::new();
+    let mut normals = [Vector::<D>::zero(); MAX_ACTIVE];
+    let mut lambda = [0.0; MAX_ACTIVE];
+    for _ in 0..MAX_MOVES {
+        if active.len == 0 {
+            let (t, hits) = fall(terrain, &p, r, tol);
+            p[D - 1] -= t;
+            active = hits;
+            continue;
+        }
+        for i in 0..active.len {
+            normals[i] = active.get(i).surface.normal_at(&p);
+        }
+        let residual = nnls(&normals[..active.len], Vector::up(), &mut lambda);
+        let mut keep = ContactSet::<D>::new();
+        let mut keep_lambda = [0.0; MAX_ACTIVE];
+        for i in 0..active.len {
+            if lambda[i] > FORCE_TOL {
+                keep_lambda[keep.len] = lambda[i];
+                keep.push(active.get(i));
+            }
+        }
+        let direction = if residual.norm() <= REST_TOL {
+            if is_stable(&keep, &p) {
+                return Some(p);
+            }
+            // Balanced but unstable (on top of a sphere, or of a circle): any
+            // push tips it over; the push's direction is drawn at random.
+            random_tangent(&keep, &p, rng)?
+        } else {
+            (-residual).normalized()?
+        };
+        let balls = (0..keep.len)
+            .filter(|&i| keep.get(i).surface.is_ball())
+            .count();
+        if balls == 0 {
+            // Only side walls hold it sideways: it slides straight down.
+            active.clear();
+            continue;
+        }
+        if keep.len >= D {
+            // Degenerate (dependent normals): let the weakest contact go.
+            let weakest = (0..keep.len)
+                .min_by(|&a, &b| keep_lambda[a].total_cmp(&keep_lambda[b]))
+                .expect("non-empty");
+            keep.remove_key(keep.get(weakest).key);
+        }
+        let (arc, releases) = build_arc(&keep, &p, &direction)?;
+        // The arc ends where a contact force turns tensile (or, as a safeguard,
+        // at the lowest point of the circle).
+        let mut t_end = arc.lowest().min(std::f64::consts::PI);
+        let mut released = None;
+        for i in 0..keep.len {
+            if let Some(t) = releases[i].first_downcrossing(t_end, 1e-14) {
+                if t < t_end {
+                    t_end = t;
+                    released = Some(keep.get(i).key);
+                }
+            }
+        }
+        let (t_hit, hits) = first_contact_on_arc(terrain, &arc, &keep, r, reach, t_end, tol);
+        let t = t_hit.min(t_end);
+        p = arc.point(t);
+        active = keep;
+        if t_hit <= t_end {
+            for i in 0..hits.len {
+                active.push(hits.get(i));
+            }
+        }
+        if t_end <= t_hit {
+            if let Some(key) = released {
+                active.remove_key(key);
+            }
+        }
+    }
+    None
+}
+
+/// At rest for good: on the floor, or held by `D` independent contacts.
+fn is_stable<const D: usize>(keep: &ContactSet<D>, p: &Vector<D>) -> bool {
+    if (0..keep.len).any(|i| is_floor(keep.get(i).key)) {
+        return true;
+    }
+    let mut basis = [Vector::<D>::zero(); MAX_ACTIVE];
+    orthonormal_normals(keep, p, &mut basis) == D
+}
+
+/// Gram–Schmidt on the contact normals; returns the rank.
+fn orthonormal_normals<const D: usize>(
+    set: &ContactSet<D>,
+    p: &Vector<D>,
+    basis: &mut [Vector<D>; MAX_ACTIVE],
+) -> usize {
+    let mut rank = 0;
+    for i in 0..set.len {
+        let mut n = set.get(i).surface.normal_at(p);
+        for b in basis.iter().take(rank) {
+            n -= *b * n.dot(b);
+        }
+        if let Some(u) = (n.norm() > 1e-9).then(|| n.normalized()).flatten() {
+            basis[rank] = u;
+            rank += 1;
+        }
+    }
+    rank
+}
+
+/// A random unit direction that keeps every contact of `set` (tangent to all).
+fn random_tangent<const D: usize, R: rand::Rng + ?Sized>(
+    set: &ContactSet<D>,
+    p: &Vector<D>,
+    rng: &mut R,
+) -> Option<Vector<D>> {
+    let mut basis = [Vector::<D>::zero(); MAX_ACTIVE];
+    let rank = orthonormal_normals(set, p, &mut basis);
+    for _ in 0..16 {
+        let mut w = Vector::<D>::zero();
+        for k in 0..D {
+            w[k] = rng.random_range(-1.0..1.0);
+        }
+        for b in basis.iter().take(rank) {
+            w -= *b * w.dot(b);
+        }
+        if let Some(u) = (w.norm() > 1e-6).then(|| w.normalized()).flatten() {
+            return Some(u);
+        }
+    }
+    None
+}
+
+/// Straight fall from `p`: the distance to the first contact, and the contacts
+/// made there (the floor, or spheres; ties kept together).
+fn fall<const D: usize>(
+    terrain: &Terrain<'_, D>,
+    p: &Vector<D>,
+    r: Real,
+    tol: Real,
+) -> (Real, ContactSet<D>) {
+    let mut best_t = p[D - 1] - r;
+    let mut hits = ContactSet::new();
+    hits.push(wall_obstacle(
+        terrain.container,
+        crate::container::Wall::Floor,
+        r,
+    ));
+    let reach = r + terrain.r_fixed_max;
+    let (mut lo, mut hi) = (*p, *p);
+    for k in 0..D - 1 {
+        lo[k] -= reach;
+        hi[k] += reach;
+    }
+    lo[D - 1] = 0.0;
+    let extent = terrain.container.size;
+    terrain.grid.scan_down(&lo, &hi, |id, shift| {
+        let c = terrain.centres[id as usize] + shift;
+        let big_r = r + terrain.radii[id as usize];
+        let w = *p - c;
+        let h2 = w.horizontal().norm2();
+        let r2 = big_r * big_r;
+        // Below the obstacle's equator the fall only moves away from it (a sphere
+        // sliding off the side of another, just released). A graze within 1e-9
+        // of the equator penetrates by less than 1e-17 R: no contact either.
+        if h2 < r2 && w[D - 1] > 1e-9 * big_r {
+            let t = (w[D - 1] - (r2 - h2).sqrt()).max(0.0);
+            if t < best_t - tol {
+                best_t = t;
+                hits.clear();
+            }
+            if t <= best_t + tol {
+                hits.push(Obstacle {
+                    surface: Surface::Ball {
+                        centre: c,
+                        radius: big_r,
+                    },
+                    key: particle_key(id, &shift, &extent),
+                });
+            }
+        }
+        p[D - 1] - best_t - reach
+    });
+    if best_t < p[D - 1] - r - tol {
+        // A sphere is hit before the floor: the floor is no contact.
+        let floor = crate::deposit::obstacle::wall_key(crate::container::Wall::Floor);
+        hits.remove_key(floor);
+    }
+    (best_t.max(0.0), hits)
+}
+
+/// The circle the centre follows while keeping the contacts of `keep` (one sphere,
+/// possibly with walls, or two spheres in 3D), starting at `p` in `direction`; and
+/// for each contact the function whose sign is that of its force along the arc.
+fn build_arc<const D: usize>(
+    keep: &ContactSet<D>,
+    p: &Vector<D>,
+    direction: &Vector<D>,
+) -> Option<(Arc<D>, [Trig; MAX_ACTIVE])> {
+    let mut balls = [(Vector::<D>::zero(), 0.0); 2];
+    let mut nb = 0;
+    let mut planes = [(Vector::<D>::zero(), 0.0); MAX_ACTIVE];
+    let mut np = 0;
+    for i in 0..keep.len {
+        match keep.get(i).surface {
+            Surface::Ball { centre, radius } => {
+                if nb == 2 {
+                    return None;
+                }
+                balls[nb] = (centre, radius);
+                nb += 1;
+            }
+            Surface::Plane { normal, offset } => {
+                planes[np] = (normal, offset);
+                np += 1;
+            }
+        }
+    }
+    let mut releases = [Trig {
+        a: 0.0,
+        b: 0.0,
+        c: 0.0,
+    }; MAX_ACTIVE];
+    match nb {
+        1 => {
+            // One sphere, cut by the wall planes (side walls are orthogonal).
+            let (c, big_r) = balls[0];
+            let mut m = c;
+            for &(n, h) in &planes[..np] {
+                m -= n * (n.dot(&m) - h);
+            }
+            let rho2 = big_r * big_r - (c - m).norm2();
+            if rho2 <= (1e-9 * big_r).powi(2) {
+                return None;
+            }
+            let mut q = *p - m;
+            for &(n, _) in &planes[..np] {
+                q -= n * n.dot(&q);
+            }
+            let u = q.normalized()?;
+            let mut v = *direction - u * direction.dot(&u);
+            for &(n, _) in &planes[..np] {
+                v -= n * n.dot(&v);
+            }
+            let v = v.normalized()?;
+            let arc = Arc {
+                m,
+                rho: rho2.sqrt(),
+                u,
+                v,
+            };
+            // Every force here is proportional to the height above the circle's
+            // centre: all are released at its equator.
+            for rel in releases.iter_mut().take(keep.len) {
+                *rel = arc.height_trig();
+            }
+            Some((arc, releases))
+        }
+        2 => {
+            let ((c1, r1), (c2, r2)) = (balls[0], balls[1]);
+            let e = c2 - c1;
+            let dist = e.norm();
+            if dist <= 0.0 || np > 0 {
+                return None;
+            }
+            let a = e / dist;
+            let s1 = (dist * dist + r1 * r1 - r2 * r2) / (2.0 * dist);
+            let rho2 = r1 * r1 - s1 * s1;
+            if rho2 <= (1e-9 * r1).powi(2) {
+                return None;
+            }
+            let rho = rho2.sqrt();
+            let m = c1 + a * s1;
+            let mut q = *p - m;
+            q -= a * a.dot(&q);
+            let u = q.normalized()?;
+            let v = (*direction - u * direction.dot(&u) - a * direction.dot(&a)).normalized()?;
+            let arc = Arc { m, rho, u, v };
+            // Force balance in the plane of (radial, axis): λ1 ∝ a_z ρ − s2 q_z and
+            // λ2 ∝ s1 q_z − a_z ρ, with q_z the height of the radial unit vector.
+            let s2 = s1 - dist;
+            let az = a.height();
+            let h = arc.height_trig();
+            let scale = |f: Real, c: Real| Trig {
+                a: f * h.a,
+                b: f * h.b,
+                c,
+            };
+            for i in 0..keep.len {
+                releases[i] = match keep.get(i).surface {
+                    Surface::Ball { centre, .. } if centre == c1 => scale(-s2, az * rho),
+                    _ => scale(s1, -az * rho),
+                };
+            }
+            Some((arc, releases))
+        }
+        _ => None,
+    }
+}
+
+/// First new contact along `arc` for `t ∈ [0, t_end]`: its parameter (or
+/// infinity) and the obstacles met there.
+fn first_contact_on_arc<const D: usize>(
+    terrain: &Terrain<'_, D>,
+    arc: &Arc<D>,
+    keep: &ContactSet<D>,
+    r: Real,
+    reach: Real,
+    t_end: Real,
+    tol: Real,
+) -> (Real, ContactSet<D>) {
+    let mut best = Real::INFINITY;
+    let mut hits = ContactSet::<D>::new();
+    let tie = 1e-12;
+    let consider =
+        |o: Obstacle<D>, f: Trig, ftol: Real, best: &mut Real, hits: &mut ContactSet<D>| {
+            let limit = best.min(t_end);
+            if let Some(t) = f.first_downcrossing(limit + tie, ftol) {
+                if t < *best - tie {
+                    *best = t;
+                    hits.clear();
+                }
+                if t <= *best + tie {
+                    hits.push(o);
+                }
+            }
+        };
+    let c = terrain.container;
+    for wall in c.walls() {
+        let o = wall_obstacle(c, wall, r);
+        if keep.contains(o.key) {
+            continue;
+        }
+        if let Surface::Plane { normal, offset } = o.surface {
+            consider(
+                o,
+                arc.plane_trig(&normal, offset),
+                tol,
+                &mut best,
+                &mut hits,
+            );
+        }
+    }
+    let (mut lo, mut hi) = arc.bounds(t_end);
+    for k in 0..D {
+        lo[k] -= reach;
+        hi[k] += reach;
+    }
+    let extent = c.size;
+    terrain.grid.for_each_in_box(&lo, &hi, |id, shift| {
+        let key = particle_key(id, &shift, &extent);
+        if keep.contains(key) {
+            return;
+        }
+        let centre = terrain.centres[id as usize] + shift;
+        let big_r = r + terrain.radii[id as usize];
+        let f = arc.ball_trig(&centre, big_r);
+        let o = Obstacle {
+            surface: Surface::Ball {
+                centre,
+                radius: big_r,
+            },
+            key,
+        };
+        consider(o, f, 2.0 * big_r * tol, &mut best, &mut hits);
+    });
+    (best, hits)
+}

@@ -1,0 +1,405 @@
+//! Exact geometry of the moving centre: inflated obstacles (balls and planes), the
+//! circles it rolls along, first events on a circle, and points where `D` surfaces
+//! meet. All closed form: no stepping.
+
+use crate::math::{Real, Vector};
+use std::f64::consts::TAU;
+
+/// A surface the moving centre must stay outside of: a fixed sphere inflated by
+/// the moving radius (`|p − c| ≥ R`), or a plane (`n · p ≥ h`: floor, side wall).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Surface<const D: usize> {
+    /// An inflated sphere.
+    Ball {
+        /// Centre (periodic image already applied).
+        centre: Vector<D>,
+        /// Inflated radius `r_fixed + r_moving`.
+        radius: Real,
+    },
+    /// A plane with unit normal pointing into the free side.
+    Plane {
+        /// Unit normal.
+        normal: Vector<D>,
+        /// Offset: the plane is `normal · p = offset`.
+        offset: Real,
+    },
+}
+
+impl<const D: usize> Surface<D> {
+    /// Signed distance of `p` from the surface (positive on the free side).
+    #[inline]
+    pub fn gap(&self, p: &Vector<D>) -> Real {
+        match self {
+            Surface::Ball { centre, radius } => (*p - *centre).norm() - radius,
+            Surface::Plane { normal, offset } => normal.dot(p) - offset,
+        }
+    }
+
+    /// Unit normal of the surface at (or nearest to) `p`, pointing to the free side.
+    #[inline]
+    pub fn normal_at(&self, p: &Vector<D>) -> Vector<D> {
+        match self {
+            Surface::Ball { centre, .. } => (*p - *centre).normalized().unwrap_or_else(Vector::up),
+            Surface::Plane { normal, .. } => *normal,
+        }
+    }
+
+    /// True for a sphere.
+    #[inline]
+    pub fn is_ball(&self) -> bool {
+        matches!(self, Surface::Ball { .. })
+    }
+}
+
+/// A circle `p(t) = m + ρ (u cos t + v sin t)` travelled from `t = 0`.
+#[derive(Clone, Copy, Debug)]
+pub struct Arc<const D: usize> {
+    /// Centre of the circle.
+    pub m: Vector<D>,
+    /// Radius of the circle.
+    pub rho: Real,
+    /// Unit vector from `m` to the start point.
+    pub u: Vector<D>,
+    /// Unit tangent at the start, the direction of travel.
+    pub v: Vector<D>,
+}
+
+/// A trigonometric function `a cos t + b sin t + c` of the arc parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Trig {
+    /// Coefficient of `cos t`.
+    pub a: Real,
+    /// Coefficient of `sin t`.
+    pub b: Real,
+    /// Constant term.
+    pub c: Real,
+}
+
+impl<const D: usize> Arc<D> {
+    /// The point at parameter `t`.
+    #[inline]
+    pub fn point(&self, t: Real) -> Vector<D> {
+        let (s, c) = t.sin_cos();
+        self.m + (self.u * c + self.v * s) * self.rho
+    }
+
+    /// `|p(t) − c|² − R²`: negative inside the ball.
+    #[inline]
+    pub fn ball_trig(&self, centre: &Vector<D>, radius: Real) -> Trig {
+        let w = self.m - *centre;
+        Trig {
+            a: 2.0 * self.rho * self.u.dot(&w),
+            b: 2.0 * self.rho * self.v.dot(&w),
+            c: w.norm2() + self.rho * self.rho - radius * radius,
+        }
+    }
+
+    /// `n · p(t) − h`: negative behind the plane.
+    #[inline]
+    pub fn plane_trig(&self, normal: &Vector<D>, offset: Real) -> Trig {
+        Trig {
+            a: self.rho * normal.dot(&self.u),
+            b: self.rho * normal.dot(&self.v),
+            c: normal.dot(&self.m) - offset,
+        }
+    }
+
+    /// Height of `p(t)` above the circle's centre, divided by ρ.
+    #[inline]
+    pub fn height_trig(&self) -> Trig {
+        Trig {
+            a: self.u.height(),
+            b: self.v.height(),
+            c: 0.0,
+        }
+    }
+
+    /// Parameter of the lowest point of the circle, in `(0, 2π)`.
+    pub fn lowest(&self) -> Real {
+        let phi = self.v.height().atan2(self.u.height());
+        let t = (phi + std::f64::consts::PI).rem_euclid(TAU);
+        if t <= 0.0 {
+            TAU
+        } else {
+            t
+        }
+    }
+
+    /// Axis-aligned bounding box of the arc for `t ∈ [0, t_end]`.
+    pub fn bounds(&self, t_end: Real) -> (Vector<D>, Vector<D>) {
+        let p0 = self.point(0.0);
+        let p1 = self.point(t_end);
+        let mut lo = p0;
+        let mut hi = p0;
+        for k in 0..D {
+            lo[k] = lo[k].min(p1[k]);
+            hi[k] = hi[k].max(p1[k]);
+            // Extremes of m_k + ρ (u_k cos t + v_k sin t) at t = φ and φ + π.
+            let phi = self.v[k].atan2(self.u[k]);
+            for t in [phi, phi + std::f64::consts::PI] {
+                let t = t.rem_euclid(TAU);
+                if t <= t_end {
+                    let x = self.point(t)[k];
+                    lo[k] = lo[k].min(x);
+                    hi[k] = hi[k].max(x);
+                }
+            }
+        }
+        (lo, hi)
+    }
+}
+
+impl Trig {
+    /// Value at `t`.
+    #[inline]
+    pub fn at(&self, t: Real) -> Real {
+        let (s, c) = t.sin_cos();
+        self.a * c + self.b * s + self.c
+    }
+
+    /// The first `t ∈ [0, t_max]` where the function goes from non-negative to
+    /// negative (the moving centre enters an obstacle, or a contact force turns
+    /// tensile). `tol` is the size of a value that counts as zero.
+    ///
+    /// Starting within `tol` of zero, the event is crossing `−tol` below the start:
+    /// a surface touched tangentially (a contact just released, a wall the path
+    /// runs along) is met again only if the path really goes into it, and then
+    /// after a step of positive length, so no zero-length cycle can arise.
+    /// Starting inside by more than `tol`, the event is immediate if heading in.
+    pub fn first_downcrossing(&self, t_max: Real, tol: Real) -> Option<Real> {
+        let f0 = self.a + self.c;
+        if f0 < -tol {
+            return (self.b < 0.0).then_some(0.0);
+        }
+        let level = if f0 > tol { 0.0 } else { f0.min(0.0) - tol };
+        let c = self.c - level;
+        let k = self.a.hypot(self.b);
+        if c >= k || c <= -k {
+            return None;
+        }
+        // A graze (dipping below the level by less than the tolerance) is no event.
+        if c - k > -tol {
+            return None;
+        }
+        let alpha = (-c / k).acos();
+        let phi = self.b.atan2(self.a);
+        let t = (phi + alpha).rem_euclid(TAU);
+        (t <= t_max).then_some(t)
+    }
+}
+
+/// The points where `D` surfaces (at least one of them a ball) meet: zero, one or
+/// two points. Planes and differences of spheres give `D − 1` linear equations (a
+/// line); the line meets the first ball in up to two points.
+pub fn intersection_points<const D: usize>(surfaces: &[Surface<D>]) -> ([Vector<D>; 2], usize) {
+    debug_assert_eq!(surfaces.len(), D);
+    let none = ([Vector::zero(); 2], 0);
+    let Some(first) = surfaces.iter().position(|s| s.is_ball()) else {
+        return none;
+    };
+    let Surface::Ball {
+        centre: c0,
+        radius: r0,
+    } = surfaces[first]
+    else {
+        return none;
+    };
+    // Rows of the linear system `rows[i] · p = rhs[i]`, made relative to c0 for
+    // accuracy: unknown q = p − c0.
+    let mut rows = [Vector::<D>::zero(); 3];
+    let mut rhs = [0.0; 3];
+    let mut k = 0;
+    for (i, s) in surfaces.iter().enumerate() {
+        if i == first {
+            continue;
+        }
+        match s {
+            Surface::Ball { centre, radius } => {
+                // |q|² = r0², |q − e|² = r² ⇒ 2 e·q = r0² − r² + |e|².
+                let e = *centre - c0;
+                rows[k] = e * 2.0;
+                rhs[k] = r0 * r0 - radius * radius + e.norm2();
+            }
+            Surface::Plane { normal, offset } => {
+                rows[k] = *normal;
+                rhs[k] = offset - normal.dot(&c0);
+            }
+        }
+        k += 1;
+    }
+    // Orthonormalise the rows (Gram–Schmidt), carrying the right-hand sides, to
+    // get the minimum-norm particular solution and the line's direction.
+    let mut basis = [Vector::<D>::zero(); 3];
+    let mut q0 = Vector::<D>::zero();
+    for i in 0..k {
+        let mut row = rows[i];
+        let mut b = rhs[i];
+        for j in 0..i {
+            let f = row.dot(&basis[j]);
+            row -= basis[j] * f;
+            b -= f * q0_component(&q0, &basis[j]);
+        }
+        let n = row.norm();
+        if n < 1e-12 * rows[i].norm().max(1e-300) {
+            return none; // dependent equations: degenerate
+        }
+        basis[i] = row / n;
+        q0 += basis[i] * (b / n);
+    }
+    // Direction of the line: the axis least aligned with the rows, orthogonalised.
+    let mut dir = Vector::<D>::zero();
+    let mut best = -1.0;
+    for ax in 0..D {
+        let mut w = Vector::<D>::axis(ax);
+        for j in 0..k {
+            w -= basis[j] * w.dot(&basis[j]);
+        }
+        let n = w.norm2();
+        if n > best {
+            best = n;
+            dir = w;
+        }
+    }
+    let Some(dir) = dir.normalized() else {
+        return none;
+    };
+    // |q0 + s dir|² = r0² with q0 ⟂ dir.
+    let disc = r0 * r0 - q0.norm2();
+    if disc < 0.0 {
+        if disc > -1e-12 * r0 * r0 {
+            return ([c0 + q0, Vector::zero()], 1);
+        }
+        return none;
+    }
+    let s = disc.sqrt();
+    ([c0 + q0 - dir * s, c0 + q0 + dir * s], 2)
+}
+
+#[inline]
+fn q0_component<const D: usize>(q0: &Vector<D>, b: &Vector<D>) -> Real {
+    q0.dot(b)
+}
+
+/// Unit vector of `p − c` and the distance, or `None` if they coincide.
+#[inline]
+pub fn direction<const D: usize>(p: &Vector<D>, c: &Vector<D>) -> Option<(Vector<D>, Real)> {
+    let w = *p - *c;
+    let n = w.norm();
+    (n > 0.0).then(|| (w / n, n))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn downcrossing_of_a_ball_ahead() {
+        // Unit circle in the plane, start at (1, 0) going up (v = (0, 1));
+        // ball of radius 0.5 at (0, 1): entered at an angle found by hand.
+        let arc = Arc {
+            m: Vector([0.0, 0.0]),
+            rho: 1.0,
+            u: Vector([1.0, 0.0]),
+            v: Vector([0.0, 1.0]),
+        };
+        let f = arc.ball_trig(&Vector([0.0, 1.0]), 0.5);
+        let t = f.first_downcrossing(TAU, 1e-12).unwrap();
+        // |p(t) − (0,1)|² = 2 − 2 sin t = 0.25 ⇒ sin t = 7/8.
+        assert!((t - (7.0f64 / 8.0).asin()).abs() < 1e-12, "{t}");
+        assert!(f.at(t).abs() < 1e-12);
+    }
+
+    #[test]
+    fn leaving_contact_is_not_an_event() {
+        // Start exactly on the surface of a ball behind us, moving away.
+        let arc = Arc {
+            m: Vector([0.0, 0.0]),
+            rho: 1.0,
+            u: Vector([1.0, 0.0]),
+            v: Vector([0.0, 1.0]),
+        };
+        // Ball centred at (1, -1) with radius 1 touches the start (1, 0).
+        let f = arc.ball_trig(&Vector([1.0, -1.0]), 1.0);
+        assert!(f.at(0.0).abs() < 1e-15);
+        let t = f.first_downcrossing(TAU, 1e-12);
+        // It is re-entered only after coming round the circle.
+        assert!(t.map_or(true, |t| t > 1.0), "{t:?}");
+    }
+
+    #[test]
+    fn lowest_point() {
+        let arc = Arc {
+            m: Vector([0.0, 0.0, 0.0]),
+            rho: 1.0,
+            u: Vector([0.0, 0.0, 1.0]),
+            v: Vector([1.0, 0.0, 0.0]),
+        };
+        assert!((arc.lowest() - std::f64::consts::PI).abs() < 1e-15);
+    }
+
+    #[test]
+    fn three_spheres_meet_in_two_points() {
+        // Three unit-radius inflated balls at the corners of an equilateral
+        // triangle of side 1 in the plane z = 0: the points are at height
+        // sqrt(1 − 1/3) above and below the centroid.
+        let s3 = 3f64.sqrt();
+        let c = [
+            Vector([0.0, 0.0, 0.0]),
+            Vector([1.0, 0.0, 0.0]),
+            Vector([0.5, s3 / 2.0, 0.0]),
+        ];
+        let surfaces = c.map(|c| Surface::Ball {
+            centre: c,
+            radius: 1.0,
+        });
+        let (pts, n) = intersection_points(&surfaces);
+        assert_eq!(n, 2);
+        let h = (1.0f64 - 1.0 / 3.0).sqrt();
+        for p in &pts[..2] {
+            assert!((p[0] - 0.5).abs() < 1e-14 && (p[1] - s3 / 6.0).abs() < 1e-14);
+            assert!((p[2].abs() - h).abs() < 1e-14);
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn intersection_points_lie_on_every_surface(
+            c in prop::array::uniform3(prop::array::uniform3(-5.0f64..5.0)),
+            r in prop::array::uniform3(0.5f64..6.0),
+            plane in any::<bool>(),
+            h in -2.0f64..2.0,
+        ) {
+            let mut s: Vec<Surface<3>> = (0..3).map(|i| Surface::Ball {
+                centre: Vector(c[i]), radius: r[i] }).collect();
+            if plane {
+                s[2] = Surface::Plane { normal: Vector([0.0, 0.0, 1.0]), offset: h };
+            }
+            let (pts, n) = intersection_points(&s);
+            for p in &pts[..n] {
+                for surf in &s {
+                    prop_assert!(surf.gap(p).abs() < 1e-8, "{:?} {:?}", surf, p);
+                }
+            }
+        }
+
+        #[test]
+        fn downcrossing_is_a_root_with_no_earlier_negative(
+            a in -3.0f64..3.0, b in -3.0f64..3.0, c in -3.0f64..3.0,
+        ) {
+            let f = Trig { a, b, c };
+            prop_assume!(f.at(0.0) > 1e-6);
+            if let Some(t) = f.first_downcrossing(TAU, 1e-12) {
+                prop_assert!(f.at(t).abs() < 1e-9);
+                for i in 0..200 {
+                    let s = t * i as f64 / 200.0;
+                    prop_assert!(f.at(s) > -1e-9);
+                }
+            } else {
+                for i in 0..400 {
+                    prop_assert!(f.at(TAU * i as f64 / 400.0) > -1e-6);
+                }
+            }
+        }
+    }
+}
