@@ -25,6 +25,8 @@ pub struct Progress {
     bar: Option<ProgressBar>,
     start: Instant,
     shown: bool,
+    /// Time and count of the first report.
+    first: Option<(Instant, u64)>,
 }
 
 impl Progress {
@@ -37,7 +39,7 @@ impl Progress {
             );
             bar.set_style(
                 ProgressStyle::with_template(
-                    "{spinner} {human_pos}/~{human_len} particles  {per_sec}  ETA {eta}  [{bar:30}]",
+                    "{spinner} {human_pos}/~{human_len} particles  {msg}  [{bar:30}]",
                 )
                 .unwrap_or_else(|_| ProgressStyle::default_bar())
                 .progress_chars("=> "),
@@ -48,6 +50,7 @@ impl Progress {
             bar,
             start: Instant::now(),
             shown: false,
+            first: None,
         }
     }
 
@@ -63,6 +66,17 @@ impl Progress {
             bar.set_length(placed + placed / 10 + 1);
         }
         bar.set_position(placed);
+        // Rate and ETA from the first report on: deposition runs at a steady pace
+        // once the base layer (which reports nothing) is done, and indicatif's
+        // own estimate is thrown off by that silent start.
+        let now = Instant::now();
+        let (t0, n0) = *self.first.get_or_insert((now, placed));
+        let secs = now.duration_since(t0).as_secs_f64();
+        if secs > 0.0 && placed > n0 {
+            let rate = (placed - n0) as f64 / secs;
+            let left = bar.length().unwrap_or(placed).saturating_sub(placed) as f64 / rate;
+            bar.set_message(format!("{rate:.0}/s  ETA {left:.0} s"));
+        }
     }
 
     /// Removes the bar from the terminal.
