@@ -56,11 +56,9 @@ impl<const D: usize> CellList<D> {
                 origin[k] = if lo[k].is_finite() { lo[k] } else { 0.0 };
             }
         }
-        let mut cell = if range.is_finite() && range > 0.0 {
-            range
-        } else {
-            1.0
-        };
+        // An infinite range (huge user tolerance) gives one cell per axis below; a
+        // zero range (all radii zero) only needs coincident points together.
+        let mut cell = if range > 0.0 { range } else { 1.0 };
         // A far outlier (imported data) must not make the dense grid huge: grow the
         // cells until there are at most a few per particle. Larger cells stay
         // correct, only slower.

@@ -281,6 +281,15 @@ mod tests {
     }
 
     #[test]
+    fn huge_or_nan_tolerance_does_not_break_the_cell_list() {
+        let bed = bed2([10.0, 10.0], true, &[(1.0, 1.0, 1.0), (9.0, 9.0, 0.5)]);
+        assert_eq!(find_contacts(&bed, 1e300).pairs.len(), 1);
+        assert_eq!(find_contacts(&bed, Real::INFINITY).pairs.len(), 1);
+        let none = find_contacts(&bed, Real::NAN);
+        assert!(none.pairs.is_empty() && none.walls.is_empty());
+    }
+
+    #[test]
     fn empty_and_single_beds() {
         let empty = bed2([4.0, 4.0], false, &[]);
         assert_eq!(find_contacts(&empty, 1e-6), Contacts::default());

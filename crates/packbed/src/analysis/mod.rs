@@ -102,3 +102,92 @@ fn mean_of(values: impl Iterator<Item = u32>) -> Real {
         sum / n as Real
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::container::Container;
+    use crate::math::Vector;
+    use std::f64::consts::PI;
+
+    /// Discs of diameter 1 on the unit square lattice filling a 10 × 10 box.
+    fn square_lattice(periodic: bool) -> Bed<2> {
+        let mut bed = Bed::new(
+            Container {
+                size: Vector([10.0, 10.0]),
+                periodic,
+            },
+            Vec::new(),
+        );
+        for j in 0..10 {
+            for i in 0..10 {
+                bed.push(Vector([i as Real + 0.5, j as Real + 0.5]), 0.5, 0);
+            }
+        }
+        bed
+    }
+
+    #[test]
+    fn square_lattice_summary() {
+        let (contacts, s) = analyze(&square_lattice(false), 1e-6);
+        assert_eq!(contacts.pairs.len(), 2 * 10 * 9);
+        assert!((s.packing.global - PI / 4.0).abs() < 1e-14);
+        // Bulk: [2, 8] × [2, 7]: centres 2.5..7.5 by 2.5..6.5, all with 4 neighbours.
+        assert!((s.packing.bulk - PI / 4.0).abs() < 1e-14);
+        assert!(!s.packing.bulk_region_empty);
+        assert_eq!(s.coordination.bulk_particles, 30);
+        assert_eq!(s.coordination.mean_bulk, 4.0);
+        // Corners 2, edges 3, inside 4: 2 × 180 contacts / 100 discs.
+        assert!((s.coordination.mean - 3.6).abs() < 1e-14);
+        // Periodic: every disc has four neighbours.
+        let (contacts, s) = analyze(&square_lattice(true), 1e-6);
+        assert_eq!(contacts.pairs.len(), 2 * 10 * 9 + 10);
+        assert_eq!(s.coordination.bulk_particles, 50);
+        assert_eq!(s.coordination.mean_bulk, 4.0);
+    }
+
+    #[test]
+    fn chains_count_once_per_body() {
+        let mut bed = Bed::new(
+            Container {
+                size: Vector([20.0, 20.0]),
+                periodic: false,
+            },
+            Vec::new(),
+        );
+        // A three-bead chain on the floor and two discs on it, one over each joint.
+        for k in 0..3 {
+            bed.push_bead(Vector([3.0 + 2.0 * k as Real, 1.0]), 1.0, 0, 0);
+        }
+        let h = 1.0 + 3f64.sqrt();
+        bed.push(Vector([4.0, h]), 1.0, 0);
+        bed.push(Vector([6.0, h]), 1.0, 0);
+        let (contacts, s) = analyze(&bed, 1e-9);
+        // Bead pairs: 2 per disc; the discs also touch each other.
+        assert_eq!(contacts.pairs.len(), 5);
+        // Bodies: the chain touches 2 bodies, each disc touches the chain and the
+        // other disc.
+        assert!((s.coordination.mean - 2.0).abs() < 1e-15);
+        assert!(s.packing.bulk_region_empty);
+        assert_eq!(s.packing.bulk, 0.0);
+    }
+
+    #[test]
+    fn empty_bed_gives_zeros_not_nan() {
+        let bed: Bed<3> = Bed::new(
+            Container {
+                size: Vector([10.0, 10.0, 10.0]),
+                periodic: true,
+            },
+            Vec::new(),
+        );
+        let (contacts, s) = analyze(&bed, 1e-6);
+        assert_eq!(contacts, Contacts::default());
+        assert_eq!(s.packing.global, 0.0);
+        assert_eq!(s.packing.bulk, 0.0);
+        assert!(s.packing.bulk_region_empty);
+        assert_eq!(s.coordination.mean, 0.0);
+        assert_eq!(s.coordination.mean_bulk, 0.0);
+        assert_eq!(s.coordination.bulk_particles, 0);
+    }
+}
