@@ -51,8 +51,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            // `{:#}` joins the context chain on one line: "what: why".
-            eprintln!("packbed: error: {}", one_line(&format!("{e:#}")));
+            eprintln!("packbed: error: {}", one_line(&chain(&e)));
             ExitCode::from(EXIT_USER_ERROR)
         }
     }
@@ -78,6 +77,22 @@ fn clap_exit(e: clap::Error) -> ExitCode {
             ExitCode::from(EXIT_USER_ERROR)
         }
     }
+}
+
+/// The error and its causes as "what: why", leaving out a cause whose text the
+/// message already quotes (the library's I/O errors include their source).
+fn chain(e: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in e.chain() {
+        let c = cause.to_string();
+        if !text.contains(&c) {
+            if !text.is_empty() {
+                text.push_str(": ");
+            }
+            text.push_str(&c);
+        }
+    }
+    text
 }
 
 /// Error messages from parsers may span lines; a script reading stderr wants one.

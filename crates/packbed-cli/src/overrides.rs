@@ -50,13 +50,15 @@ pub struct Overrides {
     pub large: Option<f64>,
 }
 
-/// Parses `10,20` (spaces allowed) into numbers; `flag` names the option in errors.
-fn numbers(text: &str, flag: &str) -> Result<Vec<f64>> {
+/// Parses `10,20` (spaces allowed) into numbers; `usage` (e.g. `--radii 10,20`)
+/// shows the expected form in errors, its first word names the option.
+fn numbers(text: &str, usage: &str) -> Result<Vec<f64>> {
+    let flag = usage.split(' ').next().unwrap_or(usage);
     text.split(',')
         .map(|f| {
             let f = f.trim();
             f.parse::<f64>().map_err(|_| {
-                anyhow::anyhow!("{flag}: `{f}` is not a number (expected e.g. `{flag} 10,20`)")
+                anyhow::anyhow!("{flag}: `{f}` is not a number (expected e.g. `{usage}`)")
             })
         })
         .collect()
@@ -123,12 +125,12 @@ impl Overrides {
         let radii = self
             .radii
             .as_deref()
-            .map(|t| numbers(t, "--radii"))
+            .map(|t| numbers(t, "--radii 10,20"))
             .transpose()?;
         let ratios = self
             .ratio
             .as_deref()
-            .map(|t| numbers(t, "--ratio"))
+            .map(|t| numbers(t, "--ratio 1,1"))
             .transpose()?;
         if let (Some(r), Some(q)) = (&radii, &ratios) {
             if r.len() != q.len() {
@@ -183,9 +185,9 @@ fn apply_box(text: &str, config: &mut Config) -> Result<()> {
     if text == "thesis" {
         b.preset = Some("thesis".into());
     } else if let Some(n) = text.strip_prefix("diameters=") {
-        b.diameters = Some(numbers(n, "--box diameters=N")?[0]);
+        b.diameters = Some(numbers(n, "--box diameters=20")?[0]);
     } else {
-        let v = numbers(text, "--box").map_err(|_| {
+        let v = numbers(text, "--box 400,400,400").map_err(|_| {
             anyhow::anyhow!("--box: `{text}` is not thesis, W,H, W,D,H or diameters=N")
         })?;
         match (v.as_slice(), config.dim) {

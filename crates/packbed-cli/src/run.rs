@@ -77,12 +77,20 @@ fn source_name(args: &RunArgs) -> String {
     }
 }
 
-/// Refuses an output path that can never become a directory, before the run.
+/// Refuses an output path that can never become a directory before the run, so
+/// that a long run does not fail at its very end.
 fn check_out_dir(out: &Path) -> Result<()> {
-    if out.exists() && !out.is_dir() {
-        anyhow::bail!("--out {}: exists and is not a directory", out.display());
+    let existing = out
+        .ancestors()
+        .find(|a| a.as_os_str().is_empty() || a.exists());
+    match existing {
+        Some(a) if !a.as_os_str().is_empty() && !a.is_dir() => anyhow::bail!(
+            "--out {}: {} exists and is not a directory",
+            out.display(),
+            a.display()
+        ),
+        _ => Ok(()),
     }
-    Ok(())
 }
 
 /// Analyses the bed and writes the files; returns the summary and file paths.

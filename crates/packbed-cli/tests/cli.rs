@@ -202,6 +202,20 @@ fn out_path_that_is_a_file_is_refused() {
     assert_eq!(o.code, 2, "{}", o.stderr);
     assert!(o.stderr.contains("not a directory"), "{}", o.stderr);
     assert_eq!(std::fs::read_to_string(&f).unwrap(), "not a directory");
+    // Below a file: refused before the run, not after it.
+    let below = f.join("sub");
+    let o = s.packbed(&["run", "--out", below.to_str().unwrap()]);
+    assert_eq!(o.code, 2, "{}", o.stderr);
+    assert_eq!(o.stderr.lines().count(), 1, "{}", o.stderr);
+    assert!(o.stdout.is_empty(), "the run went ahead: {}", o.stdout);
+}
+
+#[test]
+fn io_errors_are_not_repeated() {
+    let s = Scratch::new();
+    let o = s.packbed(&["run", "no-such.toml"]);
+    let line = o.stderr.trim_end();
+    assert_eq!(line.matches("os error").count(), 1, "{line}");
 }
 
 #[test]
