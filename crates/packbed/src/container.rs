@@ -65,6 +65,21 @@ impl<const D: usize> Container<D> {
         w
     }
 
+    /// The walls as a fixed array and their number (no allocation).
+    #[inline]
+    pub fn wall_array(&self) -> ([Wall; 5], usize) {
+        let mut w = [Wall::Floor; 5];
+        let mut n = 1;
+        if !self.periodic {
+            for k in 0..D - 1 {
+                w[n] = Wall::Low(k);
+                w[n + 1] = Wall::High(k);
+                n += 2;
+            }
+        }
+        (w, n)
+    }
+
     /// Signed distance from `p` to the wall's surface (positive inside the box).
     #[inline]
     pub fn wall_distance(&self, wall: Wall, p: &Vector<D>) -> Real {

@@ -125,25 +125,18 @@ impl<const D: usize> Arc<D> {
         }
     }
 
-    /// Axis-aligned bounding box of the arc for `t ∈ [0, t_end]`.
+    /// An axis-aligned box holding the arc for `t ∈ [0, t_end]` (`t_end ≤ π`):
+    /// the box of its end points, widened by the sagitta (no arc point is farther
+    /// than that from the chord).
     pub fn bounds(&self, t_end: Real) -> (Vector<D>, Vector<D>) {
         let p0 = self.point(0.0);
         let p1 = self.point(t_end);
+        let sagitta = self.rho * (1.0 - (0.5 * t_end.min(std::f64::consts::PI)).cos());
         let mut lo = p0;
         let mut hi = p0;
         for k in 0..D {
-            lo[k] = lo[k].min(p1[k]);
-            hi[k] = hi[k].max(p1[k]);
-            // Extremes of m_k + ρ (u_k cos t + v_k sin t) at t = φ and φ + π.
-            let phi = self.v[k].atan2(self.u[k]);
-            for t in [phi, phi + std::f64::consts::PI] {
-                let t = t.rem_euclid(TAU);
-                if t <= t_end {
-                    let x = self.point(t)[k];
-                    lo[k] = lo[k].min(x);
-                    hi[k] = hi[k].max(x);
-                }
-            }
+            lo[k] = lo[k].min(p1[k]) - sagitta;
+            hi[k] = hi[k].max(p1[k]) + sagitta;
         }
         (lo, hi)
     }
@@ -160,31 +153,92 @@ impl Trig {
     /// The first `t ∈ [0, t_max]` where the function goes from non-negative to
     /// negative (the moving centre enters an obstacle, or a contact force turns
     /// tensile). `tol` is the size of a value that counts as zero.
+    pub fn first_downcrossing(&self, t_max: Real, tol: Real) -> Option<Real> {
+        let limit = Crossing::at(t_max.min(TAU));
+        self.downcrossing(tol)
+            .filter(|x| t_max >= TAU || x.diamond() <= limit.diamond())
+            .map(|x| x.angle())
+    }
+
+    /// Where the function first goes from non-negative to negative along the whole
+    /// turn `t ∈ [0, 2π)`, as a point on the unit circle: no inverse trigonometric
+    /// function is needed until the caller knows the crossing matters.
     ///
     /// Starting within `tol` of zero, the event is crossing `−tol` below the start:
     /// a surface touched tangentially (a contact just released, a wall the path
     /// runs along) is met again only if the path really goes into it, and then
     /// after a step of positive length, so no zero-length cycle can arise.
     /// Starting inside by more than `tol`, the event is immediate if heading in.
-    pub fn first_downcrossing(&self, t_max: Real, tol: Real) -> Option<Real> {
+    #[inline]
+    pub fn downcrossing(&self, tol: Real) -> Option<Crossing> {
         let f0 = self.a + self.c;
         if f0 < -tol {
-            return (self.b < 0.0).then_some(0.0);
+            return (self.b < 0.0).then_some(Crossing { cos: 1.0, sin: 0.0 });
         }
         let level = if f0 > tol { 0.0 } else { f0.min(0.0) - tol };
         let c = self.c - level;
-        let k = self.a.hypot(self.b);
-        if c >= k || c <= -k {
+        let k2 = self.a * self.a + self.b * self.b;
+        // Cheap rejection (most candidates): the function never reaches the level.
+        if c >= 0.0 && c * c >= k2 {
             return None;
         }
+        let k = k2.sqrt();
         // A graze (dipping below the level by less than the tolerance) is no event.
-        if c - k > -tol {
+        if c - k > -tol || c <= -k {
             return None;
         }
-        let alpha = (-c / k).acos();
-        let phi = self.b.atan2(self.a);
-        let t = (phi + alpha).rem_euclid(TAU);
-        (t <= t_max).then_some(t)
+        // Entry angle φ + α with cos φ = a/k, sin φ = b/k, cos α = −c/k.
+        let sin_alpha = ((k - c) * (k + c)).max(0.0).sqrt();
+        let cos = (-self.a * c - self.b * sin_alpha) / k2;
+        let sin = (-self.b * c + self.a * sin_alpha) / k2;
+        Some(Crossing { cos, sin })
+    }
+}
+
+/// A point `(cos t, sin t)` of the unit circle, ordered by its angle in `[0, 2π)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crossing {
+    /// `cos t`.
+    pub cos: Real,
+    /// `sin t`.
+    pub sin: Real,
+}
+
+impl Crossing {
+    /// The point at angle `t`.
+    #[inline]
+    pub fn at(t: Real) -> Self {
+        let (sin, cos) = t.sin_cos();
+        Crossing { cos, sin }
+    }
+
+    /// A number in `[0, 4)` that grows with the angle in `[0, 2π)` ("diamond
+    /// angle"): ordering without `atan2`, and as fine as the angle near zero.
+    #[inline]
+    pub fn diamond(&self) -> Real {
+        let (x, y) = (self.cos, self.sin);
+        if y >= 0.0 {
+            if x >= 0.0 {
+                y / (x + y)
+            } else {
+                1.0 - x / (y - x)
+            }
+        } else if x < 0.0 {
+            2.0 - y / (-x - y)
+        } else {
+            3.0 + x / (x - y)
+        }
+    }
+
+    /// The angle in `[0, 2π)`.
+    #[inline]
+    pub fn angle(&self) -> Real {
+        let t = self.sin.atan2(self.cos);
+        if t < 0.0 {
+            t + TAU
+        } else {
+            t
+        }
     }
 }
 
@@ -324,7 +378,7 @@ mod tests {
         assert!(f.at(0.0).abs() < 1e-15);
         let t = f.first_downcrossing(TAU, 1e-12);
         // It is re-entered only after coming round the circle.
-        assert!(t.map_or(true, |t| t > 1.0), "{t:?}");
+        assert!(t.is_none_or(|t| t > 1.0), "{t:?}");
     }
 
     #[test]
@@ -380,6 +434,15 @@ mod tests {
                 for surf in &s {
                     prop_assert!(surf.gap(p).abs() < 1e-8, "{:?} {:?}", surf, p);
                 }
+            }
+        }
+
+        #[test]
+        fn diamond_angle_grows_with_the_angle(t1 in 0.0f64..TAU, t2 in 0.0f64..TAU) {
+            let (d1, d2) = (Crossing::at(t1).diamond(), Crossing::at(t2).diamond());
+            prop_assert!((0.0..4.0).contains(&d1));
+            if t1 < t2 - 1e-12 {
+                prop_assert!(d1 <= d2, "{t1} {t2} {d1} {d2}");
             }
         }
 

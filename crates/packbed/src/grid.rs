@@ -106,7 +106,7 @@ impl<const D: usize> Grid<D> {
     /// `[lo, hi]` (vertical components ignored); 0 when they are empty.
     pub fn max_top(&self, lo: &Vector<D>, hi: &Vector<D>) -> Real {
         let mut best: Real = 0.0;
-        self.for_each_column(lo, hi, |col, _| {
+        self.for_each_column(lo, hi, |col, _, _| {
             best = best.max(self.column_top[col]);
         });
         best
@@ -115,9 +115,19 @@ impl<const D: usize> Grid<D> {
     /// Calls `f(column, shift)` for every column (as an image with its periodic
     /// shift) overlapping the horizontal box `[lo, hi]`.
     #[inline]
-    fn for_each_column(&self, lo: &Vector<D>, hi: &Vector<D>, mut f: impl FnMut(usize, Vector<D>)) {
-        let mut from = [0isize; D];
-        let mut to = [0isize; D];
+    fn for_each_column(
+        &self,
+        lo: &Vector<D>,
+        hi: &Vector<D>,
+        mut f: impl FnMut(usize, Vector<D>, u16),
+    ) {
+        // Per axis, the wrapped cell indices and image shifts of the range, worked
+        // out once per query (no division in the loop below).
+        const MAX_SPAN: usize = 16;
+        let mut index = [[0usize; MAX_SPAN]; 2];
+        let mut shift = [[0.0; MAX_SPAN]; 2];
+        let mut image = [[0u16; MAX_SPAN]; 2];
+        let mut span = [1usize; 2];
         for k in 0..D - 1 {
             let n = self.counts[k] as isize;
             let mut a = (lo[k] * self.inv_cell[k]).floor() as isize;
@@ -125,51 +135,55 @@ impl<const D: usize> Grid<D> {
             if !self.periodic {
                 a = a.max(0);
                 b = b.min(n - 1);
-            } else if b - a >= 4 * n {
-                // A query wider than several periods: clamp, it cannot matter.
-                b = a + 4 * n - 1;
             }
             if a > b {
                 return;
             }
-            from[k] = a;
-            to[k] = b;
-        }
-        let mut idx = from;
-        loop {
-            let mut col = 0usize;
-            let mut shift = Vector::<D>::zero();
-            for k in (0..D - 1).rev() {
-                let n = self.counts[k] as isize;
-                let i = idx[k].rem_euclid(n);
-                shift[k] = idx[k].div_euclid(n) as Real * self.extent[k];
-                col = col * n as usize + i as usize;
+            // A query wider than the table cannot occur with cells at least as wide
+            // as the reach; clamp defensively.
+            b = b.min(a + MAX_SPAN as isize - 1);
+            let mut i = a.rem_euclid(n);
+            let mut period = a.div_euclid(n);
+            for j in 0..=(b - a) as usize {
+                index[k][j] = i as usize;
+                shift[k][j] = period as Real * self.extent[k];
+                image[k][j] = image_code(period, k);
+                i += 1;
+                if i == n {
+                    i = 0;
+                    period += 1;
+                }
             }
-            f(col, shift);
-            // Odometer over the horizontal axes.
-            let mut k = 0;
-            loop {
-                if k == D - 1 {
-                    return;
+            span[k] = (b - a + 1) as usize;
+        }
+        let mut offset = Vector::<D>::zero();
+        if D == 2 {
+            for j in 0..span[0] {
+                offset[0] = shift[0][j];
+                f(index[0][j], offset, image[0][j]);
+            }
+        } else {
+            let nx = self.counts[0];
+            for jy in 0..span[1] {
+                offset[1] = shift[1][jy];
+                let row = index[1][jy] * nx;
+                for jx in 0..span[0] {
+                    offset[0] = shift[0][jx];
+                    f(row + index[0][jx], offset, image[0][jx] | image[1][jy]);
                 }
-                if idx[k] < to[k] {
-                    idx[k] += 1;
-                    break;
-                }
-                idx[k] = from[k];
-                k += 1;
             }
         }
     }
 
-    /// Calls `f(id, shift)` for every particle in the cells overlapping the box
-    /// `[lo, hi]`; `shift` is the periodic image offset to add to its centre.
+    /// Calls `f(id, shift, image)` for every particle in the cells overlapping the
+    /// box `[lo, hi]`; `shift` is the periodic image offset to add to its centre
+    /// and `image` a code naming that image (0 for the particle itself).
     #[inline]
     pub fn for_each_in_box(
         &self,
         lo: &Vector<D>,
         hi: &Vector<D>,
-        mut f: impl FnMut(u32, Vector<D>),
+        mut f: impl FnMut(u32, Vector<D>, u16),
     ) {
         let layers = self.counts[D - 1];
         if layers == 0 || hi[D - 1] < 0.0 {
@@ -180,11 +194,11 @@ impl<const D: usize> Grid<D> {
         if z0 > z1 {
             return;
         }
-        self.for_each_column(lo, hi, |col, shift| {
+        self.for_each_column(lo, hi, |col, shift, image| {
             for layer in z0..=z1 {
                 let mut id = self.head[layer * self.columns + col];
                 while id != EMPTY {
-                    f(id, shift);
+                    f(id, shift, image);
                     id = self.next[id as usize];
                 }
             }
@@ -198,7 +212,7 @@ impl<const D: usize> Grid<D> {
         &self,
         lo: &Vector<D>,
         hi: &Vector<D>,
-        mut f: impl FnMut(u32, Vector<D>) -> Real,
+        mut f: impl FnMut(u32, Vector<D>, u16) -> Real,
     ) {
         let layers = self.counts[D - 1];
         if layers == 0 || hi[D - 1] < 0.0 {
@@ -212,10 +226,10 @@ impl<const D: usize> Grid<D> {
             if layer_top < floor_height {
                 break;
             }
-            self.for_each_column(lo, hi, |col, shift| {
+            self.for_each_column(lo, hi, |col, shift, image| {
                 let mut id = self.head[layer * self.columns + col];
                 while id != EMPTY {
-                    floor_height = floor_height.max(f(id, shift));
+                    floor_height = floor_height.max(f(id, shift, image));
                     id = self.next[id as usize];
                 }
             });
@@ -226,4 +240,11 @@ impl<const D: usize> Grid<D> {
     pub fn memory_bytes(&self) -> usize {
         self.head.capacity() * 4 + self.next.capacity() * 4 + self.column_top.capacity() * 8
     }
+}
+
+/// Code of the periodic image `period` along horizontal axis `k` (8 bits per axis,
+/// 0 for the home cell), so that images of one particle can be told apart.
+#[inline]
+fn image_code(period: isize, k: usize) -> u16 {
+    ((period as i16 as u16) & 0xff) << (8 * k)
 }

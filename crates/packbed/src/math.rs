@@ -203,9 +203,28 @@ pub fn nnls<const D: usize>(a: &[Vector<D>], target: Vector<D>, lambda: &mut [Re
     let m = a.len();
     debug_assert!(lambda.len() >= m);
     const MAX: usize = 16;
-    assert!(m <= MAX, "nnls: too many vectors");
+    assert!(m <= MAX, "nnls: at most {MAX} vectors");
     for l in lambda.iter_mut().take(m) {
         *l = 0.0;
+    }
+    // Fast paths for the common cases of the rest test: one contact, or all
+    // contacts carrying a compressive force.
+    if m == 1 {
+        let l = (a[0].dot(&target) / a[0].norm2()).max(0.0);
+        lambda[0] = if l.is_finite() { l } else { 0.0 };
+        return target - a[0] * lambda[0];
+    }
+    if m <= D && m <= 3 {
+        let mut z = [0.0; MAX];
+        let all = [true; MAX];
+        if least_squares_subset(a, target, &all[..m], &mut z) && z[..m].iter().all(|&v| v > 0.0) {
+            lambda[..m].copy_from_slice(&z[..m]);
+            let mut r = target;
+            for i in 0..m {
+                r -= a[i] * z[i];
+            }
+            return r;
+        }
     }
     let mut passive = [false; MAX];
     let residual = |lam: &[Real]| {

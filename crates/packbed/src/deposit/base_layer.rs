@@ -30,7 +30,7 @@ pub(crate) fn fits<const D: usize>(
         hi[k] += reach;
     }
     let mut free = true;
-    terrain.grid.for_each_in_box(&lo, &hi, |id, shift| {
+    terrain.grid.for_each_in_box(&lo, &hi, |id, shift, _| {
         if free {
             let q = terrain.centres[id as usize] + shift;
             let need = r + terrain.radii[id as usize] - slack;
@@ -115,7 +115,7 @@ pub(crate) fn floor_vertices<const D: usize>(
     lo[D - 1] = 0.0;
     hi[D - 1] = 2.0 * terrain.r_fixed_max;
     let mut others = Vec::new();
-    terrain.grid.for_each_in_box(&lo, &hi, |id, shift| {
+    terrain.grid.for_each_in_box(&lo, &hi, |id, shift, _| {
         if id != j || shift != Vector::zero() {
             let q = terrain.centres[id as usize] + shift;
             others.push(Surface::Ball {

@@ -35,7 +35,7 @@ pub struct DepositReport {
 
 /// Consecutive failed random placements after which the floor counts as saturated
 /// (per particle that fits on the floor); the sweep then fills what is left.
-const BASE_LAYER_PATIENCE: u64 = 50;
+const BASE_LAYER_PATIENCE: u64 = 10;
 /// Re-drops of one particle after which the run gives up (never seen in practice).
 const MAX_REDROPS_PER_PARTICLE: u32 = 1000;
 
@@ -279,7 +279,7 @@ impl<'p, const D: usize> Engine<'p, D> {
             }
             self.place(p, r, s);
             self.report.dropped += 1;
-            if self.bed.len() % 4096 == 0 {
+            if self.bed.len().is_multiple_of(4096) {
                 progress(self.bed.len() as u64);
             }
         }

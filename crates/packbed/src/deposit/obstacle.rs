@@ -3,7 +3,7 @@
 
 use crate::container::{Container, Wall};
 use crate::geometry::Surface;
-use crate::math::{Real, Vector};
+use crate::math::Real;
 
 /// An inflated obstacle and who it is.
 #[derive(Clone, Copy, Debug)]
@@ -14,19 +14,11 @@ pub(crate) struct Obstacle<const D: usize> {
     pub key: u64,
 }
 
-/// Identity of particle `id` seen through the periodic image `shift`.
+/// Identity of particle `id` seen through the periodic image with code `image`
+/// (as given by the grid).
 #[inline]
-pub(crate) fn particle_key<const D: usize>(id: u32, shift: &Vector<D>, extent: &Vector<D>) -> u64 {
-    let mut key = (id as u64) << 16;
-    for k in 0..D - 1 {
-        let image = if extent[k] > 0.0 {
-            (shift[k] / extent[k]).round() as i64
-        } else {
-            0
-        };
-        key |= (((image + 128) as u64) & 0xff) << (8 * k);
-    }
-    key
+pub(crate) fn particle_key(id: u32, image: u16) -> u64 {
+    ((id as u64) << 16) | image as u64
 }
 
 /// Identity of a wall.

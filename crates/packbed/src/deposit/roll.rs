@@ -8,7 +8,7 @@
 
 use super::obstacle::{is_floor, particle_key, wall_obstacle, Obstacle};
 use crate::container::Container;
-use crate::geometry::{Arc, Surface, Trig};
+use crate::geometry::{Arc, Crossing, Surface, Trig};
 use crate::grid::Grid;
 use crate::math::{nnls, Real, Vector};
 use rand::RngExt;
@@ -34,41 +34,51 @@ pub(crate) struct Terrain<'a, const D: usize> {
     pub r_fixed_max: Real,
 }
 
-/// A small set of contacts with its forces.
+/// A small set of contacts (cleared by resetting its length: no memset in the
+/// hot loop).
 #[derive(Clone, Copy)]
 struct ContactSet<const D: usize> {
-    items: [Option<Obstacle<D>>; MAX_ACTIVE],
+    items: [Obstacle<D>; MAX_ACTIVE],
     len: usize,
 }
 
 impl<const D: usize> ContactSet<D> {
     fn new() -> Self {
+        let none = Obstacle {
+            surface: Surface::Plane {
+                normal: Vector::up(),
+                offset: 0.0,
+            },
+            key: u64::MAX,
+        };
         ContactSet {
-            items: [None; MAX_ACTIVE],
+            items: [none; MAX_ACTIVE],
             len: 0,
         }
     }
+    #[inline]
     fn get(&self, i: usize) -> Obstacle<D> {
-        self.items[i].expect("in range")
+        self.items[i]
     }
+    #[inline]
     fn push(&mut self, o: Obstacle<D>) {
         if self.len < MAX_ACTIVE && !self.contains(o.key) {
-            self.items[self.len] = Some(o);
+            self.items[self.len] = o;
             self.len += 1;
         }
     }
+    #[inline]
     fn contains(&self, key: u64) -> bool {
-        (0..self.len).any(|i| self.get(i).key == key)
+        self.items[..self.len].iter().any(|o| o.key == key)
     }
     fn remove_key(&mut self, key: u64) {
-        if let Some(i) = (0..self.len).find(|&i| self.get(i).key == key) {
+        if let Some(i) = (0..self.len).find(|&i| self.items[i].key == key) {
             self.items[i] = self.items[self.len - 1];
-            self.items[self.len - 1] = None;
             self.len -= 1;
         }
     }
+    #[inline]
     fn clear(&mut self) {
-        self.items = [None; MAX_ACTIVE];
         self.len = 0;
     }
 }
@@ -145,6 +155,7 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
         // The arc ends where a contact force turns tensile (or, as a safeguard,
         // at the lowest point of the circle).
         let mut t_end = arc.lowest().min(std::f64::consts::PI);
+        debug_assert!(t_end > 0.0);
         let mut released = None;
         for i in 0..keep.len {
             if let Some(t) = releases[i].first_downcrossing(t_end, 1e-14) {
@@ -246,8 +257,10 @@ fn fall<const D: usize>(
         hi[k] += reach;
     }
     lo[D - 1] = 0.0;
-    let extent = terrain.container.size;
-    terrain.grid.scan_down(&lo, &hi, |id, shift| {
+    // Best hits as (id, image shift); their identities are worked out at the end.
+    let mut best: [(u32, Vector<D>, u16); MAX_ACTIVE] = [(0, Vector::zero(), 0); MAX_ACTIVE];
+    let mut n_best = 0;
+    terrain.grid.scan_down(&lo, &hi, |id, shift, image| {
         let c = terrain.centres[id as usize] + shift;
         let big_r = r + terrain.radii[id as usize];
         let w = *p - c;
@@ -260,24 +273,28 @@ fn fall<const D: usize>(
             let t = (w[D - 1] - (r2 - h2).sqrt()).max(0.0);
             if t < best_t - tol {
                 best_t = t;
-                hits.clear();
+                n_best = 0;
             }
-            if t <= best_t + tol {
-                hits.push(Obstacle {
-                    surface: Surface::Ball {
-                        centre: c,
-                        radius: big_r,
-                    },
-                    key: particle_key(id, &shift, &extent),
-                });
+            if t <= best_t + tol && n_best < MAX_ACTIVE {
+                best[n_best] = (id, shift, image);
+                n_best += 1;
             }
         }
         p[D - 1] - best_t - reach
     });
-    if best_t < p[D - 1] - r - tol {
+    let floor_t = p[D - 1] - r;
+    if best_t < floor_t - tol {
         // A sphere is hit before the floor: the floor is no contact.
-        let floor = crate::deposit::obstacle::wall_key(crate::container::Wall::Floor);
-        hits.remove_key(floor);
+        hits.clear();
+    }
+    for &(id, shift, image) in &best[..n_best] {
+        hits.push(Obstacle {
+            surface: Surface::Ball {
+                centre: terrain.centres[id as usize] + shift,
+                radius: r + terrain.radii[id as usize],
+            },
+            key: particle_key(id, image),
+        });
     }
     (best_t.max(0.0), hits)
 }
@@ -419,7 +436,8 @@ fn first_contact_on_arc<const D: usize>(
             }
         };
     let c = terrain.container;
-    for wall in c.walls() {
+    let (walls, n_walls) = c.wall_array();
+    for &wall in &walls[..n_walls] {
         let o = wall_obstacle(c, wall, r);
         if keep.contains(o.key) {
             continue;
@@ -439,23 +457,50 @@ fn first_contact_on_arc<const D: usize>(
         lo[k] -= reach;
         hi[k] += reach;
     }
-    let extent = c.size;
-    terrain.grid.for_each_in_box(&lo, &hi, |id, shift| {
-        let key = particle_key(id, &shift, &extent);
+    let (arc_lo, arc_hi) = (lo, hi);
+    // Candidates are ranked by the diamond angle of their crossing; the angle
+    // itself is computed only for the winner.
+    let mut best_at = Crossing::at(best.min(t_end));
+    let mut best_diamond = best_at.diamond();
+    let tie = 1e-12;
+    terrain.grid.for_each_in_box(&lo, &hi, |id, shift, image| {
+        let centre = terrain.centres[id as usize] + shift;
+        let big_r = r + terrain.radii[id as usize];
+        // Cheap rejection: the obstacle's ball misses the arc's bounding box.
+        let slack = reach - big_r;
+        for k in 0..D {
+            if centre[k] < arc_lo[k] + slack || centre[k] > arc_hi[k] - slack {
+                return;
+            }
+        }
+        let f = arc.ball_trig(&centre, big_r);
+        let Some(x) = f.downcrossing(2.0 * big_r * tol) else {
+            return;
+        };
+        let d = x.diamond();
+        if d > best_diamond + tie {
+            return;
+        }
+        // The identity is needed only for the few obstacles actually met.
+        let key = particle_key(id, image);
         if keep.contains(key) {
             return;
         }
-        let centre = terrain.centres[id as usize] + shift;
-        let big_r = r + terrain.radii[id as usize];
-        let f = arc.ball_trig(&centre, big_r);
-        let o = Obstacle {
+        if d < best_diamond - tie {
+            best_diamond = d;
+            best_at = x;
+            hits.clear();
+        }
+        hits.push(Obstacle {
             surface: Surface::Ball {
                 centre,
                 radius: big_r,
             },
             key,
-        };
-        consider(o, f, 2.0 * big_r * tol, &mut best, &mut hits);
+        });
     });
+    if hits.len > 0 {
+        best = best.min(best_at.angle());
+    }
     (best, hits)
 }
