@@ -114,6 +114,47 @@ impl<const D: usize> Arc<D> {
         }
     }
 
+    /// The point at the angle given as a point of the unit circle.
+    #[inline]
+    pub fn point_at(&self, x: &Crossing) -> Vector<D> {
+        self.m + (self.u * x.cos + self.v * x.sin) * self.rho
+    }
+
+    /// The lowest point of the circle ahead (at most half a turn away), as a point
+    /// of the unit circle: no trigonometric function needed.
+    #[inline]
+    pub fn lowest_crossing(&self) -> Crossing {
+        let (uz, vz) = (self.u.height(), self.v.height());
+        let h = (uz * uz + vz * vz).sqrt();
+        if h == 0.0 || vz > 0.0 {
+            return Crossing {
+                cos: -1.0,
+                sin: 0.0,
+            };
+        }
+        Crossing {
+            cos: -uz / h,
+            sin: -vz / h,
+        }
+    }
+
+    /// An axis-aligned box holding the arc from the start to `end` (at most half a
+    /// turn): the box of its end points widened by the sagitta.
+    #[inline]
+    pub fn bounds_to(&self, end: &Crossing) -> (Vector<D>, Vector<D>) {
+        let p0 = self.m + self.u * self.rho;
+        let p1 = self.point_at(end);
+        let cos_half = (0.5 * (1.0 + end.cos)).max(0.0).sqrt();
+        let sagitta = self.rho * (1.0 - cos_half);
+        let mut lo = p0;
+        let mut hi = p0;
+        for k in 0..D {
+            lo[k] = lo[k].min(p1[k]) - sagitta;
+            hi[k] = hi[k].max(p1[k]) + sagitta;
+        }
+        (lo, hi)
+    }
+
     /// Parameter of the lowest point of the circle, in `(0, 2π)`.
     pub fn lowest(&self) -> Real {
         let phi = self.v.height().atan2(self.u.height());

@@ -68,7 +68,7 @@ impl<const D: usize> Grid<D> {
 
     #[inline]
     fn layer_of(&self, z: Real) -> usize {
-        ((z * self.inv_cell[D - 1]).floor().max(0.0)) as usize
+        floor_index(z * self.inv_cell[D - 1]).max(0) as usize
     }
 
     #[inline]
@@ -76,7 +76,7 @@ impl<const D: usize> Grid<D> {
         let mut idx = 0;
         for k in (0..D - 1).rev() {
             let n = self.counts[k];
-            let i = ((p[k] * self.inv_cell[k]).floor() as isize).clamp(0, n as isize - 1);
+            let i = floor_index(p[k] * self.inv_cell[k]).clamp(0, n as isize - 1);
             idx = idx * n + i as usize;
         }
         idx
@@ -130,8 +130,8 @@ impl<const D: usize> Grid<D> {
         let mut span = [1usize; 2];
         for k in 0..D - 1 {
             let n = self.counts[k] as isize;
-            let mut a = (lo[k] * self.inv_cell[k]).floor() as isize;
-            let mut b = (hi[k] * self.inv_cell[k]).floor() as isize;
+            let mut a = floor_index(lo[k] * self.inv_cell[k]);
+            let mut b = floor_index(hi[k] * self.inv_cell[k]);
             if !self.periodic {
                 a = a.max(0);
                 b = b.min(n - 1);
@@ -247,4 +247,16 @@ impl<const D: usize> Grid<D> {
 #[inline]
 fn image_code(period: isize, k: usize) -> u16 {
     ((period as i16 as u16) & 0xff) << (8 * k)
+}
+
+/// `x.floor() as isize` without a libm call (the baseline x86-64 target has no
+/// rounding instruction, and this runs for every cell lookup).
+#[inline]
+fn floor_index(x: Real) -> isize {
+    let i = x as isize;
+    if (i as Real) > x {
+        i - 1
+    } else {
+        i
+    }
 }

@@ -153,28 +153,31 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
         }
         let (arc, releases) = build_arc(&keep, &p, &direction)?;
         // The arc ends where a contact force turns tensile (or, as a safeguard,
-        // at the lowest point of the circle).
-        let mut t_end = arc.lowest().min(std::f64::consts::PI);
-        debug_assert!(t_end > 0.0);
+        // at the lowest point of the circle). Events are points of the unit
+        // circle ranked by their diamond angle: no trigonometry in this loop.
+        let mut end = arc.lowest_crossing();
+        let mut end_rank = end.diamond();
         let mut released = None;
         for i in 0..keep.len {
-            if let Some(t) = releases[i].first_downcrossing(t_end, 1e-14) {
-                if t < t_end {
-                    t_end = t;
+            if let Some(x) = releases[i].downcrossing(1e-14) {
+                let rank = x.diamond();
+                if rank < end_rank {
+                    end = x;
+                    end_rank = rank;
                     released = Some(keep.get(i).key);
                 }
             }
         }
-        let (t_hit, hits) = first_contact_on_arc(terrain, &arc, &keep, r, reach, t_end, tol);
-        let t = t_hit.min(t_end);
-        p = arc.point(t);
+        let (hit, hit_rank, hits) =
+            first_contact_on_arc(terrain, &arc, &keep, r, reach, &end, end_rank, tol);
+        p = arc.point_at(if hit_rank <= end_rank { &hit } else { &end });
         active = keep;
-        if t_hit <= t_end {
+        if hit_rank <= end_rank {
             for i in 0..hits.len {
                 active.push(hits.get(i));
             }
         }
-        if t_end <= t_hit {
+        if end_rank <= hit_rank {
             if let Some(key) = released {
                 active.remove_key(key);
             }
@@ -408,61 +411,56 @@ fn build_arc<const D: usize>(
     }
 }
 
-/// First new contact along `arc` for `t ∈ [0, t_end]`: its parameter (or
-/// infinity) and the obstacles met there.
+/// First new contact along `arc` up to `end`: where (as a point of the unit
+/// circle), its diamond-angle rank (infinite if none), and the obstacles met there.
+#[allow(clippy::too_many_arguments)]
 fn first_contact_on_arc<const D: usize>(
     terrain: &Terrain<'_, D>,
     arc: &Arc<D>,
     keep: &ContactSet<D>,
     r: Real,
     reach: Real,
-    t_end: Real,
+    end: &Crossing,
+    end_rank: Real,
     tol: Real,
-) -> (Real, ContactSet<D>) {
-    let mut best = Real::INFINITY;
-    let mut hits = ContactSet::<D>::new();
+) -> (Crossing, Real, ContactSet<D>) {
     let tie = 1e-12;
-    let consider =
-        |o: Obstacle<D>, f: Trig, ftol: Real, best: &mut Real, hits: &mut ContactSet<D>| {
-            let limit = best.min(t_end);
-            if let Some(t) = f.first_downcrossing(limit + tie, ftol) {
-                if t < *best - tie {
-                    *best = t;
-                    hits.clear();
-                }
-                if t <= *best + tie {
-                    hits.push(o);
-                }
-            }
-        };
+    let mut best = *end;
+    let mut best_rank = end_rank;
+    let mut found = false;
+    let mut hits = ContactSet::<D>::new();
+    let mut consider = |x: Crossing, o: Obstacle<D>, hits: &mut ContactSet<D>| {
+        let rank = x.diamond();
+        if rank > best_rank + tie {
+            return;
+        }
+        if keep.contains(o.key) {
+            return;
+        }
+        if rank < best_rank - tie || !found {
+            best_rank = rank.min(best_rank);
+            best = x;
+            hits.clear();
+            found = true;
+        }
+        hits.push(o);
+    };
     let c = terrain.container;
     let (walls, n_walls) = c.wall_array();
     for &wall in &walls[..n_walls] {
         let o = wall_obstacle(c, wall, r);
-        if keep.contains(o.key) {
-            continue;
-        }
         if let Surface::Plane { normal, offset } = o.surface {
-            consider(
-                o,
-                arc.plane_trig(&normal, offset),
-                tol,
-                &mut best,
-                &mut hits,
-            );
+            if let Some(x) = arc.plane_trig(&normal, offset).downcrossing(tol) {
+                consider(x, o, &mut hits);
+            }
         }
     }
-    let (mut lo, mut hi) = arc.bounds(t_end);
+    let (mut lo, mut hi) = arc.bounds_to(end);
     for k in 0..D {
         lo[k] -= reach;
         hi[k] += reach;
     }
     let (arc_lo, arc_hi) = (lo, hi);
-    // Candidates are ranked by the diamond angle of their crossing; the angle
-    // itself is computed only for the winner.
-    let mut best_at = Crossing::at(best.min(t_end));
-    let mut best_diamond = best_at.diamond();
-    let tie = 1e-12;
     terrain.grid.for_each_in_box(&lo, &hi, |id, shift, image| {
         let centre = terrain.centres[id as usize] + shift;
         let big_r = r + terrain.radii[id as usize];
@@ -473,34 +471,28 @@ fn first_contact_on_arc<const D: usize>(
                 return;
             }
         }
-        let f = arc.ball_trig(&centre, big_r);
-        let Some(x) = f.downcrossing(2.0 * big_r * tol) else {
+        let Some(x) = arc
+            .ball_trig(&centre, big_r)
+            .downcrossing(2.0 * big_r * tol)
+        else {
             return;
         };
-        let d = x.diamond();
-        if d > best_diamond + tie {
-            return;
-        }
-        // The identity is needed only for the few obstacles actually met.
-        let key = particle_key(id, image);
-        if keep.contains(key) {
-            return;
-        }
-        if d < best_diamond - tie {
-            best_diamond = d;
-            best_at = x;
-            hits.clear();
-        }
-        hits.push(Obstacle {
-            surface: Surface::Ball {
-                centre,
-                radius: big_r,
+        consider(
+            x,
+            Obstacle {
+                surface: Surface::Ball {
+                    centre,
+                    radius: big_r,
+                },
+                // The identity is worked out only for obstacles actually met.
+                key: particle_key(id, image),
             },
-            key,
-        });
+            &mut hits,
+        );
     });
-    if hits.len > 0 {
-        best = best.min(best_at.angle());
+    if found {
+        (best, best_rank, hits)
+    } else {
+        (best, Real::INFINITY, hits)
     }
-    (best, hits)
 }
