@@ -14,7 +14,7 @@ use crate::math::{nnls, Real, Vector};
 use rand::RngExt;
 
 /// Most contacts tracked at once (more happen only in degenerate ties).
-const MAX_ACTIVE: usize = 8;
+const MAX_ACTIVE: usize = 6;
 /// Moves after which a particle counts as stuck and is dropped again elsewhere.
 pub(crate) const MAX_MOVES: usize = 500;
 /// Relative size of "zero" for gaps (times the moving radius).
@@ -107,18 +107,18 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
     let mut active = ContactSet::<D>::new();
     let mut normals = [Vector::<D>::zero(); MAX_ACTIVE];
     let mut lambda = [0.0; MAX_ACTIVE];
+    let mut keep = ContactSet::<D>::new();
+    let mut hits = ContactSet::<D>::new();
     for _ in 0..MAX_MOVES {
         if active.len == 0 {
-            let (t, hits) = fall(terrain, &p, r, tol);
-            p[D - 1] -= t;
-            active = hits;
+            p[D - 1] -= fall(terrain, &p, r, tol, &mut active);
             continue;
         }
         for i in 0..active.len {
             normals[i] = active.get(i).surface.normal_at(&p);
         }
         let residual = nnls(&normals[..active.len], Vector::up(), &mut lambda);
-        let mut keep = ContactSet::<D>::new();
+        keep.clear();
         let mut keep_lambda = [0.0; MAX_ACTIVE];
         for i in 0..active.len {
             if lambda[i] > FORCE_TOL {
@@ -168,10 +168,11 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
                 }
             }
         }
-        let (hit, hit_rank, hits) =
-            first_contact_on_arc(terrain, &arc, &keep, r, reach, &end, end_rank, tol);
+        let (hit, hit_rank) = first_contact_on_arc(
+            terrain, &arc, &keep, r, reach, &end, end_rank, tol, &mut hits,
+        );
         p = arc.point_at(if hit_rank <= end_rank { &hit } else { &end });
-        active = keep;
+        std::mem::swap(&mut active, &mut keep);
         if hit_rank <= end_rank {
             for i in 0..hits.len {
                 active.push(hits.get(i));
@@ -238,16 +239,17 @@ fn random_tangent<const D: usize, R: rand::Rng + ?Sized>(
     None
 }
 
-/// Straight fall from `p`: the distance to the first contact, and the contacts
-/// made there (the floor, or spheres; ties kept together).
+/// Straight fall from `p`: returns the distance to the first contact and writes
+/// the contacts made there into `hits` (the floor, or spheres; ties together).
 fn fall<const D: usize>(
     terrain: &Terrain<'_, D>,
     p: &Vector<D>,
     r: Real,
     tol: Real,
-) -> (Real, ContactSet<D>) {
+    hits: &mut ContactSet<D>,
+) -> Real {
     let mut best_t = p[D - 1] - r;
-    let mut hits = ContactSet::new();
+    hits.clear();
     hits.push(wall_obstacle(
         terrain.container,
         crate::container::Wall::Floor,
@@ -299,7 +301,7 @@ fn fall<const D: usize>(
             key: particle_key(id, image),
         });
     }
-    (best_t.max(0.0), hits)
+    best_t.max(0.0)
 }
 
 /// The circle the centre follows while keeping the contacts of `keep` (one sphere,
@@ -423,12 +425,13 @@ fn first_contact_on_arc<const D: usize>(
     end: &Crossing,
     end_rank: Real,
     tol: Real,
-) -> (Crossing, Real, ContactSet<D>) {
+    hits: &mut ContactSet<D>,
+) -> (Crossing, Real) {
     let tie = 1e-12;
     let mut best = *end;
     let mut best_rank = end_rank;
     let mut found = false;
-    let mut hits = ContactSet::<D>::new();
+    hits.clear();
     let mut consider = |x: Crossing, o: Obstacle<D>, hits: &mut ContactSet<D>| {
         let rank = x.diamond();
         if rank > best_rank + tie {
@@ -451,7 +454,7 @@ fn first_contact_on_arc<const D: usize>(
         let o = wall_obstacle(c, wall, r);
         if let Surface::Plane { normal, offset } = o.surface {
             if let Some(x) = arc.plane_trig(&normal, offset).downcrossing(tol) {
-                consider(x, o, &mut hits);
+                consider(x, o, hits);
             }
         }
     }
@@ -487,12 +490,8 @@ fn first_contact_on_arc<const D: usize>(
                 // The identity is worked out only for obstacles actually met.
                 key: particle_key(id, image),
             },
-            &mut hits,
+            hits,
         );
     });
-    if found {
-        (best, best_rank, hits)
-    } else {
-        (best, Real::INFINITY, hits)
-    }
+    (best, if found { best_rank } else { Real::INFINITY })
 }
