@@ -1,0 +1,50 @@
+//! Deposition throughput (particles per second) on periodic beds; the figures of
+//! BENCHMARKS.md come from `packbed bench` (10^6 particles) and from this.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use packbed::config::{BaseLayerKind, Config, SpeciesConfig};
+use packbed::deposit::build;
+
+/// Equal spheres (or discs) of radius 10, or two sizes, in a periodic box about
+/// as high as the bed grows.
+fn config(dim: u8, n: u64, radii: &[f64]) -> Config {
+    let mut c = Config {
+        dim,
+        ..Config::default()
+    };
+    let template = c.species[0].clone();
+    c.species = radii
+        .iter()
+        .map(|&r| SpeciesConfig {
+            radius: Some(r),
+            ..template.clone()
+        })
+        .collect();
+    let diameters = (n as f64).powf(1.0 / dim as f64).max(4.0).round();
+    c.container.preset = None;
+    c.container.diameters = Some(diameters);
+    c.container.periodic = true;
+    c.fill.count = Some(n);
+    c.fill.base_layer = BaseLayerKind::None;
+    c
+}
+
+fn deposition(cr: &mut Criterion) {
+    let mut group = cr.benchmark_group("deposition");
+    group.sample_size(10);
+    for (name, dim, n, radii) in [
+        ("3d-equal", 3u8, 50_000u64, &[10.0][..]),
+        ("2d-equal", 2, 100_000, &[10.0][..]),
+        ("3d-10-50", 3, 20_000, &[10.0, 50.0][..]),
+    ] {
+        let c = config(dim, n, radii);
+        group.throughput(Throughput::Elements(n));
+        group.bench_with_input(BenchmarkId::new(name, n), &c, |b, c| {
+            b.iter(|| build(c, &mut |_| {}).expect("valid config"))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, deposition);
+criterion_main!(benches);
