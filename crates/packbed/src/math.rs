@@ -286,7 +286,7 @@ pub fn nnls<const D: usize>(a: &[Vector<D>], target: Vector<D>, lambda: &mut [Re
 }
 
 /// Least squares `target ≈ Σ z_i a_i` over the vectors marked in `subset`
-/// (normal equations, Gaussian elimination with partial pivoting).
+/// (normal equations, solved in closed form for up to three unknowns).
 /// Returns false when the chosen vectors are (nearly) linearly dependent.
 fn least_squares_subset<const D: usize>(
     a: &[Vector<D>],
@@ -305,51 +305,57 @@ fn least_squares_subset<const D: usize>(
             k += 1;
         }
     }
-    if k == 0 {
-        return true;
-    }
-    let idx = &idx[..k];
-    let mut g = [[0.0; 4]; 3];
-    for (r, &i) in idx.iter().enumerate() {
-        for (c, &j) in idx.iter().enumerate() {
-            g[r][c] = a[i].dot(&a[j]);
-        }
-        g[r][k] = a[i].dot(&target);
-    }
-    if !solve_in_place(&mut g, k) {
-        return false;
-    }
-    for (r, &i) in idx.iter().enumerate() {
-        z[i] = g[r][k];
-    }
-    true
-}
-
-/// Solves the `k × k` system stored as an augmented matrix (column `k` holds the
-/// right-hand side); the solution replaces that column.
-pub(crate) fn solve_in_place(g: &mut [[Real; 4]; 3], k: usize) -> bool {
-    for col in 0..k {
-        let mut piv = col;
-        for r in col + 1..k {
-            if g[r][col].abs() > g[piv][col].abs() {
-                piv = r;
-            }
-        }
-        if g[piv][col].abs() < 1e-14 {
-            return false;
-        }
-        g.swap(col, piv);
-        for r in 0..k {
-            if r != col {
-                let f = g[r][col] / g[col][col];
-                for c in col..=k {
-                    g[r][c] -= f * g[col][c];
-                }
-            }
-        }
-    }
+    let mut g = [[0.0; 3]; 3];
+    let mut b = [0.0; 3];
     for r in 0..k {
-        g[r][k] /= g[r][r];
+        for c in r..k {
+            g[r][c] = a[idx[r]].dot(&a[idx[c]]);
+            g[c][r] = g[r][c];
+        }
+        b[r] = a[idx[r]].dot(&target);
+    }
+    // Scale of the Gram matrix, to judge a determinant as zero.
+    let scale = (0..k).map(|r| g[r][r]).fold(0.0, Real::max);
+    let sol = match k {
+        0 => return true,
+        1 => {
+            if g[0][0] <= 0.0 {
+                return false;
+            }
+            [b[0] / g[0][0], 0.0, 0.0]
+        }
+        2 => {
+            let det = g[0][0] * g[1][1] - g[0][1] * g[0][1];
+            if det.abs() <= 1e-14 * scale * scale {
+                return false;
+            }
+            [
+                (b[0] * g[1][1] - b[1] * g[0][1]) / det,
+                (g[0][0] * b[1] - g[0][1] * b[0]) / det,
+                0.0,
+            ]
+        }
+        _ => {
+            // Cramer's rule with cofactors of the symmetric 3 × 3 Gram matrix.
+            let c00 = g[1][1] * g[2][2] - g[1][2] * g[1][2];
+            let c01 = g[1][2] * g[0][2] - g[0][1] * g[2][2];
+            let c02 = g[0][1] * g[1][2] - g[1][1] * g[0][2];
+            let c11 = g[0][0] * g[2][2] - g[0][2] * g[0][2];
+            let c12 = g[0][1] * g[0][2] - g[0][0] * g[1][2];
+            let c22 = g[0][0] * g[1][1] - g[0][1] * g[0][1];
+            let det = g[0][0] * c00 + g[0][1] * c01 + g[0][2] * c02;
+            if det.abs() <= 1e-14 * scale * scale * scale {
+                return false;
+            }
+            [
+                (c00 * b[0] + c01 * b[1] + c02 * b[2]) / det,
+                (c01 * b[0] + c11 * b[1] + c12 * b[2]) / det,
+                (c02 * b[0] + c12 * b[1] + c22 * b[2]) / det,
+            ]
+        }
+    };
+    for r in 0..k {
+        z[idx[r]] = sol[r];
     }
     true
 }
@@ -357,6 +363,50 @@ pub(crate) fn solve_in_place(g: &mut [[Real; 4]; 3], k: usize) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    /// NNLS by brute force: the best least-squares fit over every subset whose
+    /// unconstrained solution is non-negative.
+    fn brute_nnls(a: &[Vector<3>], t: Vector<3>) -> Real {
+        let m = a.len();
+        let mut best = t.norm();
+        for mask in 1u32..(1 << m) {
+            let subset: Vec<bool> = (0..m).map(|i| mask & (1 << i) != 0).collect();
+            let mut z = [0.0; 16];
+            if least_squares_subset(a, t, &subset, &mut z)
+                && (0..m).all(|i| !subset[i] || z[i] >= 0.0)
+            {
+                let mut r = t;
+                for i in 0..m {
+                    if subset[i] {
+                        r -= a[i] * z[i];
+                    }
+                }
+                best = best.min(r.norm());
+            }
+        }
+        best
+    }
+
+    proptest! {
+        #[test]
+        fn nnls_matches_brute_force(
+            v in prop::collection::vec(prop::array::uniform3(-1.0f64..1.0), 1..6),
+        ) {
+            let a: Vec<Vector<3>> = v.iter().map(|c| Vector(*c)).collect();
+            prop_assume!(a.iter().all(|x| x.norm() > 0.1));
+            let mut l = [0.0; 16];
+            let r = nnls(&a, Vector::up(), &mut l);
+            prop_assert!(l[..a.len()].iter().all(|&x| x >= 0.0));
+            let mut check = Vector::up();
+            for i in 0..a.len() {
+                check -= a[i] * l[i];
+            }
+            prop_assert!((check - r).norm() < 1e-9);
+            prop_assert!((r.norm() - brute_nnls(&a, Vector::up())).abs() < 1e-7,
+                "{} vs {}", r.norm(), brute_nnls(&a, Vector::up()));
+        }
+    }
 
     #[test]
     fn nnls_two_supports_in_2d() {
