@@ -9,9 +9,9 @@
 //! 4. hand-checked exact cases (closed-form positions);
 //! 5. bad inputs refused by `Config::plan` with an `Err`.
 //!
-//! Tests named `known_bug_*` are `#[ignore]`d: they reproduce engine bugs found
-//! while writing this file (near-degenerate wedges) and fail today. Remove the
-//! `#[ignore]` and the `known_bug` filter of the matrix once they pass.
+//! The wedge tests reproduce engine bugs found while writing this file (slots
+//! narrower than a diameter by 1e-12..1e-7 r; fine particles percolating through
+//! a coarse skeleton past the move budget); they are fixed and stay as guards.
 
 use packbed::analysis::analyze;
 use packbed::analysis::validate::{check_bed, check_bed_with, Checks, Report};
@@ -247,39 +247,11 @@ fn invariants_check<const D: usize>(
 const SEEDS: [u64; 3] = [1, 2, 3];
 const BASES: [&str; 2] = ["random", "none"];
 
-/// The configurations of the matrix that currently break an invariant (engine
-/// bugs, reported; see the `known_bug_*` tests): equal discs on a bare floor in 2D
-/// (they crystallise, leaving slots narrower than a diameter by 1e-12..1e-7 r, the
-/// near-degenerate wedges that `known_bug_disc_wedged_*` reproduce), and radii
-/// 10:50 in a walled 300 × 220 column in 3D (hundreds of re-drops per run; not
-/// minimised, probably the same family). The matrix tests skip exactly these; the
-/// ignored `known_bug_*` tests run them (`cargo test -- --include-ignored`).
-fn known_bug(dim: usize, sizes: Sizes, periodic: bool, base: &str, count: bool) -> bool {
-    (dim == 2 && matches!(sizes, Sizes::One) && base == "none")
-        || (dim == 3 && count && !periodic && matches!(sizes, Sizes::Two(r) if r == 50.0))
-}
-
-/// Which part of the matrix to run.
-#[derive(Clone, Copy, PartialEq)]
-enum Part {
-    /// Everything but the known bugs.
-    Good,
-    /// Only the known bugs.
-    Bugs,
-}
-
-fn included(part: Part, bug: bool) -> bool {
-    (part == Part::Bugs) == bug
-}
-
-fn invariants_roof<const D: usize>(part: Part) {
+fn invariants_roof<const D: usize>() {
     let mut tally = Tally::default();
     for sizes in ALL_SIZES {
         for periodic in [false, true] {
             for base in BASES {
-                if !included(part, known_bug(D, sizes, periodic, base, false)) {
-                    continue;
-                }
                 for seed in SEEDS {
                     let c = config(
                         D as u8,
@@ -295,9 +267,6 @@ fn invariants_roof<const D: usize>(part: Part) {
     }
     // Also `roof_misses`: going past a few overflows keeps every invariant.
     for seed in SEEDS {
-        if part == Part::Bugs {
-            break;
-        }
         let c = config(
             D as u8,
             seed,
@@ -310,14 +279,11 @@ fn invariants_roof<const D: usize>(part: Part) {
     tally.finish(&format!("{D}D roof"));
 }
 
-fn invariants_count<const D: usize>(count: u64, diameters: Real, part: Part) {
+fn invariants_count<const D: usize>(count: u64, diameters: Real) {
     let mut tally = Tally::default();
     for sizes in ALL_SIZES {
         for periodic in [false, true] {
             for base in BASES {
-                if !included(part, known_bug(D, sizes, periodic, base, true)) {
-                    continue;
-                }
                 for seed in SEEDS {
                     // Walls: an explicit box; periodic: a cube of `diameters`.
                     let boxed = if periodic {
@@ -344,40 +310,22 @@ fn invariants_count<const D: usize>(count: u64, diameters: Real, part: Part) {
 
 #[test]
 fn invariants_2d_roof_thesis_box() {
-    invariants_roof::<2>(Part::Good);
+    invariants_roof::<2>();
 }
 
 #[test]
 fn invariants_3d_roof_thesis_box() {
-    invariants_roof::<3>(Part::Good);
+    invariants_roof::<3>();
 }
 
 #[test]
 fn invariants_2d_count() {
-    invariants_count::<2>(3000, 12.0, Part::Good);
+    invariants_count::<2>(3000, 12.0);
 }
 
 #[test]
 fn invariants_3d_count() {
-    invariants_count::<3>(3000, 5.0, Part::Good);
-}
-
-#[test]
-#[ignore = "engine bug: near-degenerate wedges (see the known_bug_* tests)"]
-fn known_bug_invariants_2d_equal_discs_bare_floor() {
-    // Fails today: walls, seed 2 (roof): 45 re-drops in 188 particles; periodic
-    // 12 diameters, seed 3, count 3000: "a particle of radius 10 found no resting
-    // place after 1000 drops" (the run aborts).
-    invariants_roof::<2>(Part::Bugs);
-    invariants_count::<2>(3000, 12.0, Part::Bugs);
-}
-
-#[test]
-#[ignore = "engine bug: near-degenerate wedges (see the known_bug_* tests)"]
-fn known_bug_invariants_3d_radii_10_50_walled_column() {
-    // Fails today: width 300, depth 220, count 3000, radii 10:50, seeds 1..3:
-    // 273..888 re-drops per run (base layer random or none).
-    invariants_count::<3>(3000, 5.0, Part::Bugs);
+    invariants_count::<3>(3000, 5.0);
 }
 
 /// Where a particle of radius `r` wedged between two supports whose normals are
@@ -387,15 +335,12 @@ fn wedge_height(r_sum: Real, half_gap: Real) -> Real {
 }
 
 #[test]
-#[ignore = "engine bug: near-degenerate wedges (see the known_bug_* tests)"]
-fn known_bug_disc_wedged_between_wall_and_disc() {
+fn disc_wedged_between_wall_and_disc() {
     // A disc r = 10 at (30 − δ, 100) leaves a slot to the wall x = 0 narrower than
     // a diameter by δ. A disc r = 10 dropped into the slot wedges at
     // (10, 100 + √(400 − (20 − δ)²)) (or, for δ within the 1e-9 r tolerance, may
-    // slide down the wall to (10, 10)). It must never pass through the fixed disc.
-    // Today, for δ in 1e-10..1e-6 it lands at (50 − δ, 10), on the far side of
-    // the fixed disc (it went round the lower half of the inflated circle, held by
-    // a tensile contact), or finds no rest at all (None).
+    // slide down the wall to (10, 10)). It must never pass through the fixed disc
+    // (it once landed at (50 − δ, 10), or found no rest, for δ in 1e-10..1e-6).
     for d in [1e-10, 1e-9, 3e-9, 1e-8, 3e-8, 1e-7, 1e-6, 1e-5, 1e-3, 1.0] {
         let b = bed([300.0, 300.0], false, &[([30.0 - d, 100.0], 10.0)]);
         for x in [10.0, 10.5, 15.0, 25.0] {
@@ -409,12 +354,10 @@ fn known_bug_disc_wedged_between_wall_and_disc() {
 }
 
 #[test]
-#[ignore = "engine bug: near-degenerate wedges (see the known_bug_* tests)"]
-fn known_bug_disc_wedged_between_two_discs() {
+fn disc_wedged_between_two_discs() {
     // Discs r = 10 at (100, 100) and (140 − δ, 100); a disc r = 10 dropped between
-    // them wedges at (120 − δ/2, 100 + √(400 − (20 − δ/2)²)). Today for δ in
-    // 1e-10..1e-6 it ends on the floor at (80, 10) or (160 − δ, 10), on the far
-    // side of one of them, or finds no rest.
+    // them wedges at (120 − δ/2, 100 + √(400 − (20 − δ/2)²)) (it once ended on the
+    // floor beside one of them, or found no rest, for δ in 1e-10..1e-6).
     for d in [1e-10, 1e-8, 1e-7, 1e-6, 1e-4, 1e-2] {
         let b = bed(
             [300.0, 300.0],
@@ -436,26 +379,29 @@ fn known_bug_disc_wedged_between_two_discs() {
 }
 
 #[test]
-#[ignore = "engine bug: near-degenerate wedges (see the known_bug_* tests)"]
-fn known_bug_sphere_wedged_between_wall_and_sphere() {
-    // 3D: a sphere r = 10 at (30 − δ, 50, 100), the wall x = 0; a sphere r = 10
-    // dropped at (10, 50) or (15, 50) wedges at (10, 50, 100 + √(400 − (20 − δ)²)).
-    // Today for δ in 1e-10..1e-6 drop_one returns None.
+fn sphere_between_wall_and_sphere_tips_round_it() {
+    // 3D: a sphere r = 10 at (30 − δ, 50, 100) and the wall x = 0 leave a slot
+    // narrower than a diameter by δ — but only along x. A sphere r = 10 dropped at
+    // (10, 50) lands on top of the small circle where the inflated sphere meets
+    // the wall plane (centre (10, 50, 100), radius ρ = √(400 − (20 − δ)²)): an
+    // unstable balance on two contacts. It tips along that circle to one side
+    // (drawn at random), leaves it at its equator, y = 50 ± ρ, and slides down
+    // the wall to the floor. (In 2D the same slot holds the disc: see above.)
     for d in [1e-10, 1e-8, 1e-7, 1e-6, 1e-4] {
         let b = bed(
             [300.0, 300.0, 300.0],
             false,
             &[([30.0 - d, 50.0, 100.0], 10.0)],
         );
+        let rho = wedge_height(20.0, 20.0 - d);
         for s in [[10.0, 50.0], [15.0, 50.0]] {
             let got = drop_one(&b, 10.0, Vector([s[0], s[1], 0.0]), 1);
             let p = got.unwrap_or_else(|| panic!("δ {d:e}, start {s:?}: no rest found"));
-            let want = [10.0, 50.0, 100.0 + wedge_height(20.0, 20.0 - d)];
-            let wedged = (p - Vector(want)).norm() < 1e-6;
-            let down_the_wall = d <= 1e-8 && (p - Vector([10.0, 50.0, 10.0])).norm() < 1e-6;
+            let side = if p[1] >= 50.0 { 1.0 } else { -1.0 };
+            let want = [10.0, 50.0 + side * rho, 10.0];
             assert!(
-                wedged || down_the_wall,
-                "δ {d:e}, start {s:?}: rests at {p:?}"
+                (p - Vector(want)).norm() < 1e-6,
+                "δ {d:e}, start {s:?}: rests at {p:?}, want {want:?}"
             );
         }
     }

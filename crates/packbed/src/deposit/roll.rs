@@ -16,10 +16,16 @@ use rand::RngExt;
 /// Most contacts tracked at once (more happen only in degenerate ties).
 const MAX_ACTIVE: usize = 6;
 /// Moves after which a particle counts as stuck and is dropped again elsewhere.
-pub(crate) const MAX_MOVES: usize = 500;
+/// Generous: a fine particle percolating down through a deep skeleton of large
+/// ones makes thousands of legitimate moves (radii 10 and 50: up to ~3000 in a
+/// bed 10 large diameters deep).
+pub(crate) const MAX_MOVES: usize = 100_000;
 /// Relative size of "zero" for gaps (times the moving radius).
 const GAP_TOL: Real = 1e-12;
-/// Length of the NNLS residual (out of the unit "up") below which forces balance.
+/// Length of the NNLS residual below which forces balance, relative to the sum of
+/// the contact forces (in units of the weight): a particle wedged between nearly
+/// coplanar contacts carries forces of hundreds of weights, and the rounding of
+/// the residual grows with them.
 const REST_TOL: Real = 1e-10;
 /// Contact forces below this (relative to the weight) are no forces.
 const FORCE_TOL: Real = 1e-12;
@@ -126,9 +132,10 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
                 keep.push(active.get(i));
             }
         }
-        let direction = if residual.norm() <= REST_TOL {
+        let total_force: Real = lambda[..active.len].iter().sum();
+        let direction = if residual.norm() <= REST_TOL * (1.0 + total_force) {
             if is_stable(&keep, &p) {
-                return Some(p);
+                return Some(snap(terrain, &keep, p, r, tol));
             }
             // Balanced but unstable (on top of a sphere, or of a circle): any
             // push tips it over; the push's direction is drawn at random.
@@ -185,6 +192,67 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
         }
     }
     None
+}
+
+/// The exact resting point: where the `D` supporting surfaces meet.
+///
+/// A contact met at the tolerance level (see [`Trig::downcrossing`]) is off by up
+/// to `1e-12 r`; in a wedge of nearly opposed contacts that shifts the resting
+/// point by `1e-12 r / n_z`, far more. Computing the meeting point of the
+/// supports in closed form removes it. The snap is taken only if it is small
+/// and overlaps nothing.
+fn snap<const D: usize>(
+    terrain: &Terrain<'_, D>,
+    keep: &ContactSet<D>,
+    p: Vector<D>,
+    r: Real,
+    tol: Real,
+) -> Vector<D> {
+    if keep.len != D || (0..D).all(|i| keep.get(i).surface.gap(&p).abs() <= 0.1 * tol) {
+        return p;
+    }
+    let mut surfaces = [keep.get(0).surface; D];
+    for (i, s) in surfaces.iter_mut().enumerate() {
+        *s = keep.get(i).surface;
+    }
+    let (points, n) = crate::geometry::intersection_points(&surfaces);
+    let Some(q) = points[..n]
+        .iter()
+        .copied()
+        .min_by(|a, b| (*a - p).norm2().total_cmp(&(*b - p).norm2()))
+    else {
+        return p;
+    };
+    if !q.is_finite() || (q - p).norm() > 1e-4 * r {
+        return p;
+    }
+    // Nothing else may be closer than touching at the snapped point.
+    let c = terrain.container;
+    let (walls, n_walls) = c.wall_array();
+    for &wall in &walls[..n_walls] {
+        if wall_obstacle(c, wall, r).surface.gap(&q) < -tol {
+            return p;
+        }
+    }
+    let reach = r + terrain.r_fixed_max;
+    let (mut lo, mut hi) = (q, q);
+    for k in 0..D {
+        lo[k] -= reach;
+        hi[k] += reach;
+    }
+    let mut clear = true;
+    terrain.grid.for_each_in_box(&lo, &hi, |id, shift, _| {
+        let centre = terrain.centres[id as usize] + shift;
+        let need = r + terrain.radii[id as usize] - tol;
+        if (q - centre).norm2() < need * need {
+            clear = false;
+        }
+    });
+    if clear {
+        q
+    } else {
+        p
+    }
 }
 
 /// At rest for good: on the floor, or held by `D` independent contacts.
