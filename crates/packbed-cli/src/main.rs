@@ -1,9 +1,12 @@
 //! The `packbed` command: argument parsing and dispatch onto the `packbed` library.
 //! Every user error ends here as one line `packbed: error: …` and exit code 2.
 
+mod analyze;
 mod bench;
+mod ensemble;
 mod overrides;
 mod progress;
+mod render;
 mod report;
 mod run;
 
@@ -28,6 +31,14 @@ struct Cli {
 enum Command {
     /// Build one bed, analyse it and write its files (default bed without arguments).
     Run(run::RunArgs),
+    /// Analyse an existing bed file (packbed CSV, plain x y [z] r, LAMMPS dump, XYZ).
+    Analyze(analyze::AnalyzeArgs),
+    /// Draw a bed file as a picture (PNG, or SVG in 2D).
+    Render(render::RenderArgs),
+    /// Build and analyse N replicate beds in parallel, with statistics.
+    Ensemble(ensemble::EnsembleArgs),
+    /// Join the outputs of ensemble shards into the result of a single run.
+    Merge(ensemble::MergeArgs),
     /// Measure deposition throughput on a bed of equal spheres (or discs).
     Bench(bench::BenchArgs),
     /// Print a commented configuration file (the default bed).
@@ -42,6 +53,10 @@ fn main() -> ExitCode {
     };
     let result = match cli.command {
         Command::Run(args) => run::run(args),
+        Command::Analyze(args) => analyze::analyze(args),
+        Command::Render(args) => render::render(args),
+        Command::Ensemble(args) => ensemble::ensemble(args),
+        Command::Merge(args) => ensemble::merge(args),
         Command::Bench(args) => bench::bench(args),
         Command::Example => {
             print!("{EXAMPLE_CONFIG}");
@@ -70,10 +85,31 @@ fn clap_exit(e: clap::Error) -> ExitCode {
             ExitCode::from(EXIT_USER_ERROR)
         }
         _ => {
+            // Clap's message spans lines (what is wrong, then a usage block):
+            // fold what is wrong into one line and keep the usage line.
             let text = e.render().to_string();
-            let first = text.lines().next().unwrap_or("invalid arguments");
-            let first = first.strip_prefix("error: ").unwrap_or(first);
-            eprintln!("packbed: error: {first} (see `packbed --help`)");
+            let mut what = Vec::new();
+            let mut usage = None;
+            for line in text
+                .lines()
+                .map(str::trim)
+                .filter(|l| !l.is_empty() && !l.starts_with("For more information"))
+            {
+                if let Some(u) = line.strip_prefix("Usage: ") {
+                    usage = Some(u.to_string());
+                    break;
+                }
+                what.push(line.strip_prefix("error: ").unwrap_or(line));
+            }
+            let what = if what.is_empty() {
+                "invalid arguments".to_string()
+            } else {
+                what.join(" ")
+            };
+            match usage {
+                Some(u) => eprintln!("packbed: error: {what} (usage: {u})"),
+                None => eprintln!("packbed: error: {what} (see `packbed --help`)"),
+            }
             ExitCode::from(EXIT_USER_ERROR)
         }
     }

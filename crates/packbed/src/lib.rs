@@ -9,11 +9,13 @@ pub mod bed;
 pub mod config;
 pub mod container;
 pub mod deposit;
+pub mod ensemble;
 pub mod error;
 pub mod geometry;
 pub mod grid;
 pub mod io;
 pub mod math;
+pub mod render;
 pub mod species;
 
 pub use error::{Error, Result};

@@ -4,6 +4,7 @@
 mod base_layer;
 pub(crate) mod obstacle;
 pub(crate) mod roll;
+pub mod rsa;
 
 use crate::bed::{AnyBed, Bed};
 use crate::config::{BaseLayerKind, Config, Fill, Mode, Plan};
@@ -55,11 +56,6 @@ struct Engine<'p, const D: usize> {
 
 impl<'p, const D: usize> Engine<'p, D> {
     fn new(plan: &'p Plan<D>) -> Result<Self> {
-        if plan.mode == Mode::Rsa {
-            return Err(Error::Impossible(
-                "mode = \"rsa\" (random sequential addition) is not implemented yet".into(),
-            ));
-        }
         if plan
             .species
             .iter()
@@ -295,7 +291,10 @@ pub fn deposit<const D: usize>(
     plan: &Plan<D>,
     progress: &mut dyn FnMut(u64),
 ) -> Result<(Bed<D>, DepositReport)> {
-    Engine::new(plan)?.run(progress)
+    match plan.mode {
+        Mode::Deposit => Engine::new(plan)?.run(progress),
+        Mode::Rsa => rsa::rsa(plan, progress),
+    }
 }
 
 /// Builds the bed a configuration describes, in its dimension.

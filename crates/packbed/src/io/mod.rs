@@ -2,7 +2,9 @@
 //! `summary.json`), written atomically. Layouts are in `spec/interfaces.md`.
 
 pub mod atomic;
+pub mod export;
 mod finite;
+pub mod read;
 pub mod summary;
 pub mod tables;
 

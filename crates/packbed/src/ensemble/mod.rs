@@ -1,0 +1,1 @@
+//! Ensembles of replicate beds: parallel runs, statistics, shards.

@@ -1,0 +1,1 @@
+//! Exports for other tools: VTK (ParaView), LAMMPS dump (OVITO), extended XYZ.

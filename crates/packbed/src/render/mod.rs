@@ -1,0 +1,1 @@
+//! Pictures of beds and plots of measures.
