@@ -1,29 +1,184 @@
 //! `packbed ensemble` and `packbed merge`: replicate beds and their statistics.
+//! The work is in `packbed::ensemble`; this file parses, shows progress and
+//! prints a short summary.
 
-use anyhow::{bail, Result};
+use crate::overrides::Overrides;
+use crate::run::{check_out_dir, read_config, source_name};
+use anyhow::{bail, Context, Result};
 use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use packbed::ensemble::stats::Kind;
+use packbed::ensemble::{self, tables, Options, Outcome, Shard, Tick};
+use std::fmt::Write;
+use std::io::IsTerminal;
 use std::path::PathBuf;
 
 /// Arguments of `packbed ensemble`.
 #[derive(Debug, Args)]
 pub struct EnsembleArgs {
-    /// Config file (TOML).
+    /// Config file (TOML); without it, the default bed. A `[sweep]` table runs
+    /// an ensemble for every value of one parameter.
+    #[arg(value_name = "CONFIG.toml")]
     pub config: Option<PathBuf>,
+    #[command(flatten)]
+    pub overrides: Overrides,
+    /// Replicate beds (per sweep value); default: `[ensemble] runs` of the config.
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub runs: Option<u64>,
+    /// Worker threads (one bed per thread); default: all cores.
+    #[arg(long, short, value_name = "J", allow_negative_numbers = true)]
+    pub jobs: Option<usize>,
+    /// Output directory; rerunning into it resumes an interrupted ensemble.
+    #[arg(long, value_name = "DIR", default_value = "packbed-ensemble")]
+    pub out: PathBuf,
+    /// Run only replicates i with i mod M == K (then `packbed merge` the shards).
+    #[arg(long, value_name = "K/M", allow_hyphen_values = true)]
+    pub shard: Option<String>,
+    /// Also write every replicate's particles.csv and contact files.
+    #[arg(long)]
+    pub keep_beds: bool,
+    /// No progress bar and no summary on stdout.
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 /// Arguments of `packbed merge`.
 #[derive(Debug, Args)]
 pub struct MergeArgs {
-    /// Shard output directories.
+    /// Output directories of the shards (`packbed ensemble --shard K/M --out DIR`).
+    #[arg(value_name = "DIR", required = true)]
     pub dirs: Vec<PathBuf>,
+    /// Directory for the joined ensemble.
+    #[arg(long, value_name = "DIR", default_value = "packbed-ensemble")]
+    pub out: PathBuf,
+    /// No summary on stdout.
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 /// Runs `packbed ensemble`.
-pub fn ensemble(_args: EnsembleArgs) -> Result<()> {
-    bail!("ensemble: not implemented yet")
+pub fn ensemble(args: EnsembleArgs) -> Result<()> {
+    let config = read_config(args.config.as_deref(), &args.overrides)?;
+    let source = source_name(args.config.as_deref(), &args.overrides);
+    ensemble::validate(&config).with_context(|| source.clone())?;
+    let runs = match (args.runs, &config.ensemble) {
+        (Some(n), _) => n,
+        (None, Some(e)) => e.runs,
+        (None, None) => bail!("--runs N is needed (the config has no `[ensemble] runs`)"),
+    };
+    if runs == 0 {
+        bail!("--runs must be at least 1");
+    }
+    if args.jobs == Some(0) {
+        bail!("--jobs must be at least 1");
+    }
+    let shard = match &args.shard {
+        Some(s) => Shard::parse(s)?,
+        None => Shard::ALL,
+    };
+    check_out_dir(&args.out)?;
+    let opts = Options {
+        runs,
+        jobs: args.jobs,
+        shard,
+        keep_beds: args.keep_beds,
+    };
+    let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
+        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{spinner} {pos}/{len} beds  {per_sec}  ETA {eta}  [{bar:30}]",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+        );
+        bar
+    });
+    let tick = |t: Tick| {
+        if let Some(b) = &bar {
+            if b.length() != Some(t.total) {
+                b.set_length(t.total);
+            }
+            b.set_position(t.done);
+        }
+    };
+    let outcome = ensemble::run(&config, &opts, &args.out, &tick);
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let outcome = outcome?;
+    if !args.quiet {
+        let threads = args.jobs.unwrap_or_else(rayon_threads);
+        print!("{}", summary_text(&outcome, &args.out, Some(threads)));
+    }
+    Ok(())
+}
+
+fn rayon_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
 /// Runs `packbed merge`.
-pub fn merge(_args: MergeArgs) -> Result<()> {
-    bail!("merge: not implemented yet")
+pub fn merge(args: MergeArgs) -> Result<()> {
+    check_out_dir(&args.out)?;
+    let outcome = ensemble::merge(&args.dirs, &args.out)?;
+    if !args.quiet {
+        print!("{}", summary_text(&outcome, &args.out, None));
+    }
+    Ok(())
+}
+
+/// Measures printed on screen, when present (every yes/no measure is added).
+const ON_SCREEN: [&str; 4] = [
+    "packing.global",
+    "packing.bulk",
+    "coordination.mean",
+    "coordination.mean_bulk",
+];
+
+/// A few lines for a person: what ran, the headline numbers, where the files are.
+fn summary_text(o: &Outcome, out: &std::path::Path, threads: Option<usize>) -> String {
+    let mut t = String::new();
+    let beds: u64 = o.points.iter().map(|p| p.aggregate.replicates).sum();
+    let built: u64 = o.points.iter().map(|p| p.built).sum();
+    let resumed: u64 = o.points.iter().map(|p| p.resumed).sum();
+    let how = match threads {
+        Some(j) => format!("{built} built, {resumed} resumed, {j} threads"),
+        None => format!("merged from {resumed} replicate summaries"),
+    };
+    let _ = writeln!(
+        t,
+        "packbed: ensemble of {beds} beds ({how}) in {:.2} s",
+        o.wall_seconds
+    );
+    for p in &o.points {
+        if let Some(l) = &p.label {
+            let _ = writeln!(t, "  {l}  ({})", p.dir.display());
+        }
+        let a = &p.aggregate;
+        for m in &a.measures {
+            if ON_SCREEN.contains(&m.name.as_str())
+                || (m.kind == Kind::Percent && !m.name.ends_with("_empty"))
+            {
+                let [lo, mid, hi] = tables::cells(&m.stats, m.kind);
+                let _ = writeln!(
+                    t,
+                    "    {:<40} {mid}  (min {lo}, max {hi})",
+                    tables::label(m, a.replicates)
+                );
+            }
+        }
+    }
+    let names: Vec<String> = o
+        .files
+        .iter()
+        .filter_map(|f| f.file_name().map(|n| n.to_string_lossy().into_owned()))
+        .collect();
+    let _ = writeln!(
+        t,
+        "  files in {}: {}, runs/",
+        out.display(),
+        names.join(", ")
+    );
+    t
 }

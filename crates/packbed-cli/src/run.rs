@@ -5,12 +5,8 @@ use crate::progress::Progress;
 use crate::report;
 use anyhow::{Context, Result};
 use clap::Args;
-use packbed::bed::{AnyBed, Bed};
 use packbed::config::Config;
-use packbed::deposit::DepositReport;
-use packbed::io::{self, RunSummary, Timing};
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 /// Arguments of `packbed run`.
 #[derive(Debug, Args)]
@@ -30,46 +26,43 @@ pub struct RunArgs {
 
 /// Runs `packbed run`.
 pub fn run(args: RunArgs) -> Result<()> {
-    let start = Instant::now();
     let config = load(&args)?;
     check_out_dir(&args.out)?;
     let mut progress = Progress::new(&config, args.quiet);
-    let built = packbed::deposit::build(&config, &mut |n| progress.update(n));
+    let finished = packbed::pipeline::run_bed(&config, &mut |n| progress.update(n));
     progress.finish();
-    let (bed, deposit) = built?;
-    let written = match &bed {
-        AnyBed::D2(b) => finish(&config, b, &deposit, &args.out, start)?,
-        AnyBed::D3(b) => finish(&config, b, &deposit, &args.out, start)?,
-    };
+    let finished = finished?;
+    finished.write(&args.out)?;
     if !args.quiet {
-        print!("{}", report::run_text(&written.0, &args.out));
+        print!("{}", report::run_text(&finished.summary, &args.out));
     }
     Ok(())
 }
 
 /// The config file (or the default) with the overrides applied, validated.
 fn load(args: &RunArgs) -> Result<Config> {
-    let mut config = match &args.config {
+    let config = read_config(args.config.as_deref(), &args.overrides)?;
+    // Validate now, so that a bad config fails before any work or output.
+    config
+        .validate()
+        .with_context(|| source_name(args.config.as_deref(), &args.overrides))?;
+    Ok(config)
+}
+
+/// The config file (or the default) with the overrides applied, not validated.
+pub fn read_config(path: Option<&Path>, overrides: &Overrides) -> Result<Config> {
+    let mut config = match path {
         Some(path) => Config::from_file(path)?,
         None => Config::default(),
     };
-    args.overrides.apply(&mut config)?;
-    // Validate now, so that a bad config fails before any work or output.
-    match config.dim {
-        2 => config.plan::<2>().map(drop),
-        3 => config.plan::<3>().map(drop),
-        d => Err(packbed::Error::config(format!(
-            "dim must be 2 or 3, got {d}"
-        ))),
-    }
-    .with_context(|| source_name(args))?;
+    overrides.apply(&mut config)?;
     Ok(config)
 }
 
 /// Where the settings came from, to say where to look when they are wrong.
-fn source_name(args: &RunArgs) -> String {
-    let file = args.config.as_ref().map(|p| p.display().to_string());
-    match (file, args.overrides.is_empty()) {
+pub fn source_name(path: Option<&Path>, overrides: &Overrides) -> String {
+    let file = path.map(|p| p.display().to_string());
+    match (file, overrides.is_empty()) {
         (Some(f), true) => f,
         (Some(f), false) => format!("{f} with command-line options"),
         (None, false) => "command-line options".into(),
@@ -79,7 +72,7 @@ fn source_name(args: &RunArgs) -> String {
 
 /// Refuses an output path that can never become a directory before the run, so
 /// that a long run does not fail at its very end.
-fn check_out_dir(out: &Path) -> Result<()> {
+pub fn check_out_dir(out: &Path) -> Result<()> {
     let existing = out
         .ancestors()
         .find(|a| a.as_os_str().is_empty() || a.exists());
@@ -91,25 +84,4 @@ fn check_out_dir(out: &Path) -> Result<()> {
         ),
         _ => Ok(()),
     }
-}
-
-/// Analyses the bed and writes the files; returns the summary and file paths.
-fn finish<const D: usize>(
-    config: &Config,
-    bed: &Bed<D>,
-    deposit: &DepositReport,
-    out: &Path,
-    start: Instant,
-) -> Result<(RunSummary, Vec<PathBuf>)> {
-    let t = Instant::now();
-    let (contacts, analysis) = packbed::analysis::analyze(bed, config.analysis.contact_tol);
-    let analysis_seconds = t.elapsed().as_secs_f64();
-    let timing = Timing {
-        deposit_seconds: deposit.deposit_seconds,
-        analysis_seconds,
-        total_seconds: start.elapsed().as_secs_f64(),
-    };
-    let summary = RunSummary::new(config, bed, deposit, &analysis, timing);
-    let files = io::write_run(out, bed, &contacts, &summary)?;
-    Ok((summary, files))
 }

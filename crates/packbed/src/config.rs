@@ -2,6 +2,7 @@
 //! keys are errors) and its validation into a [`Plan`] the engine can run.
 
 use crate::container::Container;
+use crate::ensemble::sweep::{EnsembleConfig, SweepConfig};
 use crate::error::{Error, Result};
 use crate::math::{Real, Vector};
 use crate::species::{Shape, SizeDist, Species};
@@ -55,6 +56,13 @@ pub struct Config {
     /// Analysis settings.
     #[serde(default)]
     pub analysis: AnalysisConfig,
+    /// Defaults of `packbed ensemble` (the replicate count); ignored by `run`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ensemble: Option<EnsembleConfig>,
+    /// Values of one parameter to run as separate ensembles (`packbed ensemble`
+    /// only: `run` refuses a config with a sweep, since it builds one bed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sweep: Option<SweepConfig>,
 }
 
 /// `[box]`: a preset, a cube of `diameters` large diameters, or explicit sizes.
@@ -232,6 +240,8 @@ impl Default for Config {
             fill: FillConfig::default(),
             species: default_species(),
             analysis: AnalysisConfig::default(),
+            ensemble: None,
+            sweep: None,
         }
     }
 }
@@ -457,12 +467,28 @@ impl Config {
             .fold(0.0, Real::max)
     }
 
+    /// Validates the configuration for its own dimension (see [`Config::plan`]).
+    pub fn validate(&self) -> Result<()> {
+        match self.dim {
+            2 => self.plan::<2>().map(drop),
+            3 => self.plan::<3>().map(drop),
+            d => Err(Error::config(format!("dim must be 2 or 3, got {d}"))),
+        }
+    }
+
     /// Validates the configuration for dimension `D` (which must equal `self.dim`).
     pub fn plan<const D: usize>(&self) -> Result<Plan<D>> {
         assert_eq!(
             D, self.dim as usize,
             "plan::<D>() called for another dimension"
         );
+        if let Some(sw) = &self.sweep {
+            return Err(Error::config(format!(
+                "this config has a [sweep] over `{}` ({} values), which needs `packbed ensemble`; `packbed run` builds one bed (remove the [sweep] table, or set the parameter, to run one value)",
+                sw.parameter,
+                sw.values.len()
+            )));
+        }
         if self.species.is_empty() {
             return Err(Error::config("at least one [[species]] is needed"));
         }

@@ -15,6 +15,7 @@ pub mod geometry;
 pub mod grid;
 pub mod io;
 pub mod math;
+pub mod pipeline;
 pub mod render;
 pub mod species;
 
