@@ -280,7 +280,10 @@ fn refusals() {
     let s0 = t.path().join("s0");
     let s1 = t.path().join("s1");
     run(&c, &opts(4, 1, Shard { index: 0, count: 2 }), &s0);
-    let e = err(ensemble::merge(&[s0.clone()], &t.path().join("m1")));
+    let e = err(ensemble::merge(
+        std::slice::from_ref(&s0),
+        &t.path().join("m1"),
+    ));
     assert!(e.contains("1/2") && e.contains("missing"), "{e}");
     let e = err(ensemble::merge(
         &[s0.clone(), s0.clone()],

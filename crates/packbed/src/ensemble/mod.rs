@@ -694,21 +694,16 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Outcome> {
         config: first.config.clone(),
     };
     check_out(out, &manifest)?;
-    write_manifest(out, &manifest)?;
-    let mut outcome = Outcome {
-        points: Vec::new(),
-        wall_seconds: 0.0,
-        files: Vec::new(),
-    };
+    // Every summary is read before anything is written, so that an incomplete
+    // shard leaves no half-merged output.
     let mut gathered = Vec::new();
     for p in &pts {
         let mut values = Vec::with_capacity(first.runs as usize);
         for i in 0..first.runs {
             let k = owner[(i % count) as usize].unwrap_or(0);
-            let src_dir = dirs[k].join(&p.dir);
             let seed = seeds::replicate_seed(config.seed, i);
-            let src = run_dir(&src_dir, i);
-            let Some((v, text)) = done_summary(&src, seed) else {
+            let src = run_dir(&dirs[k].join(&p.dir), i);
+            let Some(found) = done_summary(&src, seed) else {
                 return Err(Error::Impossible(format!(
                     "merge: {} is incomplete: replicate {i} has no summary ({}); rerun its `packbed ensemble … --shard {}/{count} --out {}` to finish it",
                     dirs[k].display(),
@@ -717,17 +712,31 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Outcome> {
                     dirs[k].display()
                 )));
             };
-            let dst = run_dir(&out.join(&p.dir), i);
+            values.push(found);
+        }
+        gathered.push((p, values));
+    }
+    write_manifest(out, &manifest)?;
+    let mut outcome = Outcome {
+        points: Vec::new(),
+        wall_seconds: 0.0,
+        files: Vec::new(),
+    };
+    let mut merged = Vec::new();
+    for (p, found) in gathered {
+        let mut values = Vec::with_capacity(found.len());
+        for (i, (v, text)) in found.into_iter().enumerate() {
+            let dst = run_dir(&out.join(&p.dir), i as u64);
             let mut s = Staging::new(&dst)?.without_sync();
             s.stage("summary.json", |w| w.write_all(text.as_bytes()))?;
             s.commit()?;
             values.push(v);
         }
-        gathered.push((p, values));
+        merged.push((p, values));
     }
     let wall = start.elapsed().as_secs_f64();
     outcome.wall_seconds = wall;
-    for (p, values) in gathered {
+    for (p, values) in merged {
         let dir = out.join(&p.dir);
         let aggregate = write_point(
             p,

@@ -1,0 +1,359 @@
+//! Integration tests of `packbed ensemble` and `packbed merge`: each runs the
+//! built binary in a fresh temporary directory.
+
+use serde_json::Value;
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+use tempfile::TempDir;
+
+struct Outcome {
+    code: i32,
+    stdout: String,
+    stderr: String,
+}
+
+/// `work/` is the command's current directory, `inputs/` holds configs.
+struct Scratch {
+    _root: TempDir,
+    work: PathBuf,
+    inputs: PathBuf,
+}
+
+impl Scratch {
+    fn new() -> Scratch {
+        let root = tempfile::tempdir().unwrap();
+        let work = root.path().join("work");
+        let inputs = root.path().join("inputs");
+        std::fs::create_dir(&work).unwrap();
+        std::fs::create_dir(&inputs).unwrap();
+        Scratch {
+            _root: root,
+            work,
+            inputs,
+        }
+    }
+
+    fn input(&self, name: &str, text: &str) -> String {
+        let p = self.inputs.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.display().to_string()
+    }
+
+    fn packbed(&self, args: &[&str]) -> Outcome {
+        let out = Command::new(env!("CARGO_BIN_EXE_packbed"))
+            .args(args)
+            .current_dir(&self.work)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        Outcome {
+            code: out.status.code().unwrap_or(-1),
+            stdout: String::from_utf8(out.stdout).unwrap(),
+            stderr: String::from_utf8(out.stderr).unwrap(),
+        }
+    }
+
+    fn ok(&self, args: &[&str]) -> Outcome {
+        let o = self.packbed(args);
+        assert_eq!(o.code, 0, "{args:?}: {}", o.stderr);
+        o
+    }
+
+    fn path(&self, rel: &str) -> PathBuf {
+        self.work.join(rel)
+    }
+
+    fn read(&self, rel: &str) -> Vec<u8> {
+        std::fs::read(self.path(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"))
+    }
+
+    fn entries(&self) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(&self.work)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+}
+
+/// Exit code 2, one line `packbed: error: …` with every needle, nothing on
+/// stdout, and nothing new under `work/`.
+fn assert_user_error(s: &Scratch, args: &[&str], needles: &[&str]) {
+    let before = s.entries();
+    let o = s.packbed(args);
+    assert_eq!(o.code, 2, "{args:?}: exit code; stderr: {}", o.stderr);
+    let lines: Vec<&str> = o.stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{args:?}: {}", o.stderr);
+    assert!(lines[0].starts_with("packbed: error: "), "{}", lines[0]);
+    for n in needles {
+        assert!(lines[0].contains(n), "{args:?}: `{n}` not in: {}", lines[0]);
+    }
+    assert!(o.stdout.is_empty(), "{args:?}: stdout: {}", o.stdout);
+    assert_eq!(s.entries(), before, "{args:?} left files");
+}
+
+/// Fast beds: 2D, radii 20 and 10 in a square of 8 large diameters.
+const SMALL: &[&str] = &["--dim", "2", "--radii", "20,10", "--box", "diameters=8"];
+
+const STAT_FILES: [&str; 4] = [
+    "ensemble.json",
+    "ensemble.csv",
+    "histograms.csv",
+    "ensemble.md",
+];
+
+fn args<'a>(head: &[&'a str], tail: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec!["ensemble"];
+    v.extend_from_slice(head);
+    v.extend_from_slice(tail);
+    v
+}
+
+fn assert_same_stats(s: &Scratch, a: &str, b: &str, files: &[&str]) {
+    for f in files {
+        assert!(
+            s.read(&format!("{a}/{f}")) == s.read(&format!("{b}/{f}")),
+            "{a}/{f} and {b}/{f} differ"
+        );
+    }
+}
+
+#[test]
+fn ensemble_writes_its_files_and_table() {
+    let s = Scratch::new();
+    let o = s.ok(&args(SMALL, &["--runs", "6", "--out", "e"]));
+    assert!(o.stdout.contains("ensemble of 6 beds"), "{}", o.stdout);
+    assert!(o.stdout.contains("packing.global"), "{}", o.stdout);
+    for f in STAT_FILES.iter().chain(&["timing.json", "manifest.json"]) {
+        assert!(s.path("e").join(f).exists(), "{f}");
+    }
+    for i in 0..6 {
+        let run = s.path(&format!("e/runs/{i:04}"));
+        let names: Vec<_> = std::fs::read_dir(&run)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(
+            names,
+            ["summary.json"],
+            "only the summary without --keep-beds"
+        );
+    }
+    let csv = String::from_utf8(s.read("e/ensemble.csv")).unwrap();
+    assert!(csv.starts_with("name,n,mean,sd,min,max,kind\n"), "{csv}");
+    assert!(
+        csv.lines().any(|l| l.starts_with("packing.global,6,")),
+        "{csv}"
+    );
+    let md = String::from_utf8(s.read("e/ensemble.md")).unwrap();
+    assert!(md.contains("| measure | min | mean ± sd | max |"), "{md}");
+    assert!(md.contains("| packing.global | "), "{md}");
+    let json: Value = serde_json::from_slice(&s.read("e/ensemble.json")).unwrap();
+    assert_eq!(json["replicates"], 6);
+    assert_eq!(json["master_seed"], 1);
+    // --keep-beds writes the beds too.
+    s.ok(&args(
+        SMALL,
+        &["--runs", "2", "--out", "k", "--keep-beds", "-q"],
+    ));
+    assert!(s.path("k/runs/0001/particles.csv").exists());
+    assert!(s.path("k/runs/0001/contacts.csv").exists());
+}
+
+#[test]
+fn jobs_and_shards_give_the_same_files() {
+    let s = Scratch::new();
+    s.ok(&args(
+        SMALL,
+        &["--runs", "9", "--jobs", "1", "--out", "j1", "-q"],
+    ));
+    s.ok(&args(
+        SMALL,
+        &["--runs", "9", "--jobs", "2", "--out", "j2", "-q"],
+    ));
+    assert_same_stats(&s, "j1", "j2", &STAT_FILES);
+    for k in 0..3 {
+        let shard = format!("{k}/3");
+        let out = format!("s{k}");
+        s.ok(&args(
+            SMALL,
+            &["--runs", "9", "--shard", &shard, "--out", &out, "-q"],
+        ));
+    }
+    let o = s.ok(&["merge", "s2", "s0", "s1", "--out", "merged"]);
+    assert!(o.stdout.contains("ensemble of 9 beds"), "{}", o.stdout);
+    assert_same_stats(&s, "j1", "merged", &STAT_FILES);
+    let shard_json: Value = serde_json::from_slice(&s.read("s1/ensemble.json")).unwrap();
+    assert_eq!(shard_json["shard"]["index"], 1);
+    assert_eq!(shard_json["replicates"], 3);
+}
+
+#[test]
+fn interrupted_ensemble_resumes() {
+    let s = Scratch::new();
+    s.ok(&args(SMALL, &["--runs", "6", "--out", "full", "-q"]));
+    s.ok(&args(SMALL, &["--runs", "6", "--out", "cut", "-q"]));
+    // As if killed: two replicates never finished, statistics not written.
+    std::fs::remove_dir_all(s.path("cut/runs/0002")).unwrap();
+    std::fs::remove_dir_all(s.path("cut/runs/0005")).unwrap();
+    std::fs::remove_file(s.path("cut/ensemble.json")).unwrap();
+    let o = s.ok(&args(SMALL, &["--runs", "6", "--out", "cut"]));
+    assert!(o.stdout.contains("2 built, 4 resumed"), "{}", o.stdout);
+    assert_same_stats(&s, "full", "cut", &STAT_FILES);
+    // Another config into the same directory is refused.
+    assert_user_error(
+        &s,
+        &[
+            "ensemble",
+            "--dim",
+            "2",
+            "--radii",
+            "20,10",
+            "--box",
+            "diameters=9",
+            "--runs",
+            "6",
+            "--out",
+            "cut",
+        ],
+        &["different config", "box.diameters"],
+    );
+}
+
+#[test]
+fn sweeps_write_one_row_per_value() {
+    let s = Scratch::new();
+    let cfg = s.input(
+        "sweep.toml",
+        "dim = 2\n[box]\ndiameters = 8\n[[species]]\nradius = 20\n[[species]]\nradius = 10\n[ensemble]\nruns = 3\n[sweep]\nparameter = \"ratio\"\nvalues = [[1, 1], [1, 2.5]]\n",
+    );
+    let o = s.ok(&["ensemble", &cfg, "--out", "sw"]);
+    assert!(o.stdout.contains("1:2.5"), "{}", o.stdout);
+    for d in ["00-ratio-1-1", "01-ratio-1-2.5"] {
+        assert!(s.path(&format!("sw/sweep/{d}/ensemble.md")).exists(), "{d}");
+        assert!(
+            s.path(&format!("sw/sweep/{d}/runs/0002/summary.json"))
+                .exists(),
+            "{d}"
+        );
+    }
+    let md = String::from_utf8(s.read("sw/sweep.md")).unwrap();
+    assert!(
+        md.contains("| 1:1 | 3 |") && md.contains("| 1:2.5 | 3 |"),
+        "{md}"
+    );
+    let csv = String::from_utf8(s.read("sw/sweep.csv")).unwrap();
+    assert!(
+        csv.starts_with("index,label,name,n,mean,sd,min,max,kind\n"),
+        "{csv}"
+    );
+    assert!(csv.contains("\n1,1:2.5,packing.global,3,"), "{csv}");
+    // The ratio really changed: the second value has more small discs.
+    let small = |d: &str| -> f64 {
+        let v: Value =
+            serde_json::from_slice(&s.read(&format!("sw/sweep/{d}/ensemble.json"))).unwrap();
+        v["measures"]["species.small.placed"]["mean"]
+            .as_f64()
+            .unwrap()
+            / v["measures"]["species.large.placed"]["mean"]
+                .as_f64()
+                .unwrap()
+    };
+    assert!(small("01-ratio-1-2.5") > small("00-ratio-1-1") * 1.5);
+    // `run` refuses a sweep config.
+    assert_user_error(
+        &s,
+        &["run", &cfg, "--out", "one"],
+        &["[sweep]", "packbed ensemble"],
+    );
+}
+
+#[test]
+fn bad_inputs_are_refused() {
+    let s = Scratch::new();
+    assert_user_error(
+        &s,
+        &args(SMALL, &["--runs", "0"]),
+        &["--runs", "at least 1"],
+    );
+    assert_user_error(&s, &args(SMALL, &[]), &["--runs"]);
+    assert_user_error(&s, &args(SMALL, &["--runs", "-3"]), &["-3"]);
+    assert_user_error(
+        &s,
+        &args(SMALL, &["--runs", "2", "--jobs", "0"]),
+        &["--jobs"],
+    );
+    for bad in ["3/2", "2/2", "1", "x/4", "1/0"] {
+        assert_user_error(
+            &s,
+            &args(SMALL, &["--runs", "2", "--shard", bad]),
+            &["--shard", bad],
+        );
+    }
+    let bad_sweep = s.input(
+        "bad.toml",
+        "[sweep]\nparameter = \"ratio\"\nvalues = [[1, 2, 3]]\n",
+    );
+    assert_user_error(
+        &s,
+        &["ensemble", &bad_sweep, "--runs", "2"],
+        &["bad.toml", "sweep.values[0]"],
+    );
+    let typo = s.input(
+        "typo.toml",
+        "[sweep]\nparameter = \"ratio\"\nvalue = [[1, 1]]\n",
+    );
+    assert_user_error(
+        &s,
+        &["ensemble", &typo, "--runs", "2"],
+        &["typo.toml", "value"],
+    );
+    assert_user_error(&s, &["merge", "nowhere"], &["nowhere", "manifest.json"]);
+    // Shards of different configs, and an incomplete set.
+    s.ok(&args(
+        SMALL,
+        &["--runs", "4", "--shard", "0/2", "--out", "a", "-q"],
+    ));
+    s.ok(&[
+        "ensemble",
+        "--dim",
+        "2",
+        "--radii",
+        "20,10",
+        "--ratio",
+        "1,3",
+        "--box",
+        "diameters=8",
+        "--runs",
+        "4",
+        "--shard",
+        "1/2",
+        "--out",
+        "b",
+        "-q",
+    ]);
+    assert_user_error(
+        &s,
+        &["merge", "a", "b", "--out", "m"],
+        &["different configs"],
+    );
+    assert_user_error(&s, &["merge", "a", "--out", "m"], &["shard 1/2 missing"]);
+    assert_user_error(&s, &["merge", "a", "a", "--out", "m"], &["twice"]);
+}
+
+#[test]
+fn replicate_seeds_rebuild_with_run() {
+    // A replicate's summary names its seed; `run --seed` with it builds the same bed.
+    let s = Scratch::new();
+    s.ok(&args(SMALL, &["--runs", "2", "--out", "e", "-q"]));
+    let v: Value = serde_json::from_slice(&s.read("e/runs/0001/summary.json")).unwrap();
+    let seed = v["seed"].as_u64().unwrap().to_string();
+    let mut run = vec!["run"];
+    run.extend_from_slice(SMALL);
+    run.extend_from_slice(&["--seed", &seed, "--out", "one", "-q"]);
+    s.ok(&run);
+    let w: Value = serde_json::from_slice(&s.read("one/summary.json")).unwrap();
+    assert_eq!(v["packing"], w["packing"]);
+    assert_eq!(v["counts"], w["counts"]);
+}
