@@ -281,6 +281,11 @@ fn bad_inputs_are_refused() {
     assert_user_error(&s, &args(SMALL, &["--runs", "-3"]), &["-3"]);
     assert_user_error(
         &s,
+        &args(SMALL, &["--runs", "1000000000000"]),
+        &["--runs", "at most"],
+    );
+    assert_user_error(
+        &s,
         &args(SMALL, &["--runs", "2", "--jobs", "0"]),
         &["--jobs"],
     );

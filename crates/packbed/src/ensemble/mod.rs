@@ -35,6 +35,9 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
+/// Largest `--runs`: every replicate's summary (a few kB) is held in memory
+/// while the statistics are folded.
+pub const MAX_RUNS: u64 = 1_000_000;
 /// Name of the file that identifies an ensemble directory.
 pub const MANIFEST: &str = "manifest.json";
 /// Files of the statistics of one ensemble (or one sweep value).
@@ -460,6 +463,12 @@ pub fn run(
     if opts.runs == 0 {
         return Err(Error::config("--runs must be at least 1"));
     }
+    if opts.runs > MAX_RUNS {
+        return Err(Error::Impossible(format!(
+            "--runs {}: at most {MAX_RUNS} replicates per ensemble (their summaries are held in memory for the statistics)",
+            opts.runs
+        )));
+    }
     if opts.jobs == Some(0) {
         return Err(Error::config("--jobs must be at least 1"));
     }
@@ -485,6 +494,9 @@ pub fn run(
     let mut results = Vec::with_capacity(pts.len());
     for p in &pts {
         let dir = out.join(&p.dir);
+        // Made here, once, rather than by the first replicates racing for it.
+        let runs_dir = dir.join("runs");
+        fs::create_dir_all(&runs_dir).map_err(|e| io_err(&runs_dir, e))?;
         let summaries: Vec<Result<(Value, bool)>> = pool.install(|| {
             mine.par_iter()
                 .map(|&i| {

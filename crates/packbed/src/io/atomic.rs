@@ -50,8 +50,13 @@ impl Staging {
             sync: true,
         };
         for d in missing {
-            fs::create_dir(&d).map_err(|e| io_err(&d, e))?;
-            staging.created.push(d);
+            match fs::create_dir(&d) {
+                Ok(()) => staging.created.push(d),
+                // Another writer (a parallel replicate) made it meanwhile: it is
+                // theirs to keep, not ours to remove on failure.
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && d.is_dir() => {}
+                Err(e) => return Err(io_err(&d, e)),
+            }
         }
         if !dir.is_dir() {
             return Err(io_err(
@@ -152,6 +157,25 @@ mod tests {
         s.commit().unwrap();
         assert_eq!(fs::read_to_string(dir.join("x.txt")).unwrap(), "hello");
         assert_eq!(fs::read_dir(&dir).unwrap().count(), 1);
+        fs::remove_dir_all(&root).unwrap();
+    }
+
+    #[test]
+    fn parallel_writers_share_a_new_parent() {
+        // Replicates of an ensemble stage into runs/NNNN at the same time; the
+        // parent they both create must not make either fail.
+        let root = scratch("parallel");
+        std::thread::scope(|sc| {
+            for k in 0..8 {
+                let dir = root.join("runs").join(format!("{k:04}"));
+                sc.spawn(move || {
+                    let mut s = Staging::new(&dir).unwrap();
+                    s.stage("x.txt", |w| w.write_all(b"x")).unwrap();
+                    s.commit().unwrap();
+                });
+            }
+        });
+        assert_eq!(fs::read_dir(root.join("runs")).unwrap().count(), 8);
         fs::remove_dir_all(&root).unwrap();
     }
 
