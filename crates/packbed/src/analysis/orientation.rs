@@ -232,3 +232,100 @@ pub fn orientation<const D: usize>(bed: &Bed<D>) -> Option<Orientation> {
         by_species,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::container::Container;
+
+    /// A straight chain of `beads` unit beads, spacing 1, from `start` along `dir`.
+    fn chain<const D: usize>(bed: &mut Bed<D>, start: Vector<D>, dir: Vector<D>, beads: usize, species: u32) {
+        let body = bed.bodies.last().map_or(0, |&b| b + 1);
+        let u = dir.normalized().unwrap();
+        for k in 0..beads {
+            bed.push_bead(start + u * k as Real, 1.0, species, body);
+        }
+    }
+
+    #[test]
+    fn signed_angles_in_2d() {
+        let mut bed = Bed::new(
+            Container {
+                size: Vector([100.0, 100.0]),
+                periodic: false,
+            },
+            Vec::new(),
+        );
+        let t = 30f64.to_radians();
+        chain(&mut bed, Vector([10.0, 10.0]), Vector([0.0, 1.0]), 5, 0);
+        chain(&mut bed, Vector([20.0, 10.0]), Vector([t.sin(), t.cos()]), 5, 0);
+        chain(&mut bed, Vector([30.0, 10.0]), Vector([t.sin(), -t.cos()]), 4, 1); // pointing down-right: axis up-left
+        chain(&mut bed, Vector([40.0, 10.0]), Vector([-1.0, 0.0]), 3, 1);
+        bed.push(Vector([50.0, 10.0]), 1.0, 2); // a sphere: no axis
+        let axes = body_axes(&bed);
+        let angles: Vec<Real> = axes.iter().map(|a| a.angle).collect();
+        let want = [0.0, 30.0, -30.0, 90.0];
+        for (g, w) in angles.iter().zip(want) {
+            assert!((g - w).abs() < 1e-9, "{angles:?}");
+        }
+        let o = orientation(&bed).unwrap();
+        assert_eq!(o.bodies, 4);
+        let c30 = t.cos() * t.cos();
+        let s = (1.0 + 2.0 * 0.5 * (3.0 * c30 - 1.0) - 0.5) / 4.0;
+        assert!((o.order_parameter - s).abs() < 1e-12);
+        assert_eq!(o.histogram.counts.len(), 36);
+        assert_eq!(o.histogram.counts[18], 1); // [0, 5)
+        // ±30 sit on bin edges: one of the two bins next to the edge, by rounding.
+        assert_eq!(o.histogram.counts[23] + o.histogram.counts[24], 1);
+        assert_eq!(o.histogram.counts[11] + o.histogram.counts[12], 1);
+        assert_eq!(o.histogram.counts[35], 1); // 90
+        assert_eq!(o.by_species.len(), 3);
+        assert_eq!(o.by_species[0].bodies, 2);
+        assert_eq!(o.by_species[2].bodies, 0);
+        assert!(o.azimuth_histogram.is_none());
+    }
+
+    #[test]
+    fn polar_and_azimuth_in_3d() {
+        let mut bed = Bed::new(
+            Container {
+                size: Vector([100.0, 100.0, 100.0]),
+                periodic: true,
+            },
+            Vec::new(),
+        );
+        chain(&mut bed, Vector([10.0, 10.0, 10.0]), Vector([1.0, 1.0, 1.0]), 6, 0);
+        // Stored across the periodic seam: beads at x = 99.5, 0.5, 1.5.
+        chain(&mut bed, Vector([99.5, 10.0, 10.0]), Vector([1.0, 0.0, 0.0]), 3, 0);
+        for b in bed.centres.iter_mut() {
+            b[0] = b[0].rem_euclid(100.0);
+        }
+        let axes = body_axes(&bed);
+        assert!((axes[0].angle - (1.0f64 / 3f64.sqrt()).acos().to_degrees()).abs() < 1e-9);
+        assert!((axes[0].azimuth - 45.0).abs() < 1e-9);
+        assert!((axes[1].angle - 90.0).abs() < 1e-9);
+        assert!(axes[1].azimuth.abs() < 1e-9);
+        let o = orientation(&bed).unwrap();
+        // cos²θ = 1/3 gives 0; lying flat gives −1/2.
+        assert!((o.order_parameter - (-0.25)).abs() < 1e-12);
+        assert_eq!(o.histogram.counts.len(), 18);
+        assert_eq!(o.azimuth_histogram.as_ref().unwrap().counts.len(), 72);
+    }
+
+    #[test]
+    fn eigenvector_of_a_known_matrix_and_spheres_only() {
+        let v = largest_eigenvector([[2.0, 1.0, 0.0], [1.0, 2.0, 0.0], [0.0, 0.0, 1.0]]).unwrap();
+        let s = 0.5f64.sqrt();
+        assert!((v[0].abs() - s).abs() < 1e-12 && (v[1].abs() - s).abs() < 1e-12 && v[2].abs() < 1e-12);
+        assert!(largest_eigenvector([[0.0; 3]; 3]).is_none());
+        let mut bed = Bed::new(
+            Container {
+                size: Vector([10.0, 10.0]),
+                periodic: false,
+            },
+            Vec::new(),
+        );
+        bed.push(Vector([1.0, 1.0]), 1.0, 0);
+        assert!(orientation(&bed).is_none());
+    }
+}

@@ -215,6 +215,7 @@ mod tests {
         assert!((centre[0].volume() - 6.0 * 8.0 * 10.0).abs() < 1e-9);
         // A box narrower than 4 d_max is all wall, still counted once.
         bed.container.size = Vector([3.0, 3.0, 14.0]);
+        bed.centres[0] = Vector([1.5, 1.5, 0.5]);
         let [_, _, wall, centre] = region_boxes(&bed);
         let frame: Real = wall.iter().map(Region::volume).sum();
         assert!((frame - 9.0 * 14.0).abs() < 1e-9);

@@ -484,3 +484,116 @@ pub fn void_summary(bed: &Bed<2>, voids: &[Void]) -> VoidSummary {
         sides,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::find_contacts;
+    use crate::container::Container;
+    use crate::math::Vector;
+
+    fn bed2(size: [Real; 2], periodic: bool, discs: &[(Real, Real, Real)]) -> Bed<2> {
+        let mut bed = Bed::new(
+            Container {
+                size: Vector(size),
+                periodic,
+            },
+            Vec::new(),
+        );
+        for &(x, y, r) in discs {
+            bed.push(Vector([x, y]), r, 0);
+        }
+        bed
+    }
+
+    fn found(bed: &Bed<2>) -> Vec<Void> {
+        voids(bed, &find_contacts(bed, 1e-9))
+    }
+
+    /// `k` unit discs touching in a ring around `(cx, cy)`.
+    fn ring(k: usize, cx: Real, cy: Real) -> Vec<(Real, Real, Real)> {
+        let rho = 1.0 / (PI / k as Real).sin();
+        (0..k)
+            .map(|i| {
+                let a = TAU * i as Real / k as Real;
+                (cx + rho * a.cos(), cy + rho * a.sin(), 1.0)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn rings_of_touching_discs_enclose_the_known_void() {
+        for k in [3usize, 4, 5, 6, 9] {
+            // Polygon of k sides of length 2 minus k sectors of the interior angle.
+            let polygon = k as Real / (PI / k as Real).tan();
+            let want = polygon - 0.5 * (k as Real - 2.0) * PI;
+            // Floating in a walled box: the ring is a hole in the open space.
+            let v = found(&bed2([20.0, 20.0], false, &ring(k, 10.0, 10.0)));
+            assert_eq!(v.len(), 1, "k = {k}");
+            assert!((v[0].area - want).abs() < 1e-12, "k = {k}: {} vs {want}", v[0].area);
+            assert_eq!(v[0].sides, k as u32);
+            // Across the seam of a periodic box: the same void.
+            let v = found(&bed2([20.0, 20.0], true, &ring(k, 0.3, 10.0)));
+            let v: Vec<&Void> = v.iter().collect();
+            assert_eq!(v.len(), 1, "periodic k = {k}");
+            assert!((v[0].area - want).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn floor_row_between_walls_closes_voids_with_the_walls() {
+        // Three unit discs on the floor of a box 6 wide: two corner voids
+        // (1 − π/4, a disc and two walls) and two floor voids (2 − π/2).
+        let v = found(&bed2(
+            [6.0, 10.0],
+            false,
+            &[(1.0, 1.0, 1.0), (3.0, 1.0, 1.0), (5.0, 1.0, 1.0)],
+        ));
+        let mut areas: Vec<(Real, u32)> = v.iter().map(|v| (v.area, v.sides)).collect();
+        areas.sort_by(|a, b| a.0.total_cmp(&b.0));
+        assert_eq!(areas.len(), 4);
+        for (a, s) in &areas[..2] {
+            assert!((a - (1.0 - PI / 4.0)).abs() < 1e-14);
+            assert_eq!(*s, 3);
+        }
+        for (a, s) in &areas[2..] {
+            assert!((a - (2.0 - PI / 2.0)).abs() < 1e-14);
+            assert_eq!(*s, 3);
+        }
+        let s = void_summary(&bed2([6.0, 10.0], false, &[(1.0, 1.0, 1.0)]), &v);
+        assert_eq!(s.count, 4);
+        assert!((s.total_area - (6.0 - 1.5 * PI)).abs() < 1e-13);
+        assert!((s.mean_area_scaled - (6.0 - 1.5 * PI) / 4.0 / PI).abs() < 1e-13);
+        assert_eq!(s.sides_histogram, vec![0, 0, 0, 4]);
+    }
+
+    #[test]
+    fn periodic_floor_row_wraps_into_floor_voids() {
+        // Three unit discs on the floor of a periodic box 6 wide: three floor voids.
+        let v = found(&bed2(
+            [6.0, 10.0],
+            true,
+            &[(1.0, 1.0, 1.0), (3.0, 1.0, 1.0), (5.0, 1.0, 1.0)],
+        ));
+        assert_eq!(v.len(), 3);
+        for v in &v {
+            assert!((v.area - (2.0 - PI / 2.0)).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn dead_ends_and_rattlers_are_taken_out_of_their_void() {
+        // A ring of 9 (a big void) with one disc hanging inside from a contact and
+        // one free disc (a rattler) inside.
+        let mut discs = ring(9, 10.0, 10.0);
+        let rho = 1.0 / (PI / 9.0).sin();
+        discs.push((10.0 + rho - 2.0, 10.0, 1.0)); // touches ring disc 0 only
+        discs.push((10.0 - 0.5, 10.0, 0.5)); // touches nothing
+        let v = found(&bed2([20.0, 20.0], false, &discs));
+        let polygon = 9.0 / (PI / 9.0).tan();
+        let want = polygon - 3.5 * PI - PI - PI * 0.25;
+        assert_eq!(v.len(), 1);
+        assert!((v[0].area - want).abs() < 1e-12, "{} vs {want}", v[0].area);
+        assert_eq!(v[0].discs.len(), 11);
+    }
+}
