@@ -102,7 +102,11 @@ fn finish<const D: usize>(
     start: Instant,
 ) -> Result<(RunSummary, Vec<PathBuf>)> {
     let t = Instant::now();
-    let (contacts, analysis) = packbed::analysis::analyze(bed, config.analysis.contact_tol);
+    let opts = packbed::analysis::AnalysisOptions::new(
+        config.analysis.contact_tol,
+        config.analysis.large_radius,
+    );
+    let (contacts, analysis) = packbed::analysis::analyze_with(bed, &opts);
     let analysis_seconds = t.elapsed().as_secs_f64();
     let timing = Timing {
         deposit_seconds: deposit.deposit_seconds,

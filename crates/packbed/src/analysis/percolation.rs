@@ -30,7 +30,7 @@ pub const MAX_CHAINS: usize = 400;
 pub const MAX_CHAIN_LENGTH: usize = 250;
 /// Default cap on the edges the chain enumeration follows per direction, so that
 /// a dense graph without chains cannot keep it busy for ever.
-pub const MAX_SEARCH_STEPS: u64 = 20_000_000;
+pub const MAX_SEARCH_STEPS: u64 = 5_000_000;
 
 /// Which particles are large.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -470,7 +470,7 @@ pub struct Enumeration {
 
 /// Enumerates the distinct node sets of chains (simple paths from a start node to
 /// an end node, inner nodes neither), depth first from the start nodes in order,
-/// within the caps. Branches that cannot reach an end node, or only in more than
+/// within the caps, nearest-to-the-end neighbours first. Branches that cannot reach an end node, or only in more than
 /// `max_len` nodes, are cut using the breadth-first distance to the end nodes.
 pub fn unique_chains(
     g: &LinkGraph,
@@ -504,6 +504,12 @@ pub fn unique_chains(
                 queue.push_back(v);
             }
         }
+    }
+    // Try the neighbours nearest to the end first, so that the enumeration meets
+    // short chains early rather than wandering through the whole cluster.
+    let mut order: Vec<usize> = (0..g.adj.len()).collect();
+    for u in 0..n {
+        order[g.row[u]..g.row[u + 1]].sort_by_key(|&e| (to_end[g.adj[e] as usize], e));
     }
     let mut seen: HashSet<Vec<u32>> = HashSet::new();
     let mut on_path = vec![false; n];
@@ -546,7 +552,7 @@ pub fn unique_chains(
                 cursor.pop();
                 continue;
             }
-            let e = *c;
+            let e = order[*c];
             *c += 1;
             steps += 1;
             if steps > max_steps {
