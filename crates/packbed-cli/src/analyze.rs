@@ -24,7 +24,12 @@ pub struct AnalyzeArgs {
     #[arg(long)]
     pub periodic: bool,
     /// Contact tolerance relative to the smaller radius of each pair.
-    #[arg(long, value_name = "T", default_value_t = 1e-6, allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "T",
+        default_value_t = 1e-6,
+        allow_hyphen_values = true
+    )]
     pub contact_tol: f64,
     /// Percolation threshold: particles with radius >= R count as large
     /// (default: the species of the largest particle).
@@ -73,7 +78,10 @@ fn box_hint(args: &AnalyzeArgs) -> Result<BoxHint> {
     if let Some(text) = &args.container {
         for f in text.split(',') {
             let v: f64 = f.trim().parse().map_err(|_| {
-                anyhow::anyhow!("--box: `{}` is not a number (expected W,H or W,D,H)", f.trim())
+                anyhow::anyhow!(
+                    "--box: `{}` is not a number (expected W,H or W,D,H)",
+                    f.trim()
+                )
             })?;
             if !(v.is_finite() && v > 0.0) {
                 bail!("--box: sizes must be positive, got {v}");

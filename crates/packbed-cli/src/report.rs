@@ -61,7 +61,11 @@ pub fn analyze_text(s: &AnalyzeSummary, out: &Path) -> String {
         Some(d) => format!("{} × {} × {}", b.width, d, b.height),
         None => format!("{} × {}", b.width, b.height),
     };
-    let sides = if b.periodic { "periodic sides" } else { "walls" };
+    let sides = if b.periodic {
+        "periodic sides"
+    } else {
+        "walls"
+    };
     let _ = writeln!(
         t,
         "packbed: {} ({}D, {} particles, {} bodies, {size} box, {sides})",
@@ -107,7 +111,11 @@ pub fn measures_text(a: &Summary) -> String {
             .by_species
             .iter()
             .map(|s| {
-                let name = if s.name.is_empty() { format!("species {}", s.species) } else { s.name.clone() };
+                let name = if s.name.is_empty() {
+                    format!("species {}", s.species)
+                } else {
+                    s.name.clone()
+                };
                 format!("{name} {:.3} (bulk {:.3})", s.mean, s.mean_bulk)
             })
             .collect();

@@ -498,7 +498,14 @@ fn analyze_reproduces_the_numbers_of_run() {
         assert!(o.stdout.contains("percolation"), "{}", o.stdout);
         let run: Value = serde_json::from_str(&s.read("r/summary.json")).unwrap();
         let ana: Value = serde_json::from_str(&s.read("a/summary.json")).unwrap();
-        for key in ["packing", "percolation", "voids", "segregation", "orientation", "box"] {
+        for key in [
+            "packing",
+            "percolation",
+            "voids",
+            "segregation",
+            "orientation",
+            "box",
+        ] {
             assert_eq!(run.get(key), ana.get(key), "dim {dim} {extra:?}: {key}");
         }
         let strip = |v: &Value| {
@@ -526,7 +533,15 @@ fn analyze_reproduces_the_numbers_of_run() {
         assert_eq!(s.read("r/contacts.csv"), s.read("a/contacts.csv"));
         assert_eq!(s.read("r/wall_contacts.csv"), s.read("a/wall_contacts.csv"));
         // A different threshold changes the large set.
-        let o = s.packbed(&["analyze", "r/particles.csv", "--out", "b", "--large", "5", "-q"]);
+        let o = s.packbed(&[
+            "analyze",
+            "r/particles.csv",
+            "--out",
+            "b",
+            "--large",
+            "5",
+            "-q",
+        ]);
         assert_eq!(o.code, 0, "{}", o.stderr);
         let b: Value = serde_json::from_str(&s.read("b/summary.json")).unwrap();
         assert_eq!(b["percolation"]["large_bodies"], b["counts"]["bodies"]);
@@ -542,15 +557,34 @@ fn analyze_refuses_bad_input() {
     let missing = s.inputs.join("none.csv");
     assert_user_error(&s, &["analyze", missing.to_str().unwrap()], &["none.csv"]);
     let bad = s.input("bad.csv", "x,y,r\n1,1,1\n2,oops,1\n");
-    assert_user_error(&s, &["analyze", bad.to_str().unwrap(), "--box", "10,10"], &["bad.csv:3", "oops"]);
+    assert_user_error(
+        &s,
+        &["analyze", bad.to_str().unwrap(), "--box", "10,10"],
+        &["bad.csv:3", "oops"],
+    );
     let plain = s.input("plain.csv", "1 1 1\n3 1 1\n");
     assert_user_error(&s, &["analyze", plain.to_str().unwrap()], &["--box"]);
     assert_user_error(
         &s,
-        &["analyze", plain.to_str().unwrap(), "--box", "4,10", "--contact-tol", "-1"],
+        &[
+            "analyze",
+            plain.to_str().unwrap(),
+            "--box",
+            "4,10",
+            "--contact-tol",
+            "-1",
+        ],
         &["--contact-tol"],
     );
-    let o = s.packbed(&["analyze", plain.to_str().unwrap(), "--box", "4,10", "--out", "p", "-q"]);
+    let o = s.packbed(&[
+        "analyze",
+        plain.to_str().unwrap(),
+        "--box",
+        "4,10",
+        "--out",
+        "p",
+        "-q",
+    ]);
     assert_eq!(o.code, 0, "{}", o.stderr);
     let v: Value = serde_json::from_str(&s.read("p/summary.json")).unwrap();
     assert_eq!(v["percolation"]["shortest_chain"], 2);

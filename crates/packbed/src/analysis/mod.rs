@@ -143,10 +143,7 @@ pub fn analyze<const D: usize>(bed: &Bed<D>, contact_tol: Real) -> (Contacts, Su
 }
 
 /// Runs every measure on a bed.
-pub fn analyze_with<const D: usize>(
-    bed: &Bed<D>,
-    opts: &AnalysisOptions,
-) -> (Contacts, Summary) {
+pub fn analyze_with<const D: usize>(bed: &Bed<D>, opts: &AnalysisOptions) -> (Contacts, Summary) {
     let contacts = contacts::find_contacts(bed, opts.contact_tol);
     let z = contacts::coordination(bed, &contacts);
     let volumes = packing::particle_volumes(bed);

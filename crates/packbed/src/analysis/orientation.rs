@@ -239,7 +239,13 @@ mod tests {
     use crate::container::Container;
 
     /// A straight chain of `beads` unit beads, spacing 1, from `start` along `dir`.
-    fn chain<const D: usize>(bed: &mut Bed<D>, start: Vector<D>, dir: Vector<D>, beads: usize, species: u32) {
+    fn chain<const D: usize>(
+        bed: &mut Bed<D>,
+        start: Vector<D>,
+        dir: Vector<D>,
+        beads: usize,
+        species: u32,
+    ) {
         let body = bed.bodies.last().map_or(0, |&b| b + 1);
         let u = dir.normalized().unwrap();
         for k in 0..beads {
@@ -258,8 +264,20 @@ mod tests {
         );
         let t = 30f64.to_radians();
         chain(&mut bed, Vector([10.0, 10.0]), Vector([0.0, 1.0]), 5, 0);
-        chain(&mut bed, Vector([20.0, 10.0]), Vector([t.sin(), t.cos()]), 5, 0);
-        chain(&mut bed, Vector([30.0, 10.0]), Vector([t.sin(), -t.cos()]), 4, 1); // pointing down-right: axis up-left
+        chain(
+            &mut bed,
+            Vector([20.0, 10.0]),
+            Vector([t.sin(), t.cos()]),
+            5,
+            0,
+        );
+        chain(
+            &mut bed,
+            Vector([30.0, 10.0]),
+            Vector([t.sin(), -t.cos()]),
+            4,
+            1,
+        ); // pointing down-right: axis up-left
         chain(&mut bed, Vector([40.0, 10.0]), Vector([-1.0, 0.0]), 3, 1);
         bed.push(Vector([50.0, 10.0]), 1.0, 2); // a sphere: no axis
         let axes = body_axes(&bed);
@@ -275,7 +293,7 @@ mod tests {
         assert!((o.order_parameter - s).abs() < 1e-12);
         assert_eq!(o.histogram.counts.len(), 36);
         assert_eq!(o.histogram.counts[18], 1); // [0, 5)
-        // ±30 sit on bin edges: one of the two bins next to the edge, by rounding.
+                                               // ±30 sit on bin edges: one of the two bins next to the edge, by rounding.
         assert_eq!(o.histogram.counts[23] + o.histogram.counts[24], 1);
         assert_eq!(o.histogram.counts[11] + o.histogram.counts[12], 1);
         assert_eq!(o.histogram.counts[35], 1); // 90
@@ -294,9 +312,21 @@ mod tests {
             },
             Vec::new(),
         );
-        chain(&mut bed, Vector([10.0, 10.0, 10.0]), Vector([1.0, 1.0, 1.0]), 6, 0);
+        chain(
+            &mut bed,
+            Vector([10.0, 10.0, 10.0]),
+            Vector([1.0, 1.0, 1.0]),
+            6,
+            0,
+        );
         // Stored across the periodic seam: beads at x = 99.5, 0.5, 1.5.
-        chain(&mut bed, Vector([99.5, 10.0, 10.0]), Vector([1.0, 0.0, 0.0]), 3, 0);
+        chain(
+            &mut bed,
+            Vector([99.5, 10.0, 10.0]),
+            Vector([1.0, 0.0, 0.0]),
+            3,
+            0,
+        );
         for b in bed.centres.iter_mut() {
             b[0] = b[0].rem_euclid(100.0);
         }
@@ -316,7 +346,9 @@ mod tests {
     fn eigenvector_of_a_known_matrix_and_spheres_only() {
         let v = largest_eigenvector([[2.0, 1.0, 0.0], [1.0, 2.0, 0.0], [0.0, 0.0, 1.0]]).unwrap();
         let s = 0.5f64.sqrt();
-        assert!((v[0].abs() - s).abs() < 1e-12 && (v[1].abs() - s).abs() < 1e-12 && v[2].abs() < 1e-12);
+        assert!(
+            (v[0].abs() - s).abs() < 1e-12 && (v[1].abs() - s).abs() < 1e-12 && v[2].abs() < 1e-12
+        );
         assert!(largest_eigenvector([[0.0; 3]; 3]).is_none());
         let mut bed = Bed::new(
             Container {

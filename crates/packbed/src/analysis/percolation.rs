@@ -356,87 +356,121 @@ fn reach(g: &LinkGraph, t: &Terminals, seeds: &[bool]) -> Vec<bool> {
     seen
 }
 
-/// A flow network with unit arc capacities, arcs stored in pairs (arc `a` and its
-/// reverse `a ^ 1`).
+/// A flow network with unit arc capacities in compressed rows: the arcs of node
+/// `u` are `start[u]..start[u + 1]`, `rev[a]` is the reverse of arc `a`.
 struct FlowNet {
-    head: Vec<u32>,
+    nodes: usize,
+    arcs: Vec<(u32, u32)>,
+    start: Vec<usize>,
     to: Vec<u32>,
-    next: Vec<u32>,
+    rev: Vec<u32>,
     cap: Vec<u8>,
 }
-
-const NONE: u32 = u32::MAX;
 
 impl FlowNet {
     fn new(nodes: usize) -> Self {
         FlowNet {
-            head: vec![NONE; nodes],
+            nodes,
+            arcs: Vec::new(),
+            start: Vec::new(),
             to: Vec::new(),
-            next: Vec::new(),
+            rev: Vec::new(),
             cap: Vec::new(),
         }
     }
 
     fn add(&mut self, a: usize, b: usize) {
-        for (from, to, cap) in [(a, b, 1), (b, a, 0)] {
-            self.to.push(to as u32);
-            self.cap.push(cap);
-            self.next.push(self.head[from]);
-            self.head[from] = (self.to.len() - 1) as u32;
+        self.arcs.push((a as u32, b as u32));
+    }
+
+    /// Lays the arcs and their reverses out in rows.
+    fn freeze(&mut self) {
+        let n = self.nodes;
+        let mut start = vec![0usize; n + 1];
+        for &(a, b) in &self.arcs {
+            start[a as usize + 1] += 1;
+            start[b as usize + 1] += 1;
         }
+        for u in 0..n {
+            start[u + 1] += start[u];
+        }
+        let m = start[n];
+        let mut fill = start.clone();
+        let (mut to, mut rev, mut cap) = (vec![0u32; m], vec![0u32; m], vec![0u8; m]);
+        for &(a, b) in &self.arcs {
+            let (fa, fb) = (fill[a as usize], fill[b as usize]);
+            fill[a as usize] += 1;
+            fill[b as usize] += 1;
+            to[fa] = b;
+            cap[fa] = 1;
+            rev[fa] = fb as u32;
+            to[fb] = a;
+            rev[fb] = fa as u32;
+        }
+        self.start = start;
+        self.to = to;
+        self.rev = rev;
+        self.cap = cap;
+        self.arcs = Vec::new();
     }
 
     fn max_flow(&mut self, s: usize, t: usize) -> u64 {
-        let m = self.head.len();
+        self.freeze();
+        let m = self.nodes;
         let mut level = vec![u32::MAX; m];
-        let mut it = vec![NONE; m];
+        let mut it = vec![0usize; m];
         let mut flow = 0;
         let mut queue = VecDeque::new();
-        let mut path: Vec<u32> = Vec::new();
+        let mut path: Vec<usize> = Vec::new();
         loop {
             level.fill(u32::MAX);
             level[s] = 0;
+            queue.clear();
             queue.push_back(s);
             while let Some(u) = queue.pop_front() {
-                let mut a = self.head[u];
-                while a != NONE {
-                    let v = self.to[a as usize] as usize;
-                    if self.cap[a as usize] > 0 && level[v] == u32::MAX {
+                // Nodes at the sink's level or beyond cannot lead to it.
+                if level[t] != u32::MAX && level[u] >= level[t] {
+                    break;
+                }
+                for a in self.start[u]..self.start[u + 1] {
+                    let v = self.to[a] as usize;
+                    if self.cap[a] > 0 && level[v] == u32::MAX {
                         level[v] = level[u] + 1;
                         queue.push_back(v);
                     }
-                    a = self.next[a as usize];
                 }
             }
             if level[t] == u32::MAX {
                 return flow;
             }
-            it.copy_from_slice(&self.head);
+            it.copy_from_slice(&self.start[..m]);
             // Blocking flow by iterative depth-first search: `path` holds the arcs
             // from the source to the current node.
             loop {
-                let u = path
-                    .last()
-                    .map_or(s, |&a| self.to[a as usize] as usize);
+                let u = path.last().map_or(s, |&a| self.to[a] as usize);
                 if u == t {
                     for &a in &path {
-                        self.cap[a as usize] -= 1;
-                        self.cap[(a ^ 1) as usize] += 1;
+                        self.cap[a] -= 1;
+                        self.cap[self.rev[a] as usize] += 1;
                     }
                     flow += 1;
                     path.clear();
                     continue;
                 }
+                let end = self.start[u + 1];
                 let mut advanced = false;
-                while it[u] != NONE {
+                while it[u] < end {
                     let a = it[u];
-                    let v = self.to[a as usize] as usize;
-                    if self.cap[a as usize] > 0 && level[v] == level[u] + 1 {
+                    let v = self.to[a] as usize;
+                    if self.cap[a] > 0
+                        && level[v] == level[u].wrapping_add(1)
+                        && level[v] <= level[t]
+                    {
                         path.push(a);
                         advanced = true;
                         break;
                     }
-                    it[u] = self.next[a as usize];
+                    it[u] += 1;
                 }
                 if !advanced {
                     if u == s {
@@ -444,10 +478,9 @@ impl FlowNet {
                     }
                     // Dead end: retreat and never try this node again this phase.
                     level[u] = u32::MAX;
-                    let a = path.pop().unwrap_or(NONE);
-                    if a != NONE {
-                        let p = self.to[(a ^ 1) as usize] as usize;
-                        it[p] = self.next[a as usize];
+                    if let Some(a) = path.pop() {
+                        let p = self.to[self.rev[a] as usize] as usize;
+                        it[p] += 1;
                     }
                 }
             }
@@ -719,11 +752,9 @@ fn large_particles<const D: usize>(bed: &Bed<D>, rule: LargeRule) -> (Vec<bool>,
             (bed.radii.iter().map(|&x| x >= cut).collect(), r)
         }
         LargeRule::LargestSpecies => {
-            let Some(big) = (0..bed.len()).max_by(|&a, &b| {
-                bed.radii[a]
-                    .total_cmp(&bed.radii[b])
-                    .then(b.cmp(&a))
-            }) else {
+            let Some(big) = (0..bed.len())
+                .max_by(|&a, &b| bed.radii[a].total_cmp(&bed.radii[b]).then(b.cmp(&a)))
+            else {
                 return (Vec::new(), 0.0);
             };
             let s = bed.species[big];

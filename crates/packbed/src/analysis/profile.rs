@@ -85,8 +85,8 @@ pub(crate) fn slab_solids<const D: usize>(
             continue;
         }
         let share = volumes[i] / whole;
-        let inside_sideways = bed.container.periodic
-            || (0..D - 1).all(|k| c[k] - r >= 0.0 && c[k] + r <= size[k]);
+        let inside_sideways =
+            bed.container.periodic || (0..D - 1).all(|k| c[k] - r >= 0.0 && c[k] + r <= size[k]);
         let z = c[D - 1];
         let first = ((z - r) / slab).floor().max(0.0) as usize;
         let last = (((z + r) / slab).floor().max(0.0) as usize).min(n - 1);

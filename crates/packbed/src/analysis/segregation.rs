@@ -56,7 +56,9 @@ pub fn segregation<const D: usize>(bed: &Bed<D>, slab: Real, volumes: &[Real]) -
     let frac = |b: u64, a: u64| if a > 0 { b as Real / a as Real } else { 0.0 };
     Segregation {
         slab,
-        z: (0..m).map(|k| 0.5 * (s.edges[k] + s.edges[k + 1])).collect(),
+        z: (0..m)
+            .map(|k| 0.5 * (s.edges[k] + s.edges[k + 1]))
+            .collect(),
         composition,
         bed_height: height,
         bottom_fraction: below.iter().zip(&all).map(|(&b, &a)| frac(b, a)).collect(),

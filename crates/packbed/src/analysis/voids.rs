@@ -223,7 +223,11 @@ impl Network {
             let twin = e ^ 1;
             let v = net.from[twin] as usize;
             let k = slot[twin];
-            let prev = if k == start[v] { start[v + 1] - 1 } else { k - 1 };
+            let prev = if k == start[v] {
+                start[v + 1] - 1
+            } else {
+                k - 1
+            };
             net.next[e] = around[prev];
         }
         net
@@ -423,7 +427,8 @@ pub fn voids(bed: &Bed<2>, contacts: &Contacts) -> Vec<Void> {
         let mut best: Option<usize> = None;
         for (k, f) in faces.iter().enumerate() {
             if comp[f.vertex as usize] as usize == c
-                || !(f.polygon > 0.0)
+                || f.polygon.is_nan()
+                || f.polygon <= 0.0
                 || f.winding[0].abs() > tiny
             {
                 continue;
@@ -431,7 +436,10 @@ pub fn voids(bed: &Bed<2>, contacts: &Contacts) -> Vec<Void> {
             if best.is_some_and(|b| faces[b].polygon <= f.polygon) {
                 continue;
             }
-            if shifts.iter().any(|&s| inside(&f.ring, [p[0] + s * w, p[1]])) {
+            if shifts
+                .iter()
+                .any(|&s| inside(&f.ring, [p[0] + s * w, p[1]]))
+            {
                 best = Some(k);
             }
         }
@@ -464,7 +472,11 @@ pub fn void_summary(bed: &Bed<2>, voids: &[Void]) -> VoidSummary {
     let areas: Vec<Real> = voids.iter().map(|v| v.area).collect();
     let sides: Vec<u32> = voids.iter().map(|v| v.sides).collect();
     let total: Real = areas.iter().sum();
-    let mean = if count > 0 { total / count as Real } else { 0.0 };
+    let mean = if count > 0 {
+        total / count as Real
+    } else {
+        0.0
+    };
     let r = bed.r_max();
     let largest = PI * r * r;
     VoidSummary {
@@ -530,7 +542,11 @@ mod tests {
             // Floating in a walled box: the ring is a hole in the open space.
             let v = found(&bed2([20.0, 20.0], false, &ring(k, 10.0, 10.0)));
             assert_eq!(v.len(), 1, "k = {k}");
-            assert!((v[0].area - want).abs() < 1e-12, "k = {k}: {} vs {want}", v[0].area);
+            assert!(
+                (v[0].area - want).abs() < 1e-12,
+                "k = {k}: {} vs {want}",
+                v[0].area
+            );
             assert_eq!(v[0].sides, k as u32);
             // Across the seam of a periodic box: the same void.
             let v = found(&bed2([20.0, 20.0], true, &ring(k, 0.3, 10.0)));

@@ -55,7 +55,9 @@ pub fn write_analysis(
     let json = summary.to_json()?;
     let mut out = Staging::new(dir)?;
     out.stage(ANALYZE_FILES[0], |w| tables::write_contacts(w, contacts))?;
-    out.stage(ANALYZE_FILES[1], |w| tables::write_wall_contacts(w, contacts))?;
+    out.stage(ANALYZE_FILES[1], |w| {
+        tables::write_wall_contacts(w, contacts)
+    })?;
     out.stage(ANALYZE_FILES[2], |w| w.write_all(json.as_bytes()))?;
     out.commit()
 }

@@ -59,8 +59,17 @@ pub fn read_bed(path: &Path, box_hint: &BoxHint) -> Result<AnyBed> {
             }
             row.push(v);
         }
-        if width.is_some_and(|w| w != row.len()) || rows.first().is_some_and(|r| r.len() != row.len()) {
-            return Err(bad(k + 1, format!("{} columns, expected {}", row.len(), width.unwrap_or(rows[0].len()))));
+        if width.is_some_and(|w| w != row.len())
+            || rows.first().is_some_and(|r| r.len() != row.len())
+        {
+            return Err(bad(
+                k + 1,
+                format!(
+                    "{} columns, expected {}",
+                    row.len(),
+                    width.unwrap_or(rows[0].len())
+                ),
+            ));
         }
         rows.push(row);
     }
@@ -108,7 +117,7 @@ fn fill<const D: usize>(
             c[a] = xs[a];
         }
         let r = xs[D];
-        if !(r > 0.0) {
+        if r.is_nan() || r <= 0.0 {
             return Err(Error::Data {
                 path: path.to_path_buf(),
                 line: k + 2,
