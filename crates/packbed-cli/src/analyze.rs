@@ -1,17 +1,126 @@
-//! `packbed analyze PATH`: analyse an existing bed file.
+//! `packbed analyze PATH`: analyse an existing bed file and write the run's
+//! outputs minus the bed files (summary.json, contacts.csv, wall_contacts.csv).
 
-use anyhow::{bail, Result};
+use crate::report;
+use anyhow::{bail, Context, Result};
 use clap::Args;
-use std::path::PathBuf;
+use packbed::analysis::{analyze_with, AnalysisOptions};
+use packbed::bed::{AnyBed, Bed};
+use packbed::io::read::{read_bed, BoxHint};
+use packbed::io::summary::{AnalyzeSettings, AnalyzeTiming};
+use packbed::io::{self, AnalyzeSummary, ANALYZE_FILES};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 /// Arguments of `packbed analyze`.
 #[derive(Debug, Args)]
 pub struct AnalyzeArgs {
-    /// The bed file.
+    /// The bed file (packbed particles.csv, plain x y [z] r, LAMMPS dump, XYZ).
     pub path: PathBuf,
+    /// Box when the file has none: W,H (2D) or W,D,H (3D).
+    #[arg(long = "box", value_name = "W,[D,]H", allow_hyphen_values = true)]
+    pub container: Option<String>,
+    /// Periodic side boundaries (with --box).
+    #[arg(long)]
+    pub periodic: bool,
+    /// Contact tolerance relative to the smaller radius of each pair.
+    #[arg(
+        long,
+        value_name = "T",
+        default_value_t = 1e-6,
+        allow_hyphen_values = true
+    )]
+    pub contact_tol: f64,
+    /// Percolation threshold: particles with radius >= R count as large
+    /// (default: the species of the largest particle).
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
+    pub large: Option<f64>,
+    /// Directory for the output files (created if needed).
+    #[arg(long, value_name = "DIR", default_value = "packbed-analysis")]
+    pub out: PathBuf,
+    /// No summary on stdout.
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 /// Runs `packbed analyze`.
 pub fn analyze(args: AnalyzeArgs) -> Result<()> {
-    bail!("analyze {}: not implemented yet", args.path.display())
+    if !(args.contact_tol.is_finite() && args.contact_tol >= 0.0) {
+        bail!(
+            "--contact-tol must be a non-negative number, got {}",
+            args.contact_tol
+        );
+    }
+    if let Some(r) = args.large {
+        if !(r.is_finite() && r > 0.0) {
+            bail!("--large must be a positive radius, got {r}");
+        }
+    }
+    let hint = box_hint(&args)?;
+    let t = Instant::now();
+    let bed = read_bed(&args.path, &hint)?;
+    let read_seconds = t.elapsed().as_secs_f64();
+    let summary = match &bed {
+        AnyBed::D2(b) => finish(&args, b, read_seconds)?,
+        AnyBed::D3(b) => finish(&args, b, read_seconds)?,
+    };
+    if !args.quiet {
+        print!("{}", report::analyze_text(&summary, &args.out));
+    }
+    Ok(())
+}
+
+fn box_hint(args: &AnalyzeArgs) -> Result<BoxHint> {
+    let mut hint = BoxHint {
+        size: Vec::new(),
+        periodic: args.periodic,
+    };
+    if let Some(text) = &args.container {
+        for f in text.split(',') {
+            let v: f64 = f.trim().parse().map_err(|_| {
+                anyhow::anyhow!(
+                    "--box: `{}` is not a number (expected W,H or W,D,H)",
+                    f.trim()
+                )
+            })?;
+            if !(v.is_finite() && v > 0.0) {
+                bail!("--box: sizes must be positive, got {v}");
+            }
+            hint.size.push(v);
+        }
+        if !(2..=3).contains(&hint.size.len()) {
+            bail!("--box: give W,H (2D) or W,D,H (3D), got `{text}`");
+        }
+    } else if args.periodic {
+        bail!("--periodic needs --box W,H or W,D,H");
+    }
+    Ok(hint)
+}
+
+fn finish<const D: usize>(
+    args: &AnalyzeArgs,
+    bed: &Bed<D>,
+    read_seconds: f64,
+) -> Result<AnalyzeSummary> {
+    let t = Instant::now();
+    let opts = AnalysisOptions::new(args.contact_tol, args.large);
+    let (contacts, analysis) = analyze_with(bed, &opts);
+    let timing = AnalyzeTiming {
+        read_seconds,
+        analysis_seconds: t.elapsed().as_secs_f64(),
+    };
+    let settings = AnalyzeSettings {
+        contact_tol: args.contact_tol,
+        large_radius: args.large,
+    };
+    let source = args.path.display().to_string();
+    let summary = AnalyzeSummary::new(&source, bed, settings, &analysis, timing);
+    io::write_analysis(&args.out, &contacts, &summary)
+        .with_context(|| format!("--out {}", args.out.display()))?;
+    Ok(summary)
+}
+
+/// The files `analyze` writes, for the summary line.
+pub fn files(out: &Path) -> String {
+    format!("files in {}: {}", out.display(), ANALYZE_FILES.join(", "))
 }

@@ -482,3 +482,112 @@ fn bench_json_is_one_object_with_the_keys() {
     assert!(v["peak_rss_bytes"].as_u64().unwrap() > 0);
     assert!(s.work_entries().is_empty(), "bench writes no files");
 }
+
+/// `analyze` on the particles.csv that `run` wrote gives the same measures and
+/// contact files (species names aside: a bed file does not carry them).
+#[test]
+fn analyze_reproduces_the_numbers_of_run() {
+    let s = Scratch::new();
+    for (dim, extra) in [("2", vec!["--periodic"]), ("3", vec![]), ("2", vec![])] {
+        let mut args = vec!["run", "--dim", dim, "--count", "400", "--out", "r", "-q"];
+        args.extend(extra.iter().copied());
+        let o = s.packbed(&args);
+        assert_eq!(o.code, 0, "{}", o.stderr);
+        let o = s.packbed(&["analyze", "r/particles.csv", "--out", "a"]);
+        assert_eq!(o.code, 0, "{}", o.stderr);
+        assert!(o.stdout.contains("percolation"), "{}", o.stdout);
+        let run: Value = serde_json::from_str(&s.read("r/summary.json")).unwrap();
+        let ana: Value = serde_json::from_str(&s.read("a/summary.json")).unwrap();
+        for key in [
+            "packing",
+            "percolation",
+            "voids",
+            "segregation",
+            "orientation",
+            "box",
+        ] {
+            assert_eq!(run.get(key), ana.get(key), "dim {dim} {extra:?}: {key}");
+        }
+        let strip = |v: &Value| {
+            let mut c = v["coordination"].clone();
+            for sp in c["by_species"].as_array_mut().unwrap() {
+                sp["name"] = Value::Null;
+            }
+            c
+        };
+        assert_eq!(strip(&run), strip(&ana));
+        for key in [
+            "/coordination/histogram",
+            "/coordination/by_species",
+            "/packing/regions/floor",
+            "/packing/profile",
+            "/percolation/spans",
+            "/percolation/spanning_clusters",
+            "/percolation/shortest_chain",
+            "/percolation/disjoint_chains",
+            "/percolation/unique_chains",
+        ] {
+            assert!(ana.pointer(key).is_some(), "missing {key}");
+        }
+        assert_eq!(ana.pointer("/voids/count").is_some(), dim == "2");
+        assert_eq!(s.read("r/contacts.csv"), s.read("a/contacts.csv"));
+        assert_eq!(s.read("r/wall_contacts.csv"), s.read("a/wall_contacts.csv"));
+        // A different threshold changes the large set.
+        let o = s.packbed(&[
+            "analyze",
+            "r/particles.csv",
+            "--out",
+            "b",
+            "--large",
+            "5",
+            "-q",
+        ]);
+        assert_eq!(o.code, 0, "{}", o.stderr);
+        let b: Value = serde_json::from_str(&s.read("b/summary.json")).unwrap();
+        assert_eq!(b["percolation"]["large_bodies"], b["counts"]["bodies"]);
+        for d in ["r", "a", "b"] {
+            std::fs::remove_dir_all(s.work.join(d)).unwrap();
+        }
+    }
+}
+
+#[test]
+fn analyze_refuses_bad_input() {
+    let s = Scratch::new();
+    let missing = s.inputs.join("none.csv");
+    assert_user_error(&s, &["analyze", missing.to_str().unwrap()], &["none.csv"]);
+    let bad = s.input("bad.csv", "x,y,r\n1,1,1\n2,oops,1\n");
+    assert_user_error(
+        &s,
+        &["analyze", bad.to_str().unwrap(), "--box", "10,10"],
+        &["bad.csv:3", "oops"],
+    );
+    let plain = s.input("plain.csv", "1 1 1\n3 1 1\n");
+    assert_user_error(&s, &["analyze", plain.to_str().unwrap()], &["--box"]);
+    assert_user_error(
+        &s,
+        &[
+            "analyze",
+            plain.to_str().unwrap(),
+            "--box",
+            "4,10",
+            "--contact-tol",
+            "-1",
+        ],
+        &["--contact-tol"],
+    );
+    let o = s.packbed(&[
+        "analyze",
+        plain.to_str().unwrap(),
+        "--box",
+        "4,10",
+        "--out",
+        "p",
+        "-q",
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let v: Value = serde_json::from_str(&s.read("p/summary.json")).unwrap();
+    assert_eq!(v["percolation"]["shortest_chain"], 2);
+    // Two corner voids and one between the discs on the floor.
+    assert_eq!(v["voids"]["count"], 3);
+}

@@ -45,7 +45,11 @@ fn analyse<const D: usize>(
     start: Instant,
 ) -> (Contacts, RunSummary) {
     let t = Instant::now();
-    let (contacts, analysis) = crate::analysis::analyze(bed, config.analysis.contact_tol);
+    let options = crate::analysis::AnalysisOptions::new(
+        config.analysis.contact_tol,
+        config.analysis.large_radius,
+    );
+    let (contacts, analysis) = crate::analysis::analyze_with(bed, &options);
     let timing = Timing {
         deposit_seconds: deposit.deposit_seconds,
         analysis_seconds: t.elapsed().as_secs_f64(),

@@ -3,23 +3,47 @@
 
 mod cells;
 pub mod contacts;
+pub mod histogram;
+pub mod orientation;
 pub mod packing;
+pub mod percolation;
+pub mod profile;
+pub mod regions;
+pub mod segregation;
 pub mod validate;
+pub mod voids;
 
 use crate::bed::Bed;
 use crate::math::Real;
 use serde::Serialize;
 
 pub use contacts::{coordination, find_contacts, Contact, Contacts, WallContact};
+pub use histogram::{count_histogram, BinnedHistogram};
+pub use orientation::Orientation;
 pub use packing::{ball_box_volume, bulk_region, Region};
+pub use percolation::{LargeRule, Percolation, PercolationOptions};
+pub use profile::{profile, Profile};
+pub use regions::RegionalPacking;
+pub use segregation::Segregation;
+pub use voids::{Void, VoidSummary};
 
-/// The scalar measures known so far, laid out as in `summary.json`.
+/// Every measure of a bed, laid out as in `summary.json`.
 #[derive(Clone, Debug, Default, Serialize, PartialEq)]
 pub struct Summary {
     /// Packing fractions.
     pub packing: PackingSummary,
     /// Coordination numbers.
     pub coordination: CoordinationSummary,
+    /// Percolation chains of large particles.
+    pub percolation: Percolation,
+    /// Voids of the contact network (2D beds only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub voids: Option<VoidSummary>,
+    /// Orientation of bodies of several beads (beds with chains only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub orientation: Option<Orientation>,
+    /// Size segregation.
+    pub segregation: Segregation,
 }
 
 /// `packing.*` keys of `summary.json`.
@@ -32,6 +56,10 @@ pub struct PackingSummary {
     pub bulk: Real,
     /// True when the bed has no bulk region (then `bulk` is 0, not a measurement).
     pub bulk_region_empty: bool,
+    /// Floor, roof, wall and centre regions.
+    pub regions: RegionalPacking,
+    /// Solid fraction in slabs of `d_max / 4`, bottom to top.
+    pub profile: Profile,
 }
 
 /// `coordination.*` keys of `summary.json`.
@@ -44,49 +72,159 @@ pub struct CoordinationSummary {
     pub mean_bulk: Real,
     /// Number of particles whose centre lies in the bulk region.
     pub bulk_particles: u64,
+    /// Number of bodies with 0, 1, 2, … touching bodies.
+    pub histogram: Vec<u64>,
+    /// The same in the bulk region (one entry per particle, as `mean_bulk`).
+    pub histogram_bulk: Vec<u64>,
+    /// Per species (size class), in species order.
+    pub by_species: Vec<SpeciesCoordination>,
+    /// Particles touching the floor.
+    pub floor_contacts: u64,
+    /// Particles touching a side wall (a particle in a corner counts per wall).
+    pub wall_contacts: u64,
 }
 
-/// Runs the measures of this module on a bed. `contact_tol` is relative to the
-/// smaller radius of each pair.
+/// Coordination numbers of one species.
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct SpeciesCoordination {
+    /// Species index (the `species` column of `particles.csv`).
+    pub species: u32,
+    /// Species name, when the bed knows it.
+    pub name: String,
+    /// Bodies of this species.
+    pub bodies: u64,
+    /// Mean number of touching bodies.
+    pub mean: Real,
+    /// Mean over its particles in the bulk region.
+    pub mean_bulk: Real,
+    /// Its particles in the bulk region.
+    pub bulk_particles: u64,
+    /// Number of its bodies with 0, 1, 2, … touching bodies.
+    pub histogram: Vec<u64>,
+}
+
+/// Settings of the analysis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AnalysisOptions {
+    /// Contact tolerance relative to the smaller radius of each pair.
+    pub contact_tol: Real,
+    /// Percolation settings (which particles are large, enumeration caps).
+    pub percolation: PercolationOptions,
+}
+
+impl Default for AnalysisOptions {
+    fn default() -> Self {
+        AnalysisOptions {
+            contact_tol: 1e-6,
+            percolation: PercolationOptions::default(),
+        }
+    }
+}
+
+impl AnalysisOptions {
+    /// The options with this contact tolerance and, if given, percolation
+    /// threshold radius (else the largest species is large).
+    pub fn new(contact_tol: Real, large_radius: Option<Real>) -> Self {
+        let mut o = AnalysisOptions {
+            contact_tol,
+            ..Default::default()
+        };
+        if let Some(r) = large_radius {
+            o.percolation.large = LargeRule::Radius(r);
+        }
+        o
+    }
+}
+
+/// Runs every measure on a bed with default settings and this contact tolerance
+/// (relative to the smaller radius of each pair).
 pub fn analyze<const D: usize>(bed: &Bed<D>, contact_tol: Real) -> (Contacts, Summary) {
-    let contacts = contacts::find_contacts(bed, contact_tol);
+    analyze_with(bed, &AnalysisOptions::new(contact_tol, None))
+}
+
+/// Runs every measure on a bed.
+pub fn analyze_with<const D: usize>(bed: &Bed<D>, opts: &AnalysisOptions) -> (Contacts, Summary) {
+    let contacts = contacts::find_contacts(bed, opts.contact_tol);
     let z = contacts::coordination(bed, &contacts);
     let volumes = packing::particle_volumes(bed);
     let region = packing::bulk_region(bed);
-
-    // The mean over bodies: one entry per body, whatever its number of beads.
-    let mut per_body: Vec<(u32, u32)> = bed.bodies.iter().copied().zip(z.iter().copied()).collect();
-    per_body.sort_unstable();
-    per_body.dedup_by_key(|e| e.0);
-    let mean = mean_of(per_body.iter().map(|e| e.1));
-
-    let (bulk, mean_bulk, bulk_particles) = match &region {
-        Some(reg) => {
-            let inside: Vec<u32> = (0..bed.len())
-                .filter(|&i| reg.contains(&bed.centres[i]))
-                .map(|i| z[i])
-                .collect();
-            (
-                reg.fraction_of(bed, &volumes),
-                mean_of(inside.iter().copied()),
-                inside.len() as u64,
-            )
-        }
-        None => (0.0, 0.0, 0),
+    let in_bulk: Vec<bool> = match &region {
+        Some(reg) => bed.centres.iter().map(|c| reg.contains(c)).collect(),
+        None => vec![false; bed.len()],
     };
+    let coordination = coordination_summary(bed, &contacts, &z, &in_bulk);
+    let d_max = 2.0 * bed.r_max();
     let summary = Summary {
         packing: PackingSummary {
             global: packing::global_fraction_of(bed, &volumes),
-            bulk,
+            bulk: region
+                .as_ref()
+                .map_or(0.0, |reg| reg.fraction_of(bed, &volumes)),
             bulk_region_empty: region.is_none(),
+            regions: regions::regional_packing_of(bed, &volumes),
+            profile: profile::profile_of(bed, 0.25 * d_max, &volumes),
         },
-        coordination: CoordinationSummary {
-            mean,
-            mean_bulk,
-            bulk_particles,
-        },
+        coordination,
+        percolation: percolation::percolation(bed, &contacts, &opts.percolation),
+        voids: (bed as &dyn std::any::Any)
+            .downcast_ref::<Bed<2>>()
+            .map(|b2| voids::void_summary(b2, &voids::voids(b2, &contacts))),
+        orientation: orientation::orientation(bed),
+        segregation: segregation::segregation(bed, d_max, &volumes),
     };
     (contacts, summary)
+}
+
+/// Coordination numbers: overall, in the bulk and per species.
+fn coordination_summary<const D: usize>(
+    bed: &Bed<D>,
+    contacts: &Contacts,
+    z: &[u32],
+    in_bulk: &[bool],
+) -> CoordinationSummary {
+    // One entry per body, whatever its number of beads: (body, z, species).
+    let mut per_body: Vec<(u32, u32, u32)> = (0..bed.len())
+        .map(|i| (bed.bodies[i], z[i], bed.species[i]))
+        .collect();
+    per_body.sort_unstable_by_key(|e| e.0);
+    per_body.dedup_by_key(|e| e.0);
+    let bulk = |s: Option<u32>| {
+        (0..bed.len())
+            .filter(move |&i| in_bulk[i] && s.is_none_or(|s| bed.species[i] == s))
+            .map(|i| z[i])
+    };
+    let by_species = (0..profile::species_count(bed) as u32)
+        .map(|s| {
+            let mine = || per_body.iter().filter(move |e| e.2 == s).map(|e| e.1);
+            SpeciesCoordination {
+                species: s,
+                name: bed
+                    .species_info
+                    .get(s as usize)
+                    .map_or_else(String::new, |i| i.name.clone()),
+                bodies: mine().count() as u64,
+                mean: mean_of(mine()),
+                mean_bulk: mean_of(bulk(Some(s))),
+                bulk_particles: bulk(Some(s)).count() as u64,
+                histogram: count_histogram(mine()),
+            }
+        })
+        .collect();
+    let floor = contacts
+        .walls
+        .iter()
+        .filter(|w| w.wall == crate::container::Wall::Floor)
+        .count() as u64;
+    CoordinationSummary {
+        mean: mean_of(per_body.iter().map(|e| e.1)),
+        mean_bulk: mean_of(bulk(None)),
+        bulk_particles: bulk(None).count() as u64,
+        histogram: count_histogram(per_body.iter().map(|e| e.1)),
+        histogram_bulk: count_histogram(bulk(None)),
+        by_species,
+        floor_contacts: floor,
+        wall_contacts: contacts.walls.len() as u64 - floor,
+    }
 }
 
 /// Mean of counts, 0 for none (never NaN).

@@ -9,7 +9,7 @@ pub mod summary;
 pub mod tables;
 
 pub use atomic::Staging;
-pub use summary::{RunSummary, Timing};
+pub use summary::{AnalyzeSummary, RunSummary, Timing};
 
 use crate::analysis::Contacts;
 use crate::bed::Bed;
@@ -40,5 +40,24 @@ pub fn write_run<const D: usize>(
     out.stage(RUN_FILES[2], |w| tables::write_wall_contacts(w, contacts))?;
     // Last, so that a complete summary.json means a complete run.
     out.stage(RUN_FILES[3], |w| w.write_all(json.as_bytes()))?;
+    out.commit()
+}
+
+/// Names of the files [`write_analysis`] writes: a run's files minus the bed.
+pub const ANALYZE_FILES: [&str; 3] = ["contacts.csv", "wall_contacts.csv", "summary.json"];
+
+/// Writes the files of `packbed analyze` into `dir`, atomically as [`write_run`].
+pub fn write_analysis(
+    dir: &Path,
+    contacts: &Contacts,
+    summary: &AnalyzeSummary,
+) -> Result<Vec<PathBuf>> {
+    let json = summary.to_json()?;
+    let mut out = Staging::new(dir)?;
+    out.stage(ANALYZE_FILES[0], |w| tables::write_contacts(w, contacts))?;
+    out.stage(ANALYZE_FILES[1], |w| {
+        tables::write_wall_contacts(w, contacts)
+    })?;
+    out.stage(ANALYZE_FILES[2], |w| w.write_all(json.as_bytes()))?;
     out.commit()
 }

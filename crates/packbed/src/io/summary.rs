@@ -149,6 +149,101 @@ impl RunSummary {
     }
 }
 
+/// `summary.json` of `packbed analyze`: the keys of a run's summary that a bed
+/// file can tell (no seed, config or deposition counts), with the same layout.
+#[derive(Clone, Debug, Serialize)]
+pub struct AnalyzeSummary {
+    /// Version of packbed that wrote the file.
+    pub packbed_version: &'static str,
+    /// The bed file analysed.
+    pub source: String,
+    /// 2 or 3.
+    pub dim: u8,
+    /// The container.
+    #[serde(rename = "box")]
+    pub container: BoxSummary,
+    /// Particle counts.
+    pub counts: AnalyzeCounts,
+    /// The settings of the analysis.
+    pub settings: AnalyzeSettings,
+    /// Every measure of the analysis (`packing.*`, `coordination.*`, …).
+    #[serde(flatten)]
+    pub analysis: Summary,
+    /// Wall times.
+    pub timing: AnalyzeTiming,
+}
+
+/// `counts.*` of `packbed analyze`.
+#[derive(Clone, Debug, Serialize)]
+pub struct AnalyzeCounts {
+    /// Spheres or beads.
+    pub particles: u64,
+    /// Rigid bodies.
+    pub bodies: u64,
+}
+
+/// `settings.*` of `packbed analyze`.
+#[derive(Clone, Debug, Serialize)]
+pub struct AnalyzeSettings {
+    /// Contact tolerance relative to the smaller radius.
+    pub contact_tol: Real,
+    /// Percolation threshold radius given (`null`: the largest species).
+    pub large_radius: Option<Real>,
+}
+
+/// `timing.*` of `packbed analyze`, seconds of wall time.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct AnalyzeTiming {
+    /// Reading the bed file.
+    pub read_seconds: f64,
+    /// Analysis.
+    pub analysis_seconds: f64,
+}
+
+impl AnalyzeSummary {
+    /// Gathers the summary of an analysed bed file.
+    pub fn new<const D: usize>(
+        source: &str,
+        bed: &Bed<D>,
+        settings: AnalyzeSettings,
+        analysis: &Summary,
+        timing: AnalyzeTiming,
+    ) -> AnalyzeSummary {
+        let size = bed.container.size;
+        AnalyzeSummary {
+            packbed_version: env!("CARGO_PKG_VERSION"),
+            source: source.to_string(),
+            dim: D as u8,
+            container: BoxSummary {
+                width: size[0],
+                depth: (D == 3).then(|| size[1]),
+                height: size[D - 1],
+                periodic: bed.container.periodic,
+            },
+            counts: AnalyzeCounts {
+                particles: bed.len() as u64,
+                bodies: bed.body_count() as u64,
+            },
+            settings,
+            analysis: analysis.clone(),
+            timing,
+        }
+    }
+
+    /// The JSON text, refused if any number in it is NaN or infinite.
+    pub fn to_json(&self) -> Result<String> {
+        if let Some(key) = super::finite::first_non_finite(self) {
+            return Err(Error::Impossible(format!(
+                "summary.json: `{key}` is not a finite number; the results are unusable (please report this bug)"
+            )));
+        }
+        let mut text = serde_json::to_string_pretty(self)
+            .map_err(|e| Error::Impossible(format!("summary.json: {e}")))?;
+        text.push('\n');
+        Ok(text)
+    }
+}
+
 fn species_summaries<const D: usize>(bed: &Bed<D>) -> Vec<SpeciesSummary> {
     let n = bed.species_info.len();
     let mut particles = vec![0u64; n];
