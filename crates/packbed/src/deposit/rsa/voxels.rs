@@ -267,6 +267,7 @@ impl<const D: usize> Lattice<D> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::SQRT_2;
 
     /// Brute force: the voxels a ball holds whole, by testing every voxel.
     fn brute<const D: usize>(
@@ -367,8 +368,8 @@ mod tests {
             radius2: r * r,
         };
         // Farthest corner at distance √2 from the voxel's low corner.
-        assert!(covered(&lo, &side, &[ball(0.0, 0.0, 1.4143)]));
-        assert!(!covered(&lo, &side, &[ball(0.0, 0.0, 1.4142)]));
+        assert!(covered(&lo, &side, &[ball(0.0, 0.0, SQRT_2 + 1e-6)]));
+        assert!(!covered(&lo, &side, &[ball(0.0, 0.0, SQRT_2 - 1e-6)]));
         // Two balls that cover it together but neither alone.
         assert!(!covered(
             &lo,
