@@ -41,7 +41,8 @@ const WINDOW: u64 = 4096;
 const SWITCH_SUCCESS: Real = 0.05;
 /// Side of the first voxels relative to the smallest radius.
 const VOXEL_SIDE: Real = 0.5;
-/// Most voxels of the first lattice (one bit each while it is built).
+/// Most voxels of the first lattice (one bit each while it is built; indices
+/// are `u32`).
 const MAX_VOXELS: usize = 1 << 28;
 /// On the first lattice, rounds of trials go on while each round leaves fewer
 /// than this fraction of the voxels it started with.
@@ -345,7 +346,7 @@ impl<'p, const D: usize> Rsa<'p, D> {
             let trials = (TRIALS_PER_VOXEL * n as Real).ceil() as usize;
             for _ in 0..trials {
                 let i = self.rng.random_range(0..n);
-                let p = self.point_in(&lattice.corner(flat[i]), &lattice.side);
+                let p = self.point_in(&lattice.corner(flat[i] as usize), &lattice.side);
                 self.trial(p, progress);
                 if self.full() {
                     return;
@@ -358,7 +359,7 @@ impl<'p, const D: usize> Rsa<'p, D> {
                     &mut mask,
                 );
             }
-            flat.retain(|&f| !Lattice::<D>::is_marked(&mask, f));
+            flat.retain(|&f| !Lattice::<D>::is_marked(&mask, f as usize));
             if flat.len() as Real > LATTICE_SHRINK * n as Real {
                 break;
             }
@@ -366,7 +367,7 @@ impl<'p, const D: usize> Rsa<'p, D> {
         drop(mask);
         let mut voxels = Voxels {
             side: lattice.side,
-            corners: flat.iter().map(|&f| lattice.corner(f)).collect(),
+            corners: flat.iter().map(|&f| lattice.corner(f as usize)).collect(),
         };
         drop(flat);
         let smallest = SMALLEST_VOXEL * self.r_min;

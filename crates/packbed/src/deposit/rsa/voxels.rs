@@ -226,8 +226,9 @@ impl<const D: usize> Lattice<D> {
         }
     }
 
-    /// Indices of the voxels whose bit in `mask` is clear.
-    pub fn uncovered(&self, mask: &[u64]) -> Vec<usize> {
+    /// Indices of the voxels whose bit in `mask` is clear (lattices hold fewer
+    /// than 2^32 voxels: see `Lattice::new`'s callers).
+    pub fn uncovered(&self, mask: &[u64]) -> Vec<u32> {
         let mut out = Vec::new();
         let n = self.len();
         for (w, &word) in mask.iter().enumerate() {
@@ -237,7 +238,7 @@ impl<const D: usize> Lattice<D> {
                 if flat >= n {
                     break;
                 }
-                out.push(flat);
+                out.push(flat as u32);
                 free &= free - 1;
             }
         }
