@@ -37,11 +37,24 @@ pub fn run_text(s: &RunSummary, out: &Path) -> String {
         );
     }
     let c = &s.counts;
-    let _ = writeln!(
-        t,
-        "  particles: {} ({} base layer, {} dropped; {} re-drops, {} roof overflows)",
-        c.particles, c.base_layer, c.dropped, c.redrops, c.roof_overflows
-    );
+    if s.mode == packbed::config::Mode::Rsa {
+        let _ = writeln!(
+            t,
+            "  particles: {} (random sequential addition{})",
+            c.particles,
+            match s.config.fill.count {
+                Some(n) if c.particles < n => ", saturated before the count",
+                Some(_) => "",
+                None => ", saturated",
+            }
+        );
+    } else {
+        let _ = writeln!(
+            t,
+            "  particles: {} ({} base layer, {} dropped; {} re-drops, {} roof overflows)",
+            c.particles, c.base_layer, c.dropped, c.redrops, c.roof_overflows
+        );
+    }
     t.push_str(&measures_text(&s.analysis));
     let tm = &s.timing;
     let _ = writeln!(

@@ -591,3 +591,27 @@ fn analyze_refuses_bad_input() {
     // Two corner voids and one between the discs on the floor.
     assert_eq!(v["voids"]["count"], 3);
 }
+
+#[test]
+fn rsa_mode_runs_the_thesis_box_to_saturation() {
+    let s = Scratch::new();
+    let o = s.packbed(&[
+        "run", "--mode", "rsa", "--dim", "2", "--radii", "10", "--out", "rsa",
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(
+        o.stdout.contains("random sequential addition, saturated"),
+        "{}",
+        o.stdout
+    );
+    let v = summary(&s, "rsa");
+    assert_eq!(v["mode"], "rsa");
+    assert_eq!(v["box"]["width"], 300.0);
+    let n = v["counts"]["particles"].as_u64().unwrap();
+    // A saturated RSA bed of the 2D thesis box holds about 150 discs, far fewer
+    // than a deposited one (about 200).
+    assert!((130..=170).contains(&n), "{n} particles");
+    assert_eq!(v["counts"]["redrops"], 0);
+    let phi = v["packing"]["global"].as_f64().unwrap();
+    assert!((0.45..0.58).contains(&phi), "{phi}");
+}
