@@ -317,23 +317,46 @@ pub fn disjoint_chains(g: &LinkGraph, t: &Terminals) -> u64 {
     let from_start = reach(g, t, &t.start);
     let to_end = reach(g, t, &t.end);
     let keep: Vec<bool> = (0..n).map(|u| from_start[u] && to_end[u]).collect();
-    let mut net = FlowNet::new(2 * n + 2);
-    let (source, sink) = (2 * n, 2 * n + 1);
+    // Number the nodes in breadth-first order from the start nodes: neighbours
+    // in the bed then sit close together in memory. The flow's phases are sweeps
+    // of the whole network, and with the bed's own (deposition) order nearly
+    // every step was a cache miss: on a 2·10^5-sphere bed this is most of the
+    // analysis time.
+    let mut id = vec![u32::MAX; n];
+    let mut order: Vec<usize> = Vec::new();
     for u in 0..n {
-        if !keep[u] {
-            continue;
+        if keep[u] && t.start[u] {
+            id[u] = order.len() as u32;
+            order.push(u);
         }
-        net.add(2 * u, 2 * u + 1);
+    }
+    let mut head = 0;
+    while head < order.len() {
+        let u = order[head];
+        head += 1;
+        for e in g.edges(u) {
+            let v = g.adj[e] as usize;
+            if keep[v] && id[v] == u32::MAX && t.usable(g, e) {
+                id[v] = order.len() as u32;
+                order.push(v);
+            }
+        }
+    }
+    let k = order.len();
+    let mut net = FlowNet::new(2 * k + 2);
+    let (source, sink) = (2 * k, 2 * k + 1);
+    for (i, &u) in order.iter().enumerate() {
+        net.add(2 * i, 2 * i + 1);
         if t.start[u] {
-            net.add(source, 2 * u);
+            net.add(source, 2 * i);
         }
         if t.end[u] {
-            net.add(2 * u + 1, sink);
+            net.add(2 * i + 1, sink);
         }
         for e in g.edges(u) {
             let v = g.adj[e] as usize;
             if keep[v] && v != u && t.usable(g, e) {
-                net.add(2 * u + 1, 2 * v);
+                net.add(2 * i + 1, 2 * id[v] as usize);
             }
         }
     }
