@@ -358,9 +358,11 @@ impl SpeciesConfig {
                     None | Some("vertical") => Orientation::Vertical,
                     Some("random") => Orientation::Random,
                     Some("horizontal") => Orientation::Horizontal,
-                    Some(o) => return Err(Error::config(format!(
+                    Some(o) => {
+                        return Err(Error::config(format!(
                         "{at}.orientation: unknown `{o}` (expected vertical, random or horizontal)"
-                    ))),
+                    )))
+                    }
                 };
                 // One bead is a plain sphere: the same path, the same bed for a seed.
                 if beads == 1 {

@@ -46,7 +46,10 @@ type Gen = Vector<6>;
 /// Iterations after which a chain counts as stuck.
 pub(crate) const MAX_ITERATIONS: usize = 20_000;
 /// Gap below which an obstacle touches the chain (times the bead radius).
-const CONTACT_TOL: Real = 1e-10;
+const CONTACT_TOL: Real = 1e-7;
+/// Largest gap of a support at rest (times the bead radius): well inside the
+/// model's contact tolerance of 1e-9 r.
+const REST_GAP: Real = 1e-10;
 /// Penetration that the projection must remove (times the bead radius).
 const PENETRATION_TOL: Real = 1e-12;
 /// Largest displacement of any bead point in one step (times the bead radius):
@@ -311,58 +314,51 @@ impl<const D: usize> Settler<'_, '_, D> {
         best.max(0.0)
     }
 
-    /// Restores `gap = 0` on the contacts of `set` by Gauss–Newton (minimal-norm
-    /// corrections in the kinetic metric). Returns the height change of the
-    /// centre of mass, or `None` if it does not converge.
-    fn project(&self, pose: &mut Pose<D>, set: &[(u32, Obstacle<D>)]) -> Option<Real> {
+    /// Restores `gap = 0` on the contacts of `set` by damped Gauss–Newton
+    /// (Levenberg–Marquardt in the 6-dimensional generalised space, so nearly
+    /// parallel contacts, such as a rod lying along another, give no wild
+    /// steps). Returns the height change of the centre of mass, or `None` if it
+    /// does not converge.
+    ///
+    /// Gaps in `[0, slack]` count as restored: supports met along the way by
+    /// conservative advancement may be a little open, and nearly parallel
+    /// contacts (a rod along a rod) cannot all close at once.
+    fn project(&self, pose: &mut Pose<D>, set: &[(u32, Obstacle<D>)], slack: Real) -> Option<Real> {
         // Gaps cannot be resolved below the rounding of the coordinates.
         let scale = pose.com.0.iter().fold(0.0, |m: Real, x| m.max(x.abs()));
         let tol = 1e-14 * self.shape.r + 4.0 * Real::EPSILON * scale;
         let mut dz = 0.0;
         let mut worst: Real = Real::INFINITY;
-        for _ in 0..30 {
+        for _ in 0..40 {
             worst = 0.0;
-            let mut rows = [Gen::zero(); MAX_TOUCHING];
-            let mut gaps = [0.0; MAX_TOUCHING];
-            let mut m = 0;
-            // Keep only independent rows (Gram–Schmidt on copies): dependent ones
-            // are consistent contacts (three beads on the floor) and need no
-            // equation of their own.
-            let mut basis = [Gen::zero(); 6];
-            let mut nb = 0;
+            let mut jtj = [[0.0; 6]; 6];
+            let mut jtg = [0.0; 6];
             for &(bead, obstacle) in set {
                 let c = self.evaluate(pose, bead, obstacle);
-                worst = worst.max(c.gap.abs());
-                let mut q = c.row;
-                for b in &basis[..nb] {
-                    q = q - *b * q.dot(b);
-                }
-                let norm = q.norm();
-                if nb < 6 && norm > 1e-9 * c.row.norm() && m < MAX_TOUCHING {
-                    basis[nb] = q / norm;
-                    nb += 1;
-                    rows[m] = c.row;
-                    gaps[m] = c.gap;
-                    m += 1;
+                // Open supports are closed fully; convergence only asks them to
+                // be within the slack.
+                let excess = if c.gap < 0.0 || c.gap > slack {
+                    c.gap
+                } else {
+                    continue;
+                };
+                worst = worst.max(if c.gap < 0.0 { -c.gap } else { c.gap - slack });
+                for i in 0..6 {
+                    jtg[i] -= c.row[i] * excess;
+                    for j in 0..6 {
+                        jtj[i][j] += c.row[i] * c.row[j];
+                    }
                 }
             }
             if worst <= tol {
                 return Some(dz);
             }
-            let mut a = [[0.0; 6]; 6];
-            let mut b = [0.0; 6];
-            for i in 0..m {
-                for j in 0..m {
-                    a[i][j] = rows[i].dot(&rows[j]);
-                }
-                b[i] = -gaps[i];
+            let diag = (0..6).map(|i| jtj[i][i]).fold(0.0, Real::max);
+            for (i, row) in jtj.iter_mut().enumerate() {
+                row[i] += 1e-12 * diag + 1e-300;
             }
-            let y = solve(&mut a, &mut b, m)?;
-            let mut delta = Gen::zero();
-            for i in 0..m {
-                delta += rows[i] * y[i];
-            }
-            dz += self.advance(pose, &delta, 1.0);
+            let y = solve(&mut jtj, &mut jtg, 6)?;
+            dz += self.advance(pose, &Vector(y), 1.0);
         }
         (worst <= 100.0 * tol).then_some(dz)
     }
@@ -374,12 +370,13 @@ impl<const D: usize> Settler<'_, '_, D> {
         pose: &mut Pose<D>,
         set: &mut Vec<(u32, Obstacle<D>)>,
         candidates: &[Candidate<D>],
+        slack: Real,
     ) -> Option<Real> {
         let pen = PENETRATION_TOL * self.shape.r;
         let mut dz = 0.0;
         for _ in 0..8 {
             if !set.is_empty() {
-                dz += self.project(pose, set)?;
+                dz += self.project(pose, set, slack)?;
             }
             let before = set.len();
             for c in candidates {
@@ -462,7 +459,9 @@ impl<const D: usize> Settler<'_, '_, D> {
             let mut trial = *pose;
             let mut dz = self.advance(&mut trial, &u, step);
             let mut set = supports.to_vec();
-            let Some(d) = self.project_all(&mut trial, &mut set, candidates) else {
+            let Some(d) =
+                self.project_all(&mut trial, &mut set, candidates, REST_GAP * self.shape.r)
+            else {
                 continue;
             };
             dz += d;
@@ -530,7 +529,7 @@ fn nnls6(a: &[Gen], target: Gen, lambda: &mut [Real]) -> Gen {
                     b[r] = a[idx[r]].dot(&target);
                     scale = scale.max(g[r][r]);
                 }
-                solve_checked(&mut g, &mut b, k, 1e-12 * scale)
+                solve_checked(&mut g, &mut b, k, 1e-15 * scale)
             } else {
                 None
             };
@@ -577,7 +576,7 @@ fn solve_checked(
 ) -> Option<[Real; 6]> {
     for col in 0..m {
         let p = (col..m).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
-        if !(a[p][col].abs() > tiny) {
+        if a[p][col].abs().partial_cmp(&tiny) != Some(std::cmp::Ordering::Greater) {
             return None;
         }
         a.swap(col, p);
@@ -702,7 +701,7 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
             let mut set = supports.clone();
             let mut exact = pose;
             if settler
-                .project_all(&mut exact, &mut set, &candidates)
+                .project_all(&mut exact, &mut set, &candidates, REST_GAP * r)
                 .is_none()
             {
                 dbg_fail("rest projection", it, &supports.len());
@@ -757,7 +756,7 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
             let mut trial = pose;
             let mut dz = settler.advance(&mut trial, &u, h);
             let mut set = supports.clone();
-            if let Some(d) = settler.project_all(&mut trial, &mut set, &candidates) {
+            if let Some(d) = settler.project_all(&mut trial, &mut set, &candidates, 0.0) {
                 dz += d;
                 if dz <= -0.1 * h * rate_z {
                     pose = trial;
@@ -769,27 +768,6 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
         }
         if !accepted {
             dbg_fail("line search", it, &(residual.norm(), m, supports.len(), h));
-            if std::env::var_os("PACKBED_CHAIN_DEBUG").is_some() {
-                for j in 0..m {
-                    let c = &candidates[which[j]];
-                    eprintln!(
-                        "  touching bead {} key {:x} gap {:e} lambda {:e} rate {:e} row {:?}",
-                        c.bead,
-                        c.obstacle.key,
-                        c.gap,
-                        lambda[j],
-                        c.row.dot(&u),
-                        c.row
-                    );
-                }
-                for hh in [1e-3, 1e-6, 1e-9] {
-                    let mut trial = pose;
-                    let dz0 = settler.advance(&mut trial, &u, hh);
-                    let mut set = supports.clone();
-                    let res = settler.project_all(&mut trial, &mut set, &candidates);
-                    eprintln!("  h {hh}: dz0 {dz0:e} proj {res:?} set {}", set.len());
-                }
-            }
             return None;
         }
         h_prev = h;
@@ -798,6 +776,8 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
     None
 }
 
+/// Explains a stuck chain on stderr when `PACKBED_CHAIN_DEBUG` is set (for
+/// investigating re-drops).
 fn dbg_fail(what: &str, it: usize, x: &dyn std::fmt::Debug) {
     if std::env::var_os("PACKBED_CHAIN_DEBUG").is_some() {
         eprintln!("chain stuck: {what} at iteration {it}: {x:?}");
