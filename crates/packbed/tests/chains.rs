@@ -468,3 +468,23 @@ fn throughput_five_bead_chains() {
         );
     }
 }
+
+#[test]
+fn thesis_chain_examples_parse_and_plan() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/thesis/chains");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&dir).expect("examples/thesis/chains") {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let text = std::fs::read_to_string(&path).unwrap();
+            let c = config(&text);
+            let ok = match c.dim {
+                2 => c.plan::<2>().map(|_| ()),
+                _ => c.plan::<3>().map(|_| ()),
+            };
+            ok.unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            n += 1;
+        }
+    }
+    assert_eq!(n, 23, "7 systems in 2D and 3D, and rods of aspect 2..10");
+}
