@@ -5,7 +5,7 @@ use crate::container::Container;
 use crate::ensemble::sweep::{EnsembleConfig, SweepConfig};
 use crate::error::{Error, Result};
 use crate::math::{Real, Vector};
-use crate::species::{Shape, SizeDist, Species};
+use crate::species::{Orientation, Shape, SizeDist, Species};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -364,10 +364,25 @@ impl SpeciesConfig {
                     return Err(Error::config(format!("{at}.beads must be at least 1")));
                 }
                 let spacing = positive(self.spacing.unwrap_or(1.0), &format!("{at}.spacing"))?;
+                let orientation = match self.orientation.as_deref() {
+                    None | Some("vertical") => Orientation::Vertical,
+                    Some("random") => Orientation::Random,
+                    Some("horizontal") => Orientation::Horizontal,
+                    Some(o) => {
+                        return Err(Error::config(format!(
+                        "{at}.orientation: unknown `{o}` (expected vertical, random or horizontal)"
+                    )))
+                    }
+                };
+                // One bead is a plain sphere: the same path, the same bed for a seed.
                 if beads == 1 {
                     Shape::Sphere
                 } else {
-                    Shape::Chain { beads, spacing }
+                    Shape::Chain {
+                        beads,
+                        spacing,
+                        orientation,
+                    }
                 }
             }
             other => {

@@ -215,7 +215,32 @@ pub enum Shape {
         beads: u32,
         /// Centre distance in bead radii.
         spacing: Real,
+        /// Orientation of the axis on entry.
+        orientation: Orientation,
     },
+}
+
+/// Orientation of a chain's axis when it enters the box.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Orientation {
+    /// Upright (the source study's choice); the first tilt goes to a random side.
+    #[default]
+    Vertical,
+    /// Uniformly random direction.
+    Random,
+    /// Horizontal, with a uniformly random azimuth.
+    Horizontal,
+}
+
+impl Orientation {
+    /// The config name: `vertical`, `random` or `horizontal`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Orientation::Vertical => "vertical",
+            Orientation::Random => "random",
+            Orientation::Horizontal => "horizontal",
+        }
+    }
 }
 
 /// One species of a bed.

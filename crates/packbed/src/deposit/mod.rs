@@ -2,6 +2,7 @@
 //! bed already there (the drop-and-roll model of `spec/model.md`).
 
 mod base_layer;
+pub mod chain;
 pub(crate) mod obstacle;
 pub(crate) mod roll;
 pub mod rsa;
@@ -11,7 +12,8 @@ use crate::config::{BaseLayerKind, Config, Fill, Mode, Plan};
 use crate::error::{Error, Result};
 use crate::grid::Grid;
 use crate::math::{Real, Vector};
-use crate::species::{Shape, SpeciesPicker};
+use crate::species::{Orientation, Shape, SpeciesPicker};
+use chain::{ChainShape, Pose};
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use roll::Terrain;
@@ -56,15 +58,6 @@ struct Engine<'p, const D: usize> {
 
 impl<'p, const D: usize> Engine<'p, D> {
     fn new(plan: &'p Plan<D>) -> Result<Self> {
-        if plan
-            .species
-            .iter()
-            .any(|s| matches!(s.shape, Shape::Chain { .. }))
-        {
-            return Err(Error::Impossible(
-                "chains of more than one bead are not implemented yet".into(),
-            ));
-        }
         let r_max = plan
             .species
             .iter()
@@ -116,8 +109,75 @@ impl<'p, const D: usize> Engine<'p, D> {
         p
     }
 
+    /// Adds a particle that is a body of its own.
+    fn place(&mut self, p: Vector<D>, r: Real, species: u32) {
+        let body = self.bed.bodies.last().map_or(0, |&b| b + 1);
+        self.place_bead(p, r, species, body);
+    }
+
+    /// Adds all beads of a chain as one new body.
+    fn place_chain(&mut self, shape: ChainShape, pose: &Pose<D>, species: u32) {
+        let body = self.bed.bodies.last().map_or(0, |&b| b + 1);
+        for k in 0..shape.beads {
+            let p = pose.com + pose.axis * shape.offset(k);
+            self.place_bead(p, shape.r, species, body);
+        }
+    }
+
+    /// The chain shape of species `s` with bead radius `r`, if it is a chain.
+    fn chain_of(&self, s: u32, r: Real) -> Option<(ChainShape, Orientation)> {
+        match self.plan.species[s as usize].shape {
+            Shape::Sphere => None,
+            Shape::Chain {
+                beads,
+                spacing,
+                orientation,
+            } => Some((ChainShape { beads, spacing, r }, orientation)),
+        }
+    }
+
+    /// A random entry pose for a chain: its axis as `orientation` asks, its
+    /// centre of mass uniformly over the horizontal positions where its
+    /// footprint fits between the walls (anywhere in the period when periodic).
+    /// An orientation that cannot fit (a horizontal chain longer than a walled
+    /// box) is redrawn, and after 64 tries the chain enters upright.
+    fn chain_entry(&mut self, shape: ChainShape, orientation: Orientation) -> Pose<D> {
+        let c = self.plan.container;
+        for attempt in 0..=64 {
+            let orientation = if attempt == 64 {
+                Orientation::Vertical
+            } else {
+                orientation
+            };
+            let axis = match orientation {
+                Orientation::Vertical => Vector::up(),
+                Orientation::Random => random_axis::<D>(&mut self.rng, false),
+                Orientation::Horizontal => random_axis::<D>(&mut self.rng, true),
+            };
+            let mut com = Vector::<D>::zero();
+            let mut fits = true;
+            for k in 0..D - 1 {
+                let e = axis[k].abs() * shape.half_length() + shape.r;
+                com[k] = if c.periodic {
+                    self.rng.random_range(0.0..c.size[k])
+                } else if c.size[k] - e > e {
+                    self.rng.random_range(e..c.size[k] - e)
+                } else if c.size[k] - e >= e - 1e-12 * shape.r {
+                    0.5 * c.size[k]
+                } else {
+                    fits = false;
+                    0.5 * c.size[k]
+                };
+            }
+            if fits {
+                return Pose { com, axis };
+            }
+        }
+        unreachable!("an upright chain fits wherever its bead does")
+    }
+
     /// Adds a particle to the bed (wrapping periodic coordinates into the box).
-    fn place(&mut self, mut p: Vector<D>, r: Real, species: u32) {
+    fn place_bead(&mut self, mut p: Vector<D>, r: Real, species: u32, body: u32) {
         let c = &self.plan.container;
         if c.periodic {
             for k in 0..D - 1 {
@@ -130,7 +190,7 @@ impl<'p, const D: usize> Engine<'p, D> {
         }
         let id = self.bed.len() as u32;
         self.grid.insert(id, &p, r);
-        self.bed.push(p, r, species);
+        self.bed.push_bead(p, r, species, body);
     }
 
     fn target(&self) -> u64 {
@@ -158,6 +218,22 @@ impl<'p, const D: usize> Engine<'p, D> {
         let mut failures = 0;
         while failures < patience && (self.bed.len() as u64) < target {
             let (s, r) = self.draw_particle();
+            if let Some((shape, _)) = self.chain_of(s, r) {
+                // A chain lies flat on the floor, at a random azimuth.
+                let mut pose = self.chain_entry(shape, Orientation::Horizontal);
+                pose.com[D - 1] = r;
+                let terrain = self.terrain();
+                let fits = (0..shape.beads).all(|k| {
+                    base_layer::fits(&terrain, &(pose.com + pose.axis * shape.offset(k)), r, 0.0)
+                });
+                if fits {
+                    self.place_chain(shape, &pose, s);
+                    failures = 0;
+                } else {
+                    failures += 1;
+                }
+                continue;
+            }
             let mut p = self.drop_point(r);
             p[D - 1] = r;
             if base_layer::fits(&self.terrain(), &p, r, 0.0) {
@@ -168,7 +244,9 @@ impl<'p, const D: usize> Engine<'p, D> {
             }
         }
         // The sweep: along the floor in order of position, fill every gap where
-        // the smallest particle still fits, touching its neighbours.
+        // the smallest particle still fits, touching its neighbours. When the
+        // smallest particle is a chain the random phase alone saturates the floor
+        // (the sweep's vertices are for single spheres).
         let (s_min, r_fill) = self
             .plan
             .species
@@ -177,6 +255,10 @@ impl<'p, const D: usize> Engine<'p, D> {
             .map(|(i, s)| (i as u32, s.size.bounds().0))
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .expect("at least one species");
+        if self.chain_of(s_min, r_fill).is_some() {
+            self.report.base_layer = self.bed.len() as u64;
+            return;
+        }
         let slack = 1e-9 * r_fill;
         let mut candidates = Vec::new();
         let before = self.bed.len();
@@ -243,6 +325,50 @@ impl<'p, const D: usize> Engine<'p, D> {
         let roof = self.plan.container.height();
         while (self.bed.len() as u64) < target {
             let (s, r) = self.draw_particle();
+            if let Some((shape, orientation)) = self.chain_of(s, r) {
+                let mut tries = 0;
+                let pose = loop {
+                    let start = self.chain_entry(shape, orientation);
+                    let terrain = Terrain {
+                        container: &self.plan.container,
+                        grid: &self.grid,
+                        centres: &self.bed.centres,
+                        radii: &self.bed.radii,
+                        r_fixed_max: self.r_max,
+                    };
+                    if let Some(p) = chain::settle_chain(&terrain, shape, start, &mut self.rng) {
+                        break p;
+                    }
+                    self.report.redrops += 1;
+                    tries += 1;
+                    if tries >= MAX_REDROPS_PER_PARTICLE {
+                        return Err(Error::Impossible(format!(
+                            "a chain of {} beads of radius {r} found no resting place after {tries} drops",
+                            shape.beads
+                        )));
+                    }
+                };
+                if let Some(misses) = misses {
+                    let top = (0..shape.beads)
+                        .map(|k| (pose.com + pose.axis * shape.offset(k))[D - 1])
+                        .fold(Real::NEG_INFINITY, Real::max)
+                        + r;
+                    if top > roof {
+                        self.report.roof_overflows += 1;
+                        if self.report.roof_overflows > misses {
+                            break;
+                        }
+                        continue;
+                    }
+                }
+                let before = self.bed.len();
+                self.place_chain(shape, &pose, s);
+                self.report.dropped += 1;
+                if before / 4096 != self.bed.len() / 4096 {
+                    progress(self.bed.len() as u64);
+                }
+                continue;
+            }
             let mut tries = 0;
             let p = loop {
                 let start = self.drop_point(r);
@@ -304,6 +430,70 @@ pub fn build(config: &Config, progress: &mut dyn FnMut(u64)) -> Result<(AnyBed, 
         3 => deposit(&config.plan::<3>()?, progress).map(|(b, r)| (AnyBed::D3(b), r)),
         d => Err(crate::Error::config(format!("dim must be 2 or 3, got {d}"))),
     }
+}
+
+/// A random unit axis: uniform over directions with a non-negative vertical
+/// component (the sign of a chain's axis means nothing), or uniform over
+/// horizontal directions.
+fn random_axis<const D: usize>(rng: &mut RunRng, horizontal: bool) -> Vector<D> {
+    let mut a = Vector::<D>::zero();
+    if D == 2 {
+        let t = if horizontal {
+            0.5 * std::f64::consts::PI
+        } else {
+            rng.random_range(-0.5 * std::f64::consts::PI..0.5 * std::f64::consts::PI)
+        };
+        a[0] = t.sin();
+        a[1] = t.cos();
+    } else {
+        let z: Real = if horizontal {
+            0.0
+        } else {
+            rng.random_range(0.0..1.0)
+        };
+        let phi = rng.random_range(0.0..2.0 * std::f64::consts::PI);
+        let s = (1.0 - z * z).sqrt();
+        a[0] = s * phi.cos();
+        a[1] = s * phi.sin();
+        a[2] = z;
+    }
+    a
+}
+
+/// Drops one chain onto a fixed bed, entering with the horizontal position and
+/// axis of `start` (lowered to just above the bed), and returns its bead centres
+/// at rest (wrapped into a periodic box), or `None` if it finds no rest. For
+/// hand-checked cases and tools, like [`drop_one`].
+pub fn drop_chain<const D: usize>(
+    bed: &Bed<D>,
+    shape: ChainShape,
+    start: Pose<D>,
+    seed: u64,
+) -> Option<Vec<Vector<D>>> {
+    let r_max = bed.r_max().max(shape.r);
+    let mut grid = Grid::new(&bed.container, 2.0 * r_max);
+    for (i, (c, &ri)) in bed.centres.iter().zip(&bed.radii).enumerate() {
+        grid.insert(i as u32, c, ri);
+    }
+    let terrain = Terrain {
+        container: &bed.container,
+        grid: &grid,
+        centres: &bed.centres,
+        radii: &bed.radii,
+        r_fixed_max: r_max,
+    };
+    let mut rng = RunRng::seed_from_u64(seed);
+    let pose = chain::settle_chain(&terrain, shape, start, &mut rng)?;
+    let mut beads = shape.beads(pose.com, pose.axis);
+    if bed.container.periodic {
+        for p in &mut beads {
+            for k in 0..D - 1 {
+                let w = bed.container.size[k];
+                p[k] -= w * (p[k] / w).floor();
+            }
+        }
+    }
+    Some(beads)
 }
 
 /// Drops one sphere of radius `r` at the horizontal position of `start` onto a

@@ -270,8 +270,15 @@ fn species_summaries<const D: usize>(bed: &Bed<D>) -> Vec<SpeciesSummary> {
             size: s.size.describe(),
             shape: match s.shape {
                 Shape::Sphere => "sphere".into(),
-                Shape::Chain { beads, spacing } => {
-                    format!("chain of {beads} beads, spacing {spacing}")
+                Shape::Chain {
+                    beads,
+                    spacing,
+                    orientation,
+                } => {
+                    format!(
+                        "chain of {beads} beads, spacing {spacing}, entering {}",
+                        orientation.name()
+                    )
                 }
             },
             ratio: s.ratio,
