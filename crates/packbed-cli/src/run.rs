@@ -23,6 +23,12 @@ pub struct RunArgs {
     /// Directory for the output files (created if needed).
     #[arg(long, value_name = "DIR", default_value = "packbed-out")]
     pub out: PathBuf,
+    /// Also write these exports: a comma-separated list of vtk, dump, xyz.
+    #[arg(long, value_name = "LIST")]
+    pub export: Option<String>,
+    /// No pictures or plots (bed.png, bed.svg, plot_*.png|svg).
+    #[arg(long)]
+    pub no_pictures: bool,
     /// No progress bar and no summary on stdout.
     #[arg(long, short)]
     pub quiet: bool,
@@ -33,13 +39,20 @@ pub fn run(args: RunArgs) -> Result<()> {
     let start = Instant::now();
     let config = load(&args)?;
     check_out_dir(&args.out)?;
+    let extras = io::RunExtras {
+        pictures: !args.no_pictures,
+        exports: match &args.export {
+            Some(list) => io::export::Format::parse_list(list)?,
+            None => Vec::new(),
+        },
+    };
     let mut progress = Progress::new(&config, args.quiet);
     let built = packbed::deposit::build(&config, &mut |n| progress.update(n));
     progress.finish();
     let (bed, deposit) = built?;
     let written = match &bed {
-        AnyBed::D2(b) => finish(&config, b, &deposit, &args.out, start)?,
-        AnyBed::D3(b) => finish(&config, b, &deposit, &args.out, start)?,
+        AnyBed::D2(b) => finish(&config, b, &deposit, &args.out, &extras, start)?,
+        AnyBed::D3(b) => finish(&config, b, &deposit, &args.out, &extras, start)?,
     };
     if !args.quiet {
         print!("{}", report::run_text(&written.0, &args.out));
@@ -99,6 +112,7 @@ fn finish<const D: usize>(
     bed: &Bed<D>,
     deposit: &DepositReport,
     out: &Path,
+    extras: &io::RunExtras,
     start: Instant,
 ) -> Result<(RunSummary, Vec<PathBuf>)> {
     let t = Instant::now();
@@ -110,6 +124,6 @@ fn finish<const D: usize>(
         total_seconds: start.elapsed().as_secs_f64(),
     };
     let summary = RunSummary::new(config, bed, deposit, &analysis, timing);
-    let files = io::write_run(out, bed, &contacts, &summary)?;
+    let files = io::write_run_with(out, bed, &contacts, &summary, extras)?;
     Ok((summary, files))
 }

@@ -4,6 +4,7 @@
 mod cells;
 pub mod contacts;
 pub mod packing;
+pub mod profile;
 pub mod validate;
 
 use crate::bed::Bed;
