@@ -204,7 +204,7 @@ fn shade(d: &Disc, x: usize, y: usize, c: Rgb, light: [f64; 3], half: [f64; 3]) 
     let n = [nx, ny, nz];
     let diffuse = dot(n, light).max(0.0);
     let spec = dot(n, half).max(0.0).powi(40);
-    let k = 0.38 + 0.62 * diffuse;
+    let k = 0.45 + 0.55 * diffuse;
     let base = [c.0 as f64, c.1 as f64, c.2 as f64];
     let mut out = [0.0f32; 3];
     for i in 0..3 {
@@ -328,17 +328,12 @@ pub fn png(bed: &Bed<3>, opts: &RenderOptions) -> Result<Vec<u8>> {
     let edges = [
         (0, 1), (2, 3), (4, 5), (6, 7), (0, 2), (1, 3), (4, 6), (5, 7), (0, 4), (1, 5), (2, 6), (3, 7),
     ];
-    let centre_depth = to_px(centre).2;
     for (a, b) in edges {
         let (pa, pb) = (to_px(corners[a]), to_px(corners[b]));
-        // Edges on the camera's side of the box are drawn light: dark lines in
-        // front of the spheres would read as part of the bed.
-        let front = 0.5 * (pa.2 + pb.2) < centre_depth - 1e-9 * s;
-        let ink = if front { 190.0 } else { 30.0 };
         let steps = ((pb.0 - pa.0).abs().max((pb.1 - pa.1).abs()).ceil() as usize).max(1);
         for k in 0..=steps {
             let t = k as f64 / steps as f64;
-            let (x, y, z) = (pa.0 + t * (pb.0 - pa.0), pa.1 + t * (pb.1 - pa.1), pa.2 + t * (pb.2 - pa.2));
+            let (x, y) = (pa.0 + t * (pb.0 - pa.0), pa.1 + t * (pb.1 - pa.1));
             for oy in 0..lw {
                 for ox in 0..lw {
                     let (xi, yi) = (x.floor() as i64 + ox - lw / 2, y.floor() as i64 + oy - lw / 2);
@@ -346,8 +341,10 @@ pub fn png(bed: &Bed<3>, opts: &RenderOptions) -> Result<Vec<u8>> {
                         continue;
                     }
                     let p = yi as usize * w + xi as usize;
-                    if (z as f32) <= zb.depth[p] + 1e-3 * s as f32 {
-                        rgb[3 * p..3 * p + 3].copy_from_slice(&[ink; 3]);
+                    // Only on empty paper: edges behind spheres are hidden, and
+                    // edges in front of them would read as part of the bed.
+                    if zb.id[p] == u32::MAX {
+                        rgb[3 * p..3 * p + 3].copy_from_slice(&[30.0; 3]);
                     }
                 }
             }

@@ -285,7 +285,12 @@ fn species_label<const D: usize>(bed: &Bed<D>, s: usize) -> String {
 
 /// The default title: dimension, count, what colours show.
 pub(crate) fn default_title<const D: usize>(bed: &Bed<D>, opts: &RenderOptions) -> String {
-    let what = if D == 2 { "discs" } else { "spheres" };
+    let what = match (D, bed.len()) {
+        (2, 1) => "disc",
+        (2, _) => "discs",
+        (_, 1) => "sphere",
+        _ => "spheres",
+    };
     let mut t = format!("{}D bed, {} {what}", D, bed.len());
     let bodies = bed.body_count();
     if bodies != bed.len() {
