@@ -58,7 +58,7 @@ pub fn analyze(args: AnalyzeArgs) -> Result<()> {
     }
     let hint = box_hint(&args)?;
     let t = Instant::now();
-    let bed = read_bed(&args.path, &hint)?;
+    let bed = read_bed(&args.path, (!hint.size.is_empty()).then_some(&hint))?;
     let read_seconds = t.elapsed().as_secs_f64();
     let summary = match &bed {
         AnyBed::D2(b) => finish(&args, b, read_seconds)?,

@@ -6,6 +6,7 @@ use crate::report;
 use anyhow::{Context, Result};
 use clap::Args;
 use packbed::config::Config;
+use packbed::io;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `packbed run`.
@@ -19,6 +20,12 @@ pub struct RunArgs {
     /// Directory for the output files (created if needed).
     #[arg(long, value_name = "DIR", default_value = "packbed-out")]
     pub out: PathBuf,
+    /// Also write these exports: a comma-separated list of vtk, dump, xyz.
+    #[arg(long, value_name = "LIST")]
+    pub export: Option<String>,
+    /// No pictures or plots (bed.png, bed.svg, plot_*.png|svg).
+    #[arg(long)]
+    pub no_pictures: bool,
     /// No progress bar and no summary on stdout.
     #[arg(long, short)]
     pub quiet: bool,
@@ -28,11 +35,18 @@ pub struct RunArgs {
 pub fn run(args: RunArgs) -> Result<()> {
     let config = load(&args)?;
     check_out_dir(&args.out)?;
+    let extras = io::RunExtras {
+        pictures: !args.no_pictures,
+        exports: match &args.export {
+            Some(list) => io::export::Format::parse_list(list)?,
+            None => Vec::new(),
+        },
+    };
     let mut progress = Progress::new(&config, args.quiet);
     let finished = packbed::pipeline::run_bed(&config, &mut |n| progress.update(n));
     progress.finish();
     let finished = finished?;
-    finished.write(&args.out)?;
+    finished.write_with(&args.out, &extras)?;
     if !args.quiet {
         print!("{}", report::run_text(&finished.summary, &args.out));
     }

@@ -295,8 +295,14 @@ fn run_writes_the_files_of_the_contract() {
     assert_eq!(
         names,
         [
+            "bed.png",
+            "bed.svg",
             "contacts.csv",
             "particles.csv",
+            "plot_coordination.png",
+            "plot_coordination.svg",
+            "plot_profile.png",
+            "plot_profile.svg",
             "summary.json",
             "wall_contacts.csv"
         ]

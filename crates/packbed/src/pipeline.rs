@@ -67,4 +67,12 @@ impl FinishedBed {
             AnyBed::D3(b) => io::write_run(dir, b, &self.contacts, &self.summary),
         }
     }
+
+    /// Writes the run's files plus pictures, plots and exports, atomically.
+    pub fn write_with(&self, dir: &Path, extras: &io::RunExtras) -> Result<Vec<PathBuf>> {
+        match &self.bed {
+            AnyBed::D2(b) => io::write_run_with(dir, b, &self.contacts, &self.summary, extras),
+            AnyBed::D3(b) => io::write_run_with(dir, b, &self.contacts, &self.summary, extras),
+        }
+    }
 }

@@ -1,0 +1,358 @@
+//! `packbed render`, the pictures and exports of `packbed run`, and the check of
+//! the exports with the real OVITO Python module.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+struct Outcome {
+    code: i32,
+    stdout: String,
+    stderr: String,
+}
+
+fn packbed(dir: &Path, args: &[&str]) -> Outcome {
+    let out = Command::new(env!("CARGO_BIN_EXE_packbed"))
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    Outcome {
+        code: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8(out.stdout).unwrap(),
+        stderr: String::from_utf8(out.stderr).unwrap(),
+    }
+}
+
+fn ok(dir: &Path, args: &[&str]) -> Outcome {
+    let o = packbed(dir, args);
+    assert_eq!(o.code, 0, "{args:?}: {}", o.stderr);
+    o
+}
+
+/// Exit code 2 and one line naming every needle.
+fn refused(dir: &Path, args: &[&str], needles: &[&str]) {
+    let o = packbed(dir, args);
+    assert_eq!(o.code, 2, "{args:?} should fail: {}", o.stdout);
+    assert_eq!(o.stderr.lines().count(), 1, "{}", o.stderr);
+    for n in needles {
+        assert!(o.stderr.contains(n), "{args:?}: `{}` lacks `{n}`", o.stderr);
+    }
+}
+
+fn png_size(path: &Path) -> (u32, u32) {
+    let b = std::fs::read(path).unwrap();
+    assert_eq!(
+        &b[..8],
+        b"\x89PNG\r\n\x1a\n",
+        "{} is not a PNG",
+        path.display()
+    );
+    let be = |i: usize| u32::from_be_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+    (be(16), be(20))
+}
+
+fn tmp() -> tempfile::TempDir {
+    tempfile::tempdir().unwrap()
+}
+
+#[test]
+fn run_writes_pictures_plots_and_exports_that_render_reads() {
+    let t = tmp();
+    let d = t.path();
+    ok(
+        d,
+        &[
+            "run",
+            "--dim",
+            "2",
+            "--quiet",
+            "--out",
+            "r",
+            "--export",
+            "vtk,dump,xyz",
+        ],
+    );
+    for f in [
+        "bed.png",
+        "bed.svg",
+        "plot_coordination.svg",
+        "plot_profile.png",
+        "bed.vtu",
+        "bed.dump",
+        "bed.xyz",
+    ] {
+        assert!(d.join("r").join(f).is_file(), "{f}");
+    }
+    assert_eq!(png_size(&d.join("r/bed.png")), (1200, 1000));
+    let rows = std::fs::read_to_string(d.join("r/particles.csv"))
+        .unwrap()
+        .lines()
+        .count()
+        - 1;
+    let svg = std::fs::read_to_string(d.join("r/bed.svg")).unwrap();
+    assert_eq!(svg.matches("class=\"particle\"").count(), rows);
+    // Every format renders to the same SVG picture (same particles, same box).
+    let mut pictures = Vec::new();
+    for f in ["particles.csv", "bed.vtu", "bed.dump", "bed.xyz"] {
+        let out = format!("{f}.svg");
+        ok(
+            d,
+            &[
+                "render",
+                &format!("r/{f}"),
+                "--out",
+                &out,
+                "--title",
+                "same",
+            ],
+        );
+        let svg = std::fs::read_to_string(d.join(out)).unwrap();
+        // The discs in bed coordinates (the legend, and so the layout, differs:
+        // only particles.csv has species names, from summary.json).
+        let bed: Vec<String> = svg
+            .lines()
+            .filter(|l| l.starts_with("<circle class=\"particle\""))
+            .map(String::from)
+            .collect();
+        assert_eq!(bed.len(), rows, "{f}");
+        pictures.push(bed);
+    }
+    assert!(pictures.iter().all(|p| *p == pictures[0]));
+    // Options.
+    ok(
+        d,
+        &[
+            "render",
+            "r/particles.csv",
+            "--out",
+            "c.png",
+            "--color",
+            "contacts",
+            "--width",
+            "640",
+            "--height",
+            "480",
+        ],
+    );
+    assert_eq!(png_size(&d.join("c.png")), (640, 480));
+    ok(
+        d,
+        &[
+            "render",
+            "r/particles.csv",
+            "--out",
+            "k.svg",
+            "--color",
+            "chains",
+        ],
+    );
+    let k = std::fs::read_to_string(d.join("k.svg")).unwrap();
+    assert!(k.contains("wall-to-wall chain"));
+    ok(d, &["render", "r/bed.xyz"]);
+    assert!(d.join("r/bed.png").is_file());
+}
+
+#[test]
+fn same_seed_gives_identical_pictures() {
+    let t = tmp();
+    let d = t.path();
+    for out in ["a", "b"] {
+        ok(d, &["run", "--quiet", "--seed", "3", "--out", out]);
+    }
+    for f in ["bed.png", "plot_coordination.png", "plot_profile.svg"] {
+        let a = std::fs::read(d.join("a").join(f)).unwrap();
+        let b = std::fs::read(d.join("b").join(f)).unwrap();
+        assert!(a == b, "{f} differs");
+    }
+}
+
+#[test]
+fn render_3d_views_and_cuts() {
+    let t = tmp();
+    let d = t.path();
+    ok(d, &["run", "--quiet", "--out", "r", "--no-pictures"]);
+    assert!(!d.join("r/bed.png").exists());
+    ok(
+        d,
+        &[
+            "render",
+            "r/particles.csv",
+            "--out",
+            "h.png",
+            "--cut",
+            "half",
+            "--view",
+            "20,60",
+        ],
+    );
+    ok(
+        d,
+        &[
+            "render",
+            "r/particles.csv",
+            "--out",
+            "s.png",
+            "--cut",
+            "y:40:80",
+            "--color",
+            "height",
+            "--supersample",
+            "1",
+        ],
+    );
+    assert_eq!(png_size(&d.join("s.png")), (1200, 1000));
+    refused(
+        d,
+        &["render", "r/particles.csv", "--out", "x.svg"],
+        &["SVG", "2D"],
+    );
+    refused(
+        d,
+        &[
+            "render",
+            "r/particles.csv",
+            "--out",
+            "x.png",
+            "--cut",
+            "w:1:2",
+        ],
+        &["--cut"],
+    );
+    refused(
+        d,
+        &[
+            "render",
+            "r/particles.csv",
+            "--out",
+            "x.png",
+            "--view",
+            "0,100",
+        ],
+        &["elevation"],
+    );
+    refused(
+        d,
+        &[
+            "render",
+            "r/particles.csv",
+            "--out",
+            "x.png",
+            "--color",
+            "force",
+        ],
+        &["force"],
+    );
+    refused(
+        d,
+        &["render", "r/particles.csv", "--out", "x.jpg"],
+        &[".png or .svg"],
+    );
+    refused(
+        d,
+        &[
+            "render",
+            "r/particles.csv",
+            "--out",
+            "x.png",
+            "--width",
+            "5",
+        ],
+        &["width"],
+    );
+    assert!(!d.join("x.png").exists() && !d.join("x.svg").exists());
+}
+
+#[test]
+fn bad_bed_files_and_exports_are_refused() {
+    let t = tmp();
+    let d = t.path();
+    std::fs::write(d.join("p.txt"), "1 2 3 1\n4 5 nan 1\n").unwrap();
+    refused(
+        d,
+        &["render", "p.txt", "--box", "10,10,10"],
+        &["p.txt:2", "not a finite number"],
+    );
+    std::fs::write(d.join("q.txt"), "1 2 3 1\n").unwrap();
+    refused(d, &["render", "q.txt"], &["q.txt:1", "--box W,D,H"]);
+    ok(
+        d,
+        &["render", "q.txt", "--box", "10,10,10", "--out", "q.png"],
+    );
+    refused(d, &["run", "--export", "pdb"], &["pdb", "vtk, dump, xyz"]);
+    assert!(!d.join("packbed-out").exists());
+}
+
+/// OVITO reads the LAMMPS dump and the XYZ export of a 3D bed of equal spheres
+/// and finds packbed's count, radii, box, periodic flags and mean coordination.
+/// Not skipped silently: a missing `ovito` module fails the test unless
+/// `PACKBED_SKIP_OVITO=1` opts out explicitly (`.ci/run` installs ovito).
+#[test]
+fn ovito_reads_the_exports_and_agrees_on_coordination() {
+    let script: PathBuf = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/ovito_check.py");
+    let t = tmp();
+    let d = t.path();
+    for (out, periodic) in [("walls", false), ("periodic", true)] {
+        let mut args = vec![
+            "run",
+            "--quiet",
+            "--radii",
+            "10",
+            "--ratio",
+            "1",
+            "--box",
+            "diameters=10",
+            "--seed",
+            "2",
+        ];
+        if periodic {
+            args.push("--periodic");
+        }
+        args.extend(["--out", out, "--export", "dump,xyz", "--no-pictures"]);
+        ok(d, &args);
+        let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
+        let o = Command::new(&python)
+            .arg(&script)
+            .arg(d.join(out))
+            .stdin(Stdio::null())
+            .output();
+        let o = match o {
+            Ok(o) => o,
+            Err(e) => panic!(
+                "cannot run {python} ({e}); set PACKBED_SKIP_OVITO=1 to skip this test knowingly"
+            ),
+        };
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        if o.status.code() == Some(3) {
+            if std::env::var("PACKBED_SKIP_OVITO").as_deref() == Ok("1") {
+                eprintln!("skipping the OVITO check: PACKBED_SKIP_OVITO=1");
+                return;
+            }
+            panic!("the ovito Python module is missing (pip install ovito), or set PACKBED_SKIP_OVITO=1: {stderr}");
+        }
+        assert!(
+            o.status.success(),
+            "{out}: {}{stderr}",
+            String::from_utf8_lossy(&o.stdout)
+        );
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(stdout.lines().count(), 2, "{stdout}");
+    }
+}
+
+#[test]
+fn render_help_names_the_options() {
+    let t = tmp();
+    let o = ok(t.path(), &["render", "--help"]);
+    for opt in [
+        "--out",
+        "--color",
+        "--cut",
+        "--view",
+        "--box",
+        "--network",
+        "--width",
+    ] {
+        assert!(o.stdout.contains(opt), "{opt}");
+    }
+}

@@ -1,0 +1,86 @@
+//! The pictures, plots and exports of one run, as named byte buffers for the
+//! run's atomic staging (see [`crate::io::write_run_with`]).
+
+use super::run_plots;
+use super::{render_png, render_svg, RenderOptions};
+use crate::analysis::{coordination, profile, Contacts};
+use crate::bed::{AnyBed, Bed};
+use crate::config::Config;
+use crate::error::{Error, Result};
+use crate::io::RunExtras;
+
+/// Size of plot images in pixels.
+pub const PLOT_SIZE: (u32, u32) = (1000, 700);
+
+/// `(file name, contents)` of every extra file of a run, in writing order.
+pub fn files<const D: usize>(
+    bed: &Bed<D>,
+    contacts: &Contacts,
+    config: &Config,
+    extras: &RunExtras,
+) -> Result<Vec<(String, Vec<u8>)>> {
+    let mut out = Vec::new();
+    let z = coordination(bed, contacts);
+    if extras.pictures {
+        let any = to_any(bed)?;
+        let opts = RenderOptions {
+            contact_tol: config.analysis.contact_tol,
+            ..RenderOptions::default()
+        };
+        out.push(("bed.png".to_string(), render_png(&any, &opts)?));
+        if D == 2 {
+            out.push(("bed.svg".to_string(), render_svg(&any, &opts)?.into_bytes()));
+        }
+        let mut plots = vec![(
+            "plot_coordination",
+            run_plots::coordination_histogram(bed, &z),
+        )];
+        // The spec's slabs: a quarter of the largest diameter.
+        let slab = bed.r_max() / 2.0;
+        let slabs = profile::profile(bed, slab);
+        if !slabs.is_empty() {
+            plots.push((
+                "plot_profile",
+                run_plots::packing_profile(&slabs, slab, None),
+            ));
+        }
+        let angles = run_plots::chain_angles(bed);
+        if !angles.is_empty() {
+            plots.push((
+                "plot_chain_angles",
+                run_plots::chain_angle_histogram(&angles, D),
+            ));
+        }
+        for (name, plot) in plots {
+            out.push((
+                format!("{name}.png"),
+                plot.to_png(PLOT_SIZE.0, PLOT_SIZE.1)?,
+            ));
+            out.push((
+                format!("{name}.svg"),
+                plot.to_svg(PLOT_SIZE.0, PLOT_SIZE.1)?.into_bytes(),
+            ));
+        }
+    }
+    for f in &extras.exports {
+        let mut buf = Vec::new();
+        f.write(&mut buf, bed, &z).map_err(|e| Error::Io {
+            path: f.file_name().into(),
+            source: e,
+        })?;
+        out.push((f.file_name().to_string(), buf));
+    }
+    Ok(out)
+}
+
+/// The bed as an [`AnyBed`] (a copy: the renderers dispatch on the dimension).
+fn to_any<const D: usize>(bed: &Bed<D>) -> Result<AnyBed> {
+    let any: &dyn std::any::Any = bed;
+    if let Some(b) = any.downcast_ref::<Bed<2>>() {
+        Ok(AnyBed::D2(b.clone()))
+    } else if let Some(b) = any.downcast_ref::<Bed<3>>() {
+        Ok(AnyBed::D3(b.clone()))
+    } else {
+        Err(Error::Impossible(format!("{D}D beds cannot be drawn")))
+    }
+}

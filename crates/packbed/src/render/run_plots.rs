@@ -1,0 +1,245 @@
+//! The plots of one bed and of ensembles, built from plain data: coordination
+//! histograms (overall and per species), the packing profile, regional packing
+//! bars, chain-angle histograms, and ensemble/sweep summaries. Each function
+//! returns a [`Plot`]; callers choose file names and formats.
+
+use super::plot::{BarGroup, Plot, PlotData, Series};
+use crate::bed::Bed;
+use crate::math::Real;
+
+/// Coordination-number histograms side by side: all particles, then each species,
+/// as percentages of their particles (so that groups of different sizes compare).
+/// `z` is the coordination number of each particle.
+pub fn coordination_histogram<const D: usize>(bed: &Bed<D>, z: &[u32]) -> Plot {
+    let zmax = z.iter().copied().max().unwrap_or(0) as usize;
+    let cats: Vec<String> = (0..=zmax).map(|k| k.to_string()).collect();
+    let hist = |pick: &dyn Fn(usize) -> bool| -> Vec<f64> {
+        let mut h = vec![0.0; zmax + 1];
+        let mut n = 0usize;
+        for (i, &k) in z.iter().enumerate() {
+            if pick(i) {
+                h[k as usize] += 1.0;
+                n += 1;
+            }
+        }
+        if n > 0 {
+            h.iter_mut().for_each(|v| *v *= 100.0 / n as f64);
+        }
+        h
+    };
+    let mut groups = vec![BarGroup {
+        name: "all particles".into(),
+        values: hist(&|_| true),
+        errors: None,
+    }];
+    let mut present: Vec<u32> = bed.species.clone();
+    present.sort_unstable();
+    present.dedup();
+    if present.len() > 1 {
+        for s in present {
+            let name = bed
+                .species_info
+                .get(s as usize)
+                .map(|i| i.name.clone())
+                .unwrap_or_else(|| format!("species {s}"));
+            groups.push(BarGroup {
+                name,
+                values: hist(&|i| bed.species[i] == s),
+                errors: None,
+            });
+        }
+    }
+    Plot {
+        title: format!("Coordination number ({} particles)", z.len()),
+        x_label: "coordination number (touching bodies)".into(),
+        y_label: "particles (%)".into(),
+        data: PlotData::Bars {
+            categories: cats,
+            groups,
+        },
+        y_range: None,
+        x_range: None,
+    }
+}
+
+/// Packing fraction against height, one point per slab at its mid-height
+/// (`profile` as from `analysis::profile::profile`: `(z_mid, fraction)` for
+/// slabs `slab` thick). `bulk` (optional) is drawn as a horizontal reference line.
+pub fn packing_profile(profile: &[(Real, Real)], slab: Real, bulk: Option<Real>) -> Plot {
+    let points: Vec<(f64, f64)> = profile.to_vec();
+    let thickness = slab;
+    let bottom = profile.first().map(|p| p.0 - 0.5 * slab);
+    let top = profile.last().map(|p| p.0 + 0.5 * slab);
+    let mut series = vec![Series {
+        name: "slabs".into(),
+        points,
+        errors: None,
+        markers: false,
+    }];
+    if let (Some(b), Some(lo), Some(hi)) = (bulk, bottom, top) {
+        series.push(Series {
+            name: format!("bulk {}", super::plot::format_number(b)),
+            points: vec![(lo, b), (hi, b)],
+            errors: None,
+            markers: false,
+        });
+    }
+    Plot {
+        title: format!(
+            "Packing fraction profile (slabs {} length units thick)",
+            super::plot::format_number(thickness)
+        ),
+        x_label: "height above the floor (length units)".into(),
+        y_label: "packing fraction".into(),
+        data: PlotData::Lines { series },
+        y_range: Some((0.0, 1.0)),
+        x_range: top.map(|t| (0.0, t)),
+    }
+}
+
+/// Regional packing bars: `(region name, value, standard deviation if any)`.
+pub fn regional_packing(regions: &[(String, Real, Option<Real>)]) -> Plot {
+    let errors = regions
+        .iter()
+        .all(|r| r.2.is_some())
+        .then(|| regions.iter().map(|r| r.2.unwrap_or(0.0)).collect());
+    Plot {
+        title: "Packing fraction by region".into(),
+        x_label: "region".into(),
+        y_label: "packing fraction".into(),
+        data: PlotData::Bars {
+            categories: regions.iter().map(|r| r.0.clone()).collect(),
+            groups: vec![BarGroup {
+                name: "packing fraction".into(),
+                values: regions.iter().map(|r| r.1).collect(),
+                errors,
+            }],
+        },
+        y_range: Some((0.0, 1.0)),
+        x_range: None,
+    }
+}
+
+/// Angle of each chain's axis from vertical, in degrees: signed in 2D (−90 lying
+/// to the left, +90 to the right), polar 0–90 in 3D. Bodies of one bead have no
+/// axis and are skipped. The axis runs from the body's first bead to its last.
+pub fn chain_angles<const D: usize>(bed: &Bed<D>) -> Vec<Real> {
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < bed.len() {
+        let mut end = k + 1;
+        while end < bed.len() && bed.bodies[end] == bed.bodies[k] {
+            end += 1;
+        }
+        if end - k > 1 {
+            let a = bed
+                .container
+                .displacement(&bed.centres[k], &bed.centres[end - 1]);
+            // Orient upwards so that the sign means lean, not bead order.
+            let a = if a.height() < 0.0 { -a } else { a };
+            let vert = a.height();
+            let horiz = if D == 2 {
+                a[0]
+            } else {
+                (0..D - 1).map(|i| a[i] * a[i]).sum::<Real>().sqrt()
+            };
+            out.push(horiz.atan2(vert).to_degrees());
+        }
+        k = end;
+    }
+    out
+}
+
+/// Histogram of chain angles in 5° bins, as percentages of the chains.
+pub fn chain_angle_histogram(angles: &[Real], dim: usize) -> Plot {
+    let (lo, hi) = if dim == 2 { (-90.0, 90.0) } else { (0.0, 90.0) };
+    let bins = ((hi - lo) / 5.0) as usize;
+    let mut h = vec![0.0; bins];
+    for &a in angles {
+        let k = (((a - lo) / 5.0).floor().max(0.0) as usize).min(bins - 1);
+        h[k] += 100.0 / angles.len().max(1) as f64;
+    }
+    let points: Vec<(f64, f64)> = h
+        .iter()
+        .enumerate()
+        .map(|(k, &v)| (lo + 5.0 * k as f64 + 2.5, v))
+        .collect();
+    Plot {
+        title: format!("Chain orientation ({} chains, 5° bins)", angles.len()),
+        x_label: if dim == 2 {
+            "angle from vertical (degrees, negative: leaning left)".into()
+        } else {
+            "polar angle from vertical (degrees)".into()
+        },
+        y_label: "chains (%)".into(),
+        data: PlotData::Lines {
+            series: vec![Series {
+                name: "chains".into(),
+                points,
+                errors: None,
+                markers: true,
+            }],
+        },
+        y_range: None,
+        x_range: Some((lo, hi)),
+    }
+}
+
+/// Ensemble or sweep: mean ± sd of one measure against the sweep parameter.
+/// `points` are `(parameter, mean, sd)`.
+pub fn sweep_measure(measure: &str, parameter: &str, points: &[(Real, Real, Real)]) -> Plot {
+    Plot {
+        title: format!("{measure}: mean ± sd over the ensemble"),
+        x_label: parameter.into(),
+        y_label: measure.into(),
+        data: PlotData::Lines {
+            series: vec![Series {
+                name: measure.into(),
+                points: points.iter().map(|p| (p.0, p.1)).collect(),
+                errors: Some(points.iter().map(|p| p.2).collect()),
+                markers: true,
+            }],
+        },
+        y_range: None,
+        x_range: None,
+    }
+}
+
+/// Ensemble or sweep: percentage of beds with a percolation chain against the
+/// sweep parameter. `points` are `(parameter, percent)`.
+pub fn percolation_sweep(parameter: &str, points: &[(Real, Real)]) -> Plot {
+    Plot {
+        title: "Beds with a percolation chain".into(),
+        x_label: parameter.into(),
+        y_label: "beds with a chain (%)".into(),
+        data: PlotData::Lines {
+            series: vec![Series {
+                name: "beds with a chain".into(),
+                points: points.to_vec(),
+                errors: None,
+                markers: true,
+            }],
+        },
+        y_range: Some((0.0, 100.0)),
+        x_range: None,
+    }
+}
+
+/// One bar per measure of one ensemble: `(measure, mean, sd)`.
+pub fn ensemble_measures(measures: &[(String, Real, Real)]) -> Plot {
+    Plot {
+        title: "Ensemble: mean ± sd per measure".into(),
+        x_label: "measure".into(),
+        y_label: "value".into(),
+        data: PlotData::Bars {
+            categories: measures.iter().map(|m| m.0.clone()).collect(),
+            groups: vec![BarGroup {
+                name: "mean ± sd".into(),
+                values: measures.iter().map(|m| m.1).collect(),
+                errors: Some(measures.iter().map(|m| m.2).collect()),
+            }],
+        },
+        y_range: None,
+        x_range: None,
+    }
+}

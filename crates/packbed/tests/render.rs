@@ -1,0 +1,642 @@
+//! Pictures, plots, exports and readers: parse what the writers wrote.
+
+use packbed::bed::{AnyBed, Bed};
+use packbed::container::Container;
+use packbed::io::export::Format;
+use packbed::io::read::{read_bed, BoxHint};
+use packbed::math::Vector;
+use packbed::render::canvas::text_width;
+use packbed::render::{self, bed2d, colour, ColorBy, Cut, RenderOptions, View};
+use packbed::Error;
+use std::path::{Path, PathBuf};
+use tiny_skia::Pixmap;
+
+fn scratch(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("packbed-render-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A small deterministic 2D bed: a floor row of large discs, smalls on top.
+fn bed2() -> Bed<2> {
+    let mut bed = Bed::new(
+        Container {
+            size: Vector([200.0, 150.0]),
+            periodic: false,
+        },
+        Vec::new(),
+    );
+    for k in 0..5 {
+        bed.push(Vector([20.0 + 40.0 * k as f64, 20.0]), 20.0, 0);
+    }
+    for k in 0..4 {
+        let x = 40.0 + 40.0 * k as f64;
+        let y = 20.0 + (30f64.powi(2) - 20f64.powi(2)).sqrt();
+        bed.push(Vector([x, y]), 10.0, 1);
+    }
+    bed
+}
+
+/// Pseudo-random 3D bed (no physics needed for I/O), with a two-bead body.
+fn bed3(periodic: bool) -> Bed<3> {
+    let mut bed = Bed::new(
+        Container {
+            size: Vector([100.0, 80.0, 120.0]),
+            periodic,
+        },
+        Vec::new(),
+    );
+    let mut s: u64 = 12345;
+    let mut next = || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for _ in 0..50 {
+        let c = Vector([100.0 * next(), 80.0 * next(), 120.0 * next()]);
+        bed.push(c, 1.0 + 9.0 * next() / 3.0, (next() * 3.0) as u32);
+    }
+    let body = bed.bodies.last().unwrap() + 1;
+    bed.push_bead(Vector([10.0, 10.0, 10.0]), 2.5, 3, body);
+    bed.push_bead(Vector([12.5, 10.0, 10.0]), 2.5, 3, body);
+    bed
+}
+
+fn attr(tag: &str, name: &str) -> f64 {
+    let key = format!(" {name}=\"");
+    let start = tag.find(&key).unwrap() + key.len();
+    let end = start + tag[start..].find('"').unwrap();
+    tag[start..end].parse().unwrap()
+}
+
+#[test]
+fn svg_has_one_exact_circle_per_disc() {
+    let bed = bed2();
+    let svg = render::render_svg(&AnyBed::D2(bed.clone()), &RenderOptions::default()).unwrap();
+    let circles: Vec<&str> = svg
+        .lines()
+        .filter(|l| l.starts_with("<circle class=\"particle\""))
+        .collect();
+    assert_eq!(circles.len(), bed.len());
+    for (i, c) in circles.iter().enumerate() {
+        assert_eq!(attr(c, "cx"), bed.centres[i][0]);
+        assert_eq!(attr(c, "cy"), bed.centres[i][1]);
+        assert_eq!(attr(c, "r"), bed.radii[i]);
+    }
+    // The bed coordinates sit under a y-flipping transform.
+    assert!(svg.contains("<g transform=\"matrix("));
+    assert!(svg.trim_end().ends_with("</svg>"));
+}
+
+#[test]
+fn svg_draws_a_chain_as_one_body() {
+    let mut bed = bed2();
+    let b = bed.bodies.last().unwrap() + 1;
+    bed.push_bead(Vector([100.0, 100.0]), 5.0, 2, b);
+    bed.push_bead(Vector([105.0, 100.0]), 5.0, 2, b);
+    let svg = render::render_svg(&AnyBed::D2(bed.clone()), &RenderOptions::default()).unwrap();
+    assert_eq!(svg.matches("class=\"particle\"").count(), bed.len());
+    // Outlines under both beads, fills without outline on top.
+    let outline = svg.find("class=\"bead-outline\"").unwrap();
+    let last_fill = svg.rfind("class=\"particle\"").unwrap();
+    assert!(outline < last_fill);
+    assert_eq!(svg.matches("class=\"bead-outline\"").count(), 2);
+    let fills: Vec<&str> = svg
+        .lines()
+        .filter(|l| l.contains("class=\"particle\""))
+        .collect();
+    assert!(!fills[fills.len() - 1].contains("stroke="));
+}
+
+/// The darkest pixel within one pixel of `(x, y)` (lines are antialiased).
+fn darkest(p: &Pixmap, x: f64, y: f64) -> (u8, u8, u8) {
+    let mut best = (255, 255, 255);
+    for dy in -1..=1 {
+        for dx in -1..=1 {
+            let c = rgb(p, x + dx as f64, y + dy as f64);
+            if (c.0 as u32 + c.1 as u32 + c.2 as u32)
+                < (best.0 as u32 + best.1 as u32 + best.2 as u32)
+            {
+                best = c;
+            }
+        }
+    }
+    best
+}
+
+fn rgb(p: &Pixmap, x: f64, y: f64) -> (u8, u8, u8) {
+    let c = p.pixel(x.round() as u32, y.round() as u32).unwrap();
+    (c.red(), c.green(), c.blue())
+}
+
+#[test]
+fn png_2d_has_the_size_the_box_and_the_discs_where_they_should_be() {
+    let bed = bed2();
+    let opts = RenderOptions {
+        width: 900,
+        height: 700,
+        ..RenderOptions::default()
+    };
+    let png = render::render_png(&AnyBed::D2(bed.clone()), &opts).unwrap();
+    let p = Pixmap::decode_png(&png).unwrap();
+    assert_eq!((p.width(), p.height()), (900, 700));
+    let w = bed2d::placement(&bed, &opts).unwrap();
+    // Disc centres carry their species colour.
+    for i in 0..bed.len() {
+        let (x, y) = w.apply(bed.centres[i][0], bed.centres[i][1]);
+        let c = colour::categorical(bed.species[i] as usize);
+        assert_eq!(rgb(&p, x, y), (c.0, c.1, c.2), "disc {i}");
+    }
+    // The box outline: dark on the right wall at mid-height and on the roof.
+    let (x, y) = w.apply(200.0, 120.0);
+    let c = darkest(&p, x, y);
+    assert!(c.0 < 80 && c.1 < 80 && c.2 < 80, "right wall {c:?}");
+    let (x, y) = w.apply(100.0, 150.0);
+    let c = darkest(&p, x, y);
+    assert!(c.0 < 80 && c.1 < 80 && c.2 < 80, "roof {c:?}");
+    // Empty space inside the box is white.
+    let (x, y) = w.apply(100.0, 130.0);
+    assert_eq!(rgb(&p, x, y), (255, 255, 255));
+    // Outside the picture area (bottom right corner) is white too.
+    assert_eq!(rgb(&p, 895.0, 695.0), (255, 255, 255));
+}
+
+#[test]
+fn coordination_colours_follow_the_contacts() {
+    let bed = bed2();
+    let opts = RenderOptions {
+        color: ColorBy::Coordination,
+        ..RenderOptions::default()
+    };
+    let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
+    let pal = render::palette(&bed, &opts.color, Some(&contacts)).unwrap();
+    let z = packbed::analysis::coordination(&bed, &contacts);
+    // Floor discs: two neighbours in the row (one at the ends) plus smalls above.
+    assert_eq!(z, vec![2, 4, 4, 4, 2, 2, 2, 2, 2]);
+    assert_eq!(pal.colours[0], colour::viridis(0.5));
+    assert_eq!(pal.colours[1], colour::viridis(1.0));
+    let labels: Vec<&str> = pal.legend.iter().map(|l| l.1.as_str()).collect();
+    assert_eq!(labels, ["2", "4"]);
+}
+
+#[test]
+fn spanning_clusters_highlight_wall_to_wall_chains() {
+    let bed = bed2();
+    let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
+    let c = render::spanning_clusters(&bed, &contacts, 20.0).unwrap();
+    // The floor row of large discs spans x0 to x1; the smalls are backdrop.
+    assert_eq!(c.class, vec![0, 0, 0, 0, 0, 2, 2, 2, 2]);
+    // Without the middle disc the row no longer spans.
+    let mut broken = bed.clone();
+    broken.radii[2] = 19.0;
+    let contacts = packbed::analysis::find_contacts(&broken, 1e-6);
+    let c = render::spanning_clusters(&broken, &contacts, 20.0).unwrap();
+    assert_eq!(&c.class[..5], &[1, 1, 2, 1, 1]);
+    let mut periodic = bed;
+    periodic.container.periodic = true;
+    assert!(render::spanning_clusters(&periodic, &contacts, 20.0).is_err());
+}
+
+fn one_sphere() -> Bed<3> {
+    let mut bed = Bed::new(
+        Container {
+            size: Vector([10.0, 10.0, 10.0]),
+            periodic: false,
+        },
+        Vec::new(),
+    );
+    bed.push(Vector([5.0, 5.0, 5.0]), 2.0, 0);
+    bed
+}
+
+#[test]
+fn png_3d_sphere_seen_from_above() {
+    let opts = RenderOptions {
+        width: 600,
+        height: 500,
+        view: View {
+            azimuth: 0.0,
+            elevation: 90.0,
+        },
+        ..RenderOptions::default()
+    };
+    let png = render::render_png(&AnyBed::D3(one_sphere()), &opts).unwrap();
+    let p = Pixmap::decode_png(&png).unwrap();
+    assert_eq!((p.width(), p.height()), (600, 500));
+    // Find the blue disc: its bounding box is square and about 2/5 of the box's.
+    let blue = colour::categorical(0);
+    let (mut x0, mut x1, mut y0, mut y1) = (u32::MAX, 0, u32::MAX, 0);
+    let mut box_ink = 0;
+    for y in 0..p.height() {
+        // Left of the legend (its swatch is blue too).
+        for x in 0..420 {
+            let c = p.pixel(x, y).unwrap();
+            // Blue dominant, shaded: the sphere.
+            if c.blue() as i32 > c.red() as i32 + 20 {
+                x0 = x0.min(x);
+                x1 = x1.max(x);
+                y0 = y0.min(y);
+                y1 = y1.max(y);
+            }
+            if c.red() < 60 && c.green() < 60 && c.blue() < 60 {
+                box_ink += 1;
+            }
+        }
+    }
+    let (dw, dh) = ((x1 - x0) as f64, (y1 - y0) as f64);
+    assert!((dw - dh).abs() <= 3.0, "{dw} × {dh}");
+    // The box (side 10) fills the picture height between title and scale bar.
+    assert!(dw > 60.0 && dw < 250.0, "{dw}");
+    // Centre of the disc, normal towards the camera: blue (0, 114, 178) times
+    // ambient 0.45 + diffuse 0.55 × 0.661 (the light's height), plus a specular
+    // 0.25 × 255 × 0.911^40: blue ≈ 144.8 + 1.6.
+    let c = p.pixel((x0 + x1) / 2, (y0 + y1) / 2).unwrap();
+    assert!(c.red() < 8 && c.blue().abs_diff(146) <= 5, "{c:?}");
+    assert!(
+        c.green().abs_diff((114.0f64 * 0.8133 + 1.6) as u8) <= 5,
+        "{c:?}"
+    );
+    let _ = blue;
+    // Box outline and text drawn in dark ink.
+    assert!(box_ink > 500, "{box_ink}");
+    // Corner pixel: white paper.
+    assert_eq!(rgb(&p, 2.0, 498.0), (255, 255, 255));
+}
+
+#[test]
+fn png_3d_is_the_same_whatever_the_thread_count() {
+    let bed = bed3(false);
+    let opts = RenderOptions {
+        width: 400,
+        height: 300,
+        cut: Cut::Half,
+        ..RenderOptions::default()
+    };
+    let any = AnyBed::D3(bed);
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| render::render_png(&any, &opts).unwrap());
+    let two = rayon::ThreadPoolBuilder::new()
+        .num_threads(3)
+        .build()
+        .unwrap()
+        .install(|| render::render_png(&any, &opts).unwrap());
+    assert!(one == two);
+}
+
+#[test]
+fn cut_away_removes_the_front() {
+    // Two spheres on the line of sight of a front view: the cut shows the back one.
+    let mut bed = Bed::new(
+        Container {
+            size: Vector([10.0, 10.0, 10.0]),
+            periodic: false,
+        },
+        Vec::new(),
+    );
+    bed.push(Vector([5.0, 2.0, 5.0]), 1.5, 0);
+    bed.push(Vector([5.0, 8.0, 5.0]), 1.5, 1);
+    let front = View {
+        azimuth: 0.0,
+        elevation: 0.0,
+    };
+    let colour_at_centre = |cut: Cut| {
+        let opts = RenderOptions {
+            width: 500,
+            height: 500,
+            view: front,
+            cut,
+            ..RenderOptions::default()
+        };
+        let p = Pixmap::decode_png(&render::render_png(&AnyBed::D3(bed.clone()), &opts).unwrap())
+            .unwrap();
+        // The spheres are at the centre of the box's projection.
+        let (mut sx, mut sy, mut n) = (0u64, 0u64, 0u64);
+        for y in 0..500 {
+            for x in 0..400 {
+                let c = p.pixel(x, y).unwrap();
+                if c.red().abs_diff(c.blue()) > 60 {
+                    sx += x as u64;
+                    sy += y as u64;
+                    n += 1;
+                }
+            }
+        }
+        let c = p.pixel((sx / n) as u32, (sy / n) as u32).unwrap();
+        (c.red(), c.blue())
+    };
+    let (r, b) = colour_at_centre(Cut::None);
+    assert!(b > r, "front sphere is species 0 (blue): {r} {b}");
+    let (r, b) = colour_at_centre(Cut::Half);
+    assert!(r > b, "behind the cut: species 1 (orange): {r} {b}");
+    let (r, b) = colour_at_centre(Cut::Slab {
+        axis: 1,
+        lo: 0.0,
+        hi: 4.0,
+    });
+    assert!(b > r);
+}
+
+#[test]
+fn svg_of_a_3d_bed_is_refused_and_bad_sizes_too() {
+    let any = AnyBed::D3(one_sphere());
+    assert!(render::render_svg(&any, &RenderOptions::default()).is_err());
+    let tiny = RenderOptions {
+        width: 10,
+        ..RenderOptions::default()
+    };
+    assert!(render::render_png(&any, &tiny).is_err());
+    let bad_view = RenderOptions {
+        view: View {
+            azimuth: 0.0,
+            elevation: 120.0,
+        },
+        ..RenderOptions::default()
+    };
+    assert!(render::render_png(&any, &bad_view).is_err());
+}
+
+/// Every `<text>` of an SVG lies inside the page (width from the font metrics).
+fn assert_no_clipped_text(svg: &str, w: f64, h: f64) {
+    let mut n = 0;
+    for l in svg.lines().filter(|l| l.starts_with("<text")) {
+        n += 1;
+        let (x, y, size) = (attr(l, "x"), attr(l, "y"), attr(l, "font-size"));
+        let text = &l[l.find('>').unwrap() + 1..l.rfind("</text>").unwrap()];
+        let tw = text_width(text, size);
+        let (a, b) = if l.contains("text-anchor=\"middle\"") {
+            (-tw / 2.0, tw / 2.0)
+        } else if l.contains("text-anchor=\"end\"") {
+            (-tw, 0.0)
+        } else {
+            (0.0, tw)
+        };
+        if l.contains("rotate(-90") {
+            assert!(
+                y - b >= 0.0 && y - a <= h && x - size >= 0.0 && x <= w,
+                "{l}"
+            );
+        } else {
+            assert!(
+                x + a >= 0.0 && x + b <= w && y - size >= 0.0 && y + 0.3 * size <= h,
+                "{l}"
+            );
+        }
+    }
+    assert!(n > 3);
+}
+
+#[test]
+fn plots_have_their_labels_inside_the_page() {
+    let bed = bed2();
+    let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
+    let z = packbed::analysis::coordination(&bed, &contacts);
+    let profile = packbed::analysis::profile::profile(&bed, 5.0);
+    let plots = [
+        render::run_plots::coordination_histogram(&bed, &z),
+        render::run_plots::packing_profile(&profile, 5.0, Some(0.8)),
+        render::run_plots::regional_packing(&[
+            ("floor".into(), 0.55, Some(0.02)),
+            ("roof".into(), 0.4, Some(0.03)),
+            ("wall".into(), 0.5, Some(0.01)),
+            ("centre".into(), 0.6, Some(0.01)),
+        ]),
+        render::run_plots::chain_angle_histogram(&[-30.0, 2.0, 4.0, 88.0], 2),
+        render::run_plots::sweep_measure(
+            "bulk packing fraction",
+            "size ratio",
+            &[(1.0, 0.6, 0.01), (2.0, 0.62, 0.02)],
+        ),
+        render::run_plots::percolation_sweep(
+            "fraction of large particles (%)",
+            &[(10.0, 0.0), (50.0, 40.0), (90.0, 100.0)],
+        ),
+        render::run_plots::ensemble_measures(&[
+            ("global".into(), 0.55, 0.01),
+            ("bulk".into(), 0.6, 0.02),
+        ]),
+    ];
+    for plot in &plots {
+        for (w, h) in [(1000, 700), (500, 350)] {
+            let svg = plot.to_svg(w, h).unwrap();
+            assert_no_clipped_text(&svg, w as f64, h as f64);
+            assert!(svg.contains(&plot.title.replace('&', "&amp;")) || svg.contains("<text"));
+            let png = Pixmap::decode_png(&plot.to_png(w, h).unwrap()).unwrap();
+            assert_eq!((png.width(), png.height()), (w, h));
+        }
+    }
+    // The histogram: all particles, then one group per species, in percent.
+    let svg = plots[0].to_svg(1000, 700).unwrap();
+    assert!(svg.contains(">all particles<") && svg.contains(">species 1<"));
+    // Bars of species 0 (5 discs: z = 2, 4, 4, 4, 2): 40 % at 2, 60 % at 4.
+    let bars = svg
+        .lines()
+        .filter(|l| l.starts_with("<rect") && l.contains("fill=\"#e69f00\""))
+        .count();
+    // One orange (species 0) bar per category 0..=4, and the legend's swatch.
+    assert_eq!(bars, 6);
+}
+
+#[test]
+fn bed_pictures_have_their_labels_inside_the_page() {
+    for (w, h) in [(1200, 1000), (400, 300)] {
+        let opts = RenderOptions {
+            width: w,
+            height: h,
+            ..RenderOptions::default()
+        };
+        let svg = render::render_svg(&AnyBed::D2(bed2()), &opts).unwrap();
+        assert_no_clipped_text(&svg, w as f64, h as f64);
+    }
+}
+
+fn same_particles<const D: usize>(a: &Bed<D>, b: &Bed<D>) {
+    assert_eq!(a.len(), b.len());
+    assert_eq!(a.centres, b.centres);
+    assert_eq!(a.radii, b.radii);
+    assert_eq!(a.species, b.species);
+    assert_eq!(a.bodies, b.bodies);
+    assert_eq!(a.container, b.container);
+}
+
+fn export_and_read<const D: usize>(dir: &Path, bed: &Bed<D>, f: Format) -> AnyBed {
+    let z = vec![0u32; bed.len()];
+    let path = dir.join(f.file_name());
+    let mut file = std::fs::File::create(&path).unwrap();
+    f.write(&mut file, bed, &z).unwrap();
+    drop(file);
+    read_bed(&path, None).unwrap()
+}
+
+#[test]
+fn exports_round_trip_through_the_reader() {
+    let dir = scratch("roundtrip");
+    for f in [Format::Vtk, Format::Dump, Format::Xyz] {
+        for periodic in [false, true] {
+            let bed = bed3(periodic);
+            match export_and_read(&dir, &bed, f) {
+                AnyBed::D3(b) => same_particles(&bed, &b),
+                AnyBed::D2(_) => panic!("{f:?}: 3D read back as 2D"),
+            }
+            let mut b2 = bed2();
+            b2.container.periodic = periodic;
+            match export_and_read(&dir, &b2, f) {
+                AnyBed::D2(b) => same_particles(&b2, &b),
+                AnyBed::D3(_) => panic!("{f:?}: 2D read back as 3D"),
+            }
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn dump_has_the_lammps_layout() {
+    let mut buf = Vec::new();
+    let bed = bed3(true);
+    Format::Dump
+        .write(&mut buf, &bed, &vec![3; bed.len()])
+        .unwrap();
+    let text = String::from_utf8(buf).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], "ITEM: TIMESTEP");
+    assert_eq!(lines[3], bed.len().to_string());
+    assert_eq!(lines[4], "ITEM: BOX BOUNDS pp pp ff");
+    assert_eq!(lines[5..8], ["0 100", "0 80", "0 120"]);
+    assert!(lines[8].starts_with("ITEM: ATOMS id type x y z radius"));
+    assert_eq!(lines.len(), 9 + bed.len());
+    let first: Vec<&str> = lines[9].split_whitespace().collect();
+    assert_eq!(first[0], "1");
+    assert_eq!(first[1], (bed.species[0] + 1).to_string());
+}
+
+#[test]
+fn packbed_csv_reads_with_the_box_from_summary_json() {
+    let dir = scratch("csv");
+    let bed = bed2();
+    let (contacts, analysis) = packbed::analysis::analyze(&bed, 1e-6);
+    let config = packbed::config::Config::default();
+    let summary = packbed::io::RunSummary::new(
+        &config,
+        &bed,
+        &packbed::deposit::DepositReport::default(),
+        &analysis,
+        packbed::io::Timing::default(),
+    );
+    packbed::io::write_run(&dir, &bed, &contacts, &summary).unwrap();
+    match read_bed(&dir.join("particles.csv"), None).unwrap() {
+        AnyBed::D2(b) => same_particles(&bed, &b),
+        _ => panic!("2D"),
+    }
+    // Without summary.json the box must be given.
+    std::fs::remove_file(dir.join("summary.json")).unwrap();
+    let e = read_bed(&dir.join("particles.csv"), None).unwrap_err();
+    assert!(e.to_string().contains("--box W,H"), "{e}");
+    let hint = BoxHint {
+        size: vec![200.0, 150.0],
+        periodic: false,
+    };
+    match read_bed(&dir.join("particles.csv"), Some(&hint)).unwrap() {
+        AnyBed::D2(b) => same_particles(&bed, &b),
+        _ => panic!("2D"),
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn plain_tables_with_and_without_header() {
+    let dir = scratch("plain");
+    let hint3 = BoxHint {
+        size: vec![10.0, 10.0, 10.0],
+        periodic: true,
+    };
+    let p = dir.join("a.txt");
+    std::fs::write(&p, "# x y z r\n1 2 3 0.5\n\n4 5 6 0.25\n").unwrap();
+    let AnyBed::D3(b) = read_bed(&p, Some(&hint3)).unwrap() else {
+        panic!("3D")
+    };
+    assert_eq!(b.centres[1], Vector([4.0, 5.0, 6.0]));
+    assert_eq!(b.radii, vec![0.5, 0.25]);
+    assert_eq!(b.bodies, vec![0, 1]);
+    assert!(b.container.periodic);
+    let p = dir.join("b.csv");
+    std::fs::write(&p, "radius,x,y,type\n1.5,3,4,2\n").unwrap();
+    let hint2 = BoxHint {
+        size: vec![10.0, 10.0],
+        periodic: false,
+    };
+    let AnyBed::D2(b) = read_bed(&p, Some(&hint2)).unwrap() else {
+        panic!("2D")
+    };
+    assert_eq!(
+        (b.centres[0], b.radii[0], b.species[0]),
+        (Vector([3.0, 4.0]), 1.5, 2)
+    );
+    // A 3D box for 2D particles is refused.
+    assert!(read_bed(&p, Some(&hint3))
+        .unwrap_err()
+        .to_string()
+        .contains("2D"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+fn data_error(text: &str, name: &str, hint: Option<&BoxHint>) -> (usize, String) {
+    let dir = scratch(&format!("err-{}", name.replace('.', "-")));
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    let e = read_bed(&p, hint).unwrap_err();
+    std::fs::remove_dir_all(&dir).unwrap();
+    match e {
+        Error::Data {
+            path,
+            line,
+            message,
+        } => {
+            assert_eq!(path, p);
+            (line, message)
+        }
+        other => panic!("{other}"),
+    }
+}
+
+#[test]
+fn bad_files_are_refused_with_file_and_line() {
+    let h = BoxHint {
+        size: vec![10.0, 10.0, 10.0],
+        periodic: false,
+    };
+    let cases: [(&str, &str, usize, &str); 9] = [
+        ("", "e.txt", 1, "empty"),
+        ("x,y,z,r\n1,2,3,1\n1,2,x,1\n", "c.csv", 3, "not a number"),
+        ("x,y,z,r\n1,2,3,1\n1,2,3,NaN\n", "n.csv", 3, "not a finite number"),
+        ("1 2 3 1\n1 2 3 -1\n", "neg.txt", 2, "must be > 0"),
+        ("x,y,r\n1,2\n", "short.csv", 2, "columns"),
+        ("x,z,r\n1,2,3\n", "noy.csv", 1, "x and y"),
+        (
+            "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n99999999999999\n",
+            "big.dump",
+            4,
+            "more than",
+        ),
+        (
+            "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n3\nITEM: BOX BOUNDS ff ff ff\n0 1\n0 1\n0 1\nITEM: ATOMS id type x y z radius\n1 1 0.5 0.5 0.5 0.1\n",
+            "short.dump",
+            11,
+            "ends after 1 of 3",
+        ),
+        (
+            "2\nLattice=\"1 0 0 0 1 0 0 0 1\" Properties=species:S:1:pos:R:3:radius:R:1\nA 0 0 0 0.1\nA 0 0 0\n",
+            "bad.xyz",
+            4,
+            "columns",
+        ),
+    ];
+    for (text, name, line, needle) in cases {
+        let (l, m) = data_error(text, name, Some(&h));
+        assert_eq!(l, line, "{name}: {m}");
+        assert!(m.contains(needle), "{name}: {m}");
+    }
+}
