@@ -38,6 +38,12 @@ pub struct AnalyzeArgs {
     /// Directory for the output files (created if needed).
     #[arg(long, value_name = "DIR", default_value = "packbed-analysis")]
     pub out: PathBuf,
+    /// Also write these exports: a comma-separated list of vtk, dump, xyz.
+    #[arg(long, value_name = "LIST")]
+    pub export: Option<String>,
+    /// No pictures or plots (bed.png, bed.svg, plot_*.png|svg).
+    #[arg(long)]
+    pub no_pictures: bool,
     /// No summary on stdout.
     #[arg(long, short)]
     pub quiet: bool,
@@ -55,6 +61,10 @@ pub fn analyze(args: AnalyzeArgs) -> Result<()> {
         if !(r.is_finite() && r > 0.0) {
             bail!("--large must be a positive radius, got {r}");
         }
+    }
+    // Refuse a bad export list before any work.
+    if let Some(list) = &args.export {
+        io::export::Format::parse_list(list)?;
     }
     let hint = box_hint(&args)?;
     let t = Instant::now();
@@ -115,7 +125,14 @@ fn finish<const D: usize>(
     };
     let source = args.path.display().to_string();
     let summary = AnalyzeSummary::new(&source, bed, settings, &analysis, timing);
-    io::write_analysis(&args.out, &contacts, &summary)
+    let extras = io::RunExtras {
+        pictures: !args.no_pictures,
+        exports: match &args.export {
+            Some(list) => io::export::Format::parse_list(list)?,
+            None => Vec::new(),
+        },
+    };
+    io::write_analysis(&args.out, bed, &contacts, &summary, &extras)
         .with_context(|| format!("--out {}", args.out.display()))?;
     Ok(summary)
 }

@@ -621,3 +621,50 @@ fn rsa_mode_runs_the_thesis_box_to_saturation() {
     let phi = v["packing"]["global"].as_f64().unwrap();
     assert!((0.45..0.58).contains(&phi), "{phi}");
 }
+
+/// `analyze --export` writes the exports of the bed it read, and they read back
+/// to the same measures.
+#[test]
+fn analyze_exports_round_trip() {
+    let s = Scratch::new();
+    let o = s.packbed(&["run", "--count", "300", "--out", "r", "-q"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let o = s.packbed(&[
+        "analyze",
+        "r/particles.csv",
+        "--export",
+        "vtk,dump,xyz",
+        "--out",
+        "a",
+        "-q",
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let first: Value = serde_json::from_str(&s.read("a/summary.json")).unwrap();
+    for (file, out) in [("a/bed.dump", "d"), ("a/bed.xyz", "x"), ("a/bed.vtu", "v")] {
+        let o = s.packbed(&["analyze", file, "--out", out, "-q", "--no-pictures"]);
+        assert_eq!(o.code, 0, "{file}: {}", o.stderr);
+        let again: Value = serde_json::from_str(&s.read(&format!("{out}/summary.json"))).unwrap();
+        for key in ["/packing/global", "/packing/bulk", "/coordination/mean"] {
+            assert_eq!(first.pointer(key), again.pointer(key), "{file}: {key}");
+        }
+        assert_eq!(
+            s.read("a/contacts.csv"),
+            s.read(&format!("{out}/contacts.csv"))
+        );
+    }
+    // A bad export list is refused before any output.
+    let bed = s.work.join("r/particles.csv");
+    let fresh = Scratch::new();
+    assert_user_error(
+        &fresh,
+        &[
+            "analyze",
+            bed.to_str().unwrap(),
+            "--export",
+            "png",
+            "--out",
+            "z",
+        ],
+        &["--export"],
+    );
+}

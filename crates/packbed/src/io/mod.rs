@@ -56,7 +56,7 @@ pub fn write_run_with<const D: usize>(
     // Rendered before touching the disk: a bad value must not leave a directory.
     let json = summary.to_json()?;
     let files = if extras.pictures || !extras.exports.is_empty() {
-        crate::render::run_files::files(bed, contacts, &summary.config, extras)?
+        crate::render::run_files::files(bed, contacts, summary.config.analysis.contact_tol, extras)?
     } else {
         Vec::new()
     };
@@ -75,18 +75,29 @@ pub fn write_run_with<const D: usize>(
 /// Names of the files [`write_analysis`] writes: a run's files minus the bed.
 pub const ANALYZE_FILES: [&str; 3] = ["contacts.csv", "wall_contacts.csv", "summary.json"];
 
-/// Writes the files of `packbed analyze` into `dir`, atomically as [`write_run`].
-pub fn write_analysis(
+/// Writes the files of `packbed analyze` into `dir`, atomically as [`write_run`],
+/// with the pictures, plots and exports `extras` asks for.
+pub fn write_analysis<const D: usize>(
     dir: &Path,
+    bed: &Bed<D>,
     contacts: &Contacts,
     summary: &AnalyzeSummary,
+    extras: &RunExtras,
 ) -> Result<Vec<PathBuf>> {
     let json = summary.to_json()?;
+    let files = if extras.pictures || !extras.exports.is_empty() {
+        crate::render::run_files::files(bed, contacts, summary.settings.contact_tol, extras)?
+    } else {
+        Vec::new()
+    };
     let mut out = Staging::new(dir)?;
     out.stage(ANALYZE_FILES[0], |w| tables::write_contacts(w, contacts))?;
     out.stage(ANALYZE_FILES[1], |w| {
         tables::write_wall_contacts(w, contacts)
     })?;
+    for (name, bytes) in &files {
+        out.stage(name, |w| w.write_all(bytes))?;
+    }
     out.stage(ANALYZE_FILES[2], |w| w.write_all(json.as_bytes()))?;
     out.commit()
 }

@@ -5,9 +5,9 @@ use super::run_plots;
 use super::{render_png, render_svg, RenderOptions};
 use crate::analysis::{coordination, profile, Contacts};
 use crate::bed::{AnyBed, Bed};
-use crate::config::Config;
 use crate::error::{Error, Result};
 use crate::io::RunExtras;
+use crate::math::Real;
 
 /// Size of plot images in pixels.
 pub const PLOT_SIZE: (u32, u32) = (1000, 700);
@@ -16,7 +16,7 @@ pub const PLOT_SIZE: (u32, u32) = (1000, 700);
 pub fn files<const D: usize>(
     bed: &Bed<D>,
     contacts: &Contacts,
-    config: &Config,
+    contact_tol: Real,
     extras: &RunExtras,
 ) -> Result<Vec<(String, Vec<u8>)>> {
     let mut out = Vec::new();
@@ -24,7 +24,7 @@ pub fn files<const D: usize>(
     if extras.pictures {
         let any = to_any(bed)?;
         let opts = RenderOptions {
-            contact_tol: config.analysis.contact_tol,
+            contact_tol,
             ..RenderOptions::default()
         };
         out.push(("bed.png".to_string(), render_png(&any, &opts)?));
