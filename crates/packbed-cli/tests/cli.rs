@@ -303,6 +303,8 @@ fn run_writes_the_files_of_the_contract() {
             "plot_coordination.svg",
             "plot_profile.png",
             "plot_profile.svg",
+            "plot_regions.png",
+            "plot_regions.svg",
             "summary.json",
             "wall_contacts.csv"
         ]
@@ -667,4 +669,22 @@ fn analyze_exports_round_trip() {
         ],
         &["--export"],
     );
+}
+
+/// `run` draws the regional packing bars beside the other plots (a walled box
+/// has all four regions); the PNG has the plot size.
+#[test]
+fn run_writes_the_regional_packing_plot() {
+    let s = Scratch::new();
+    let o = s.packbed(&["run", "--out", "r", "-q"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let png = std::fs::read(s.work.join("r/plot_regions.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    let width = u32::from_be_bytes([png[16], png[17], png[18], png[19]]);
+    let height = u32::from_be_bytes([png[20], png[21], png[22], png[23]]);
+    assert_eq!((width, height), (1000, 700));
+    let svg = s.read("r/plot_regions.svg");
+    for region in ["floor", "roof", "wall", "centre"] {
+        assert!(svg.contains(region), "{region} missing from the SVG");
+    }
 }

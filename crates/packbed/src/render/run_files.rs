@@ -44,6 +44,21 @@ pub fn files<const D: usize>(
                 run_plots::packing_profile(&slabs, slab, None),
             ));
         }
+        // Regional packing (floor, roof, wall, centre) as bars; regions the box
+        // does not have (walls with periodic sides) are left out.
+        let regional = crate::analysis::regions::regional_packing(bed);
+        let bars: Vec<(String, Real, Option<Real>)> = [
+            ("floor", regional.floor),
+            ("roof", regional.roof),
+            ("wall", regional.wall),
+            ("centre", regional.centre),
+        ]
+        .into_iter()
+        .filter_map(|(name, v)| v.map(|v| (name.to_string(), v, None)))
+        .collect();
+        if !bars.is_empty() {
+            plots.push(("plot_regions", run_plots::regional_packing(&bars)));
+        }
         let angles = run_plots::chain_angles(bed);
         if !angles.is_empty() {
             plots.push((
