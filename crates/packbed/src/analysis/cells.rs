@@ -6,6 +6,7 @@
 
 use crate::bed::Bed;
 use crate::math::{Real, Vector};
+use rayon::prelude::*;
 
 /// Particles sorted into cubic cells at least `range` wide, so that every pair
 /// closer than `range` (minimum image on periodic sides) lies in neighbouring cells.
@@ -204,6 +205,142 @@ impl<const D: usize> CellList<D> {
                         if j > i {
                             f(i, j);
                         }
+                    }
+                }
+            }
+        }
+    }
+
+    /// For every unordered pair of particles whose centres are closer than
+    /// `range` (minimum image; a little more is allowed), the value `keep(i, j)`
+    /// with `i < j` if it is `Some`, in an order fixed by the bed alone (whatever
+    /// the thread count). Cells are processed in parallel slabs; each cell pairs
+    /// with half of its neighbours, over centres copied into cell order, so the
+    /// inner loop reads memory in sequence.
+    pub(crate) fn close_pairs<T: Send>(
+        &self,
+        bed: &Bed<D>,
+        range: Real,
+        keep: impl Fn(usize, usize) -> Option<T> + Sync,
+    ) -> Vec<T> {
+        // With fewer than three cells across a period one neighbour cell can be
+        // reached through two offsets; the plain all-neighbour sweep handles it.
+        let narrow = (0..D).any(|k| self.wrap[k] && self.dims[k] < 3);
+        if narrow {
+            let mut out = Vec::new();
+            self.for_each_pair(|i, j| out.extend(keep(i, j)));
+            return out;
+        }
+        // Centres in cell order, wrapped into the period on periodic axes (the
+        // frame the cells were assigned in).
+        let pos: Vec<[Real; D]> = self
+            .items
+            .iter()
+            .map(|&i| {
+                let c = &bed.centres[i as usize];
+                let mut p = [0.0; D];
+                for k in 0..D {
+                    p[k] = if self.wrap[k] {
+                        c[k].rem_euclid(self.period[k])
+                    } else {
+                        c[k]
+                    };
+                }
+                p
+            })
+            .collect();
+        // The forward half of the neighbour offsets: the first non-zero
+        // component, from the last axis down, is +1.
+        let offsets: Vec<[isize; D]> = (0..3usize.pow(D as u32))
+            .map(|code| {
+                let mut o = [0isize; D];
+                let mut c = code;
+                for ok in o.iter_mut() {
+                    *ok = (c % 3) as isize - 1;
+                    c /= 3;
+                }
+                o
+            })
+            .filter(|o| o.iter().rev().find(|&&x| x != 0) == Some(&1))
+            .collect();
+        // Slightly generous, so that rounding in the wrapped copies never drops
+        // a pair `keep` would accept.
+        let r2 = (range * (1.0 + 1e-9)).powi(2);
+        let total = self.start.len() - 1;
+        let chunk = total.div_ceil(64).max(1);
+        let parts: Vec<Vec<T>> = (0..total.div_ceil(chunk))
+            .into_par_iter()
+            .map(|part| {
+                let mut out = Vec::new();
+                for cell in part * chunk..((part + 1) * chunk).min(total) {
+                    self.cell_pairs(cell, &pos, &offsets, r2, &keep, &mut out);
+                }
+                out
+            })
+            .collect();
+        parts.into_iter().flatten().collect()
+    }
+
+    /// The pairs of `close_pairs` with a first particle in `cell`.
+    fn cell_pairs<T>(
+        &self,
+        cell: usize,
+        pos: &[[Real; D]],
+        offsets: &[[isize; D]],
+        r2: Real,
+        keep: &impl Fn(usize, usize) -> Option<T>,
+        out: &mut Vec<T>,
+    ) {
+        let (a0, a1) = (self.start[cell], self.start[cell + 1]);
+        if a0 == a1 {
+            return;
+        }
+        let mut idx = [0usize; D];
+        let mut rest = cell;
+        for k in 0..D {
+            idx[k] = rest % self.dims[k];
+            rest /= self.dims[k];
+        }
+        let mut visit = |a: usize, b: usize| {
+            let (i, j) = (self.items[a] as usize, self.items[b] as usize);
+            if let Some(t) = keep(i.min(j), i.max(j)) {
+                out.push(t);
+            }
+        };
+        for a in a0..a1 {
+            for b in a + 1..a1 {
+                let d2: Real = (0..D).map(|k| (pos[b][k] - pos[a][k]).powi(2)).sum();
+                if d2 <= r2 {
+                    visit(a, b);
+                }
+            }
+        }
+        'offsets: for o in offsets {
+            let mut m = [0usize; D];
+            let mut shift = [0.0; D];
+            for k in 0..D {
+                let n = self.dims[k] as isize;
+                let j = idx[k] as isize + o[k];
+                if self.wrap[k] {
+                    m[k] = j.rem_euclid(n) as usize;
+                    if j < 0 {
+                        shift[k] = -self.period[k];
+                    } else if j >= n {
+                        shift[k] = self.period[k];
+                    }
+                } else if j < 0 || j >= n {
+                    continue 'offsets;
+                } else {
+                    m[k] = j as usize;
+                }
+            }
+            let nc = self.linear(&m);
+            for a in a0..a1 {
+                let pa = pos[a];
+                for b in self.start[nc]..self.start[nc + 1] {
+                    let d2: Real = (0..D).map(|k| (pos[b][k] + shift[k] - pa[k]).powi(2)).sum();
+                    if d2 <= r2 {
+                        visit(a, b);
                     }
                 }
             }

@@ -12,6 +12,7 @@ use super::cells::CellList;
 use crate::bed::Bed;
 use crate::container::Wall;
 use crate::math::Real;
+use rayon::prelude::*;
 
 /// Two touching particles (`i < j`) and the gap between their surfaces.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -55,22 +56,20 @@ pub fn find_contacts<const D: usize>(bed: &Bed<D>, contact_tol: Real) -> Contact
         let r_max = bed.r_max();
         let range = r_max * (2.0 + contact_tol.max(0.0));
         let cells = CellList::new(bed, range);
-        cells.for_each_pair(|i, j| {
+        pairs = cells.close_pairs(bed, range, |i, j| {
             if bed.bodies[i] == bed.bodies[j] {
-                return;
+                return None;
             }
             let (ri, rj) = (bed.radii[i], bed.radii[j]);
             let d = bed.container.displacement(&bed.centres[i], &bed.centres[j]);
             let gap = d.norm() - ri - rj;
-            if gap <= contact_tol * ri.min(rj) {
-                pairs.push(Contact {
-                    i: i as u32,
-                    j: j as u32,
-                    gap,
-                });
-            }
+            (gap <= contact_tol * ri.min(rj)).then_some(Contact {
+                i: i as u32,
+                j: j as u32,
+                gap,
+            })
         });
-        pairs.sort_unstable_by_key(|c| (c.i, c.j));
+        pairs.par_sort_unstable_by_key(|c| (c.i, c.j));
     }
     let mut walls = Vec::new();
     let all_walls = bed.container.walls();
@@ -331,8 +330,8 @@ mod tests {
         #[test]
         fn cell_list_finds_exactly_the_brute_force_contacts(
             periodic in any::<bool>(),
-            w in 1.5f64..12.0,
-            pts in prop::collection::vec((0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0, 0.2f64..1.0), 0..60),
+            w in 1.5f64..30.0,
+            pts in prop::collection::vec((0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0, 0.2f64..1.0), 0..400),
             tol in 0.0f64..0.5,
         ) {
             let mut bed = Bed::new(
