@@ -3,7 +3,9 @@
 
 mod cells;
 pub mod contacts;
+mod disjoint_paths;
 pub mod histogram;
+mod maxflow;
 pub mod orientation;
 pub mod packing;
 pub mod percolation;
@@ -144,33 +146,85 @@ pub fn analyze<const D: usize>(bed: &Bed<D>, contact_tol: Real) -> (Contacts, Su
 
 /// Runs every measure on a bed.
 pub fn analyze_with<const D: usize>(bed: &Bed<D>, opts: &AnalysisOptions) -> (Contacts, Summary) {
-    let contacts = contacts::find_contacts(bed, opts.contact_tol);
-    let z = contacts::coordination(bed, &contacts);
-    let volumes = packing::particle_volumes(bed);
+    analyze_timed(bed, opts, &mut StageTimes::default())
+}
+
+/// Wall time of each analysis stage, in the order they ran: `packbed bench
+/// --analysis` prints them, so that a slow measure on a large bed shows itself.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StageTimes(pub Vec<(&'static str, f64)>);
+
+impl StageTimes {
+    /// Runs `f`, recording its wall time under `name`.
+    pub fn time<T>(&mut self, name: &'static str, f: impl FnOnce() -> T) -> T {
+        let t = std::time::Instant::now();
+        let out = f();
+        self.0.push((name, t.elapsed().as_secs_f64()));
+        out
+    }
+
+    /// Total of the stages whose name starts with `prefix` (all for `""`).
+    pub fn total(&self, prefix: &str) -> f64 {
+        self.0
+            .iter()
+            .filter(|(n, _)| n.starts_with(prefix))
+            .map(|e| e.1)
+            .sum()
+    }
+}
+
+/// Runs every measure on a bed, timing each stage into `times`.
+pub fn analyze_timed<const D: usize>(
+    bed: &Bed<D>,
+    opts: &AnalysisOptions,
+    times: &mut StageTimes,
+) -> (Contacts, Summary) {
+    let contacts = times.time("contacts", || {
+        contacts::find_contacts(bed, opts.contact_tol)
+    });
+    let z = times.time("coordination", || contacts::coordination(bed, &contacts));
+    let volumes = times.time("packing/volumes", || packing::particle_volumes(bed));
     let region = packing::bulk_region(bed);
-    let in_bulk: Vec<bool> = match &region {
+    let in_bulk: Vec<bool> = times.time("coordination/bulk", || match &region {
         Some(reg) => bed.centres.iter().map(|c| reg.contains(c)).collect(),
         None => vec![false; bed.len()],
-    };
-    let coordination = coordination_summary(bed, &contacts, &z, &in_bulk);
+    });
+    let coordination = times.time("coordination/summary", || {
+        coordination_summary(bed, &contacts, &z, &in_bulk)
+    });
     let d_max = 2.0 * bed.r_max();
-    let summary = Summary {
-        packing: PackingSummary {
-            global: packing::global_fraction_of(bed, &volumes),
-            bulk: region
+    let packing = PackingSummary {
+        global: times.time("packing/global", || {
+            packing::global_fraction_of(bed, &volumes)
+        }),
+        bulk: times.time("packing/bulk", || {
+            region
                 .as_ref()
-                .map_or(0.0, |reg| reg.fraction_of(bed, &volumes)),
-            bulk_region_empty: region.is_none(),
-            regions: regions::regional_packing_of(bed, &volumes),
-            profile: profile::profile_of(bed, 0.25 * d_max, &volumes),
-        },
-        coordination,
-        percolation: percolation::percolation(bed, &contacts, &opts.percolation),
-        voids: (bed as &dyn std::any::Any)
+                .map_or(0.0, |reg| reg.fraction_of(bed, &volumes))
+        }),
+        bulk_region_empty: region.is_none(),
+        regions: times.time("packing/regions", || {
+            regions::regional_packing_of(bed, &volumes)
+        }),
+        profile: times.time("packing/profile", || {
+            profile::profile_of(bed, 0.25 * d_max, &volumes)
+        }),
+    };
+    let percolation = percolation::percolation_timed(bed, &contacts, &opts.percolation, times);
+    let voids = times.time("voids", || {
+        (bed as &dyn std::any::Any)
             .downcast_ref::<Bed<2>>()
-            .map(|b2| voids::void_summary(b2, &voids::voids(b2, &contacts))),
-        orientation: orientation::orientation(bed),
-        segregation: segregation::segregation(bed, d_max, &volumes),
+            .map(|b2| voids::void_summary(b2, &voids::voids(b2, &contacts)))
+    });
+    let summary = Summary {
+        packing,
+        coordination,
+        percolation,
+        voids,
+        orientation: times.time("orientation", || orientation::orientation(bed)),
+        segregation: times.time("segregation", || {
+            segregation::segregation(bed, d_max, &volumes)
+        }),
     };
     (contacts, summary)
 }

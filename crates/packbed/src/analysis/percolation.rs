@@ -18,9 +18,12 @@
 //! right, without crossing the seam itself (a path across the periodic cell).
 
 use super::contacts::Contacts;
+use super::disjoint_paths::{max_disjoint_paths, PathProblem};
+use super::StageTimes;
 use crate::bed::Bed;
 use crate::container::Wall;
 use crate::math::Real;
+use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::{HashSet, VecDeque};
 
@@ -309,7 +312,7 @@ pub fn shortest_chain(g: &LinkGraph, t: &Terminals) -> Option<u64> {
 
 /// Maximum number of chains with no node in common: the maximum flow from the
 /// start nodes to the end nodes with unit node capacities (each node split into an
-/// inlet and an outlet joined by an arc of capacity 1), by Dinic's algorithm.
+/// inlet and an outlet joined by an arc of capacity 1), by push–relabel.
 pub fn disjoint_chains(g: &LinkGraph, t: &Terminals) -> u64 {
     let n = g.len();
     // Only nodes that can lie on a chain matter: reachable from a start node and
@@ -342,25 +345,26 @@ pub fn disjoint_chains(g: &LinkGraph, t: &Terminals) -> u64 {
             }
         }
     }
-    let k = order.len();
-    let mut net = FlowNet::new(2 * k + 2);
-    let (source, sink) = (2 * k, 2 * k + 1);
-    for (i, &u) in order.iter().enumerate() {
-        net.add(2 * i, 2 * i + 1);
-        if t.start[u] {
-            net.add(source, 2 * i);
-        }
-        if t.end[u] {
-            net.add(2 * i + 1, sink);
-        }
+    let mut row = Vec::with_capacity(order.len() + 1);
+    let mut adj = Vec::new();
+    row.push(0u32);
+    for &u in &order {
         for e in g.edges(u) {
             let v = g.adj[e] as usize;
             if keep[v] && v != u && t.usable(g, e) {
-                net.add(2 * i + 1, 2 * id[v] as usize);
+                adj.push(id[v]);
             }
         }
+        row.push(adj.len() as u32);
     }
-    net.max_flow(source, sink)
+    let start: Vec<bool> = order.iter().map(|&u| t.start[u]).collect();
+    let end: Vec<bool> = order.iter().map(|&u| t.end[u]).collect();
+    max_disjoint_paths(&PathProblem {
+        row: &row,
+        adj: &adj,
+        start: &start,
+        end: &end,
+    })
 }
 
 /// Nodes reachable from `seeds` through usable edges.
@@ -377,138 +381,6 @@ fn reach(g: &LinkGraph, t: &Terminals, seeds: &[bool]) -> Vec<bool> {
         }
     }
     seen
-}
-
-/// A flow network with unit arc capacities in compressed rows: the arcs of node
-/// `u` are `start[u]..start[u + 1]`, `rev[a]` is the reverse of arc `a`.
-struct FlowNet {
-    nodes: usize,
-    arcs: Vec<(u32, u32)>,
-    start: Vec<usize>,
-    to: Vec<u32>,
-    rev: Vec<u32>,
-    cap: Vec<u8>,
-}
-
-impl FlowNet {
-    fn new(nodes: usize) -> Self {
-        FlowNet {
-            nodes,
-            arcs: Vec::new(),
-            start: Vec::new(),
-            to: Vec::new(),
-            rev: Vec::new(),
-            cap: Vec::new(),
-        }
-    }
-
-    fn add(&mut self, a: usize, b: usize) {
-        self.arcs.push((a as u32, b as u32));
-    }
-
-    /// Lays the arcs and their reverses out in rows.
-    fn freeze(&mut self) {
-        let n = self.nodes;
-        let mut start = vec![0usize; n + 1];
-        for &(a, b) in &self.arcs {
-            start[a as usize + 1] += 1;
-            start[b as usize + 1] += 1;
-        }
-        for u in 0..n {
-            start[u + 1] += start[u];
-        }
-        let m = start[n];
-        let mut fill = start.clone();
-        let (mut to, mut rev, mut cap) = (vec![0u32; m], vec![0u32; m], vec![0u8; m]);
-        for &(a, b) in &self.arcs {
-            let (fa, fb) = (fill[a as usize], fill[b as usize]);
-            fill[a as usize] += 1;
-            fill[b as usize] += 1;
-            to[fa] = b;
-            cap[fa] = 1;
-            rev[fa] = fb as u32;
-            to[fb] = a;
-            rev[fb] = fa as u32;
-        }
-        self.start = start;
-        self.to = to;
-        self.rev = rev;
-        self.cap = cap;
-        self.arcs = Vec::new();
-    }
-
-    fn max_flow(&mut self, s: usize, t: usize) -> u64 {
-        self.freeze();
-        let m = self.nodes;
-        let mut level = vec![u32::MAX; m];
-        let mut it = vec![0usize; m];
-        let mut flow = 0;
-        let mut queue = VecDeque::new();
-        let mut path: Vec<usize> = Vec::new();
-        loop {
-            level.fill(u32::MAX);
-            level[s] = 0;
-            queue.clear();
-            queue.push_back(s);
-            while let Some(u) = queue.pop_front() {
-                // Nodes at the sink's level or beyond cannot lead to it.
-                if level[t] != u32::MAX && level[u] >= level[t] {
-                    break;
-                }
-                for a in self.start[u]..self.start[u + 1] {
-                    let v = self.to[a] as usize;
-                    if self.cap[a] > 0 && level[v] == u32::MAX {
-                        level[v] = level[u] + 1;
-                        queue.push_back(v);
-                    }
-                }
-            }
-            if level[t] == u32::MAX {
-                return flow;
-            }
-            it.copy_from_slice(&self.start[..m]);
-            // Blocking flow by iterative depth-first search: `path` holds the arcs
-            // from the source to the current node.
-            loop {
-                let u = path.last().map_or(s, |&a| self.to[a] as usize);
-                if u == t {
-                    for &a in &path {
-                        self.cap[a] -= 1;
-                        self.cap[self.rev[a] as usize] += 1;
-                    }
-                    flow += 1;
-                    path.clear();
-                    continue;
-                }
-                let end = self.start[u + 1];
-                let mut advanced = false;
-                while it[u] < end {
-                    let a = it[u];
-                    let v = self.to[a] as usize;
-                    if self.cap[a] > 0
-                        && level[v] == level[u].wrapping_add(1)
-                        && level[v] <= level[t]
-                    {
-                        path.push(a);
-                        advanced = true;
-                        break;
-                    }
-                    it[u] += 1;
-                }
-                if !advanced {
-                    if u == s {
-                        break;
-                    }
-                    // Dead end: retreat and never try this node again this phase.
-                    level[u] = u32::MAX;
-                    if let Some(a) = path.pop() {
-                        let p = self.to[self.rev[a] as usize] as usize;
-                        it[p] += 1;
-                    }
-                }
-            }
-        }
-    }
 }
 
 /// Outcome of the chain enumeration along one axis.
@@ -853,20 +725,41 @@ pub fn percolation<const D: usize>(
     contacts: &Contacts,
     opts: &PercolationOptions,
 ) -> Percolation {
-    let lg = large_graph(bed, contacts, opts.large);
+    percolation_timed(bed, contacts, opts, &mut StageTimes::default())
+}
+
+/// The percolation analysis of `bed`, timing its stages into `times`.
+pub fn percolation_timed<const D: usize>(
+    bed: &Bed<D>,
+    contacts: &Contacts,
+    opts: &PercolationOptions,
+    times: &mut StageTimes,
+) -> Percolation {
+    let lg = times.time("percolation/graph", || {
+        large_graph(bed, contacts, opts.large)
+    });
     let g = &lg.graph;
-    let (comp, sizes) = components(g);
+    let (comp, sizes) = times.time("percolation/clusters", || components(g));
     let periodic = bed.container.periodic;
-    let wraps = if periodic {
-        wrapping(g, &comp, sizes.len())
-    } else {
-        Vec::new()
-    };
+    let wraps = times.time("percolation/clusters", || {
+        if periodic {
+            wrapping(g, &comp, sizes.len())
+        } else {
+            Vec::new()
+        }
+    });
     let mut spanning_any = vec![false; sizes.len()];
     let mut all_chains: Vec<Vec<u32>> = Vec::new();
     let mut directions = Vec::new();
-    for k in 0..D - 1 {
-        let t = terminals(bed, contacts, &lg, k);
+    let ends: Vec<Terminals> = times.time("percolation/graph", || {
+        (0..D - 1).map(|k| terminals(bed, contacts, &lg, k)).collect()
+    });
+    // The max flow dominates the whole analysis of a large bed, and the
+    // directions are independent: one thread each.
+    let disjoint: Vec<u64> = times.time("percolation/disjoint", || {
+        ends.par_iter().map(|t| disjoint_chains(g, t)).collect()
+    });
+    for (k, t) in ends.iter().enumerate() {
         let mut spanning = vec![false; sizes.len()];
         if periodic {
             for (c, w) in wraps.iter().enumerate() {
@@ -887,20 +780,23 @@ pub fn percolation<const D: usize>(
         for c in 0..sizes.len() {
             spanning_any[c] |= spanning[c];
         }
-        let en = unique_chains(
-            g,
-            &t,
-            opts.max_chains,
-            opts.max_chain_length,
-            opts.max_search_steps,
-        );
+        let en = times.time("percolation/enumeration", || {
+            unique_chains(
+                g,
+                t,
+                opts.max_chains,
+                opts.max_chain_length,
+                opts.max_search_steps,
+            )
+        });
+        let shortest = times.time("percolation/shortest", || shortest_chain(g, t));
         let spanning_clusters = spanning.iter().filter(|&&s| s).count() as u64;
         directions.push(DirectionPercolation {
             axis: ["x", "y"][k].to_string(),
             spans: spanning_clusters > 0,
             spanning_clusters,
-            shortest_chain: shortest_chain(g, &t),
-            disjoint_chains: disjoint_chains(g, &t),
+            shortest_chain: shortest,
+            disjoint_chains: disjoint[k],
             unique_chains: en.chains.len() as u64,
             chain_cap_hit: en.chain_cap_hit,
             length_cap_hit: en.length_cap_hit,
