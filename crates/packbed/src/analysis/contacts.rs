@@ -93,6 +93,9 @@ pub fn find_contacts<const D: usize>(bed: &Bed<D>, contact_tol: Real) -> Contact
 /// body touches (walls excluded). All beads of a chain get their chain's number;
 /// for spheres body = particle.
 pub fn coordination<const D: usize>(bed: &Bed<D>, contacts: &Contacts) -> Vec<u32> {
+    if let Some(z) = coordination_of_spheres(bed, contacts) {
+        return z;
+    }
     // Body ids of imported beds need not be dense, so count over sorted, deduplicated
     // body pairs instead of indexing an array by body id.
     let mut links: Vec<(u32, u32)> = Vec::with_capacity(2 * contacts.pairs.len());
@@ -106,7 +109,7 @@ pub fn coordination<const D: usize>(bed: &Bed<D>, contacts: &Contacts) -> Vec<u3
             links.push((b, a));
         }
     }
-    links.sort_unstable();
+    links.par_sort_unstable();
     links.dedup();
     bed.bodies
         .iter()
@@ -116,6 +119,34 @@ pub fn coordination<const D: usize>(bed: &Bed<D>, contacts: &Contacts) -> Vec<u3
             (hi - lo) as u32
         })
         .collect()
+}
+
+/// The coordination numbers when every body is one particle: a count of the
+/// contacts of each (two particles touch at most once in the list). `None` when
+/// some body has several beads.
+fn coordination_of_spheres<const D: usize>(bed: &Bed<D>, contacts: &Contacts) -> Option<Vec<u32>> {
+    let n = bed.len();
+    let max_body = bed.bodies.iter().max().map_or(0, |&b| b as usize);
+    if max_body > 4 * n + 1024 {
+        return None;
+    }
+    let mut beads = vec![0u8; max_body + 1];
+    for &b in &bed.bodies {
+        let c = &mut beads[b as usize];
+        if *c > 0 {
+            return None;
+        }
+        *c = 1;
+    }
+    let mut z = vec![0u32; n];
+    for c in &contacts.pairs {
+        let (i, j) = (c.i as usize, c.j as usize);
+        if i < n && j < n && i != j {
+            z[i] += 1;
+            z[j] += 1;
+        }
+    }
+    Some(z)
 }
 
 #[cfg(test)]
