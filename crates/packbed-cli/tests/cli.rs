@@ -491,6 +491,37 @@ fn bench_json_is_one_object_with_the_keys() {
     assert!(s.work_entries().is_empty(), "bench writes no files");
 }
 
+#[test]
+fn bench_times_every_analysis_stage_of_a_bed_file() {
+    let s = Scratch::new();
+    small_run(&s, "b", &["-q", "--no-pictures"]);
+    let o = s.packbed(&["bench", "--bed", "b/particles.csv", "--json"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let v: Value = serde_json::from_str(&o.stdout).unwrap();
+    let stages: Vec<&str> = v["analysis"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e[0].as_str().unwrap())
+        .collect();
+    for stage in [
+        "contacts",
+        "packing/global",
+        "percolation/disjoint",
+        "voids",
+    ] {
+        assert!(stages.contains(&stage), "no {stage} in {stages:?}");
+    }
+    assert!(v["analysis"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|e| e[1].as_f64().unwrap() >= 0.0));
+    assert_eq!(v["n"], summary(&s, "b")["counts"]["particles"]);
+    let missing = s.packbed(&["bench", "--bed", "none.csv"]);
+    assert_eq!(missing.code, 2, "{}", missing.stderr);
+}
+
 /// `analyze` on the particles.csv that `run` wrote gives the same measures and
 /// contact files (species names aside: a bed file does not carry them).
 #[test]
