@@ -444,6 +444,9 @@ pub fn unique_chains(
     let mut path: Vec<u32> = Vec::new();
     let mut cursor: Vec<usize> = Vec::new();
     let mut steps = 0u64;
+    let mut seen_at = vec![0u32; n];
+    let mut stamp = 0u32;
+    let mut stack: Vec<u32> = Vec::new();
     let mut record = |path: &[u32], out: &mut Enumeration| -> bool {
         let mut set = path.to_vec();
         set.sort_unstable();
@@ -505,12 +508,76 @@ pub fn unique_chains(
                 }
                 continue;
             }
+            // Enter `v` only if an end node is still reachable from it around the
+            // path: every branch then ends in a chain, so the work per chain found
+            // stays bounded instead of growing with the dead branches of the
+            // cluster (which exhausted the step cap on most small beds).
+            stamp += 1;
+            match reaches_end(
+                g,
+                t,
+                &order,
+                &to_end,
+                &on_path,
+                v,
+                &mut seen_at,
+                stamp,
+                &mut stack,
+            ) {
+                Some(work) => steps += work,
+                None => {
+                    steps += n as u64;
+                    continue;
+                }
+            }
             path.push(v as u32);
             cursor.push(g.row[v]);
             on_path[v] = true;
         }
     }
     out
+}
+
+/// Whether an end node can be reached from `v` through nodes off the path that
+/// are not start nodes; `Some(nodes visited)` if so. A depth-first search trying
+/// the neighbours nearest the end first, so it usually walks straight there.
+#[allow(clippy::too_many_arguments)]
+fn reaches_end(
+    g: &LinkGraph,
+    t: &Terminals,
+    order: &[usize],
+    to_end: &[u32],
+    on_path: &[bool],
+    v: usize,
+    seen_at: &mut [u32],
+    stamp: u32,
+    stack: &mut Vec<u32>,
+) -> Option<u64> {
+    stack.clear();
+    stack.push(v as u32);
+    seen_at[v] = stamp;
+    let mut work = 0u64;
+    while let Some(u) = stack.pop() {
+        let u = u as usize;
+        work += 1;
+        if t.end[u] {
+            return Some(work);
+        }
+        // Pushed in reverse so that the nearest neighbour is popped first.
+        for &e in order[g.row[u]..g.row[u + 1]].iter().rev() {
+            let w = g.adj[e] as usize;
+            if seen_at[w] != stamp
+                && !on_path[w]
+                && !t.start[w]
+                && to_end[w] != u32::MAX
+                && t.usable(g, e)
+            {
+                seen_at[w] = stamp;
+                stack.push(w as u32);
+            }
+        }
+    }
+    None
 }
 
 /// The graph of large bodies of `bed` and, per node, its particles' body id.
