@@ -70,20 +70,18 @@ struct Solver {
     first: Vec<u32>,
     to: Vec<u32>,
     rev: Vec<u32>,
-    cap: Vec<u32>,
+    /// Residual capacity, 0 or 1: an arc and its reverse share one unit.
+    cap: Vec<u8>,
     excess: Vec<u32>,
     label: Vec<u32>,
     current: Vec<u32>,
     /// Active nodes per label, as singly linked stacks through `next_active`.
     active: Vec<u32>,
     next_active: Vec<u32>,
-    /// All live nodes per label, doubly linked, for the gap rule.
-    bucket: Vec<u32>,
-    next: Vec<u32>,
-    prev: Vec<u32>,
-    /// Highest label holding an active node (an upper bound), and any node.
+    /// Live nodes per label, for the gap rule.
+    count: Vec<u32>,
+    /// Highest label holding an active node (an upper bound).
     max_active: usize,
-    max_label: usize,
 }
 
 const NONE: u32 = u32::MAX;
@@ -101,7 +99,7 @@ impl Solver {
         }
         let m = first[n] as usize;
         let mut fill = first.clone();
-        let (mut to, mut rev, mut cap) = (vec![0u32; m], vec![0u32; m], vec![0u32; m]);
+        let (mut to, mut rev, mut cap) = (vec![0u32; m], vec![0u32; m], vec![0u8; m]);
         for &(a, b) in &net.arcs {
             let (fa, fb) = (fill[a as usize], fill[b as usize]);
             fill[a as usize] += 1;
@@ -124,11 +122,8 @@ impl Solver {
             label: vec![0; n],
             active: vec![NONE; n + 1],
             next_active: vec![NONE; n],
-            bucket: vec![NONE; n + 1],
-            next: vec![NONE; n],
-            prev: vec![NONE; n],
+            count: vec![0; n + 1],
             max_active: 0,
-            max_label: 0,
         }
     }
 
@@ -176,9 +171,8 @@ impl Solver {
         let n = self.n;
         self.label.fill(n as u32);
         self.active.fill(NONE);
-        self.bucket.fill(NONE);
+        self.count.fill(0);
         self.max_active = 0;
-        self.max_label = 0;
         let mut queue = Vec::with_capacity(n);
         self.label[self.sink] = 0;
         queue.push(self.sink as u32);
@@ -190,8 +184,10 @@ impl Solver {
             for a in self.first[v]..self.first[v + 1] {
                 let a = a as usize;
                 let w = self.to[a] as usize;
-                // `w` reaches `v` when its arc towards `v` has room.
-                if self.label[w] == n as u32 && self.cap[self.rev[a] as usize] > 0 {
+                // `w` reaches `v` when its arc towards `v` has room. Each arc and
+                // its reverse share one unit of capacity, so that arc has room
+                // exactly when this one is full: no jump to the reverse arc.
+                if self.label[w] == n as u32 && self.cap[a] == 0 {
                     self.label[w] = d;
                     queue.push(w as u32);
                 }
@@ -200,34 +196,10 @@ impl Solver {
         for &v in &queue[1..] {
             let v = v as usize;
             self.current[v] = self.first[v];
-            self.bucket_insert(v);
+            self.count[self.label[v] as usize] += 1;
             if self.excess[v] > 0 {
                 self.push_active(v);
             }
-        }
-    }
-
-    fn bucket_insert(&mut self, v: usize) {
-        let d = self.label[v] as usize;
-        let head = self.bucket[d];
-        self.next[v] = head;
-        self.prev[v] = NONE;
-        if head != NONE {
-            self.prev[head as usize] = v as u32;
-        }
-        self.bucket[d] = v as u32;
-        self.max_label = self.max_label.max(d);
-    }
-
-    fn bucket_remove(&mut self, v: usize) {
-        let (p, nx) = (self.prev[v], self.next[v]);
-        if p == NONE {
-            self.bucket[self.label[v] as usize] = nx;
-        } else {
-            self.next[p as usize] = nx;
-        }
-        if nx != NONE {
-            self.prev[nx as usize] = p;
         }
     }
 
@@ -265,9 +237,10 @@ impl Solver {
                 let ai = a as usize;
                 let v = self.to[ai] as usize;
                 if self.cap[ai] > 0 && self.label[v] + 1 == du {
-                    let delta = self.excess[u].min(self.cap[ai]);
-                    self.cap[ai] -= delta;
-                    self.cap[self.rev[ai] as usize] += delta;
+                    // Unit capacities: one unit per push.
+                    let delta = 1;
+                    self.cap[ai] = 0;
+                    self.cap[self.rev[ai] as usize] = 1;
                     self.excess[u] -= delta;
                     if self.excess[v] == 0 && v != self.sink {
                         self.push_active(v);
@@ -299,11 +272,12 @@ impl Solver {
                 }
             }
             let old = du as usize;
-            self.bucket_remove(u);
-            if self.bucket[old] == NONE {
-                // Gap: nothing is left at `old`, so nothing above it can reach
-                // the sink any more.
-                self.gap(old);
+            self.count[old] -= 1;
+            if self.count[old] == 0 {
+                // Gap: nothing is left at `old`, so `u` (and whatever lies
+                // above) cannot reach the sink any more; the others are dropped
+                // by the next global relabel. Keeping whole buckets to drop
+                // them at once cost more in upkeep than it saved.
                 self.label[u] = n;
                 break;
             }
@@ -313,23 +287,9 @@ impl Solver {
             }
             self.label[u] = lowest + 1;
             self.current[u] = at;
-            self.bucket_insert(u);
+            self.count[self.label[u] as usize] += 1;
         }
         work
-    }
-
-    /// Drops every node labelled above `d` (they cannot reach the sink).
-    fn gap(&mut self, d: usize) {
-        let n = self.n as u32;
-        for k in d + 1..=self.max_label {
-            let mut v = self.bucket[k];
-            while v != NONE {
-                self.label[v as usize] = n;
-                v = self.next[v as usize];
-            }
-            self.bucket[k] = NONE;
-        }
-        self.max_label = d.saturating_sub(1);
     }
 }
 
