@@ -16,9 +16,10 @@ pub struct FlowNet {
 }
 
 /// Relabel work (node visits plus arcs scanned) between global relabels is
-/// `GLOBAL_FREQ × (ALPHA n + m)`, the balance HIPR found good.
+/// `GLOBAL_FREQ × (ALPHA n + m)` (HIPR uses 0.5; on bed networks 1.0 measured
+/// 10–20 % faster, 0.25 and 2.0 slower).
 const ALPHA: usize = 6;
-const GLOBAL_FREQ: f64 = 0.5;
+const GLOBAL_FREQ: f64 = 1.0;
 const BETA: usize = 12;
 
 impl FlowNet {
