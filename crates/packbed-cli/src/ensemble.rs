@@ -37,6 +37,9 @@ pub struct EnsembleArgs {
     /// Also write every replicate's particles.csv and contact files.
     #[arg(long)]
     pub keep_beds: bool,
+    /// Skip the plots (plot_*.png, plot_*.svg) of the statistics.
+    #[arg(long)]
+    pub no_pictures: bool,
     /// No progress bar and no summary on stdout.
     #[arg(long, short)]
     pub quiet: bool,
@@ -51,6 +54,9 @@ pub struct MergeArgs {
     /// Directory for the joined ensemble.
     #[arg(long, value_name = "DIR", default_value = "packbed-ensemble")]
     pub out: PathBuf,
+    /// Skip the plots (plot_*.png, plot_*.svg) of the statistics.
+    #[arg(long)]
+    pub no_pictures: bool,
     /// No summary on stdout.
     #[arg(long, short)]
     pub quiet: bool,
@@ -82,6 +88,7 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
         jobs: args.jobs,
         shard,
         keep_beds: args.keep_beds,
+        pictures: !args.no_pictures,
     };
     let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
@@ -121,7 +128,7 @@ fn rayon_threads() -> usize {
 /// Runs `packbed merge`.
 pub fn merge(args: MergeArgs) -> Result<()> {
     check_out_dir(&args.out)?;
-    let outcome = ensemble::merge(&args.dirs, &args.out)?;
+    let outcome = ensemble::merge_with(&args.dirs, &args.out, !args.no_pictures)?;
     if !args.quiet {
         print!("{}", summary_text(&outcome, &args.out, None));
     }

@@ -161,6 +161,92 @@ fn ensemble_writes_its_files_and_table() {
     assert!(s.path("k/runs/0001/contacts.csv").exists());
 }
 
+/// Width and height from a PNG's IHDR chunk.
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "not a PNG");
+    let be = |i: usize| u32::from_be_bytes(bytes[i..i + 4].try_into().unwrap());
+    (be(16), be(20))
+}
+
+/// The text of every `<text>` element of an SVG.
+fn svg_texts(svg: &str) -> Vec<String> {
+    svg.split("<text")
+        .skip(1)
+        .filter_map(|t| Some(t.split_once('>')?.1.split('<').next()?.to_string()))
+        .collect()
+}
+
+const PLOTS: [&str; 4] = [
+    "plot_packing",
+    "plot_coordination",
+    "plot_coordination_means",
+    "plot_profile",
+];
+
+#[test]
+fn ensembles_and_sweeps_plot_their_statistics() {
+    let s = Scratch::new();
+    s.ok(&args(SMALL, &["--runs", "4", "--out", "e", "-q"]));
+    for p in PLOTS {
+        assert_eq!(png_size(&s.read(&format!("e/{p}.png"))), (1000, 700), "{p}");
+    }
+    let svg = String::from_utf8(s.read("e/plot_coordination.svg")).unwrap();
+    let texts = svg_texts(&svg);
+    for want in [
+        "Coordination numbers, summed over 4 beds",
+        "all particles",
+        "large",
+        "small",
+        "particles (%)",
+    ] {
+        assert!(texts.iter().any(|t| t == want), "no `{want}` in {texts:?}");
+    }
+    // Bars: three groups per coordination number shown, plus the background.
+    let bins = texts.iter().filter(|t| t.parse::<u32>().is_ok()).count();
+    assert!(bins >= 3, "{texts:?}");
+    let svg = String::from_utf8(s.read("e/plot_packing.svg")).unwrap();
+    for want in ["global", "bulk", "floor", "roof", "wall", "centre"] {
+        assert!(svg_texts(&svg).iter().any(|t| t == want), "no {want} bar");
+    }
+    // One bar per region plus the background.
+    assert_eq!(svg.matches("<rect").count(), 7, "{svg}");
+    // A sweep over a number draws lines: one marker per value.
+    let cfg = s.input(
+        "sweep.toml",
+        "dim = 2\n[box]\ndiameters = 6\n[[species]]\nradius = 20\n[[species]]\nradius = 10\n[sweep]\nparameter = \"box.diameters\"\nvalues = [5, 7, 9]\n",
+    );
+    s.ok(&["ensemble", &cfg, "--runs", "3", "--out", "sw", "-q"]);
+    let svg = String::from_utf8(s.read("sw/plot_sweep_packing_global.svg")).unwrap();
+    assert_eq!(svg.matches("class=\"marker\"").count(), 3, "{svg}");
+    let texts = svg_texts(&svg);
+    assert!(
+        texts
+            .iter()
+            .any(|t| t == "box.diameters: box width (largest particle diameters)"),
+        "{texts:?}"
+    );
+    let svg = String::from_utf8(s.read("sw/plot_sweep_percolation.svg")).unwrap();
+    assert!(svg_texts(&svg)
+        .iter()
+        .any(|t| t == "Beds with a percolation chain, per box.diameters"));
+    assert!(svg_texts(&svg).iter().any(|t| t == "beds with a chain (%)"));
+    for d in ["00-diameters-5", "02-diameters-9"] {
+        for p in PLOTS {
+            assert!(s.path(&format!("sw/sweep/{d}/{p}.svg")).exists(), "{d}/{p}");
+        }
+    }
+    // --no-pictures: statistics only.
+    s.ok(&args(
+        SMALL,
+        &["--runs", "2", "--out", "np", "-q", "--no-pictures"],
+    ));
+    let names: Vec<String> = std::fs::read_dir(s.path("np"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(!names.iter().any(|n| n.starts_with("plot_")), "{names:?}");
+}
+
 #[test]
 fn jobs_and_shards_give_the_same_files() {
     let s = Scratch::new();
@@ -184,6 +270,13 @@ fn jobs_and_shards_give_the_same_files() {
     let o = s.ok(&["merge", "s2", "s0", "s1", "--out", "merged"]);
     assert!(o.stdout.contains("ensemble of 9 beds"), "{}", o.stdout);
     assert_same_stats(&s, "j1", "merged", &STAT_FILES);
+    let plots: Vec<String> = PLOTS
+        .iter()
+        .flat_map(|p| [format!("{p}.png"), format!("{p}.svg")])
+        .collect();
+    let plots: Vec<&str> = plots.iter().map(String::as_str).collect();
+    assert_same_stats(&s, "j1", "j2", &plots);
+    assert_same_stats(&s, "j1", "merged", &plots);
     let shard_json: Value = serde_json::from_slice(&s.read("s1/ensemble.json")).unwrap();
     assert_eq!(shard_json["shard"]["index"], 1);
     assert_eq!(shard_json["replicates"], 3);

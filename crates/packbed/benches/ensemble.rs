@@ -15,6 +15,7 @@ fn ensemble_500(cr: &mut Criterion) {
         jobs: None,
         shard: Shard::ALL,
         keep_beds: false,
+        pictures: true,
     };
     let root = tempfile::tempdir().expect("temporary directory");
     let mut k = 0u32;

@@ -31,6 +31,7 @@ fn opts(runs: u64, jobs: usize, shard: Shard) -> Options {
         jobs: Some(jobs),
         shard,
         keep_beds: false,
+        pictures: true,
     }
 }
 

@@ -16,9 +16,11 @@
 //!   summaries, folded in replicate order: the same for any thread count, and
 //!   for shards joined by [`merge`];
 //! - `timing.json`: wall times, kept apart because they differ between runs;
+//! - `plot_*.png` and `plot_*.svg` ([`plots`]), unless pictures are off;
 //! - with a sweep, the per-value files are under `sweep/NN-label/`, and
-//!   `sweep.csv` and `sweep.md` compare the values.
+//!   `sweep.csv`, `sweep.md` and the `plot_sweep_*` plots compare the values.
 
+pub mod plots;
 pub mod seeds;
 pub mod stats;
 pub mod sweep;
@@ -101,6 +103,8 @@ pub struct Options {
     pub shard: Shard,
     /// Write every replicate's bed files, not only its summary.
     pub keep_beds: bool,
+    /// Write the plots (PNG and SVG) of the statistics.
+    pub pictures: bool,
 }
 
 /// Progress of an ensemble: replicates finished (resumed ones included) of all.
@@ -527,7 +531,14 @@ pub fn run(
     for (p, dir, values, built) in results {
         let resumed = values.len() as u64 - built;
         let aggregate = write_point(
-            p, &dir, opts.runs, opts.shard, &values, built, resumed, wall,
+            p,
+            &dir,
+            opts.runs,
+            opts.shard,
+            &values,
+            (built, resumed),
+            wall,
+            opts.pictures,
         )?;
         outcome.points.push(PointResult {
             label: p.label.clone(),
@@ -537,8 +548,29 @@ pub fn run(
             resumed,
         });
     }
-    outcome.files = write_sweep(config, out, &outcome.points)?;
+    outcome.files = write_sweep(config, out, &outcome.points, opts.pictures)?;
     Ok(outcome)
+}
+
+/// Stages every plot as `stem.png` and `stem.svg`.
+fn stage_plots(s: &mut Staging, plots: &[(String, crate::render::plot::Plot)]) -> Result<()> {
+    use crate::render::run_files::PLOT_SIZE;
+    // Rasterising is most of the cost; the files are written in order after.
+    let files: Vec<(String, Vec<u8>)> = plots
+        .par_iter()
+        .flat_map_iter(|(stem, plot)| {
+            [
+                plot.to_png(PLOT_SIZE.0, PLOT_SIZE.1)
+                    .map(|b| (format!("{stem}.png"), b)),
+                plot.to_svg(PLOT_SIZE.0, PLOT_SIZE.1)
+                    .map(|t| (format!("{stem}.svg"), t.into_bytes())),
+            ]
+        })
+        .collect::<Result<_>>()?;
+    for (name, bytes) in &files {
+        s.stage(name, |w| w.write_all(bytes))?;
+    }
+    Ok(())
 }
 
 /// Writes the statistics files of one point; returns its aggregate.
@@ -549,9 +581,9 @@ fn write_point(
     runs: u64,
     shard: Shard,
     values: &[Value],
-    built: u64,
-    resumed: u64,
+    (built, resumed): (u64, u64),
     wall: f64,
+    pictures: bool,
 ) -> Result<Aggregate> {
     let aggregate = stats::measures_of(values)?;
     let timing = stats::timings_of(values)?;
@@ -591,11 +623,19 @@ fn write_point(
     for (name, text) in ENSEMBLE_FILES.iter().zip(&texts) {
         s.stage(name, |w| w.write_all(text.as_bytes()))?;
     }
+    if pictures {
+        stage_plots(&mut s, &plots::ensemble_plots(&aggregate))?;
+    }
     s.commit()?;
     Ok(aggregate)
 }
 
-fn write_sweep(config: &Config, out: &Path, points: &[PointResult]) -> Result<Vec<PathBuf>> {
+fn write_sweep(
+    config: &Config,
+    out: &Path,
+    points: &[PointResult],
+    pictures: bool,
+) -> Result<Vec<PathBuf>> {
     let Some(sw) = &config.sweep else {
         return Ok(ENSEMBLE_FILES.iter().map(|f| out.join(f)).collect());
     };
@@ -616,6 +656,13 @@ fn write_sweep(config: &Config, out: &Path, points: &[PointResult]) -> Result<Ve
     for (name, text) in SWEEP_FILES.iter().zip(&texts) {
         s.stage(name, |w| w.write_all(text.as_bytes()))?;
     }
+    if pictures {
+        let labelled: Vec<(&str, &Aggregate)> = points
+            .iter()
+            .map(|p| (p.label.as_deref().unwrap_or(""), &p.aggregate))
+            .collect();
+        stage_plots(&mut s, &plots::sweep_plots(sw, &labelled))?;
+    }
     s.commit()
 }
 
@@ -623,6 +670,11 @@ fn write_sweep(config: &Config, out: &Path, points: &[PointResult]) -> Result<Ve
 /// same `ensemble.*` and `sweep.*` files as a single run of the whole ensemble
 /// (byte for byte), and copies of every replicate's `summary.json`.
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Outcome> {
+    merge_with(dirs, out, true)
+}
+
+/// [`merge`], writing the plots only if `pictures`.
+pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcome> {
     let start = Instant::now();
     if dirs.is_empty() {
         return Err(Error::config("merge: give the shard directories to join"));
@@ -756,9 +808,9 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Outcome> {
             first.runs,
             Shard::ALL,
             &values,
-            0,
-            values.len() as u64,
+            (0, values.len() as u64),
             wall,
+            pictures,
         )?;
         outcome.points.push(PointResult {
             label: p.label.clone(),
@@ -768,7 +820,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Outcome> {
             resumed: values.len() as u64,
         });
     }
-    outcome.files = write_sweep(&config, out, &outcome.points)?;
+    outcome.files = write_sweep(&config, out, &outcome.points, pictures)?;
     Ok(outcome)
 }
 

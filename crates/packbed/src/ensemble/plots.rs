@@ -1,0 +1,573 @@
+//! Plots of an ensemble and of a sweep, drawn from the statistics alone (the
+//! [`Aggregate`]s), so that merged shards give the same files as one run.
+//!
+//! Per ensemble (or sweep value): packing fractions and mean coordination
+//! numbers as bars with ± sd, the coordination-number histograms summed over
+//! the beds (overall and per species, side by side), the mean packing profile
+//! with ± sd, and for chains the summed orientation histogram. Per sweep: each
+//! headline measure's mean ± sd against the parameter, and the percentage of
+//! beds with a percolation chain.
+
+use super::stats::{Aggregate, Histogram, Series as StatSeries, Stats};
+use super::sweep::{SweepConfig, SweepValue};
+use crate::render::plot::{format_number, BarGroup, Plot, PlotData, Series};
+
+/// Plots of one ensemble, as `(file stem, plot)`; only those whose measures
+/// the beds have.
+pub fn ensemble_plots(a: &Aggregate) -> Vec<(String, Plot)> {
+    let beds = a.replicates;
+    let mut out = Vec::new();
+    if let Some(p) = packing_bars(a, beds) {
+        out.push(("plot_packing".to_string(), p));
+    }
+    if let Some(p) = coordination_means(a, beds) {
+        out.push(("plot_coordination_means".to_string(), p));
+    }
+    if let Some(p) = coordination_histograms(a, beds) {
+        out.push(("plot_coordination".to_string(), p));
+    }
+    if let Some(p) = packing_profile(a, beds) {
+        out.push(("plot_profile".to_string(), p));
+    }
+    if let Some(p) = chain_angles(a, beds) {
+        out.push(("plot_chain_angles".to_string(), p));
+    }
+    out
+}
+
+fn measure<'a>(a: &'a Aggregate, name: &str) -> Option<&'a Stats> {
+    a.measures
+        .iter()
+        .find(|m| m.name == name)
+        .map(|m| &m.stats)
+        .filter(|s| s.n > 0)
+}
+
+fn histogram<'a>(a: &'a Aggregate, name: &str) -> Option<&'a Histogram> {
+    a.histograms
+        .iter()
+        .find(|h| h.name == name)
+        .filter(|h| h.counts.iter().any(|&c| c > 0.0))
+}
+
+fn series<'a>(a: &'a Aggregate, name: &str) -> Option<&'a StatSeries> {
+    a.series.iter().find(|s| s.name == name)
+}
+
+/// Species names in the order their coordination measures appear.
+fn species_names(a: &Aggregate) -> Vec<String> {
+    let mut names: Vec<String> = Vec::new();
+    for m in &a.measures {
+        if let Some(rest) = m.name.strip_prefix("coordination.by_species.") {
+            if let Some(name) = rest.strip_suffix(".mean") {
+                if !names.iter().any(|n| n == name) {
+                    names.push(name.to_string());
+                }
+            }
+        }
+    }
+    names
+}
+
+fn beds_text(beds: u64) -> String {
+    if beds == 1 {
+        "1 bed".into()
+    } else {
+        format!("{beds} beds")
+    }
+}
+
+/// Global, bulk and regional packing fractions.
+fn packing_bars(a: &Aggregate, beds: u64) -> Option<Plot> {
+    let rows: Vec<(&str, &Stats)> = [
+        ("global", "packing.global"),
+        ("bulk", "packing.bulk"),
+        ("floor", "packing.regions.floor"),
+        ("roof", "packing.regions.roof"),
+        ("wall", "packing.regions.wall"),
+        ("centre", "packing.regions.centre"),
+    ]
+    .into_iter()
+    .filter_map(|(label, key)| measure(a, key).map(|s| (label, s)))
+    .collect();
+    if rows.is_empty() {
+        return None;
+    }
+    Some(Plot {
+        title: format!("Packing fraction: mean ± sd over {}", beds_text(beds)),
+        x_label: "region of the bed".into(),
+        y_label: "packing fraction".into(),
+        data: PlotData::Bars {
+            categories: rows.iter().map(|r| r.0.to_string()).collect(),
+            groups: vec![BarGroup {
+                name: "mean ± sd".into(),
+                values: rows.iter().map(|r| r.1.mean).collect(),
+                errors: Some(rows.iter().map(|r| r.1.sd).collect()),
+            }],
+        },
+        y_range: Some((0.0, 1.0)),
+        x_range: None,
+    })
+}
+
+/// Mean coordination number, whole bed and bulk, overall and per species.
+fn coordination_means(a: &Aggregate, beds: u64) -> Option<Plot> {
+    let names = species_names(a);
+    let mut categories = vec!["all".to_string()];
+    let mut keys = vec!["coordination".to_string()];
+    // One species is the same as "all": no second bar.
+    if names.len() > 1 {
+        for n in &names {
+            categories.push(n.clone());
+            keys.push(format!("coordination.by_species.{n}"));
+        }
+    }
+    let group = |suffix: &str, name: &str| -> Option<BarGroup> {
+        let stats: Vec<Option<&Stats>> = keys
+            .iter()
+            .map(|k| measure(a, &format!("{k}.{suffix}")))
+            .collect();
+        stats.iter().any(Option::is_some).then(|| BarGroup {
+            name: name.into(),
+            values: stats.iter().map(|s| s.map_or(0.0, |s| s.mean)).collect(),
+            errors: Some(stats.iter().map(|s| s.map_or(0.0, |s| s.sd)).collect()),
+        })
+    };
+    let groups: Vec<BarGroup> = [group("mean", "whole bed"), group("mean_bulk", "bulk")]
+        .into_iter()
+        .flatten()
+        .collect();
+    if groups.is_empty() {
+        return None;
+    }
+    Some(Plot {
+        title: format!(
+            "Mean coordination number: mean ± sd over {}",
+            beds_text(beds)
+        ),
+        x_label: "particles".into(),
+        y_label: "contacts per particle".into(),
+        data: PlotData::Bars { categories, groups },
+        y_range: None,
+        x_range: None,
+    })
+}
+
+/// Coordination-number histograms summed over the beds, as % of particles.
+fn coordination_histograms(a: &Aggregate, beds: u64) -> Option<Plot> {
+    let names = species_names(a);
+    let mut hists: Vec<(String, &Histogram)> = Vec::new();
+    if let Some(h) = histogram(a, "coordination.histogram") {
+        hists.push(("all particles".into(), h));
+    }
+    if names.len() > 1 {
+        for n in &names {
+            if let Some(h) = histogram(a, &format!("coordination.by_species.{n}.histogram")) {
+                hists.push((n.clone(), h));
+            }
+        }
+    }
+    if hists.is_empty() {
+        return None;
+    }
+    // Up to the highest bin that any histogram uses.
+    let bins = hists
+        .iter()
+        .filter_map(|(_, h)| h.counts.iter().rposition(|&c| c > 0.0))
+        .max()
+        .map_or(1, |k| k + 1);
+    Some(Plot {
+        title: format!("Coordination numbers, summed over {}", beds_text(beds)),
+        x_label: "coordination number (contacts with other particles)".into(),
+        y_label: "particles (%)".into(),
+        data: PlotData::Bars {
+            categories: (0..bins).map(|k| k.to_string()).collect(),
+            groups: hists
+                .into_iter()
+                .map(|(name, h)| BarGroup {
+                    name,
+                    values: (0..bins)
+                        .map(|k| 100.0 * h.fraction.get(k).copied().unwrap_or(0.0))
+                        .collect(),
+                    errors: None,
+                })
+                .collect(),
+        },
+        y_range: None,
+        x_range: None,
+    })
+}
+
+/// Mean packing fraction per slab against the slab's mid-height, ± sd.
+fn packing_profile(a: &Aggregate, beds: u64) -> Option<Plot> {
+    let z = series(a, "packing.profile.z")?;
+    let phi = series(a, "packing.profile.fraction")?;
+    let points: Vec<(f64, f64, f64)> = z
+        .entries
+        .iter()
+        .zip(&phi.entries)
+        .filter(|(z, p)| z.n > 0 && p.n > 0)
+        .map(|(z, p)| (z.mean, p.mean, p.sd))
+        .collect();
+    if points.is_empty() {
+        return None;
+    }
+    let slab = measure(a, "packing.profile.slab").map_or(0.0, |s| s.mean);
+    let top = points.last().map_or(0.0, |p| p.0 + 0.5 * slab);
+    Some(Plot {
+        title: format!(
+            "Packing fraction profile: mean ± sd over {} (slabs {} thick)",
+            beds_text(beds),
+            format_number(slab)
+        ),
+        x_label: "height above the floor (length units)".into(),
+        y_label: "packing fraction".into(),
+        data: PlotData::Lines {
+            series: vec![Series {
+                name: "mean ± sd".into(),
+                points: points.iter().map(|p| (p.0, p.1)).collect(),
+                errors: Some(points.iter().map(|p| p.2).collect()),
+                markers: false,
+            }],
+        },
+        y_range: Some((0.0, 1.0)),
+        x_range: Some((0.0, top.max(slab))),
+    })
+}
+
+/// The chain-axis angle histogram summed over the beds.
+fn chain_angles(a: &Aggregate, beds: u64) -> Option<Plot> {
+    let h = histogram(a, "orientation.histogram.counts")?;
+    let lo = measure(a, "orientation.histogram.lo")?.mean;
+    let width = measure(a, "orientation.histogram.bin_width")?.mean;
+    let chains = h.counts.iter().sum::<f64>();
+    let s = measure(a, "orientation.order_parameter");
+    let order = s.map_or(String::new(), |s| {
+        format!("; S = {} ± {}", format_number(s.mean), format_number(s.sd))
+    });
+    Some(Plot {
+        title: format!(
+            "Chain orientation: {} chains in {}{order}",
+            format_number(chains),
+            beds_text(beds)
+        ),
+        x_label: if lo < 0.0 {
+            "angle from vertical (degrees, negative: leaning left)".into()
+        } else {
+            "polar angle from vertical (degrees)".into()
+        },
+        y_label: "chains (%)".into(),
+        // From zero: a share cannot be negative.
+        y_range: Some((
+            0.0,
+            1.1 * h.fraction.iter().fold(0.0, |m: f64, &f| m.max(100.0 * f)),
+        )),
+        data: PlotData::Lines {
+            series: vec![Series {
+                name: "chains".into(),
+                points: h
+                    .fraction
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &f)| (lo + width * (k as f64 + 0.5), 100.0 * f))
+                    .collect(),
+                errors: None,
+                markers: true,
+            }],
+        },
+        x_range: Some((lo, lo + width * h.fraction.len() as f64)),
+    })
+}
+
+/// Measures drawn against the sweep parameter, with their plot file stems.
+const SWEEP_MEASURES: [(&str, &str, &str); 4] = [
+    (
+        "packing.global",
+        "plot_sweep_packing_global",
+        "packing fraction (global)",
+    ),
+    (
+        "packing.bulk",
+        "plot_sweep_packing_bulk",
+        "packing fraction (bulk)",
+    ),
+    (
+        "coordination.mean",
+        "plot_sweep_coordination",
+        "mean coordination number",
+    ),
+    (
+        "coordination.mean_bulk",
+        "plot_sweep_coordination_bulk",
+        "mean coordination number (bulk)",
+    ),
+];
+
+/// Plots of a sweep: each headline measure's mean ± sd against the parameter,
+/// and the percentage of beds with a percolation chain (overall and per
+/// direction). `points` are the sweep values' labels and statistics, in the
+/// order of `sweep.values`.
+pub fn sweep_plots(sweep: &SweepConfig, points: &[(&str, &Aggregate)]) -> Vec<(String, Plot)> {
+    let Some(first) = points.first() else {
+        return Vec::new();
+    };
+    // A line against the value when every value is one number; bars per label
+    // otherwise (e.g. ratios `1:2`).
+    let xs: Option<Vec<f64>> = sweep
+        .values
+        .iter()
+        .map(|v| match v {
+            SweepValue::Number(x) => Some(*x),
+            SweepValue::List(_) => None,
+        })
+        .collect::<Option<Vec<f64>>>()
+        .filter(|xs| xs.len() == points.len());
+    let labels: Vec<String> = points.iter().map(|p| p.0.to_string()).collect();
+    let parameter = sweep.parameter.as_str();
+    let mut out = Vec::new();
+    for (key, stem, what) in SWEEP_MEASURES {
+        if measure(first.1, key).is_none() {
+            continue;
+        }
+        let stats: Vec<Option<&Stats>> = points.iter().map(|p| measure(p.1, key)).collect();
+        let curve = Curve {
+            name: "mean ± sd".into(),
+            values: stats.iter().map(|s| s.map(|s| s.mean)).collect(),
+            errors: Some(stats.iter().map(|s| s.map_or(0.0, |s| s.sd)).collect()),
+        };
+        out.push((
+            stem.to_string(),
+            against(
+                format!("{}: mean ± sd per {parameter}", capitalised(what)),
+                parameter,
+                what,
+                xs.as_deref(),
+                &labels,
+                vec![curve],
+                None,
+            ),
+        ));
+    }
+    if measure(first.1, "percolation.spans").is_some() {
+        let mut keys = vec![("any direction".to_string(), "percolation.spans".to_string())];
+        let axes = ["x", "y"];
+        let directions = (0..2)
+            .filter(|k| measure(first.1, &format!("percolation.directions[{k}].spans")).is_some())
+            .count();
+        if directions > 1 {
+            for (k, axis) in axes.iter().enumerate().take(directions) {
+                keys.push((
+                    format!("along {axis}"),
+                    format!("percolation.directions[{k}].spans"),
+                ));
+            }
+        }
+        let curves = keys
+            .iter()
+            .map(|(name, key)| Curve {
+                name: name.clone(),
+                values: points
+                    .iter()
+                    .map(|p| measure(p.1, key).map(|s| s.mean))
+                    .collect(),
+                errors: None,
+            })
+            .collect();
+        out.push((
+            "plot_sweep_percolation".to_string(),
+            against(
+                format!("Beds with a percolation chain, per {parameter}"),
+                parameter,
+                "beds with a chain (%)",
+                xs.as_deref(),
+                &labels,
+                curves,
+                Some((0.0, 100.0)),
+            ),
+        ));
+    }
+    out
+}
+
+fn capitalised(text: &str) -> String {
+    let mut c = text.chars();
+    c.next()
+        .map(|f| f.to_uppercase().chain(c).collect())
+        .unwrap_or_default()
+}
+
+/// The x-axis label of a swept parameter, with its unit.
+fn parameter_label(parameter: &str) -> String {
+    let what = match parameter {
+        "ratio" => "number ratio of the species",
+        "radii" => "radii of the species (length units)",
+        "box.diameters" => "box width (largest particle diameters)",
+        "box.size" => "box size (length units)",
+        "fill.count" => "particles placed",
+        "fill.roof_misses" => "overflows allowed at the roof",
+        "analysis.large_radius" => "radius of a large particle (length units)",
+        p if p.ends_with(".radius") => "radius (length units)",
+        p if p.ends_with(".ratio") => "number ratio",
+        _ => return parameter.to_string(),
+    };
+    format!("{parameter}: {what}")
+}
+
+/// One quantity per sweep value (`None`: not measured there).
+struct Curve {
+    name: String,
+    values: Vec<Option<f64>>,
+    errors: Option<Vec<f64>>,
+}
+
+/// Curves against the sweep values: lines over numeric values, grouped bars
+/// over labels.
+fn against(
+    title: String,
+    parameter: &str,
+    y_label: &str,
+    xs: Option<&[f64]>,
+    labels: &[String],
+    curves: Vec<Curve>,
+    y_range: Option<(f64, f64)>,
+) -> Plot {
+    let data = match xs {
+        Some(xs) => PlotData::Lines {
+            series: curves
+                .into_iter()
+                .map(|c| {
+                    let kept: Vec<usize> =
+                        (0..xs.len()).filter(|&i| c.values[i].is_some()).collect();
+                    Series {
+                        name: c.name,
+                        points: kept
+                            .iter()
+                            .map(|&i| (xs[i], c.values[i].unwrap_or(0.0)))
+                            .collect(),
+                        errors: c.errors.map(|e| kept.iter().map(|&i| e[i]).collect()),
+                        markers: true,
+                    }
+                })
+                .collect(),
+        },
+        None => PlotData::Bars {
+            categories: labels.to_vec(),
+            groups: curves
+                .into_iter()
+                .map(|c| BarGroup {
+                    name: c.name,
+                    values: c.values.iter().map(|v| v.unwrap_or(0.0)).collect(),
+                    errors: c.errors,
+                })
+                .collect(),
+        },
+    };
+    Plot {
+        title,
+        x_label: parameter_label(parameter),
+        y_label: y_label.into(),
+        data,
+        y_range,
+        x_range: None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ensemble::stats::{Kind, Measure};
+
+    fn stats(mean: f64, sd: f64) -> Stats {
+        Stats {
+            n: 4,
+            mean,
+            sd,
+            min: mean - sd,
+            max: mean + sd,
+        }
+    }
+
+    fn aggregate(measures: &[(&str, f64, f64)]) -> Aggregate {
+        Aggregate {
+            replicates: 4,
+            measures: measures
+                .iter()
+                .map(|&(name, mean, sd)| Measure {
+                    name: name.into(),
+                    kind: Kind::Value,
+                    stats: stats(mean, sd),
+                })
+                .collect(),
+            ..Aggregate::default()
+        }
+    }
+
+    #[test]
+    fn packing_bars_follow_the_measures_present() {
+        let a = aggregate(&[
+            ("packing.global", 0.55, 0.01),
+            ("packing.regions.wall", 0.5, 0.02),
+        ]);
+        let plots = ensemble_plots(&a);
+        let (_, p) = plots.iter().find(|p| p.0 == "plot_packing").unwrap();
+        let PlotData::Bars { categories, groups } = &p.data else {
+            panic!("bars expected");
+        };
+        assert_eq!(categories, &["global", "wall"]);
+        assert_eq!(groups[0].values, vec![0.55, 0.5]);
+        assert_eq!(groups[0].errors, Some(vec![0.01, 0.02]));
+        assert!(p.title.contains("4 beds"));
+    }
+
+    #[test]
+    fn coordination_means_per_species_side_by_side() {
+        let a = aggregate(&[
+            ("coordination.mean", 4.0, 0.1),
+            ("coordination.mean_bulk", 4.5, 0.2),
+            ("coordination.by_species.large.mean", 6.0, 0.3),
+            ("coordination.by_species.small.mean", 3.0, 0.4),
+        ]);
+        let plots = ensemble_plots(&a);
+        let (_, p) = plots
+            .iter()
+            .find(|p| p.0 == "plot_coordination_means")
+            .unwrap();
+        let PlotData::Bars { categories, groups } = &p.data else {
+            panic!("bars expected");
+        };
+        assert_eq!(categories, &["all", "large", "small"]);
+        assert_eq!(groups[0].values, vec![4.0, 6.0, 3.0]);
+        // Bulk is known for "all" only; species bars are 0 there.
+        assert_eq!(groups[1].values, vec![4.5, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn numeric_sweeps_are_lines_and_ratios_are_bars() {
+        let a = aggregate(&[("packing.global", 0.6, 0.01)]);
+        let b = aggregate(&[("packing.global", 0.62, 0.02)]);
+        let mut sw = SweepConfig {
+            parameter: "box.diameters".into(),
+            values: vec![SweepValue::Number(6.0), SweepValue::Number(24.0)],
+            labels: None,
+        };
+        let plots = sweep_plots(&sw, &[("6", &a), ("24", &b)]);
+        let (_, p) = plots
+            .iter()
+            .find(|p| p.0 == "plot_sweep_packing_global")
+            .unwrap();
+        let PlotData::Lines { series } = &p.data else {
+            panic!("lines expected");
+        };
+        assert_eq!(series[0].points, vec![(6.0, 0.6), (24.0, 0.62)]);
+        assert_eq!(series[0].errors, Some(vec![0.01, 0.02]));
+        sw.values = vec![
+            SweepValue::List(vec![1.0, 1.0]),
+            SweepValue::List(vec![1.0, 2.0]),
+        ];
+        let plots = sweep_plots(&sw, &[("1:1", &a), ("1:2", &b)]);
+        let PlotData::Bars { categories, .. } = &plots[0].1.data else {
+            panic!("bars expected");
+        };
+        assert_eq!(categories, &["1:1", "1:2"]);
+    }
+}
