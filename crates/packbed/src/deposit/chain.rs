@@ -751,20 +751,29 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
                 h = h.min(2.0 * c.gap / disc);
             }
         }
+        // First with the supports shut (closing one that is a little open is
+        // itself a descent when the rate of descent is below rounding); if
+        // no step length works, with supports open by less than `contact`
+        // left as they are: shutting them can be impossible (two neighbouring
+        // beads of a rod on one obstacle, one at gap 0, one a little open).
         let mut accepted = false;
-        for _ in 0..60 {
-            let mut trial = pose;
-            let mut dz = settler.advance(&mut trial, &u, h);
-            let mut set = supports.clone();
-            if let Some(d) = settler.project_all(&mut trial, &mut set, &candidates, 0.0) {
-                dz += d;
-                if dz <= -0.1 * h * rate_z {
-                    pose = trial;
-                    accepted = true;
-                    break;
+        let h0 = h;
+        'slack: for slack in [0.0, contact] {
+            h = h0;
+            for _ in 0..60 {
+                let mut trial = pose;
+                let mut dz = settler.advance(&mut trial, &u, h);
+                let mut set = supports.clone();
+                if let Some(d) = settler.project_all(&mut trial, &mut set, &candidates, slack) {
+                    dz += d;
+                    if dz <= -0.1 * h * rate_z {
+                        pose = trial;
+                        accepted = true;
+                        break 'slack;
+                    }
                 }
+                h *= 0.5;
             }
-            h *= 0.5;
         }
         if !accepted {
             dbg_fail("line search", it, &(residual.norm(), m, supports.len(), h));
