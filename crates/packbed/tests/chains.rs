@@ -259,10 +259,10 @@ fn check_run<const D: usize>(c: &Config, what: &str) -> Bed<D> {
     let (bed, report) = run::<D>(c);
     let r = check_bed(&bed, TOL);
     assert_ok(&r, what);
-    // Known weakness (see `known_bug_chain_redrops_are_rare_in_3d`): in 3D a few
-    // per cent of chains still exhaust the settling budget and are re-dropped.
+    // Known weakness (see `known_bug_chain_redrops_are_rare_in_3d`): a few
+    // chains in 10^4 still find no rest and are re-dropped.
     assert!(
-        report.redrops * 20 <= report.dropped + 40,
+        report.redrops * 100 <= report.dropped + 10,
         "{what}: {} re-drops for {} dropped",
         report.redrops,
         report.dropped
@@ -423,9 +423,11 @@ fn order_parameter_of_a_small_rod_bed_is_negative() {
     assert!(s < 0.0, "S = {s}");
 }
 
-/// The model asks re-drops to be rare (< 1 in 10^5); chains in 3D do not meet it
-/// yet (a few per cent: line-search failures among many nearly parallel
-/// contacts, a rod lying along a rod). Run with `--ignored`.
+/// The model asks re-drops to be rare (< 1 in 10^5); chains do not meet it yet:
+/// about 2 in 10^4 (`throughput_five_bead_chains`: 4 of 20,000 in 2D, 2 of
+/// 10,000 in 3D), all line searches that find no step while the balance
+/// residual is just above the rest tolerance. Rods are at 0 of 200 here (8
+/// before supports a little open were let be). Run with `--ignored`.
 #[test]
 #[ignore]
 fn known_bug_chain_redrops_are_rare_in_3d() {
@@ -453,11 +455,14 @@ fn throughput_five_bead_chains() {
             &format!("count = {}\nbase_layer = \"none\"", 5 * n),
             CHAINS_5,
         );
+        // The invariants are checked too (after the timing).
         let (report, beds) = if dim == 2 {
             let (b, r) = run::<2>(&c);
+            assert_ok(&check_bed(&b, TOL), "2D chains");
             (r, b.body_count())
         } else {
             let (b, r) = run::<3>(&c);
+            assert_ok(&check_bed(&b, TOL), "3D chains");
             (r, b.body_count())
         };
         println!(

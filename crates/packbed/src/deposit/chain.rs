@@ -658,11 +658,16 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
     let mut h_prev = Real::INFINITY;
     let mut target = Gen::zero();
     target[D - 1] = 1.0;
+    // One iteration that counts only shut contacts (gap within `REST_GAP`) as
+    // touching, after a balance whose supports could not all be shut.
+    let mut tight = false;
     for it in 0..MAX_ITERATIONS {
         settler.gather(&pose, max_step * 1.01 + contact, &mut candidates);
+        let was_tight = std::mem::take(&mut tight);
+        let band = if was_tight { REST_GAP * r } else { contact };
         let mut m = 0;
         for (i, c) in candidates.iter().enumerate() {
-            if c.gap < contact {
+            if c.gap < band {
                 if m == MAX_TOUCHING {
                     // Keep the closest contacts (a tie of many is degenerate).
                     let (worst, _) = which[..m]
@@ -704,8 +709,15 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
                 .project_all(&mut exact, &mut set, &candidates, REST_GAP * r)
                 .is_none()
             {
-                dbg_fail("rest projection", it, &supports.len());
-                return None;
+                if was_tight {
+                    dbg_fail("rest projection", it, &supports.len());
+                    return None;
+                }
+                // Some support a little open cannot be shut while the others
+                // stay shut: it is no support here. Look again with only the
+                // contacts that are shut.
+                tight = true;
+                continue;
             }
             let moved = (exact.com - pose.com).norm() + (exact.axis - pose.axis).norm() * r;
             pose = exact;
@@ -741,7 +753,7 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
             h = h.min(0.5 / uw);
         }
         for c in &candidates {
-            if c.gap < contact {
+            if c.gap < band {
                 continue;
             }
             let rate = c.row.dot(&u);
