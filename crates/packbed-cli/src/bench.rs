@@ -25,9 +25,13 @@ pub struct BenchArgs {
     /// Dimension: 2 (discs) or 3 (spheres).
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(2..=3))]
     pub dim: u8,
-    /// Number of particles to deposit.
+    /// Number of particles to deposit (of chains, with `--chains`).
     #[arg(long, default_value_t = 100_000, allow_negative_numbers = true, value_parser = clap::value_parser!(u64).range(1..))]
     pub n: u64,
+    /// Deposit rigid chains of this many beads (radius 10, spacing 1.0,
+    /// entering upright) instead of spheres; `--n` counts chains.
+    #[arg(long, value_name = "BEADS", value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub chains: Option<u32>,
     /// Periodic side boundaries (no side walls).
     #[arg(long)]
     pub periodic: bool,
@@ -52,6 +56,11 @@ struct BenchResult {
     periodic: bool,
     seconds: f64,
     particles_per_second: f64,
+    /// Bodies (chains, or particles) deposited and per second.
+    bodies: u64,
+    bodies_per_second: f64,
+    /// Particles re-dropped because they found no rest.
+    redrops: u64,
     peak_rss_bytes: u64,
     /// Seconds per analysis stage, stages of the same name summed.
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -66,23 +75,32 @@ fn bench_config(args: &BenchArgs) -> Config {
         ..Config::default()
     };
     // One lateral side in diameters: a cube (square) of n particles at random
-    // close packing is about this wide; never narrower than 4 diameters.
-    let side = (args.n as f64).powf(1.0 / args.dim as f64).max(4.0) * 2.0 * RADIUS;
+    // close packing is about this wide; never narrower than 4 diameters. A
+    // chain counts as its beads, and the box is at least two chains wide.
+    let beads = args.chains.unwrap_or(1);
+    let particles = args.n.saturating_mul(u64::from(beads));
+    let chain_length = (f64::from(beads) + 1.0) * RADIUS;
+    let side = ((particles as f64).powf(1.0 / args.dim as f64).max(4.0) * 2.0 * RADIUS)
+        .max(2.0 * chain_length);
     c.container.width = Some(side);
     c.container.depth = (args.dim == 3).then_some(side);
     c.container.height = Some(side);
     c.container.periodic = args.periodic;
-    c.fill.count = Some(args.n);
+    c.fill.count = Some(particles);
     c.fill.base_layer = BaseLayerKind::None;
     c.species.truncate(1);
     c.species[0].radius = Some(RADIUS);
+    if let Some(b) = args.chains {
+        c.species[0].shape = "chain".into();
+        c.species[0].beads = Some(b);
+    }
     c
 }
 
 /// Runs `packbed bench`.
 pub fn bench(args: BenchArgs) -> Result<()> {
-    let (bed, seconds) = match &args.bed {
-        Some(path) => (packbed::io::read::read_bed(path, None)?, None),
+    let (bed, seconds, redrops) = match &args.bed {
+        Some(path) => (packbed::io::read::read_bed(path, None)?, None, 0),
         None => {
             let config = bench_config(&args);
             let mut progress = Progress::new(&config, args.json);
@@ -90,7 +108,8 @@ pub fn bench(args: BenchArgs) -> Result<()> {
             let built = packbed::deposit::build(&config, &mut |n| progress.update(n));
             let seconds = start.elapsed().as_secs_f64();
             progress.finish();
-            (built.context("bench")?.0, Some(seconds))
+            let (bed, report) = built.context("bench")?;
+            (bed, Some(seconds), report.redrops)
         }
     };
     let analysis = if args.analysis || args.bed.is_some() {
@@ -101,9 +120,9 @@ pub fn bench(args: BenchArgs) -> Result<()> {
     } else {
         Vec::new()
     };
-    let (dim, n, periodic) = match &bed {
-        AnyBed::D2(b) => (2, b.len(), b.container.periodic),
-        AnyBed::D3(b) => (3, b.len(), b.container.periodic),
+    let (dim, n, bodies, periodic) = match &bed {
+        AnyBed::D2(b) => (2, b.len(), b.body_count(), b.container.periodic),
+        AnyBed::D3(b) => (3, b.len(), b.body_count(), b.container.periodic),
     };
     let r = BenchResult {
         dim,
@@ -112,6 +131,9 @@ pub fn bench(args: BenchArgs) -> Result<()> {
         seconds: seconds.unwrap_or(0.0),
         // A clock too coarse to see the run must not produce infinity.
         particles_per_second: seconds.map_or(0.0, |s| n as f64 / s.max(1e-9)),
+        bodies: bodies as u64,
+        bodies_per_second: seconds.map_or(0.0, |s| bodies as f64 / s.max(1e-9)),
+        redrops,
         peak_rss_bytes: peak_rss_bytes().unwrap_or(0),
         analysis,
     };
@@ -121,6 +143,15 @@ pub fn bench(args: BenchArgs) -> Result<()> {
     }
     let walls = if r.periodic { "periodic" } else { "walls" };
     match seconds {
+        Some(s) if args.chains.is_some() => println!(
+            "packbed bench: {}D, {} chains of {} beads, {walls}: {s:.3} s, {:.0} chains/s, {} re-drops, peak RSS {:.1} MiB",
+            r.dim,
+            r.bodies,
+            args.chains.unwrap_or(1),
+            r.bodies_per_second,
+            r.redrops,
+            r.peak_rss_bytes as f64 / (1 << 20) as f64
+        ),
         Some(s) => println!(
             "packbed bench: {}D, {} particles, {walls}: {s:.3} s, {:.0} particles/s, peak RSS {:.1} MiB",
             r.dim,

@@ -492,6 +492,30 @@ fn bench_json_is_one_object_with_the_keys() {
 }
 
 #[test]
+fn bench_deposits_chains_and_counts_them() {
+    let s = Scratch::new();
+    let o = s.packbed(&[
+        "bench",
+        "--dim",
+        "2",
+        "--chains",
+        "5",
+        "--n",
+        "40",
+        "--periodic",
+        "--json",
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let v: Value = serde_json::from_str(&o.stdout).unwrap();
+    assert_eq!(v["bodies"], 40);
+    assert_eq!(v["n"], 200);
+    assert!(v["bodies_per_second"].as_f64().unwrap() > 0.0);
+    assert!(v["redrops"].as_u64().is_some());
+    let bad = s.packbed(&["bench", "--chains", "0"]);
+    assert_eq!(bad.code, 2, "{}", bad.stderr);
+}
+
+#[test]
 fn bench_times_every_analysis_stage_of_a_bed_file() {
     let s = Scratch::new();
     small_run(&s, "b", &["-q", "--no-pictures"]);
