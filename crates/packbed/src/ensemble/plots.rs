@@ -11,6 +11,7 @@
 use super::stats::{Aggregate, Histogram, Series as StatSeries, Stats};
 use super::sweep::{SweepConfig, SweepValue};
 use crate::render::plot::{format_number, BarGroup, Plot, PlotData, Series};
+use crate::render::run_plots::chain_angle_plot;
 
 /// Plots of one ensemble, as `(file stem, plot)`; only those whose measures
 /// the beds have.
@@ -245,38 +246,22 @@ fn chain_angles(a: &Aggregate, beds: u64) -> Option<Plot> {
     let order = s.map_or(String::new(), |s| {
         format!("; S = {} ± {}", format_number(s.mean), format_number(s.sd))
     });
-    Some(Plot {
-        title: format!(
+    let points: Vec<(f64, f64)> = h
+        .fraction
+        .iter()
+        .enumerate()
+        .map(|(k, &f)| (lo + width * (k as f64 + 0.5), 100.0 * f))
+        .collect();
+    Some(chain_angle_plot(
+        format!(
             "Chain orientation: {} chains in {}{order}",
             format_number(chains),
             beds_text(beds)
         ),
-        x_label: if lo < 0.0 {
-            "angle from vertical (degrees, negative: leaning left)".into()
-        } else {
-            "polar angle from vertical (degrees)".into()
-        },
-        y_label: "chains (%)".into(),
-        // From zero: a share cannot be negative.
-        y_range: Some((
-            0.0,
-            1.1 * h.fraction.iter().fold(0.0, |m: f64, &f| m.max(100.0 * f)),
-        )),
-        data: PlotData::Lines {
-            series: vec![Series {
-                name: "chains".into(),
-                points: h
-                    .fraction
-                    .iter()
-                    .enumerate()
-                    .map(|(k, &f)| (lo + width * (k as f64 + 0.5), 100.0 * f))
-                    .collect(),
-                errors: None,
-                markers: true,
-            }],
-        },
-        x_range: Some((lo, lo + width * h.fraction.len() as f64)),
-    })
+        points,
+        lo,
+        width,
+    ))
 }
 
 /// Measures drawn against the sweep parameter, with their plot file stems.
@@ -476,6 +461,7 @@ fn against(
 mod tests {
     use super::*;
     use crate::ensemble::stats::{Kind, Measure};
+    use crate::render::run_plots::isotropic_angles;
 
     fn stats(mean: f64, sd: f64) -> Stats {
         Stats {
@@ -539,6 +525,18 @@ mod tests {
         assert_eq!(groups[0].values, vec![4.0, 6.0, 3.0]);
         // Bulk is known for "all" only; species bars are 0 there.
         assert_eq!(groups[1].values, vec![4.5, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn random_orientation_reference_sums_to_all_chains() {
+        for (lo, bins) in [(0.0, 18), (-90.0, 36)] {
+            let r = isotropic_angles(lo, 5.0, bins);
+            let total: f64 = r.points.iter().map(|p| p.1).sum();
+            assert!((total - 100.0).abs() < 1e-9, "{lo}: {total}");
+        }
+        // In space, near-horizontal axes are the likeliest by far.
+        let r = isotropic_angles(0.0, 5.0, 18);
+        assert!(r.points[17].1 > 10.0 * r.points[0].1);
     }
 
     #[test]

@@ -164,25 +164,74 @@ pub fn chain_angle_histogram(angles: &[Real], dim: usize) -> Plot {
         .enumerate()
         .map(|(k, &v)| (lo + 5.0 * k as f64 + 2.5, v))
         .collect();
+    chain_angle_plot(
+        format!("Chain orientation ({} chains, 5° bins)", angles.len()),
+        points,
+        lo,
+        5.0,
+    )
+}
+
+/// A chain-angle histogram (`points`: bin centre, % of chains; bins `width`
+/// wide from `lo`, which is −90° in 2D and 0° in 3D) against the shares random
+/// orientations would give.
+pub fn chain_angle_plot(title: String, points: Vec<(Real, Real)>, lo: Real, width: Real) -> Plot {
+    let reference = isotropic_angles(lo, width, points.len());
     Plot {
-        title: format!("Chain orientation ({} chains, 5° bins)", angles.len()),
-        x_label: if dim == 2 {
+        title,
+        x_label: if lo < 0.0 {
             "angle from vertical (degrees, negative: leaning left)".into()
         } else {
             "polar angle from vertical (degrees)".into()
         },
         y_label: "chains (%)".into(),
+        y_range: Some(angle_share_range(&points, &reference)),
+        x_range: Some((lo, lo + width * points.len() as Real)),
         data: PlotData::Lines {
-            series: vec![Series {
-                name: "chains".into(),
-                points,
-                errors: None,
-                markers: true,
-            }],
+            series: vec![
+                Series {
+                    name: "chains".into(),
+                    points,
+                    errors: None,
+                    markers: true,
+                },
+                reference,
+            ],
         },
-        y_range: None,
-        x_range: Some((lo, hi)),
     }
+}
+
+/// The share of chains per angle bin (%) if their axes pointed at random:
+/// uniform in the plane (2D, angles from −90°), `∝ sin θ` in space (3D, polar
+/// angles from 0°), so that a 3D histogram rising towards 90° is read against
+/// the rise that isotropy alone gives.
+pub fn isotropic_angles(lo: Real, width: Real, bins: usize) -> Series {
+    let points = (0..bins)
+        .map(|k| {
+            let a = lo + width * k as Real;
+            let share = if lo < 0.0 {
+                width / 180.0
+            } else {
+                a.to_radians().cos() - (a + width).to_radians().cos()
+            };
+            (a + 0.5 * width, 100.0 * share)
+        })
+        .collect();
+    Series {
+        name: "random orientations".into(),
+        points,
+        errors: None,
+        markers: false,
+    }
+}
+
+/// A y range from 0 (a share is never negative) to a little above the data.
+fn angle_share_range(points: &[(Real, Real)], reference: &Series) -> (Real, Real) {
+    let top = points
+        .iter()
+        .chain(&reference.points)
+        .fold(0.0, |m: Real, p| m.max(p.1));
+    (0.0, if top > 0.0 { 1.1 * top } else { 1.0 })
 }
 
 /// Ensemble or sweep: mean ± sd of one measure against the sweep parameter.
