@@ -66,6 +66,8 @@ const TIP_STEP: Real = 1e-3;
 /// radius): far above rounding, far below the drop of a real unstable balance
 /// (about `TIP_STEP² r / (2 (1 + R/r))`).
 const TIP_DROP: Real = 1e-10;
+/// Most tipping moves after failed line searches, per chain.
+const MAX_NUDGES: usize = 8;
 /// Most touching contacts used at once (the NNLS takes at most 16).
 const MAX_TOUCHING: usize = 16;
 
@@ -661,6 +663,8 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
     // One iteration that counts only shut contacts (gap within `REST_GAP`) as
     // touching, after a balance whose supports could not all be shut.
     let mut tight = false;
+    // Tipping moves tried after failed line searches.
+    let mut nudges = 0;
     for it in 0..MAX_ITERATIONS {
         settler.gather(&pose, max_step * 1.01 + contact, &mut candidates);
         let was_tight = std::mem::take(&mut tight);
@@ -788,6 +792,18 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
             }
         }
         if !accepted {
+            // No step along the descent direction is resolvable (its rate is
+            // below rounding, or the supports cannot follow it): try the
+            // tipping moves of a balance, which go a finite distance along
+            // the supports' tangent directions.
+            if nudges < MAX_NUDGES {
+                if let Some(tipped) = settler.tip(&pose, &supports, &candidates, rng) {
+                    nudges += 1;
+                    pose = tipped;
+                    h_prev = Real::INFINITY;
+                    continue;
+                }
+            }
             dbg_fail("line search", it, &(residual.norm(), m, supports.len(), h));
             return None;
         }
