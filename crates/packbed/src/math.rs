@@ -360,6 +360,60 @@ fn least_squares_subset<const D: usize>(
     true
 }
 
+/// Least squares `b ≈ Σ z_c cols[c]` in the first `q ≤ 6` coordinates, by
+/// Householder QR (the normal equations would square the condition number,
+/// which nearly parallel contact normals make large); `None` when the columns
+/// are numerically dependent or more than `q`.
+/// Entries `p..6` of the result are 0. No allocation: it runs inside the chain
+/// settling's force balance.
+pub fn least_squares_qr(cols: &[[Real; 6]], q: usize, b: &[Real; 6]) -> Option<[Real; 6]> {
+    let p = cols.len();
+    if p > q || q > 6 {
+        return None;
+    }
+    let mut m = [[0.0; 6]; 6];
+    m[..p].copy_from_slice(cols);
+    let mut y = *b;
+    let scale = m
+        .iter()
+        .take(p)
+        .map(|c| (0..q).map(|d| c[d] * c[d]).sum::<Real>().sqrt())
+        .fold(0.0, Real::max);
+    for c in 0..p {
+        let norm = (c..q).map(|d| m[c][d] * m[c][d]).sum::<Real>().sqrt();
+        if norm.is_nan() || norm <= 1e-12 * scale {
+            return None;
+        }
+        // Reflector v = x − α e_c, α of the opposite sign to x_c.
+        let alpha = if m[c][c] > 0.0 { -norm } else { norm };
+        let mut v = [0.0; 6];
+        v[c..q].copy_from_slice(&m[c][c..q]);
+        v[c] -= alpha;
+        let vv: Real = (c..q).map(|d| v[d] * v[d]).sum();
+        if vv > 0.0 {
+            for col in m[..p].iter_mut().skip(c) {
+                let f = 2.0 * (c..q).map(|d| v[d] * col[d]).sum::<Real>() / vv;
+                for d in c..q {
+                    col[d] -= f * v[d];
+                }
+            }
+            let f = 2.0 * (c..q).map(|d| v[d] * y[d]).sum::<Real>() / vv;
+            for d in c..q {
+                y[d] -= f * v[d];
+            }
+        }
+    }
+    let mut z = [0.0; 6];
+    for r in (0..p).rev() {
+        let mut t = y[r];
+        for c in r + 1..p {
+            t -= m[c][r] * z[c];
+        }
+        z[r] = t / m[r][r];
+    }
+    z.iter().all(|v| v.is_finite()).then_some(z)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -441,6 +495,28 @@ mod tests {
         assert!(r.norm() < 1e-14, "{r:?}");
         for v in l {
             assert!((v - 1.0 / (3.0 * 0.75f64.sqrt())).abs() < 1e-12);
+        }
+    }
+
+    proptest! {
+        /// The QR solution satisfies the normal equations `Aᵀ(Az − b) = 0`.
+        #[test]
+        fn qr_least_squares_is_a_least_squares_solution(
+            raw in prop::collection::vec(prop::array::uniform6(-1.0f64..1.0), 1..=6),
+            b in prop::array::uniform6(-1.0f64..1.0),
+        ) {
+            if let Some(z) = least_squares_qr(&raw, 6, &b) {
+                let mut r = b;
+                for (c, col) in raw.iter().enumerate() {
+                    for d in 0..6 {
+                        r[d] -= z[c] * col[d];
+                    }
+                }
+                for col in &raw {
+                    let g: Real = (0..6).map(|d| col[d] * r[d]).sum();
+                    prop_assert!(g.abs() < 1e-8, "gradient {g}");
+                }
+            }
         }
     }
 }

@@ -492,54 +492,11 @@ fn nnls_residual(a: &[[Real; 6]], q: usize, b: &[Real; 6]) -> Real {
     dot(&r, &r).sqrt()
 }
 
-/// Least squares `b ≈ Σ z_k a_k` over the columns `idx`, by Householder QR (the
-/// normal equations square the condition number, which nearly parallel
-/// supports make large); `None` when the columns are numerically dependent.
+/// Least squares `b ≈ Σ z_k a_k` over the columns `idx` (QR, see
+/// [`crate::math::least_squares_qr`]); `None` when they are numerically dependent.
 fn least_squares(a: &[[Real; 6]], q: usize, b: &[Real; 6], idx: &[usize]) -> Option<Vec<Real>> {
-    let p = idx.len();
-    if p > q {
-        return None;
-    }
-    // Column-major copy: m[c][d] is entry d of column c.
-    let mut m: Vec<[Real; 6]> = idx.iter().map(|&i| a[i]).collect();
-    let mut y = *b;
-    let scale = m
-        .iter()
-        .map(|c| (0..q).map(|d| c[d] * c[d]).sum::<Real>().sqrt())
-        .fold(0.0, Real::max);
-    for c in 0..p {
-        let norm = (c..q).map(|d| m[c][d] * m[c][d]).sum::<Real>().sqrt();
-        if !(norm > 1e-12 * scale) {
-            return None;
-        }
-        // Reflector v = x − α e_c with α of the opposite sign to x_c.
-        let alpha = if m[c][c] > 0.0 { -norm } else { norm };
-        let mut v = [0.0; 6];
-        v[c..q].copy_from_slice(&m[c][c..q]);
-        v[c] -= alpha;
-        let vv: Real = (c..q).map(|d| v[d] * v[d]).sum();
-        if vv > 0.0 {
-            for col in m.iter_mut().skip(c) {
-                let f = 2.0 * (c..q).map(|d| v[d] * col[d]).sum::<Real>() / vv;
-                for d in c..q {
-                    col[d] -= f * v[d];
-                }
-            }
-            let f = 2.0 * (c..q).map(|d| v[d] * y[d]).sum::<Real>() / vv;
-            for d in c..q {
-                y[d] -= f * v[d];
-            }
-        }
-    }
-    let mut z = vec![0.0; p];
-    for r in (0..p).rev() {
-        let mut t = y[r];
-        for c in r + 1..p {
-            t -= m[c][r] * z[c];
-        }
-        z[r] = t / m[r][r];
-    }
-    z.iter().all(|v| v.is_finite()).then_some(z)
+    let cols: Vec<[Real; 6]> = idx.iter().map(|&i| a[i]).collect();
+    crate::math::least_squares_qr(&cols, q, b).map(|z| z[..idx.len()].to_vec())
 }
 
 #[cfg(test)]
