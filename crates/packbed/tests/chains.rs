@@ -423,11 +423,9 @@ fn order_parameter_of_a_small_rod_bed_is_negative() {
     assert!(s < 0.0, "S = {s}");
 }
 
-/// The model asks re-drops to be rare (< 1 in 10^5); chains do not meet it yet:
-/// about 2 in 10^4 (`throughput_five_bead_chains`: 4 of 20,000 in 2D, 2 of
-/// 10,000 in 3D), all line searches that find no step while the balance
-/// residual is just above the rest tolerance. Rods are at 0 of 200 here (8
-/// before supports a little open were let be). Run with `--ignored`.
+/// The model asks re-drops to be rare (< 1 in 10^5); chains do not meet it yet
+/// in 3D: 6 in 10^5 (`packbed bench --dim 3 --chains 5 --n 100000 --periodic`),
+/// 1 in 10^5 in 2D. Rods are at 0 of 200 here. Run with `--ignored`.
 #[test]
 #[ignore]
 fn known_bug_chain_redrops_are_rare_in_3d() {
