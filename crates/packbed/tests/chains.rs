@@ -423,9 +423,10 @@ fn order_parameter_of_a_small_rod_bed_is_negative() {
     assert!(s < 0.0, "S = {s}");
 }
 
-/// The model asks re-drops to be rare (< 1 in 10^5); chains do not meet it yet
-/// in 3D: 6 in 10^5 (`packbed bench --dim 3 --chains 5 --n 100000 --periodic`),
-/// 1 in 10^5 in 2D. Rods are at 0 of 200 here. Run with `--ignored`.
+/// The model asks re-drops to be rare (< 1 in 10^5); 5-bead chains are at 1 in
+/// 10^5 (`packbed bench --dim 3 --chains 5 --n 100000 --periodic`), rods of
+/// aspect 5 at about 6 in 10^4 (3 of 5000 in `rods_lie_closer_to_horizontal`);
+/// 0 of the 200 here. Run with `--ignored`.
 #[test]
 #[ignore]
 fn known_bug_chain_redrops_are_rare_in_3d() {

@@ -776,17 +776,30 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
         let h0 = h;
         'slack: for slack in [0.0, contact] {
             h = h0;
+            let mut unprojectable = 0;
             for _ in 0..60 {
                 let mut trial = pose;
                 let mut dz = settler.advance(&mut trial, &u, h);
                 let mut set = supports.clone();
-                if let Some(d) = settler.project_all(&mut trial, &mut set, &candidates, slack) {
-                    dz += d;
-                    if dz <= -0.1 * h * rate_z {
-                        pose = trial;
-                        accepted = true;
-                        break 'slack;
+                match settler.project_all(&mut trial, &mut set, &candidates, slack) {
+                    Some(d) => {
+                        dz += d;
+                        if dz <= -0.1 * h * rate_z {
+                            pose = trial;
+                            accepted = true;
+                            break 'slack;
+                        }
                     }
+                    // Supports that cannot be shut stay so at any step
+                    // length: after a few tries, go on to leaving them open
+                    // rather than paying for every halving.
+                    None if slack == 0.0 => {
+                        unprojectable += 1;
+                        if unprojectable >= 4 {
+                            continue 'slack;
+                        }
+                    }
+                    None => {}
                 }
                 h *= 0.5;
             }
