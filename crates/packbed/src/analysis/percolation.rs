@@ -150,29 +150,46 @@ pub struct LinkGraph {
 
 impl LinkGraph {
     /// A graph of `n` nodes from undirected edges `(u, v, offset of v seen from u)`.
+    /// Each row is sorted by neighbour and offset, without repeats.
     pub fn from_edges(n: usize, edges: &[(u32, u32, [i32; 2])]) -> Self {
-        let mut directed: Vec<(u32, u32, [i32; 2])> = Vec::with_capacity(2 * edges.len());
-        for &(u, v, o) in edges {
-            if u == v && o == [0, 0] {
-                continue;
-            }
-            directed.push((u, v, o));
-            directed.push((v, u, [-o[0], -o[1]]));
-        }
-        directed.par_sort_unstable();
-        directed.dedup();
-        let mut row = vec![0usize; n + 1];
-        for &(u, _, _) in &directed {
-            row[u as usize + 1] += 1;
+        // Bucketed by node (a counting sort), then each short row sorted on its
+        // own: a sort of all 2m directed edges was most of the graph's cost on a
+        // bed of 10^6 spheres.
+        let looped = |&(u, v, o): &(u32, u32, [i32; 2])| u == v && o == [0, 0];
+        let mut fill = vec![0usize; n + 1];
+        for e in edges.iter().filter(|e| !looped(e)) {
+            fill[e.0 as usize + 1] += 1;
+            fill[e.1 as usize + 1] += 1;
         }
         for i in 0..n {
-            row[i + 1] += row[i];
+            fill[i + 1] += fill[i];
         }
-        LinkGraph {
-            row,
-            adj: directed.iter().map(|e| e.1).collect(),
-            offset: directed.iter().map(|e| e.2).collect(),
+        let bucket = fill.clone();
+        let mut slots = vec![(0u32, [0i32; 2]); fill[n]];
+        for &(u, v, o) in edges.iter().filter(|e| !looped(e)) {
+            slots[fill[u as usize]] = (v, o);
+            fill[u as usize] += 1;
+            slots[fill[v as usize]] = (u, [-o[0], -o[1]]);
+            fill[v as usize] += 1;
         }
+        let mut row = Vec::with_capacity(n + 1);
+        row.push(0usize);
+        let mut adj = Vec::with_capacity(slots.len());
+        let mut offset = Vec::with_capacity(slots.len());
+        for u in 0..n {
+            let list = &mut slots[bucket[u]..bucket[u + 1]];
+            list.sort_unstable();
+            let mut last = None;
+            for &(v, o) in list.iter() {
+                if last != Some((v, o)) {
+                    adj.push(v);
+                    offset.push(o);
+                    last = Some((v, o));
+                }
+            }
+            row.push(adj.len());
+        }
+        LinkGraph { row, adj, offset }
     }
 
     /// Number of nodes.
@@ -211,70 +228,61 @@ impl Terminals {
     }
 }
 
-/// Connected components (all edges): component id per node and component sizes.
-pub fn components(g: &LinkGraph) -> (Vec<u32>, Vec<u64>) {
+/// Components, their sizes and their wrapping, from one breadth-first pass.
+pub struct Clusters {
+    /// Component of each node, numbered by lowest node.
+    pub comp: Vec<u32>,
+    /// Nodes per component.
+    pub sizes: Vec<u64>,
+    /// Per component, wraps around the box along x and y.
+    pub wraps: Vec<[bool; 2]>,
+}
+
+/// Connected components of `g` and whether each wraps around the periodic box:
+/// the search gives every node the image offset it is first reached with, and an
+/// edge that reaches a node with a different offset closes a loop around the box.
+pub fn clusters(g: &LinkGraph) -> Clusters {
+    const UNSEEN: u32 = u32::MAX;
     let n = g.len();
-    let mut comp = vec![u32::MAX; n];
+    let mut comp = vec![UNSEEN; n];
+    // Offsets of a few cells at most in any real bed; i64 arithmetic below
+    // keeps even absurd inputs from overflowing.
+    let mut at = vec![[0i64; 2]; n];
     let mut sizes = Vec::new();
-    let mut stack = Vec::new();
+    let mut wraps = Vec::new();
+    let mut queue: Vec<u32> = Vec::with_capacity(n);
     for s in 0..n {
-        if comp[s] != u32::MAX {
+        if comp[s] != UNSEEN {
             continue;
         }
         let id = sizes.len() as u32;
+        let mut wrap = [false; 2];
+        queue.clear();
         comp[s] = id;
-        stack.push(s as u32);
-        let mut size = 0u64;
-        while let Some(u) = stack.pop() {
-            size += 1;
-            for e in g.edges(u as usize) {
-                let v = g.adj[e] as usize;
-                if comp[v] == u32::MAX {
-                    comp[v] = id;
-                    stack.push(v as u32);
-                }
-            }
-        }
-        sizes.push(size);
-    }
-    (comp, sizes)
-}
-
-/// Per component, whether it wraps around the periodic box along each horizontal
-/// axis: some node is reached with two different image offsets.
-pub fn wrapping(g: &LinkGraph, comp: &[u32], ncomp: usize) -> Vec<[bool; 2]> {
-    let n = g.len();
-    let mut at: Vec<Option<[i64; 2]>> = vec![None; n];
-    let mut wraps = vec![[false; 2]; ncomp];
-    let mut queue = VecDeque::new();
-    for s in 0..n {
-        if at[s].is_some() {
-            continue;
-        }
-        at[s] = Some([0, 0]);
-        queue.push_back(s);
-        while let Some(u) = queue.pop_front() {
-            let pu = at[u].unwrap_or([0, 0]);
+        queue.push(s as u32);
+        let mut head = 0;
+        while head < queue.len() {
+            let u = queue[head] as usize;
+            head += 1;
+            let pu = at[u];
             for e in g.edges(u) {
                 let v = g.adj[e] as usize;
                 let o = g.offset[e];
                 let pv = [pu[0] + i64::from(o[0]), pu[1] + i64::from(o[1])];
-                match at[v] {
-                    None => {
-                        at[v] = Some(pv);
-                        queue.push_back(v);
-                    }
-                    Some(q) => {
-                        let w = &mut wraps[comp[u] as usize];
-                        for k in 0..2 {
-                            w[k] |= q[k] != pv[k];
-                        }
-                    }
+                if comp[v] == UNSEEN {
+                    comp[v] = id;
+                    at[v] = pv;
+                    queue.push(v as u32);
+                } else {
+                    wrap[0] |= at[v][0] != pv[0];
+                    wrap[1] |= at[v][1] != pv[1];
                 }
             }
         }
+        sizes.push(queue.len() as u64);
+        wraps.push(wrap);
     }
-    wraps
+    Clusters { comp, sizes, wraps }
 }
 
 /// Nodes in the shortest chain (breadth-first search from every start node), or
@@ -856,15 +864,8 @@ pub fn percolation_timed<const D: usize>(
         large_graph(bed, contacts, opts.large)
     });
     let g = &lg.graph;
-    let (comp, sizes) = times.time("percolation/clusters", || components(g));
+    let Clusters { comp, sizes, wraps } = times.time("percolation/clusters", || clusters(g));
     let periodic = bed.container.periodic;
-    let wraps = times.time("percolation/clusters", || {
-        if periodic {
-            wrapping(g, &comp, sizes.len())
-        } else {
-            Vec::new()
-        }
-    });
     let mut spanning_any = vec![false; sizes.len()];
     let mut all_chains: Vec<Vec<u32>> = Vec::new();
     let mut directions = Vec::new();
@@ -877,6 +878,9 @@ pub fn percolation_timed<const D: usize>(
     // directions are independent: one thread each.
     let disjoint: Vec<u64> = times.time("percolation/disjoint", || {
         ends.par_iter().map(|t| disjoint_chains(g, t)).collect()
+    });
+    let shortest: Vec<Option<u64>> = times.time("percolation/shortest", || {
+        ends.par_iter().map(|t| shortest_chain(g, t)).collect()
     });
     for (k, t) in ends.iter().enumerate() {
         let mut spanning = vec![false; sizes.len()];
@@ -908,13 +912,12 @@ pub fn percolation_timed<const D: usize>(
                 opts.max_search_steps,
             )
         });
-        let shortest = times.time("percolation/shortest", || shortest_chain(g, t));
         let spanning_clusters = spanning.iter().filter(|&&s| s).count() as u64;
         directions.push(DirectionPercolation {
             axis: ["x", "y"][k].to_string(),
             spans: spanning_clusters > 0,
             spanning_clusters,
-            shortest_chain: shortest,
+            shortest_chain: shortest[k],
             disjoint_chains: disjoint[k],
             unique_chains: en.chains.len() as u64,
             chain_cap_hit: en.chain_cap_hit,
@@ -1245,6 +1248,19 @@ mod tests {
                 .map(|e| (e.0, e.1, if seam { [e.2, e.3] } else { [0, 0] }))
                 .collect();
             let g = LinkGraph::from_edges(n, &edges);
+            // Rows as the plain definition: both directions, sorted, no repeats.
+            let mut both: Vec<(u32, u32, [i32; 2])> = edges
+                .iter()
+                .filter(|e| !(e.0 == e.1 && e.2 == [0, 0]))
+                .flat_map(|&(u, v, o)| [(u, v, o), (v, u, [-o[0], -o[1]])])
+                .collect();
+            both.sort_unstable();
+            both.dedup();
+            let rows: Vec<(u32, u32, [i32; 2])> = (0..n)
+                .flat_map(|u| g.edges(u).map(move |e| (u as u32, e)))
+                .map(|(u, e)| (u, g.adj[e], g.offset[e]))
+                .collect();
+            prop_assert_eq!(rows, both);
             let t = Terminals {
                 start: flags[..n].iter().map(|f| f.0).collect(),
                 end: flags[..n].iter().map(|f| f.1 && !(f.0 && seam)).collect(),
@@ -1257,8 +1273,8 @@ mod tests {
             prop_assert_eq!(&got, &chains);
             prop_assert_eq!(shortest_chain(&g, &t), chains.iter().map(|c| c.len() as u64).min());
             prop_assert_eq!(disjoint_chains(&g, &t), brute_disjoint(&chains, &mut Vec::new(), 0));
-            let (comp, sizes) = components(&g);
-            prop_assert_eq!(wrapping(&g, &comp, sizes.len()), brute_wraps(&g, &comp, sizes.len()));
+            let c = clusters(&g);
+            prop_assert_eq!(c.wraps, brute_wraps(&g, &c.comp, c.sizes.len()));
         }
     }
 }
