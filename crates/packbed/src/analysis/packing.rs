@@ -287,8 +287,25 @@ pub fn ball_box_volume<const D: usize>(
             return 0.0;
         }
     }
-    if (0..D).all(|k| a[k] <= -r && b[k] >= r) {
-        return ball_volume::<D>(r);
+    let clipped = |k: usize| a[k] > -r || b[k] < r;
+    let mut axes = (0..D).filter(|&k| clipped(k));
+    match (axes.next(), axes.next()) {
+        (None, _) => return ball_volume::<D>(r),
+        // Cut along one axis only (most particles a region boundary meets): a
+        // slab of the ball, in closed form from caps. Written so that nothing
+        // small is the difference of two large volumes: a slab on one side of
+        // the centre is a difference of two caps on that side.
+        (Some(k), None) => {
+            let v = if a[k] >= 0.0 {
+                cap_volume::<D>(r, a[k]) - cap_volume::<D>(r, b[k])
+            } else if b[k] <= 0.0 {
+                cap_volume::<D>(r, -b[k]) - cap_volume::<D>(r, -a[k])
+            } else {
+                ball_volume::<D>(r) - cap_volume::<D>(r, b[k]) - cap_volume::<D>(r, -a[k])
+            };
+            return v.max(0.0);
+        }
+        _ => {}
     }
     match D {
         1 => b[0] - a[0],
