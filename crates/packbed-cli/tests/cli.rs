@@ -3,99 +3,10 @@
 
 use packbed::config::Config;
 use serde_json::Value;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use tempfile::TempDir;
+mod common;
 
-/// The outcome of one `packbed` invocation.
-struct Outcome {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
-
-/// A scratch directory: `work/` is the current directory of the command (and
-/// must stay empty when a run fails), `inputs/` holds configs and tables.
-struct Scratch {
-    _root: TempDir,
-    work: PathBuf,
-    inputs: PathBuf,
-}
-
-impl Scratch {
-    fn new() -> Scratch {
-        let root = tempfile::tempdir().unwrap();
-        let work = root.path().join("work");
-        let inputs = root.path().join("inputs");
-        std::fs::create_dir(&work).unwrap();
-        std::fs::create_dir(&inputs).unwrap();
-        Scratch {
-            _root: root,
-            work,
-            inputs,
-        }
-    }
-
-    /// Writes an input file and returns its path.
-    fn input(&self, name: &str, text: &str) -> PathBuf {
-        let p = self.inputs.join(name);
-        std::fs::write(&p, text).unwrap();
-        p
-    }
-
-    fn packbed(&self, args: &[&str]) -> Outcome {
-        let out = Command::new(env!("CARGO_BIN_EXE_packbed"))
-            .args(args)
-            .current_dir(&self.work)
-            .stdin(Stdio::null())
-            .output()
-            .unwrap();
-        Outcome {
-            code: out.status.code().unwrap_or(-1),
-            stdout: String::from_utf8(out.stdout).unwrap(),
-            stderr: String::from_utf8(out.stderr).unwrap(),
-        }
-    }
-
-    /// Paths under `work/`, to check that a failed run created nothing.
-    fn work_entries(&self) -> Vec<String> {
-        let mut v: Vec<String> = std::fs::read_dir(&self.work)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        v.sort();
-        v
-    }
-
-    fn read(&self, rel: &str) -> String {
-        std::fs::read_to_string(self.work.join(rel)).unwrap()
-    }
-}
-
-/// Exit code 2, one line `packbed: error: …` containing every needle, nothing on
-/// stdout, and no file or directory left behind.
-fn assert_user_error(s: &Scratch, args: &[&str], needles: &[&str]) {
-    let o = s.packbed(args);
-    assert_eq!(o.code, 2, "{args:?}: exit code; stderr: {}", o.stderr);
-    let lines: Vec<&str> = o.stderr.lines().collect();
-    assert_eq!(
-        lines.len(),
-        1,
-        "{args:?}: one line expected, got:\n{}",
-        o.stderr
-    );
-    assert!(lines[0].starts_with("packbed: error: "), "{}", lines[0]);
-    for n in needles {
-        assert!(lines[0].contains(n), "{args:?}: `{n}` not in: {}", lines[0]);
-    }
-    assert!(!o.stderr.contains("panicked"), "{}", o.stderr);
-    assert!(o.stdout.is_empty(), "{args:?}: stdout: {}", o.stdout);
-    assert!(
-        s.work_entries().is_empty(),
-        "{args:?} left {:?}",
-        s.work_entries()
-    );
-}
+use common::{assert_user_error, Outcome, Scratch};
+use std::path::Path;
 
 /// A small, fast bed: 2D thesis box of equal discs of radius 10 (~600 discs).
 const SMALL_2D: &str = "dim = 2\nseed = 5\n[[species]]\nradius = 10\n";
@@ -488,7 +399,7 @@ fn bench_json_is_one_object_with_the_keys() {
     assert_eq!(v["n"], 300);
     assert!(v["particles_per_second"].as_f64().unwrap() > 0.0);
     assert!(v["peak_rss_bytes"].as_u64().unwrap() > 0);
-    assert!(s.work_entries().is_empty(), "bench writes no files");
+    assert!(s.entries().is_empty(), "bench writes no files");
 }
 
 #[test]

@@ -2,96 +2,9 @@
 //! built binary in a fresh temporary directory.
 
 use serde_json::Value;
-use std::path::PathBuf;
-use std::process::{Command, Stdio};
-use tempfile::TempDir;
+mod common;
 
-struct Outcome {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
-
-/// `work/` is the command's current directory, `inputs/` holds configs.
-struct Scratch {
-    _root: TempDir,
-    work: PathBuf,
-    inputs: PathBuf,
-}
-
-impl Scratch {
-    fn new() -> Scratch {
-        let root = tempfile::tempdir().unwrap();
-        let work = root.path().join("work");
-        let inputs = root.path().join("inputs");
-        std::fs::create_dir(&work).unwrap();
-        std::fs::create_dir(&inputs).unwrap();
-        Scratch {
-            _root: root,
-            work,
-            inputs,
-        }
-    }
-
-    fn input(&self, name: &str, text: &str) -> String {
-        let p = self.inputs.join(name);
-        std::fs::write(&p, text).unwrap();
-        p.display().to_string()
-    }
-
-    fn packbed(&self, args: &[&str]) -> Outcome {
-        let out = Command::new(env!("CARGO_BIN_EXE_packbed"))
-            .args(args)
-            .current_dir(&self.work)
-            .stdin(Stdio::null())
-            .output()
-            .unwrap();
-        Outcome {
-            code: out.status.code().unwrap_or(-1),
-            stdout: String::from_utf8(out.stdout).unwrap(),
-            stderr: String::from_utf8(out.stderr).unwrap(),
-        }
-    }
-
-    fn ok(&self, args: &[&str]) -> Outcome {
-        let o = self.packbed(args);
-        assert_eq!(o.code, 0, "{args:?}: {}", o.stderr);
-        o
-    }
-
-    fn path(&self, rel: &str) -> PathBuf {
-        self.work.join(rel)
-    }
-
-    fn read(&self, rel: &str) -> Vec<u8> {
-        std::fs::read(self.path(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"))
-    }
-
-    fn entries(&self) -> Vec<String> {
-        let mut v: Vec<String> = std::fs::read_dir(&self.work)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        v.sort();
-        v
-    }
-}
-
-/// Exit code 2, one line `packbed: error: …` with every needle, nothing on
-/// stdout, and nothing new under `work/`.
-fn assert_user_error(s: &Scratch, args: &[&str], needles: &[&str]) {
-    let before = s.entries();
-    let o = s.packbed(args);
-    assert_eq!(o.code, 2, "{args:?}: exit code; stderr: {}", o.stderr);
-    let lines: Vec<&str> = o.stderr.lines().collect();
-    assert_eq!(lines.len(), 1, "{args:?}: {}", o.stderr);
-    assert!(lines[0].starts_with("packbed: error: "), "{}", lines[0]);
-    for n in needles {
-        assert!(lines[0].contains(n), "{args:?}: `{n}` not in: {}", lines[0]);
-    }
-    assert!(o.stdout.is_empty(), "{args:?}: stdout: {}", o.stdout);
-    assert_eq!(s.entries(), before, "{args:?} left files");
-}
+use common::{assert_user_error, png_size, svg_texts, Scratch};
 
 /// Fast beds: 2D, radii 20 and 10 in a square of 8 large diameters.
 const SMALL: &[&str] = &["--dim", "2", "--radii", "20,10", "--box", "diameters=8"];
@@ -113,7 +26,7 @@ fn args<'a>(head: &[&'a str], tail: &[&'a str]) -> Vec<&'a str> {
 fn assert_same_stats(s: &Scratch, a: &str, b: &str, files: &[&str]) {
     for f in files {
         assert!(
-            s.read(&format!("{a}/{f}")) == s.read(&format!("{b}/{f}")),
+            s.bytes(&format!("{a}/{f}")) == s.bytes(&format!("{b}/{f}")),
             "{a}/{f} and {b}/{f} differ"
         );
     }
@@ -140,16 +53,16 @@ fn ensemble_writes_its_files_and_table() {
             "only the summary without --keep-beds"
         );
     }
-    let csv = String::from_utf8(s.read("e/ensemble.csv")).unwrap();
+    let csv = s.read("e/ensemble.csv");
     assert!(csv.starts_with("name,n,mean,sd,min,max,kind\n"), "{csv}");
     assert!(
         csv.lines().any(|l| l.starts_with("packing.global,6,")),
         "{csv}"
     );
-    let md = String::from_utf8(s.read("e/ensemble.md")).unwrap();
+    let md = s.read("e/ensemble.md");
     assert!(md.contains("| measure | min | mean ± sd | max |"), "{md}");
     assert!(md.contains("| packing.global | "), "{md}");
-    let json: Value = serde_json::from_slice(&s.read("e/ensemble.json")).unwrap();
+    let json: Value = serde_json::from_str(&s.read("e/ensemble.json")).unwrap();
     assert_eq!(json["replicates"], 6);
     assert_eq!(json["master_seed"], 1);
     // --keep-beds writes the beds too.
@@ -159,21 +72,6 @@ fn ensemble_writes_its_files_and_table() {
     ));
     assert!(s.path("k/runs/0001/particles.csv").exists());
     assert!(s.path("k/runs/0001/contacts.csv").exists());
-}
-
-/// Width and height from a PNG's IHDR chunk.
-fn png_size(bytes: &[u8]) -> (u32, u32) {
-    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "not a PNG");
-    let be = |i: usize| u32::from_be_bytes(bytes[i..i + 4].try_into().unwrap());
-    (be(16), be(20))
-}
-
-/// The text of every `<text>` element of an SVG.
-fn svg_texts(svg: &str) -> Vec<String> {
-    svg.split("<text")
-        .skip(1)
-        .filter_map(|t| Some(t.split_once('>')?.1.split('<').next()?.to_string()))
-        .collect()
 }
 
 const PLOTS: [&str; 4] = [
@@ -188,9 +86,13 @@ fn ensembles_and_sweeps_plot_their_statistics() {
     let s = Scratch::new();
     s.ok(&args(SMALL, &["--runs", "4", "--out", "e", "-q"]));
     for p in PLOTS {
-        assert_eq!(png_size(&s.read(&format!("e/{p}.png"))), (1000, 700), "{p}");
+        assert_eq!(
+            png_size(&s.bytes(&format!("e/{p}.png"))),
+            (1000, 700),
+            "{p}"
+        );
     }
-    let svg = String::from_utf8(s.read("e/plot_coordination.svg")).unwrap();
+    let svg = s.read("e/plot_coordination.svg");
     let texts = svg_texts(&svg);
     for want in [
         "Coordination numbers, summed over 4 beds",
@@ -204,7 +106,7 @@ fn ensembles_and_sweeps_plot_their_statistics() {
     // Bars: three groups per coordination number shown, plus the background.
     let bins = texts.iter().filter(|t| t.parse::<u32>().is_ok()).count();
     assert!(bins >= 3, "{texts:?}");
-    let svg = String::from_utf8(s.read("e/plot_packing.svg")).unwrap();
+    let svg = s.read("e/plot_packing.svg");
     for want in ["global", "bulk", "floor", "roof", "wall", "centre"] {
         assert!(svg_texts(&svg).iter().any(|t| t == want), "no {want} bar");
     }
@@ -214,9 +116,11 @@ fn ensembles_and_sweeps_plot_their_statistics() {
     let cfg = s.input(
         "sweep.toml",
         "dim = 2\n[box]\ndiameters = 6\n[[species]]\nradius = 20\n[[species]]\nradius = 10\n[sweep]\nparameter = \"box.diameters\"\nvalues = [5, 7, 9]\n",
-    );
+    )
+    .display()
+    .to_string();
     s.ok(&["ensemble", &cfg, "--runs", "3", "--out", "sw", "-q"]);
-    let svg = String::from_utf8(s.read("sw/plot_sweep_packing_global.svg")).unwrap();
+    let svg = s.read("sw/plot_sweep_packing_global.svg");
     assert_eq!(svg.matches("class=\"marker\"").count(), 3, "{svg}");
     let texts = svg_texts(&svg);
     assert!(
@@ -225,7 +129,7 @@ fn ensembles_and_sweeps_plot_their_statistics() {
             .any(|t| t == "box.diameters: box width (largest particle diameters)"),
         "{texts:?}"
     );
-    let svg = String::from_utf8(s.read("sw/plot_sweep_percolation.svg")).unwrap();
+    let svg = s.read("sw/plot_sweep_percolation.svg");
     assert!(svg_texts(&svg)
         .iter()
         .any(|t| t == "Beds with a percolation chain, per box.diameters"));
@@ -277,7 +181,7 @@ fn jobs_and_shards_give_the_same_files() {
     let plots: Vec<&str> = plots.iter().map(String::as_str).collect();
     assert_same_stats(&s, "j1", "j2", &plots);
     assert_same_stats(&s, "j1", "merged", &plots);
-    let shard_json: Value = serde_json::from_slice(&s.read("s1/ensemble.json")).unwrap();
+    let shard_json: Value = serde_json::from_str(&s.read("s1/ensemble.json")).unwrap();
     assert_eq!(shard_json["shard"]["index"], 1);
     assert_eq!(shard_json["replicates"], 3);
 }
@@ -320,7 +224,9 @@ fn sweeps_write_one_row_per_value() {
     let cfg = s.input(
         "sweep.toml",
         "dim = 2\n[box]\ndiameters = 8\n[[species]]\nradius = 20\n[[species]]\nradius = 10\n[ensemble]\nruns = 3\n[sweep]\nparameter = \"ratio\"\nvalues = [[1, 1], [1, 2.5]]\n",
-    );
+    )
+    .display()
+    .to_string();
     let o = s.ok(&["ensemble", &cfg, "--out", "sw"]);
     assert!(o.stdout.contains("1:2.5"), "{}", o.stdout);
     for d in ["00-ratio-1-1", "01-ratio-1-2.5"] {
@@ -331,12 +237,12 @@ fn sweeps_write_one_row_per_value() {
             "{d}"
         );
     }
-    let md = String::from_utf8(s.read("sw/sweep.md")).unwrap();
+    let md = s.read("sw/sweep.md");
     assert!(
         md.contains("| 1:1 | 3 |") && md.contains("| 1:2.5 | 3 |"),
         "{md}"
     );
-    let csv = String::from_utf8(s.read("sw/sweep.csv")).unwrap();
+    let csv = s.read("sw/sweep.csv");
     assert!(
         csv.starts_with("index,label,name,n,mean,sd,min,max,kind\n"),
         "{csv}"
@@ -345,7 +251,7 @@ fn sweeps_write_one_row_per_value() {
     // The ratio really changed: the second value has more small discs.
     let small = |d: &str| -> f64 {
         let v: Value =
-            serde_json::from_slice(&s.read(&format!("sw/sweep/{d}/ensemble.json"))).unwrap();
+            serde_json::from_str(&s.read(&format!("sw/sweep/{d}/ensemble.json"))).unwrap();
         v["measures"]["species.small.placed"]["mean"]
             .as_f64()
             .unwrap()
@@ -389,19 +295,25 @@ fn bad_inputs_are_refused() {
             &["--shard", bad],
         );
     }
-    let bad_sweep = s.input(
-        "bad.toml",
-        "[sweep]\nparameter = \"ratio\"\nvalues = [[1, 2, 3]]\n",
-    );
+    let bad_sweep = s
+        .input(
+            "bad.toml",
+            "[sweep]\nparameter = \"ratio\"\nvalues = [[1, 2, 3]]\n",
+        )
+        .display()
+        .to_string();
     assert_user_error(
         &s,
         &["ensemble", &bad_sweep, "--runs", "2"],
         &["bad.toml", "sweep.values[0]"],
     );
-    let typo = s.input(
-        "typo.toml",
-        "[sweep]\nparameter = \"ratio\"\nvalue = [[1, 1]]\n",
-    );
+    let typo = s
+        .input(
+            "typo.toml",
+            "[sweep]\nparameter = \"ratio\"\nvalue = [[1, 1]]\n",
+        )
+        .display()
+        .to_string();
     assert_user_error(
         &s,
         &["ensemble", &typo, "--runs", "2"],
@@ -445,13 +357,13 @@ fn replicate_seeds_rebuild_with_run() {
     // A replicate's summary names its seed; `run --seed` with it builds the same bed.
     let s = Scratch::new();
     s.ok(&args(SMALL, &["--runs", "2", "--out", "e", "-q"]));
-    let v: Value = serde_json::from_slice(&s.read("e/runs/0001/summary.json")).unwrap();
+    let v: Value = serde_json::from_str(&s.read("e/runs/0001/summary.json")).unwrap();
     let seed = v["seed"].as_u64().unwrap().to_string();
     let mut run = vec!["run"];
     run.extend_from_slice(SMALL);
     run.extend_from_slice(&["--seed", &seed, "--out", "one", "-q"]);
     s.ok(&run);
-    let w: Value = serde_json::from_slice(&s.read("one/summary.json")).unwrap();
+    let w: Value = serde_json::from_str(&s.read("one/summary.json")).unwrap();
     assert_eq!(v["packing"], w["packing"]);
     assert_eq!(v["counts"], w["counts"]);
 }

@@ -1,0 +1,137 @@
+//! The harness the CLI test binaries share: run the built `packbed` in a scratch
+//! directory and look at what it printed and wrote.
+
+// Each test binary compiles this module on its own and uses only part of it.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use tempfile::TempDir;
+
+/// The outcome of one `packbed` invocation.
+pub struct Outcome {
+    pub code: i32,
+    pub stdout: String,
+    pub stderr: String,
+}
+
+/// Runs the built `packbed` in `dir` with no standard input.
+pub fn packbed(dir: &Path, args: &[&str]) -> Outcome {
+    let out = Command::new(env!("CARGO_BIN_EXE_packbed"))
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    Outcome {
+        code: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8(out.stdout).unwrap(),
+        stderr: String::from_utf8(out.stderr).unwrap(),
+    }
+}
+
+/// Runs `packbed` in `dir` and insists on success.
+pub fn ok(dir: &Path, args: &[&str]) -> Outcome {
+    let o = packbed(dir, args);
+    assert_eq!(o.code, 0, "{args:?}: {}", o.stderr);
+    o
+}
+
+/// A scratch directory: `work/` is the current directory of the command (and
+/// gains nothing when a run fails), `inputs/` holds configs and tables.
+pub struct Scratch {
+    _root: TempDir,
+    pub work: PathBuf,
+    pub inputs: PathBuf,
+}
+
+impl Scratch {
+    pub fn new() -> Scratch {
+        let root = tempfile::tempdir().unwrap();
+        let work = root.path().join("work");
+        let inputs = root.path().join("inputs");
+        std::fs::create_dir(&work).unwrap();
+        std::fs::create_dir(&inputs).unwrap();
+        Scratch {
+            _root: root,
+            work,
+            inputs,
+        }
+    }
+
+    /// Writes an input file and returns its path.
+    pub fn input(&self, name: &str, text: &str) -> PathBuf {
+        let p = self.inputs.join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    pub fn packbed(&self, args: &[&str]) -> Outcome {
+        packbed(&self.work, args)
+    }
+
+    pub fn ok(&self, args: &[&str]) -> Outcome {
+        ok(&self.work, args)
+    }
+
+    pub fn path(&self, rel: &str) -> PathBuf {
+        self.work.join(rel)
+    }
+
+    /// A text file under `work/`.
+    pub fn read(&self, rel: &str) -> String {
+        std::fs::read_to_string(self.path(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"))
+    }
+
+    /// Any file under `work/`.
+    pub fn bytes(&self, rel: &str) -> Vec<u8> {
+        std::fs::read(self.path(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"))
+    }
+
+    /// Names in `work/`, sorted: a failed run must not change them.
+    pub fn entries(&self) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(&self.work)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+}
+
+/// Exit code 2, one line `packbed: error: …` containing every needle, no panic,
+/// nothing on stdout, and nothing new under `work/`.
+pub fn assert_user_error(s: &Scratch, args: &[&str], needles: &[&str]) {
+    let before = s.entries();
+    let o = s.packbed(args);
+    assert_eq!(o.code, 2, "{args:?}: exit code; stderr: {}", o.stderr);
+    let lines: Vec<&str> = o.stderr.lines().collect();
+    assert_eq!(
+        lines.len(),
+        1,
+        "{args:?}: one line expected, got:\n{}",
+        o.stderr
+    );
+    assert!(lines[0].starts_with("packbed: error: "), "{}", lines[0]);
+    for n in needles {
+        assert!(lines[0].contains(n), "{args:?}: `{n}` not in: {}", lines[0]);
+    }
+    assert!(!o.stderr.contains("panicked"), "{}", o.stderr);
+    assert!(o.stdout.is_empty(), "{args:?}: stdout: {}", o.stdout);
+    assert_eq!(s.entries(), before, "{args:?} left files");
+}
+
+/// Width and height of a PNG, checking its signature.
+pub fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "not a PNG");
+    let be = |i: usize| u32::from_be_bytes(bytes[i..i + 4].try_into().unwrap());
+    (be(16), be(20))
+}
+
+/// The texts of an SVG's `<text>` elements.
+pub fn svg_texts(svg: &str) -> Vec<String> {
+    svg.split("<text")
+        .skip(1)
+        .filter_map(|t| Some(t.split_once('>')?.1.split('<').next()?.to_string()))
+        .collect()
+}
