@@ -1,10 +1,18 @@
 //! Orientation of chains (any body of several beads): the axis is the principal
 //! direction of its bead centres (the eigenvector of their scatter matrix with the
 //! largest eigenvalue), pointed upwards. Its angle from vertical is signed in 2D
-//! (−90° lying to the left, 0° upright, +90° to the right; a body lying exactly
-//! flat is +90°); in 3D the polar angle (0°–90°) and the azimuth (−180°–180°,
-//! from x towards y; 0 for an upright body). The orientational order parameter is
-//! `S = <(3 cos² θ − 1) / 2>` (1: all upright, −1/2: all flat).
+//! (−90° lying to the left, 0° upright, +90° to the right); in 3D the polar angle
+//! (0°–90°) and the azimuth (−180°–180°, from x towards y; 0 for an upright body).
+//! The orientational order parameter is `S = <(3 cos² θ − 1) / 2>` (1: all
+//! upright, −1/2: all flat).
+//!
+//! A body lying flat (tilt below [`FLAT_TILT`]) has no upper end, so its axis
+//! points from its first bead to its last. A chain enters upright with its first
+//! bead at the bottom, so one that fell flat is counted on the side it fell to;
+//! chains laid down in random directions split evenly. (Pointing every flat body
+//! to +90° put all chains lying on the floor into the last bin of the 2D
+//! histogram, about twice the first; and which way the rounding of a nearly flat
+//! axis went was chance.)
 
 use super::histogram::BinnedHistogram;
 use super::profile::species_count;
@@ -14,6 +22,11 @@ use serde::Serialize;
 
 /// Width of the angle bins, degrees.
 pub const BIN_DEGREES: Real = 5.0;
+
+/// Vertical component of the unit axis below which a body counts as lying flat:
+/// a tilt of about 6·10⁻⁸ degrees, far above the rounding of bead positions
+/// (~10⁻¹² of a radius) and far below any tilt a bed can resolve.
+pub const FLAT_TILT: Real = 1e-9;
 
 /// One body's axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -114,7 +127,16 @@ fn principal_axis<const D: usize>(bed: &Bed<D>, beads: &[usize]) -> Option<[Real
     let v = largest_eigenvector(s)?;
     // In 2D the vertical axis is index 1: move it to index 2 for one convention.
     let mut axis = if D == 2 { [v[0], 0.0, v[1]] } else { v };
-    if axis[2] < 0.0 || (axis[2] == 0.0 && (axis[0] < 0.0 || (axis[0] == 0.0 && axis[1] < 0.0))) {
+    if axis[2].abs() <= FLAT_TILT {
+        // Lying flat: from the first bead towards the last.
+        let run = pts[pts.len() - 1] - pts[0];
+        let h = axis[0].hypot(axis[1]);
+        axis = [axis[0] / h, axis[1] / h, 0.0];
+        let along = axis[0] * run[0] + if D == 3 { axis[1] * run[1] } else { 0.0 };
+        if along < 0.0 {
+            axis = [-axis[0], -axis[1], 0.0];
+        }
+    } else if axis[2] < 0.0 {
         axis = [-axis[0], -axis[1], -axis[2]];
     }
     Some(axis)
@@ -278,7 +300,7 @@ mod tests {
             4,
             1,
         ); // pointing down-right: axis up-left
-        chain(&mut bed, Vector([40.0, 10.0]), Vector([-1.0, 0.0]), 3, 1);
+        chain(&mut bed, Vector([40.0, 10.0]), Vector([1.0, 0.0]), 3, 1);
         bed.push(Vector([50.0, 10.0]), 1.0, 2); // a sphere: no axis
         let axes = body_axes(&bed);
         let angles: Vec<Real> = axes.iter().map(|a| a.angle).collect();
@@ -301,6 +323,71 @@ mod tests {
         assert_eq!(o.by_species[0].bodies, 2);
         assert_eq!(o.by_species[2].bodies, 0);
         assert!(o.azimuth_histogram.is_none());
+    }
+
+    /// Flat bodies point from their first bead to their last, whatever the
+    /// rounding of a nearly flat axis: the side a chain that entered upright fell
+    /// to.
+    #[test]
+    fn flat_bodies_lie_on_the_side_of_their_last_bead() {
+        let mut bed = Bed::new(
+            Container {
+                size: Vector([100.0, 100.0]),
+                periodic: true,
+            },
+            Vec::new(),
+        );
+        for (x, dir, z) in [
+            (10.0, 1.0, 0.0),
+            (20.0, -1.0, 0.0),
+            (30.0, 1.0, -1e-13),
+            (40.0, -1.0, 1e-13),
+            (99.0, 1.0, 0.0), // across the seam
+        ] {
+            chain(&mut bed, Vector([x, 10.0]), Vector([dir, z]), 4, 0);
+        }
+        for c in bed.centres.iter_mut() {
+            c[0] = c[0].rem_euclid(100.0);
+        }
+        let angles: Vec<Real> = body_axes(&bed).iter().map(|a| a.angle).collect();
+        assert_eq!(angles, [90.0, -90.0, 90.0, -90.0, 90.0]);
+        let o = orientation(&bed).unwrap();
+        assert_eq!((o.histogram.counts[0], o.histogram.counts[35]), (2, 3));
+        // A real tilt keeps the upper end's side whatever the bead order.
+        let mut tilted = Bed::new(bed.container, Vec::new());
+        chain(
+            &mut tilted,
+            Vector([50.0, 10.0]),
+            Vector([-1.0, -1e-3]),
+            4,
+            0,
+        );
+        assert!(body_axes(&tilted)[0].angle > 89.9);
+
+        let mut bed3 = Bed::new(
+            Container {
+                size: Vector([100.0, 100.0, 100.0]),
+                periodic: false,
+            },
+            Vec::new(),
+        );
+        chain(
+            &mut bed3,
+            Vector([50.0, 50.0, 1.0]),
+            Vector([0.0, -1.0, 0.0]),
+            3,
+            0,
+        );
+        chain(
+            &mut bed3,
+            Vector([50.0, 50.0, 5.0]),
+            Vector([-1.0, 0.0, 1e-14]),
+            3,
+            0,
+        );
+        let axes = body_axes(&bed3);
+        assert_eq!((axes[0].angle, axes[0].azimuth), (90.0, -90.0));
+        assert_eq!((axes[1].angle, axes[1].azimuth.abs()), (90.0, 180.0));
     }
 
     #[test]

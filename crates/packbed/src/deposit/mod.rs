@@ -438,8 +438,14 @@ pub fn build(config: &Config, progress: &mut dyn FnMut(u64)) -> Result<(AnyBed, 
 fn random_axis<const D: usize>(rng: &mut RunRng, horizontal: bool) -> Vector<D> {
     let mut a = Vector::<D>::zero();
     if D == 2 {
+        // Either way along the floor: the axis points from the first bead to the
+        // last, and a flat chain is counted on the side its last bead lies.
         let t = if horizontal {
-            0.5 * std::f64::consts::PI
+            if rng.random_bool(0.5) {
+                0.5 * std::f64::consts::PI
+            } else {
+                -0.5 * std::f64::consts::PI
+            }
         } else {
             rng.random_range(-0.5 * std::f64::consts::PI..0.5 * std::f64::consts::PI)
         };
