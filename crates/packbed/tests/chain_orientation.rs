@@ -14,7 +14,10 @@ fn bed_2d(seed: u64) -> Bed<2> {
          [fill]\ncount = 4000\nbase_layer = \"random\"\n\
          [[species]]\nradius = 10\nshape = \"chain\"\nbeads = 5\n"
     );
-    let plan = Config::from_toml(&text, "test").unwrap().plan::<2>().unwrap();
+    let plan = Config::from_toml(&text, "test")
+        .unwrap()
+        .plan::<2>()
+        .unwrap();
     deposit::<2>(&plan, &mut |_| {}).unwrap().0
 }
 
@@ -31,7 +34,10 @@ fn flat_chains_of_the_base_layer_lie_both_ways() {
     let left = axes.iter().filter(|a| a.angle == -90.0).count() as u64;
     let right = axes.iter().filter(|a| a.angle == 90.0).count() as u64;
     assert!(left + right >= 50, "{left} + {right} flat chains");
-    assert!(left > 0 && right > 0 && balanced(left, right), "{left} vs {right}");
+    assert!(
+        left > 0 && right > 0 && balanced(left, right),
+        "{left} vs {right}"
+    );
 }
 
 #[test]

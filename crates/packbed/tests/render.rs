@@ -640,3 +640,43 @@ fn bad_files_are_refused_with_file_and_line() {
         assert!(m.contains(needle), "{name}: {m}");
     }
 }
+
+/// Thousands of copies of one particle (a broken export) are refused at once,
+/// naming the first line, instead of listing n² contacts; the overlapping beads
+/// of a dense rod (one body) are not crowding.
+#[test]
+fn crowded_files_are_refused_but_dense_rods_are_not() {
+    let h = BoxHint {
+        size: vec![10.0, 10.0, 10.0],
+        periodic: false,
+    };
+    let mut text = String::from("x y z r\n1 1 1 1\n");
+    text.push_str(&"5 5 5 1\n".repeat(3000));
+    let (line, m) = data_error(&text, "dup.txt", Some(&h));
+    assert_eq!(line, 3, "{m}");
+    assert!(
+        m.contains("3000 particles") && m.contains("not a packed bed"),
+        "{m}"
+    );
+    // 2D too, with a real bed around the copies.
+    let h2 = BoxHint {
+        size: vec![100.0, 100.0],
+        periodic: false,
+    };
+    let mut text: String = (0..40).map(|k| format!("{} 1 1\n", 1 + 2 * k)).collect();
+    text.push_str(&"50 50 1\n".repeat(2000));
+    let (line, m) = data_error(&text, "dup2.txt", Some(&h2));
+    assert_eq!(line, 41, "{m}");
+    // One rod of 2000 beads at spacing 0.01 r: every bead in one cell, one body.
+    let dir = tempfile::tempdir().unwrap();
+    let mut csv = String::from("id,species,body,x,y,z,r\n");
+    for k in 0..2000 {
+        csv.push_str(&format!("{k},0,0,{},5,5,1\n", 1.0 + 0.0001 * k as f64));
+    }
+    let path = dir.path().join("rod.csv");
+    std::fs::write(&path, csv).unwrap();
+    match read_bed(&path, Some(&h)).unwrap() {
+        AnyBed::D3(b) => assert_eq!(b.len(), 2000),
+        AnyBed::D2(_) => panic!("3D expected"),
+    }
+}

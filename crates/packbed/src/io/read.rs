@@ -182,10 +182,68 @@ impl Reader<'_> {
                 p[k] -= raw.origin[k];
             }
         }
+        self.check_crowding(&raw)?;
         Ok(match raw.dim {
             2 => AnyBed::D2(build::<2>(&raw, &size, periodic)),
             _ => AnyBed::D3(build::<3>(&raw, &size, periodic)),
         })
+    }
+
+    /// Refuses a file whose particles sit far more densely than any packing can:
+    /// thousands of copies of one particle, say, from a broken export. Each
+    /// contact would be listed and every measure would crawl through a graph of
+    /// n² links (20,000 copies took minutes and gigabytes before being
+    /// stopped). Balls of radius at least `r_min` whose centres lie in a cube of
+    /// side `w` fit in the cube grown by `r_min` on every side, so at most
+    /// `(w + 2 r_min)^d / V(r_min)` of them fit without overlapping; a cube
+    /// holding `CROWDING` times that many is refused. That leaves room for soft
+    /// particles overlapping a lot and for the overlapping beads of rods.
+    fn check_crowding(&self, raw: &Raw) -> Result<()> {
+        const CROWDING: Real = 64.0;
+        let d = raw.dim;
+        let r_min = raw.radii.iter().copied().fold(Real::INFINITY, Real::min);
+        let r_max = raw.radii.iter().copied().fold(0.0, Real::max);
+        let w = 2.0 * r_max;
+        let ball = if d == 2 {
+            crate::math::ball_volume::<2>(r_min)
+        } else {
+            crate::math::ball_volume::<3>(r_min)
+        };
+        let fit = (w + 2.0 * r_min).powi(d as i32) / ball;
+        let cap = (CROWDING * fit).ceil();
+        if !(cap.is_finite() && (raw.pos.len() as Real) > cap) {
+            return Ok(());
+        }
+        // Bodies per cell of side `w`, counted by sorting. Bodies, not beads:
+        // the beads of one rod overlap by design (spacing below 2 radii), but
+        // each body holds a ball of radius `r_min` of its own.
+        let mut cells: Vec<([i64; 3], u32, usize)> = raw
+            .pos
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                let cell = std::array::from_fn(|a| (p[a] / w).floor() as i64);
+                (cell, raw.bodies[k], k)
+            })
+            .collect();
+        cells.sort_unstable();
+        for run in cells.chunk_by(|a, b| a.0 == b.0) {
+            let bodies = 1 + run.windows(2).filter(|p| p[0].1 != p[1].1).count();
+            if bodies as Real > cap {
+                let first = run.iter().map(|c| c.2).min().unwrap_or(0);
+                return Err(self.err(
+                    raw.lines[first],
+                    format!(
+                        "{bodies} particles (bodies) have their centres within one cube of side \
+                         {w} (twice the largest radius), far more than fit there without \
+                         overlapping (about {:.0}): duplicated or mis-scaled particles? This is \
+                         not a packed bed",
+                        fit
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// Plain CSV or whitespace table, or packbed's `particles.csv`.
