@@ -177,6 +177,19 @@ impl Reader<'_> {
         if size.iter().any(|&s| !(s > 0.0 && s.is_finite())) {
             return Err(self.err(1, format!("box extents {size:?} must be finite and > 0")));
         }
+        // As `run` refuses a box narrower than its largest particle: such a bed
+        // has no packing fraction (a radius of 1e300 overflowed every volume).
+        let narrowest = size.iter().copied().fold(Real::INFINITY, Real::min);
+        if let Some(k) = (0..raw.radii.len()).find(|&k| 2.0 * raw.radii[k] > narrowest) {
+            return Err(self.err(
+                raw.lines[k],
+                format!(
+                    "radius {:?} is larger than the box: its diameter exceeds the box extent \
+                     {narrowest:?}",
+                    raw.radii[k]
+                ),
+            ));
+        }
         for p in raw.pos.iter_mut() {
             for k in 0..3 {
                 p[k] -= raw.origin[k];
