@@ -316,6 +316,25 @@ pub struct Plan<const D: usize> {
     pub large_radius: Real,
 }
 
+/// Smallest and largest lengths (radii, box extents) packbed works with. The
+/// geometry squares lengths (and multiplies squares), so far outside this range
+/// they leave the normal range of floating point: radii of 1e-100 gave beds with
+/// overlapping particles, and 1e160 made the run spin for ever. Any unit system
+/// fits inside (nanometres in metres are 1e-9).
+pub const LENGTH_RANGE: (Real, Real) = (1e-30, 1e30);
+
+/// Why lengths from `shortest` to `longest` cannot be worked with, if they
+/// leave [`LENGTH_RANGE`].
+pub(crate) fn length_scale_problem(shortest: Real, longest: Real) -> Option<String> {
+    let (lo, hi) = LENGTH_RANGE;
+    (shortest < lo || longest > hi).then(|| {
+        format!(
+            "lengths from {shortest:e} to {longest:e} are outside the range packbed computes \
+             exactly in ({lo:e} to {hi:e}): choose other units"
+        )
+    })
+}
+
 fn positive(v: Real, what: &str) -> Result<Real> {
     if v.is_finite() && v > 0.0 {
         Ok(v)
@@ -541,6 +560,10 @@ impl Config {
             .iter()
             .map(|s| s.size.bounds().0)
             .fold(Real::INFINITY, Real::min);
+        let longest = container.size.0.iter().copied().fold(r_max, Real::max);
+        if let Some(why) = length_scale_problem(r_min, longest) {
+            return Err(Error::config(format!("radii and box: {why}")));
+        }
         // Refuse requests that cannot fit in memory, before allocating anything.
         let estimate = match fill {
             Fill::Count(n) => n as Real,

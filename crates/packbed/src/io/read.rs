@@ -177,6 +177,13 @@ impl Reader<'_> {
         if size.iter().any(|&s| !(s > 0.0 && s.is_finite())) {
             return Err(self.err(1, format!("box extents {size:?} must be finite and > 0")));
         }
+        let r_min = raw.radii.iter().copied().fold(Real::INFINITY, Real::min);
+        let longest = (raw.radii.iter().chain(&size))
+            .chain(raw.pos.iter().flatten())
+            .fold(0.0, |m: Real, x| m.max(x.abs()));
+        if let Some(why) = crate::config::length_scale_problem(r_min, longest) {
+            return Err(self.err(1, format!("radii, box and positions: {why}")));
+        }
         // As `run` refuses a box narrower than its largest particle: such a bed
         // has no packing fraction (a radius of 1e300 overflowed every volume).
         let narrowest = size.iter().copied().fold(Real::INFINITY, Real::min);
