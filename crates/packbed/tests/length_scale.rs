@@ -15,29 +15,28 @@ fn config(dim: u8, small: f64, large: f64) -> Config {
     Config::from_toml(&text, "test").unwrap()
 }
 
+/// Deposits the bed of `c` and checks it from positions alone.
+fn deposit_and_check<const D: usize>(c: &Config, what: &str) {
+    let bed = deposit::<D>(&c.plan::<D>().unwrap(), &mut |_| {})
+        .unwrap()
+        .0;
+    let report = check_bed(&bed, 1e-9);
+    assert!(report.is_ok() && bed.len() > 100, "{what}: {report}");
+}
+
 #[test]
 fn beds_at_both_ends_of_the_range_are_valid() {
     let (lo, hi) = LENGTH_RANGE;
     // Radii 10 and 20 scaled so that the smallest radius, or the 2D thesis box
     // (30 largest radii; 12 in 3D), sits at an end of the range.
     for scale in [lo / 10.0, hi / 600.0] {
-        let c = config(3, 10.0 * scale, 20.0 * scale);
-        let bed = deposit::<3>(&c.plan::<3>().unwrap(), &mut |_| {})
-            .unwrap()
-            .0;
-        let report = check_bed(&bed, 1e-9);
-        assert!(
-            report.is_ok() && bed.len() > 100,
-            "3D at {scale:e}: {report}"
+        deposit_and_check::<3>(
+            &config(3, 10.0 * scale, 20.0 * scale),
+            &format!("3D {scale:e}"),
         );
-        let c = config(2, 10.0 * scale, 20.0 * scale);
-        let bed = deposit::<2>(&c.plan::<2>().unwrap(), &mut |_| {})
-            .unwrap()
-            .0;
-        let report = check_bed(&bed, 1e-9);
-        assert!(
-            report.is_ok() && bed.len() > 100,
-            "2D at {scale:e}: {report}"
+        deposit_and_check::<2>(
+            &config(2, 10.0 * scale, 20.0 * scale),
+            &format!("2D {scale:e}"),
         );
     }
 }
