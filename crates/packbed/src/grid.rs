@@ -108,19 +108,21 @@ impl<const D: usize> Grid<D> {
         let mut best: Real = 0.0;
         self.for_each_column(lo, hi, |col, _, _| {
             best = best.max(self.column_top[col]);
+            true
         });
         best
     }
 
     /// Calls `f(column, shift)` for every column (as an image with its periodic
-    /// shift) overlapping the horizontal box `[lo, hi]`.
+    /// shift) overlapping the horizontal box `[lo, hi]`, until `f` returns false;
+    /// returns false if it stopped early.
     #[inline]
     fn for_each_column(
         &self,
         lo: &Vector<D>,
         hi: &Vector<D>,
-        mut f: impl FnMut(usize, Vector<D>, u16),
-    ) {
+        mut f: impl FnMut(usize, Vector<D>, u16) -> bool,
+    ) -> bool {
         // Per axis, the wrapped cell indices and image shifts of the range, worked
         // out once per query (no division in the loop below).
         const MAX_SPAN: usize = 16;
@@ -137,7 +139,7 @@ impl<const D: usize> Grid<D> {
                 b = b.min(n - 1);
             }
             if a > b {
-                return;
+                return true;
             }
             // A query wider than the table cannot occur with cells at least as wide
             // as the reach; clamp defensively.
@@ -160,7 +162,9 @@ impl<const D: usize> Grid<D> {
         if D == 2 {
             for j in 0..span[0] {
                 offset[0] = shift[0][j];
-                f(index[0][j], offset, image[0][j]);
+                if !f(index[0][j], offset, image[0][j]) {
+                    return false;
+                }
             }
         } else {
             let nx = self.counts[0];
@@ -169,10 +173,13 @@ impl<const D: usize> Grid<D> {
                 let row = index[1][jy] * nx;
                 for jx in 0..span[0] {
                     offset[0] = shift[0][jx];
-                    f(row + index[0][jx], offset, image[0][jx] | image[1][jy]);
+                    if !f(row + index[0][jx], offset, image[0][jx] | image[1][jy]) {
+                        return false;
+                    }
                 }
             }
         }
+        true
     }
 
     /// Calls `f(id, shift, image)` for every particle in the cells overlapping the
@@ -202,7 +209,41 @@ impl<const D: usize> Grid<D> {
                     id = self.next[id as usize];
                 }
             }
+            true
         });
+    }
+
+    /// True if `f` holds for some particle in the cells overlapping the box `[lo,
+    /// hi]` (arguments as for [`Grid::for_each_in_box`]); stops at the first.
+    /// Overlap tests, where most queries of a saturating floor end at their
+    /// first neighbour.
+    pub fn any_in_box(
+        &self,
+        lo: &Vector<D>,
+        hi: &Vector<D>,
+        mut f: impl FnMut(u32, Vector<D>, u16) -> bool,
+    ) -> bool {
+        let layers = self.counts[D - 1];
+        if layers == 0 || hi[D - 1] < 0.0 {
+            return false;
+        }
+        let z0 = self.layer_of(lo[D - 1]);
+        let z1 = self.layer_of(hi[D - 1]).min(layers - 1);
+        if z0 > z1 {
+            return false;
+        }
+        !self.for_each_column(lo, hi, |col, shift, image| {
+            for layer in z0..=z1 {
+                let mut id = self.head[layer * self.columns + col];
+                while id != EMPTY {
+                    if f(id, shift, image) {
+                        return false;
+                    }
+                    id = self.next[id as usize];
+                }
+            }
+            true
+        })
     }
 
     /// Like [`Grid::for_each_in_box`], one layer at a time from the top down, for
@@ -232,6 +273,7 @@ impl<const D: usize> Grid<D> {
                     floor_height = floor_height.max(f(id, shift, image));
                     id = self.next[id as usize];
                 }
+                true
             });
         }
     }

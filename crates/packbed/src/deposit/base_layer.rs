@@ -29,17 +29,11 @@ pub(crate) fn fits<const D: usize>(
         lo[k] -= reach;
         hi[k] += reach;
     }
-    let mut free = true;
-    terrain.grid.for_each_in_box(&lo, &hi, |id, shift, _| {
-        if free {
-            let q = terrain.centres[id as usize] + shift;
-            let need = r + terrain.radii[id as usize] - slack;
-            if (*p - q).norm2() < need * need {
-                free = false;
-            }
-        }
-    });
-    free
+    !terrain.grid.any_in_box(&lo, &hi, |id, shift, _| {
+        let q = terrain.centres[id as usize] + shift;
+        let need = r + terrain.radii[id as usize] - slack;
+        (*p - q).norm2() < need * need
+    })
 }
 
 /// Candidate resting places on the floor for a particle of radius `r` that

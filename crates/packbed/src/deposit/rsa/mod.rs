@@ -167,17 +167,11 @@ impl<'p, const D: usize> Rsa<'p, D> {
         }
         let reach = r + self.r_max;
         let (qlo, qhi) = (*p - splat(reach), *p + splat(reach));
-        let mut free = true;
-        self.grid.for_each_in_box(&qlo, &qhi, |j, shift, _| {
-            if free {
-                let d = *p - (self.bed.centres[j as usize] + shift);
-                let s = r + self.bed.radii[j as usize];
-                if d.norm2() < s * s {
-                    free = false;
-                }
-            }
-        });
-        free
+        !self.grid.any_in_box(&qlo, &qhi, |j, shift, _| {
+            let d = *p - (self.bed.centres[j as usize] + shift);
+            let s = r + self.bed.radii[j as usize];
+            d.norm2() < s * s
+        })
     }
 
     /// The largest radius, up to `cap`, of a particle that fits centred at `p`.
