@@ -23,17 +23,23 @@ pub(crate) fn fits<const D: usize>(
             }
         }
     }
+    let overlaps = |reach: Real| {
+        let (mut lo, mut hi) = (*p, *p);
+        for k in 0..D {
+            lo[k] -= reach;
+            hi[k] += reach;
+        }
+        terrain.grid.any_in_box(&lo, &hi, |id, shift, _| {
+            let q = terrain.centres[id as usize] + shift;
+            let need = r + terrain.radii[id as usize] - slack;
+            (*p - q).norm2() < need * need
+        })
+    };
+    // On a nearly saturated floor almost every trial fails, mostly on a close
+    // neighbour: the few cells within reach of a particle of the same size are
+    // looked at first, the whole reach of the largest only if they are free.
     let reach = r + terrain.r_fixed_max;
-    let (mut lo, mut hi) = (*p, *p);
-    for k in 0..D {
-        lo[k] -= reach;
-        hi[k] += reach;
-    }
-    !terrain.grid.any_in_box(&lo, &hi, |id, shift, _| {
-        let q = terrain.centres[id as usize] + shift;
-        let need = r + terrain.radii[id as usize] - slack;
-        (*p - q).norm2() < need * need
-    })
+    !((2.0 * r < reach && overlaps(2.0 * r)) || overlaps(reach))
 }
 
 /// Candidate resting places on the floor for a particle of radius `r` that
