@@ -1196,10 +1196,17 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
         let h0 = h;
         // How far the chain may get from where the candidates were gathered.
         let reach = max_step * 1.01;
+        let rounding = 16.0 * Real::EPSILON * pose.com.0.iter().fold(r, |m, x| m.max(x.abs()));
         'slack: for slack in [0.0, 2.0 * contact] {
             h = h0;
             let mut unprojectable = 0;
             for _ in 0..60 {
+                if h * speed <= rounding {
+                    // A step below the rounding of the coordinates only
+                    // seems to descend (a chain was caught cycling on the
+                    // same pose with such steps): no step.
+                    break;
+                }
                 let mut trial = pose;
                 let mut dz = settler.advance(&mut trial, &u, h);
                 let mut set = supports.clone();
@@ -1212,7 +1219,11 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
                 match projected {
                     Some(d) => {
                         dz += d;
-                        if dz <= -0.1 * h * rate_z {
+                        // The height's own change must agree: the summed
+                        // increments can claim a descent of a few roundings
+                        // while the projection puts the chain back where it
+                        // was (a chain was caught cycling so on one pose).
+                        if dz <= -0.1 * h * rate_z && trial.com[D - 1] < pose.com[D - 1] {
                             pose = trial;
                             accepted = true;
                             break 'slack;
