@@ -530,3 +530,27 @@ fn bench_chain_beds_pass_the_checker() {
         assert_eq!(report.redrops, 0, "dim {dim}");
     }
 }
+
+/// Re-drops of rods of aspect 5 over several seeds (the bed of
+/// `rods_lie_closer_to_horizontal`, 5,000 rods each), every bed checked by the
+/// independent checker (run with `--ignored --nocapture`; about 2 minutes).
+#[test]
+#[ignore]
+fn rod_redrops_over_seeds() {
+    let mut total = 0;
+    for seed in 1..=7 {
+        let c = chain_toml(
+            3,
+            seed,
+            "width = 400\nheight = 2000\nperiodic = true",
+            "count = 85000\nbase_layer = \"none\"",
+            "[[species]]\nradius = 10\nshape = \"chain\"\nbeads = 17\nspacing = 0.5\norientation = \"random\"\n",
+        );
+        let (bed, report) = run::<3>(&c);
+        let check = check_bed(&bed, TOL);
+        println!("seed {seed}: {report:?}\n{check}");
+        assert_ok(&check, "rods");
+        total += report.redrops;
+    }
+    println!("{total} re-drops in 35,000 rods");
+}

@@ -30,6 +30,12 @@
 //!    touched ones that would penetrate) are restored exactly by a Gauss–Newton
 //!    projection, so errors do not accumulate.
 //!
+//! When this fast path (normal-equation NNLS, energy line search) can neither
+//! step nor certify a rest, which happens with nearly parallel supports (a rod
+//! along a rod), a rare path decides: the balance measured as the independent
+//! rest test measures it (QR, every shut contact), polished if needed
+//! (`Settler::rare_rest`).
+//!
 //! A body that does not come to rest within [`MAX_ITERATIONS`] is reported as
 //! stuck (the engine re-drops it and counts it).
 
