@@ -30,6 +30,12 @@
 //!    touched ones that would penetrate) are restored exactly by a Gauss–Newton
 //!    projection, so errors do not accumulate.
 //!
+//! When this fast path (normal-equation NNLS, energy line search) can neither
+//! step nor certify a rest, which happens with nearly parallel supports (a rod
+//! along a rod), a rare path decides: the balance measured as the independent
+//! rest test measures it (QR, every shut contact), polished if needed
+//! (`Settler::rare_rest`).
+//!
 //! A body that does not come to rest within [`MAX_ITERATIONS`] is reported as
 //! stuck (the engine re-drops it and counts it).
 
@@ -58,6 +64,10 @@ const MAX_STEP: Real = 0.25;
 /// NNLS residual below which the forces balance, relative to the sum of the
 /// contact forces (in units of the weight), as for spheres.
 const REST_TOL: Real = 1e-10;
+/// Largest residual of a balance after its supports are shut (forces solved
+/// again), in units of the weight: a hundredth of the independent checker's
+/// bound (`1e-7`; the engine's metric gives the larger residual).
+const POST_REST_TOL: Real = 1e-9;
 /// Contact forces below this fraction of the total are no forces.
 const FORCE_TOL: Real = 1e-12;
 /// Size of the tipping trial move at a balance (times the bead radius).
@@ -68,8 +78,20 @@ const TIP_STEP: Real = 1e-3;
 const TIP_DROP: Real = 1e-10;
 /// Most tipping moves after failed line searches, per chain.
 const MAX_NUDGES: usize = 8;
-/// Most touching contacts used at once (the NNLS takes at most 16).
-const MAX_TOUCHING: usize = 16;
+/// Largest rest residual accepted by the QR balance of the rare path (see
+/// [`Settler::balance_qr`]), in units of the weight and in the independent
+/// checker's metric: a tenth of the checker's bound (`1e-7`).
+const QR_REST_TOL: Real = 1e-8;
+/// Largest gap of a contact counted by the QR balance of the rare path (times
+/// the bead radius): half the model's contact tolerance (`1e-9 r`), within
+/// which the independent checker counts a contact.
+const QR_SHUT: Real = 5e-10;
+/// Largest overlap accepted at a rest found by the rare path (times the bead
+/// radius): a tenth of the model's bound (`1e-9 r`).
+const QR_OVERLAP: Real = 1e-10;
+/// Most touching contacts used at once (a rod of 17 beads lying along another
+/// has more than 16).
+const MAX_TOUCHING: usize = 48;
 
 /// The shape of a chain: `beads` spheres of radius `r`, centres `spacing · r`
 /// apart on a straight line.
@@ -217,6 +239,13 @@ impl<const D: usize> Settler<'_, '_, D> {
         u[D - 1] * h
     }
 
+    /// A bound on how far any point of the chain moved from `a` to `b`.
+    #[inline]
+    fn reach(&self, a: &Pose<D>, b: &Pose<D>) -> Real {
+        (b.com - a.com).norm()
+            + (b.axis - a.axis).norm() * (self.shape.half_length() + self.shape.r)
+    }
+
     /// Every bead–obstacle pair whose gap is below `margin` (fixed particles
     /// through their periodic images, walls and floor).
     fn gather(&self, pose: &Pose<D>, margin: Real, out: &mut Vec<Candidate<D>>) {
@@ -331,16 +360,21 @@ impl<const D: usize> Settler<'_, '_, D> {
         let tol = 1e-14 * self.shape.r + 4.0 * Real::EPSILON * scale;
         let mut dz = 0.0;
         let mut worst: Real = Real::INFINITY;
+        let rest_gap = REST_GAP * self.shape.r;
         for _ in 0..40 {
             worst = 0.0;
             let mut jtj = [[0.0; 6]; 6];
             let mut jtg = [0.0; 6];
             for &(bead, obstacle) in set {
                 let c = self.evaluate(pose, bead, obstacle);
-                // Open supports are closed fully; convergence only asks them to
-                // be within the slack.
-                let excess = if c.gap < 0.0 || c.gap > slack {
+                // Open supports are closed fully (convergence only asks them
+                // to be within the slack), except with the line search's wide
+                // slack: then they are pulled back to it, not shut (shutting
+                // them may be impossible with the others shut).
+                let excess = if c.gap < 0.0 || (c.gap > slack && slack <= rest_gap) {
                     c.gap
+                } else if c.gap > slack {
+                    c.gap - slack
                 } else {
                     continue;
                 };
@@ -398,6 +432,199 @@ impl<const D: usize> Settler<'_, '_, D> {
             }
         }
         None
+    }
+
+    /// The force balance measured as the independent rest test measures it,
+    /// for the rare case where the fast normal-equation NNLS cannot resolve a
+    /// descent step: every shut contact (gap within `QR_SHUT`, no cap on their
+    /// number), torques about the centre of mass scaled by the body's half
+    /// length plus a radius, and Lawson–Hanson by Householder QR (nearly
+    /// parallel supports, such as a rod in the groove of another, make the
+    /// normal equations lose about half the digits). Returns the residual and
+    /// the supports (contacts carrying a force).
+    fn balance_qr(
+        &self,
+        candidates: &[Candidate<D>],
+        supports: &mut Vec<(u32, Obstacle<D>)>,
+    ) -> Real {
+        self.balance_qr_vec(candidates, supports).norm()
+    }
+
+    /// [`Self::balance_qr`] returning the residual vector, in the checker's
+    /// metric (torque slots scaled by `ρ / (half length + r)` relative to the
+    /// engine's rows).
+    #[cold]
+    #[inline(never)]
+    fn balance_qr_vec(
+        &self,
+        candidates: &[Candidate<D>],
+        supports: &mut Vec<(u32, Obstacle<D>)>,
+    ) -> Gen {
+        let shut = QR_SHUT * self.shape.r;
+        let scale = self.rho / (self.shape.half_length() + self.shape.r);
+        let mut cols: Vec<[Real; 6]> = Vec::new();
+        let mut from: Vec<usize> = Vec::new();
+        for (i, c) in candidates.iter().enumerate() {
+            if c.gap <= shut {
+                let mut col = c.row.0;
+                for v in &mut col[D..] {
+                    *v *= scale;
+                }
+                cols.push(col);
+                from.push(i);
+            }
+        }
+        let q = if D == 2 { 3 } else { 6 };
+        let mut target = [0.0; 6];
+        target[D - 1] = 1.0;
+        let (residual, x) = nnls_qr(&cols, q, &target);
+        let total: Real = x.iter().sum();
+        supports.clear();
+        for (k, &i) in from.iter().enumerate() {
+            if x[k] > FORCE_TOL * total.max(1.0) {
+                supports.push((candidates[i].bead, candidates[i].obstacle));
+            }
+        }
+        Vector(residual)
+    }
+
+    /// Drives the force balance's residual down when the descent can no longer
+    /// resolve a step by the height (near a rest the height changes by the
+    /// square of the distance to it, the residual linearly, so the height is
+    /// drowned in rounding long before the residual is): steps along the
+    /// projected gradient of the QR balance, each accepted when the residual
+    /// falls by a tenth, supports shut and nothing penetrating. Moves `pose`
+    /// (by at most a few `1e-3 r`) and returns the last QR residual with its
+    /// supports.
+    #[cold]
+    #[inline(never)]
+    fn polish(
+        &self,
+        pose: &mut Pose<D>,
+        candidates: &[Candidate<D>],
+        supports: &mut Vec<(u32, Obstacle<D>)>,
+    ) -> Real {
+        let r = self.shape.r;
+        let reach = self.shape.half_length() + r;
+        let scale = self.rho / reach;
+        let here: Vec<Candidate<D>> = candidates
+            .iter()
+            .map(|c| self.evaluate(pose, c.bead, c.obstacle))
+            .collect();
+        let mut res = self.balance_qr_vec(&here, supports);
+        let start = *pose;
+        let mut disp = 1e-4 * r;
+        let mut trial_supports = Vec::new();
+        let mut trial_here = Vec::with_capacity(here.len());
+        for _ in 0..200 {
+            if res.norm() <= QR_REST_TOL || supports.is_empty() {
+                break;
+            }
+            // The checker-metric residual as an engine direction (see
+            // `balance_qr_vec`): admissible for every shut contact.
+            let mut u = -res;
+            for v in &mut u.0[D..] {
+                *v *= scale;
+            }
+            let mut uv: Real = 0.0;
+            let mut uw: Real = 0.0;
+            for i in 0..6 {
+                if i < D {
+                    uv += u[i] * u[i];
+                } else {
+                    uw += u[i] * u[i];
+                }
+            }
+            let speed = uv.sqrt() + uw.sqrt() / self.rho * reach;
+            let mut accepted = false;
+            for _ in 0..40 {
+                let mut trial = *pose;
+                self.advance(&mut trial, &u, disp / speed);
+                let mut set = supports.clone();
+                if self
+                    .project_all(&mut trial, &mut set, candidates, REST_GAP * r)
+                    .is_some()
+                    && self.reach(&start, &trial) <= 0.5 * MAX_STEP * r
+                {
+                    trial_here.clear();
+                    trial_here.extend(
+                        candidates
+                            .iter()
+                            .map(|c| self.evaluate(&trial, c.bead, c.obstacle)),
+                    );
+                    let t = self.balance_qr_vec(&trial_here, &mut trial_supports);
+                    if t.norm() < 0.9 * res.norm() && !trial_supports.is_empty() {
+                        *pose = trial;
+                        res = t;
+                        std::mem::swap(supports, &mut trial_supports);
+                        accepted = true;
+                        disp *= 2.0;
+                        break;
+                    }
+                }
+                disp *= 0.5;
+            }
+            if !accepted {
+                break;
+            }
+        }
+        res.norm()
+    }
+
+    /// The rare path, when the fast path can neither step nor certify a rest:
+    /// a rest if the contacts within `QR_SHUT` balance the weight to
+    /// `QR_REST_TOL` by [`Self::balance_qr`] (after [`Self::polish`] if
+    /// needed), nothing overlaps by more than `QR_OVERLAP`, and the balance
+    /// does not tip. On `Tipped` the pose is the tipped one; on `No` the pose
+    /// is unchanged and `supports` are the QR balance's.
+    #[cold]
+    #[inline(never)]
+    fn rare_rest<R: rand::Rng + ?Sized>(
+        &self,
+        pose: &mut Pose<D>,
+        candidates: &[Candidate<D>],
+        supports: &mut Vec<(u32, Obstacle<D>)>,
+        rng: &mut R,
+    ) -> Rare {
+        let here: Vec<Candidate<D>> = candidates
+            .iter()
+            .map(|c| self.evaluate(pose, c.bead, c.obstacle))
+            .collect();
+        let overlap = |cs: &[Candidate<D>]| cs.iter().any(|c| c.gap < -QR_OVERLAP * self.shape.r);
+        if overlap(&here) {
+            if debug_on() {
+                eprintln!("no QR balance: overlap");
+            }
+            return Rare::No;
+        }
+        let mut at = *pose;
+        let mut residual = self.balance_qr(&here, supports);
+        if residual > QR_REST_TOL {
+            let mut set = Vec::new();
+            let p = self.polish(&mut at, candidates, &mut set);
+            if p > QR_REST_TOL {
+                if debug_on() {
+                    eprintln!("no QR balance: residual {residual:.3e}, polished {p:.3e}");
+                }
+                return Rare::No;
+            }
+            residual = p;
+            *supports = set;
+        }
+        debug_assert!(residual <= QR_REST_TOL);
+        match self.tip(&at, supports, candidates, rng) {
+            Some(tipped) => {
+                *pose = tipped;
+                Rare::Tipped
+            }
+            None => {
+                *pose = at;
+                if debug_on() {
+                    eprintln!("chain at rest by the QR balance: residual {residual:.3e}");
+                }
+                Rare::Rest
+            }
+        }
     }
 
     /// A tangent direction of the supports along which the chain goes down, if
@@ -466,6 +693,9 @@ impl<const D: usize> Settler<'_, '_, D> {
             else {
                 continue;
             };
+            if self.reach(pose, &trial) > 0.5 * MAX_STEP * self.shape.r {
+                continue; // carried out of the gathered neighbourhood
+            }
             dz += d;
             if dz < -TIP_DROP * self.shape.r {
                 return Some(trial);
@@ -481,10 +711,22 @@ impl<const D: usize> Settler<'_, '_, D> {
 /// that are numerically dependent on the passive set cannot improve the fit and
 /// are left out. Returns the residual.
 fn nnls6(a: &[Gen], target: Gen, lambda: &mut [Real]) -> Gen {
+    // Small working arrays for the common case (clearing them is a
+    // noticeable part of a 5-bead chain's cost).
+    if a.len() <= 16 {
+        nnls6_n::<16>(a, target, lambda)
+    } else {
+        nnls6_n::<MAX_TOUCHING>(a, target, lambda)
+    }
+}
+
+/// [`nnls6`] with working arrays for at most `N` columns.
+fn nnls6_n<const N: usize>(a: &[Gen], target: Gen, lambda: &mut [Real]) -> Gen {
     let m = a.len();
     lambda[..m].iter_mut().for_each(|l| *l = 0.0);
-    let mut passive = [false; MAX_TOUCHING];
-    let mut banned = [false; MAX_TOUCHING];
+    let mut passive = [false; N];
+    let mut banned = [false; N];
+    let mut full = [0.0; N];
     let residual = |lambda: &[Real]| {
         let mut r = target;
         for i in 0..m {
@@ -540,7 +782,7 @@ fn nnls6(a: &[Gen], target: Gen, lambda: &mut [Real]) -> Gen {
                 banned[j] = true;
                 break;
             };
-            let mut full = [0.0; MAX_TOUCHING];
+            full[..m].fill(0.0);
             for (t, &i) in idx[..k].iter().enumerate() {
                 full[i] = z[t];
             }
@@ -567,6 +809,91 @@ fn nnls6(a: &[Gen], target: Gen, lambda: &mut [Real]) -> Gen {
         }
     }
     residual(lambda)
+}
+
+/// The outcome of [`Settler::rare_rest`].
+enum Rare {
+    /// At rest.
+    Rest,
+    /// An unstable balance, tipped.
+    Tipped,
+    /// No balance found.
+    No,
+}
+
+/// Non-negative least squares `b ≈ Σ x_k a_k`, `x ≥ 0`, in the first `q ≤ 6`
+/// coordinates (Lawson–Hanson, each passive fit by Householder QR; a column
+/// numerically dependent on the passive ones is banned until the passive set
+/// changes). Any number of columns. Returns the residual `b − Σ x_k a_k` and
+/// `x`. Only on the rare path: it allocates.
+#[cold]
+#[inline(never)]
+fn nnls_qr(a: &[[Real; 6]], q: usize, b: &[Real; 6]) -> ([Real; 6], Vec<Real>) {
+    let m = a.len();
+    let mut x = vec![0.0; m];
+    let mut passive = vec![false; m];
+    let mut banned = vec![false; m];
+    let residual = |x: &[Real]| {
+        let mut r = *b;
+        for (col, &xk) in a.iter().zip(x) {
+            for d in 0..q {
+                r[d] -= xk * col[d];
+            }
+        }
+        r
+    };
+    let dot = |u: &[Real; 6], v: &[Real; 6]| (0..q).map(|d| u[d] * v[d]).sum::<Real>();
+    let mut idx: Vec<usize> = Vec::with_capacity(6);
+    let mut sub: Vec<[Real; 6]> = Vec::with_capacity(6);
+    for _ in 0..3 * m + 10 {
+        let r = residual(&x);
+        let mut best = None;
+        let mut best_w = 1e-14;
+        for k in 0..m {
+            if !passive[k] && !banned[k] {
+                let w = dot(&a[k], &r);
+                if w > best_w {
+                    best_w = w;
+                    best = Some(k);
+                }
+            }
+        }
+        let Some(j) = best else { break };
+        passive[j] = true;
+        for _ in 0..3 * m + 10 {
+            idx.clear();
+            idx.extend((0..m).filter(|&k| passive[k]));
+            sub.clear();
+            sub.extend(idx.iter().map(|&k| a[k]));
+            let Some(z) = crate::math::least_squares_qr(&sub, q, b) else {
+                passive[j] = false;
+                banned[j] = true;
+                break;
+            };
+            let z = &z[..idx.len()];
+            if z.iter().all(|&v| v > 0.0) {
+                for (&k, &v) in idx.iter().zip(z) {
+                    x[k] = v;
+                }
+                banned.fill(false);
+                break;
+            }
+            let mut alpha: Real = 1.0;
+            for (&k, &v) in idx.iter().zip(z) {
+                if v <= 0.0 {
+                    alpha = alpha.min(x[k] / (x[k] - v));
+                }
+            }
+            for (&k, &v) in idx.iter().zip(z) {
+                x[k] += alpha * (v - x[k]);
+                if x[k] <= 1e-15 {
+                    x[k] = 0.0;
+                    passive[k] = false;
+                }
+            }
+        }
+    }
+    (residual(&x), x)
 }
 
 /// Like [`solve`], refusing pivots below `tiny` (a nearly singular system).
@@ -657,6 +984,8 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
     let mut which = [0usize; MAX_TOUCHING];
     let mut lambda = [0.0; MAX_TOUCHING];
     let mut supports: Vec<(u32, Obstacle<D>)> = Vec::new();
+    // The touching contacts of the last iteration (bead, obstacle key).
+    let mut held: Vec<(u32, u64)> = Vec::with_capacity(MAX_TOUCHING);
     let mut h_prev = Real::INFINITY;
     let mut target = Gen::zero();
     target[D - 1] = 1.0;
@@ -665,13 +994,32 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
     let mut tight = false;
     // Tipping moves tried after failed line searches.
     let mut nudges = 0;
+    let debug = debug_on();
+    let mut trace: std::collections::VecDeque<String> = Default::default();
+    macro_rules! tr {
+        ($($t:tt)*) => {
+            if debug {
+                push_trace(&mut trace, format_args!($($t)*));
+            }
+        };
+    }
     for it in 0..MAX_ITERATIONS {
         settler.gather(&pose, max_step * 1.01 + contact, &mut candidates);
         let was_tight = std::mem::take(&mut tight);
         let band = if was_tight { REST_GAP * r } else { contact };
         let mut m = 0;
         for (i, c) in candidates.iter().enumerate() {
-            if c.gap < band {
+            // Hysteresis: a contact touching in the last iteration stays
+            // touching up to twice the band, so that a support pinned near the
+            // band's edge does not flicker in and out of the touching set
+            // (each flicker changes the descent direction and cuts the step).
+            let near = c.gap < band
+                || (!was_tight
+                    && c.gap < 2.0 * band
+                    && held
+                        .iter()
+                        .any(|&(b, k)| b == c.bead && k == c.obstacle.key));
+            if near {
                 if m == MAX_TOUCHING {
                     // Keep the closest contacts (a tie of many is degenerate).
                     let (worst, _) = which[..m]
@@ -688,6 +1036,12 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
                 m += 1;
             }
         }
+        held.clear();
+        held.extend(
+            which[..m]
+                .iter()
+                .map(|&i| (candidates[i].bead, candidates[i].obstacle.key)),
+        );
         if m == 0 {
             pose.com[D - 1] -= settler.fall_distance(&pose);
             h_prev = Real::INFINITY;
@@ -698,6 +1052,27 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
         }
         let residual = nnls6(&touching[..m], target, &mut lambda);
         let total: Real = lambda[..m].iter().sum();
+        if debug {
+            let gaps: Vec<_> = which[..m]
+                .iter()
+                .map(|&i| {
+                    (
+                        candidates[i].bead,
+                        candidates[i].obstacle.key,
+                        candidates[i].gap,
+                    )
+                })
+                .collect();
+            push_trace(
+                &mut trace,
+                format_args!(
+                    "it {it} z {:.12} res {:.3e} m {m} tight {was_tight} gaps {gaps:?} lam {:?}",
+                    pose.com[D - 1],
+                    residual.norm(),
+                    &lambda[..m]
+                ),
+            );
+        }
         supports.clear();
         for j in 0..m {
             if lambda[j] > FORCE_TOL * total.max(1.0) {
@@ -714,12 +1089,27 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
                 .is_none()
             {
                 if was_tight {
+                    // Nearly parallel contacts within rounding of each other
+                    // (a chain along a chain): the balance as the independent
+                    // rest test measures it decides.
+                    match settler.rare_rest(&mut pose, &candidates, &mut supports, rng) {
+                        Rare::Rest => return Some(pose),
+                        Rare::Tipped => {
+                            h_prev = Real::INFINITY;
+                            continue;
+                        }
+                        Rare::No => {}
+                    }
+                    for t in &trace {
+                        eprintln!("  {t}");
+                    }
                     dbg_fail("rest projection", it, &supports.len());
                     return None;
                 }
                 // Some support a little open cannot be shut while the others
                 // stay shut: it is no support here. Look again with only the
                 // contacts that are shut.
+                tr!("   rest projection failed: tight");
                 tight = true;
                 continue;
             }
@@ -728,13 +1118,49 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
             if moved > contact {
                 continue; // the projection moved it noticeably: look again
             }
-            match settler.tip(&pose, &set, &candidates, rng) {
-                Some(tipped) => {
-                    pose = tipped;
+            // The balance was measured before the projection, which may have
+            // turned the normals (a move of `1e-7 r` turns them by about as
+            // much): measure it again where the chain now is, forces
+            // re-solved, as the independent rest test does.
+            // Only contacts shut there count (the others carry no force).
+            let mut k = 0;
+            for j in 0..m {
+                let c = &candidates[which[j]];
+                let e = settler.evaluate(&pose, c.bead, c.obstacle);
+                if e.gap <= REST_GAP * r {
+                    touching[k] = e.row;
+                    k += 1;
+                }
+            }
+            let after = nnls6(&touching[..k], target, &mut lambda);
+            let verdict = if after.norm() <= POST_REST_TOL {
+                match settler.tip(&pose, &set, &candidates, rng) {
+                    Some(tipped) => {
+                        pose = tipped;
+                        Rare::Tipped
+                    }
+                    None => Rare::Rest,
+                }
+            } else {
+                // Forces that nearly cancel (a bead pinched between two
+                // obstacles) make the relative test above weak, and nearly
+                // parallel supports the normal equations: the balance
+                // measured as the independent rest test does decides.
+                tr!(
+                    "   moved {moved:.3e}: residual after the projection {:.3e}",
+                    after.norm()
+                );
+                let mut scratch = Vec::new();
+                settler.rare_rest(&mut pose, &candidates, &mut scratch, rng)
+            };
+            match verdict {
+                Rare::Rest => return Some(pose),
+                Rare::Tipped => {
                     h_prev = Real::INFINITY;
                     continue;
                 }
-                None => return Some(pose),
+                // Not a balance after all: descend.
+                Rare::No => {}
             }
         }
         // Steepest descent: u = −residual, along which the height falls at the
@@ -756,8 +1182,8 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
         if uw > 0.0 {
             h = h.min(0.5 / uw);
         }
-        for c in &candidates {
-            if c.gap < band {
+        for (i, c) in candidates.iter().enumerate() {
+            if c.gap < band || (c.gap < 2.0 * band && which[..m].contains(&i)) {
                 continue;
             }
             let rate = c.row.dot(&u);
@@ -774,17 +1200,36 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
         // beads of a rod on one obstacle, one at gap 0, one a little open).
         let mut accepted = false;
         let h0 = h;
-        'slack: for slack in [0.0, contact] {
+        // How far the chain may get from where the candidates were gathered.
+        let reach = max_step * 1.01;
+        let rounding = 16.0 * Real::EPSILON * pose.com.0.iter().fold(r, |m, x| m.max(x.abs()));
+        'slack: for slack in [0.0, 2.0 * contact] {
             h = h0;
             let mut unprojectable = 0;
             for _ in 0..60 {
+                if h * speed <= rounding {
+                    // A step below the rounding of the coordinates only
+                    // seems to descend (a chain was caught cycling on the
+                    // same pose with such steps): no step.
+                    break;
+                }
                 let mut trial = pose;
                 let mut dz = settler.advance(&mut trial, &u, h);
                 let mut set = supports.clone();
-                match settler.project_all(&mut trial, &mut set, &candidates, slack) {
+                let projected = settler
+                    .project_all(&mut trial, &mut set, &candidates, slack)
+                    // A projection that carried a bead out of the gathered
+                    // neighbourhood could hide an overlap with an obstacle
+                    // never looked at: no projection.
+                    .filter(|_| settler.reach(&pose, &trial) <= reach);
+                match projected {
                     Some(d) => {
                         dz += d;
-                        if dz <= -0.1 * h * rate_z {
+                        // The height's own change must agree: the summed
+                        // increments can claim a descent of a few roundings
+                        // while the projection puts the chain back where it
+                        // was (a chain was caught cycling so on one pose).
+                        if dz <= -0.1 * h * rate_z && trial.com[D - 1] < pose.com[D - 1] {
                             pose = trial;
                             accepted = true;
                             break 'slack;
@@ -805,10 +1250,22 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
             }
         }
         if !accepted {
-            // No step along the descent direction is resolvable (its rate is
-            // below rounding, or the supports cannot follow it): try the
-            // tipping moves of a balance, which go a finite distance along
-            // the supports' tangent directions.
+            // No step along the descent direction is resolvable. If the shut
+            // contacts balance the weight when measured as the independent
+            // rest test does (QR, where the normal equations lost digits),
+            // this is a balance: a rest unless it tips.
+            match settler.rare_rest(&mut pose, &candidates, &mut supports, rng) {
+                Rare::Rest => return Some(pose),
+                Rare::Tipped => {
+                    h_prev = Real::INFINITY;
+                    continue;
+                }
+                Rare::No => {}
+            }
+            tr!("   no step, no QR balance ({} supports)", supports.len());
+            // Otherwise (its rate is below rounding, or the supports cannot
+            // follow it): try the tipping moves of a balance, which go a
+            // finite distance along the supports' tangent directions.
             if nudges < MAX_NUDGES {
                 if let Some(tipped) = settler.tip(&pose, &supports, &candidates, rng) {
                     nudges += 1;
@@ -817,13 +1274,35 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
                     continue;
                 }
             }
+            for t in &trace {
+                eprintln!("  {t}");
+            }
             dbg_fail("line search", it, &(residual.norm(), m, supports.len(), h));
             return None;
         }
+        tr!("   step h {h:.3e} rate {rate_z:.3e}");
         h_prev = h;
+    }
+    for t in &trace {
+        eprintln!("  {t}");
     }
     dbg_fail("iterations", MAX_ITERATIONS, &());
     None
+}
+
+/// Keeps the last iterations' diagnostics (with `PACKBED_CHAIN_DEBUG`).
+#[cold]
+#[inline(never)]
+fn push_trace(trace: &mut std::collections::VecDeque<String>, line: std::fmt::Arguments) {
+    if trace.len() > 80 {
+        trace.pop_front();
+    }
+    trace.push_back(line.to_string());
+}
+
+fn debug_on() -> bool {
+    static ON: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *ON.get_or_init(|| std::env::var_os("PACKBED_CHAIN_DEBUG").is_some())
 }
 
 /// Explains a stuck chain on stderr when `PACKBED_CHAIN_DEBUG` is set (for
