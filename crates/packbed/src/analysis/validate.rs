@@ -421,82 +421,12 @@ fn rest_residual<const D: usize>(
 }
 
 /// Distance from `b` to the cone `{Σ λ_k a_k : λ ≥ 0}` in `q ≤ 6` dimensions
-/// (Lawson–Hanson active set). Any number of columns, unlike the engine's solver,
+/// (Lawson–Hanson active set, [`crate::math::nnls_qr`], which the chain
+/// settling's rare path shares). Any number of columns, unlike the fast solver,
 /// since a large sphere among small ones can have many supports.
 fn nnls_residual(a: &[[Real; 6]], q: usize, b: &[Real; 6]) -> Real {
-    let m = a.len();
-    let mut x = vec![0.0; m];
-    let mut passive = vec![false; m];
-    let mut banned = vec![false; m];
-    let residual = |x: &[Real]| {
-        let mut r = *b;
-        for (col, &xk) in a.iter().zip(x) {
-            for d in 0..q {
-                r[d] -= xk * col[d];
-            }
-        }
-        r
-    };
-    let dot = |u: &[Real; 6], v: &[Real; 6]| (0..q).map(|d| u[d] * v[d]).sum::<Real>();
-    for _ in 0..3 * m + 10 {
-        let r = residual(&x);
-        let mut best = None;
-        let mut best_w = 1e-14;
-        for k in 0..m {
-            if !passive[k] && !banned[k] {
-                let w = dot(&a[k], &r);
-                if w > best_w {
-                    best_w = w;
-                    best = Some(k);
-                }
-            }
-        }
-        let Some(j) = best else { break };
-        passive[j] = true;
-        for _ in 0..3 * m + 10 {
-            let idx: Vec<usize> = (0..m).filter(|&k| passive[k]).collect();
-            let Some(z) = least_squares(a, q, b, &idx) else {
-                // Numerically dependent on the passive columns: it cannot improve
-                // the fit with them, leave it out while they stay passive.
-                passive[j] = false;
-                banned[j] = true;
-                break;
-            };
-            if z.iter().all(|&v| v > 0.0) {
-                for (&k, &v) in idx.iter().zip(&z) {
-                    x[k] = v;
-                }
-                // A new passive set: a column dependent on the old one may now
-                // be what the fit needs (a chain in the groove between two
-                // rods has many nearly parallel supports). Banning for good
-                // left such beds "not at rest" at residuals near 1e-7.
-                banned.fill(false);
-                break;
-            }
-            let mut alpha: Real = 1.0;
-            for (&k, &v) in idx.iter().zip(&z) {
-                if v <= 0.0 {
-                    alpha = alpha.min(x[k] / (x[k] - v));
-                }
-            }
-            for (&k, &v) in idx.iter().zip(&z) {
-                x[k] += alpha * (v - x[k]);
-                if x[k] <= 1e-15 {
-                    x[k] = 0.0;
-                    passive[k] = false;
-                }
-            }
-        }
-    }
-    let r = residual(&x);
-    dot(&r, &r).sqrt()
-}
-
-/// Least squares `b ≈ Σ z_k a_k` over the columns `idx` (QR, see
-/// [`crate::math::least_squares_qr`]); `None` when they are numerically dependent.
-fn least_squares(a: &[[Real; 6]], q: usize, b: &[Real; 6], idx: &[usize]) -> Option<Vec<Real>> {
-    let cols: Vec<[Real; 6]> = idx.iter().map(|&i| a[i]).collect();
-    crate::math::least_squares_qr(&cols, q, b).map(|z| z[..idx.len()].to_vec())
+    let (r, _) = crate::math::nnls_qr(a, q, b);
+    r[..q].iter().map(|x| x * x).sum::<Real>().sqrt()
 }
 
 #[cfg(test)]

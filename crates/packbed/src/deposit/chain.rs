@@ -477,7 +477,7 @@ impl<const D: usize> Settler<'_, '_, D> {
         let q = if D == 2 { 3 } else { 6 };
         let mut target = [0.0; 6];
         target[D - 1] = 1.0;
-        let (residual, x) = nnls_qr(&cols, q, &target);
+        let (residual, x) = crate::math::nnls_qr(&cols, q, &target);
         let total: Real = x.iter().sum();
         supports.clear();
         for (k, &i) in from.iter().enumerate() {
@@ -819,81 +819,6 @@ enum Rare {
     Tipped,
     /// No balance found.
     No,
-}
-
-/// Non-negative least squares `b ≈ Σ x_k a_k`, `x ≥ 0`, in the first `q ≤ 6`
-/// coordinates (Lawson–Hanson, each passive fit by Householder QR; a column
-/// numerically dependent on the passive ones is banned until the passive set
-/// changes). Any number of columns. Returns the residual `b − Σ x_k a_k` and
-/// `x`. Only on the rare path: it allocates.
-#[cold]
-#[inline(never)]
-fn nnls_qr(a: &[[Real; 6]], q: usize, b: &[Real; 6]) -> ([Real; 6], Vec<Real>) {
-    let m = a.len();
-    let mut x = vec![0.0; m];
-    let mut passive = vec![false; m];
-    let mut banned = vec![false; m];
-    let residual = |x: &[Real]| {
-        let mut r = *b;
-        for (col, &xk) in a.iter().zip(x) {
-            for d in 0..q {
-                r[d] -= xk * col[d];
-            }
-        }
-        r
-    };
-    let dot = |u: &[Real; 6], v: &[Real; 6]| (0..q).map(|d| u[d] * v[d]).sum::<Real>();
-    let mut idx: Vec<usize> = Vec::with_capacity(6);
-    let mut sub: Vec<[Real; 6]> = Vec::with_capacity(6);
-    for _ in 0..3 * m + 10 {
-        let r = residual(&x);
-        let mut best = None;
-        let mut best_w = 1e-14;
-        for k in 0..m {
-            if !passive[k] && !banned[k] {
-                let w = dot(&a[k], &r);
-                if w > best_w {
-                    best_w = w;
-                    best = Some(k);
-                }
-            }
-        }
-        let Some(j) = best else { break };
-        passive[j] = true;
-        for _ in 0..3 * m + 10 {
-            idx.clear();
-            idx.extend((0..m).filter(|&k| passive[k]));
-            sub.clear();
-            sub.extend(idx.iter().map(|&k| a[k]));
-            let Some(z) = crate::math::least_squares_qr(&sub, q, b) else {
-                passive[j] = false;
-                banned[j] = true;
-                break;
-            };
-            let z = &z[..idx.len()];
-            if z.iter().all(|&v| v > 0.0) {
-                for (&k, &v) in idx.iter().zip(z) {
-                    x[k] = v;
-                }
-                banned.fill(false);
-                break;
-            }
-            let mut alpha: Real = 1.0;
-            for (&k, &v) in idx.iter().zip(z) {
-                if v <= 0.0 {
-                    alpha = alpha.min(x[k] / (x[k] - v));
-                }
-            }
-            for (&k, &v) in idx.iter().zip(z) {
-                x[k] += alpha * (v - x[k]);
-                if x[k] <= 1e-15 {
-                    x[k] = 0.0;
-                    passive[k] = false;
-                }
-            }
-        }
-    }
-    (residual(&x), x)
 }
 
 /// Like [`solve`], refusing pivots below `tiny` (a nearly singular system).
