@@ -192,24 +192,9 @@ impl<const D: usize> Grid<D> {
         hi: &Vector<D>,
         mut f: impl FnMut(u32, Vector<D>, u16),
     ) {
-        let layers = self.counts[D - 1];
-        if layers == 0 || hi[D - 1] < 0.0 {
-            return;
-        }
-        let z0 = self.layer_of(lo[D - 1]);
-        let z1 = self.layer_of(hi[D - 1]).min(layers - 1);
-        if z0 > z1 {
-            return;
-        }
-        self.for_each_column(lo, hi, |col, shift, image| {
-            for layer in z0..=z1 {
-                let mut id = self.head[layer * self.columns + col];
-                while id != EMPTY {
-                    f(id, shift, image);
-                    id = self.next[id as usize];
-                }
-            }
-            true
+        self.any_in_box(lo, hi, |id, shift, image| {
+            f(id, shift, image);
+            false
         });
     }
 
