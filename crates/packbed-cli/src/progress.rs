@@ -4,7 +4,7 @@
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use packbed::config::{Config, Fill};
 use packbed::math::ball_volume;
-use packbed::species::{Shape, SizeDist};
+use packbed::species::Shape;
 use std::io::IsTerminal;
 use std::time::{Duration, Instant};
 
@@ -111,7 +111,7 @@ fn roof_guess<const D: usize>(plan: &packbed::config::Plan<D>) -> u64 {
             Shape::Chain { beads, .. } => beads as f64,
         };
         beads += s.ratio * n;
-        volume += s.ratio * n * ball_volume::<D>(typical_radius(&s.size));
+        volume += s.ratio * n * ball_volume::<D>(s.size.median());
     }
     if beads <= 0.0 || volume <= 0.0 {
         return 0;
@@ -122,29 +122,5 @@ fn roof_guess<const D: usize>(plan: &packbed::config::Plan<D>) -> u64 {
         n as u64
     } else {
         0
-    }
-}
-
-/// A radius representative of a distribution, good enough for an estimate.
-fn typical_radius(size: &SizeDist) -> f64 {
-    match size {
-        SizeDist::Fixed(r) => *r,
-        SizeDist::Normal { mean, .. } => *mean,
-        SizeDist::Lognormal { median, .. } => *median,
-        SizeDist::Uniform { min, max } => 0.5 * (min + max),
-        SizeDist::Table {
-            radii, cumulative, ..
-        } => {
-            let mut prev = 0.0;
-            radii
-                .iter()
-                .zip(cumulative)
-                .map(|(r, c)| {
-                    let w = c - prev;
-                    prev = *c;
-                    r * w
-                })
-                .sum()
-        }
     }
 }

@@ -98,6 +98,10 @@ fn opt(v: Option<f64>) -> String {
     v.map_or("-".into(), |x| format!("{x:.4}"))
 }
 
+fn opt3(v: Option<f64>) -> String {
+    v.map_or("-".into(), |x| format!("{x:.3}"))
+}
+
 /// One line per measure, shared by `run` and `analyze`.
 pub fn measures_text(a: &Summary) -> String {
     let mut t = String::new();
@@ -105,9 +109,10 @@ pub fn measures_text(a: &Summary) -> String {
     let r = &p.regions;
     let _ = writeln!(
         t,
-        "  packing fraction: global {:.4}, bulk {:.4}; floor {}, roof {}, wall {}, centre {}",
+        "  packing fraction: global {:.4}, bulk {} ({} bodies); floor {}, roof {}, wall {}, centre {}",
         p.global,
-        p.bulk,
+        opt(p.bulk),
+        p.bulk_bodies,
         opt(r.floor),
         opt(r.roof),
         opt(r.wall),
@@ -116,9 +121,12 @@ pub fn measures_text(a: &Summary) -> String {
     let k = &a.coordination;
     let _ = writeln!(
         t,
-        "  coordination: bulk {:.3} ({} particles in the bulk), overall {:.3}; {} floor and {} wall contacts",
-        k.mean_bulk, k.bulk_particles, k.mean, k.floor_contacts, k.wall_contacts
+        "  coordination: bulk {} ({} particles in the bulk), overall {:.3}; {} floor and {} wall contacts",
+        opt3(k.mean_bulk), k.bulk_particles, k.mean, k.floor_contacts, k.wall_contacts
     );
+    if let Some(why) = &p.bulk_note {
+        let _ = writeln!(t, "  bulk measures: none ({why})");
+    }
     if k.by_species.len() > 1 {
         let per: Vec<String> = k
             .by_species
@@ -129,7 +137,7 @@ pub fn measures_text(a: &Summary) -> String {
                 } else {
                     s.name.clone()
                 };
-                format!("{name} {:.3} (bulk {:.3})", s.mean, s.mean_bulk)
+                format!("{name} {:.3} (bulk {})", s.mean, opt3(s.mean_bulk))
             })
             .collect();
         let _ = writeln!(t, "    by species: {}", per.join(", "));

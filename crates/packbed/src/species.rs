@@ -73,6 +73,42 @@ impl SizeDist {
         }
     }
 
+    /// The median radius: the typical size of the species, used to name species
+    /// "large" and "small" (the truncation bounds of a tail say little of it).
+    pub fn median(&self) -> Real {
+        match self {
+            SizeDist::Fixed(r) => *r,
+            // Truncation at ±k sd on both sides (or at 0 and +k sd) keeps the
+            // mean as the centre of a symmetric normal; near-0 cuts shift it a little.
+            SizeDist::Normal { mean, .. } => *mean,
+            SizeDist::Lognormal { median, .. } => *median,
+            SizeDist::Uniform { min, max } => 0.5 * (min + max),
+            SizeDist::Table {
+                radii, cumulative, ..
+            } => {
+                // Rows may come in any order: weigh them in order of radius.
+                let mut rows: Vec<(Real, Real)> = radii
+                    .iter()
+                    .zip(cumulative)
+                    .scan(0.0, |prev, (&r, &c)| {
+                        let w = c - *prev;
+                        *prev = c;
+                        Some((r, w))
+                    })
+                    .collect();
+                rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+                let mut acc = 0.0;
+                for &(r, w) in &rows {
+                    acc += w;
+                    if acc >= 0.5 {
+                        return r;
+                    }
+                }
+                rows.last().map_or(0.0, |x| x.0)
+            }
+        }
+    }
+
     /// Draws one radius.
     pub fn sample<R: rand::Rng + ?Sized>(&self, rng: &mut R) -> Real {
         let (lo, hi) = self.bounds();

@@ -426,8 +426,8 @@ fn large<const D: usize>(diameters: Real) -> (Bed<D>, DepositReport, Real, Real,
     (
         b,
         rep,
-        s.packing.bulk,
-        s.coordination.mean_bulk,
+        s.packing.bulk.expect("bulk"),
+        s.coordination.mean_bulk.expect("bulk"),
         s.coordination.bulk_particles,
     )
 }

@@ -303,9 +303,9 @@ fn mean_bulk<const D: usize>(boxed: &str, seeds: std::ops::Range<u64>) -> (Real,
             "RSA {D}D seed {seed}: {} particles, global {:.4}, bulk {:.4}",
             b.len(),
             summary.packing.global,
-            summary.packing.bulk
+            summary.packing.bulk.expect("bulk")
         );
-        sum += summary.packing.bulk;
+        sum += summary.packing.bulk.expect("bulk");
         n += 1;
         particles = particles.min(b.len());
     }

@@ -53,11 +53,17 @@ pub struct Summary {
 pub struct PackingSummary {
     /// Solid volume ÷ box volume (box up to the roof).
     pub global: Real,
-    /// Solid fraction of the bulk region (see `spec/analysis.md`); 0 if the bed
-    /// is too small to have a bulk region.
-    pub bulk: Real,
-    /// True when the bed has no bulk region (then `bulk` is 0, not a measurement).
+    /// Solid fraction of the bulk region (see `spec/analysis.md`); `None`
+    /// (null) when the bed has no bulk region or it holds fewer bodies than the
+    /// minimum (`bulk_note` says which).
+    pub bulk: Option<Real>,
+    /// True when the bed has no bulk region.
     pub bulk_region_empty: bool,
+    /// Bodies with at least one particle centre in the bulk region.
+    pub bulk_bodies: u64,
+    /// Why the bulk measures are null, when they are.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bulk_note: Option<String>,
     /// Floor, roof, wall and centre regions.
     pub regions: RegionalPacking,
     /// Solid fraction in slabs of `d_max / 4`, bottom to top.
@@ -70,8 +76,9 @@ pub struct CoordinationSummary {
     /// Mean number of touching bodies per body, over the whole bed.
     pub mean: Real,
     /// The same over particles whose centre lies in the bulk region (each with its
-    /// body's number, so a chain counts once per bead inside).
-    pub mean_bulk: Real,
+    /// body's number, so a chain counts once per bead inside); null as
+    /// `packing.bulk` is.
+    pub mean_bulk: Option<Real>,
     /// Number of particles whose centre lies in the bulk region.
     pub bulk_particles: u64,
     /// Number of bodies with 0, 1, 2, … touching bodies.
@@ -97,8 +104,9 @@ pub struct SpeciesCoordination {
     pub bodies: u64,
     /// Mean number of touching bodies.
     pub mean: Real,
-    /// Mean over its particles in the bulk region.
-    pub mean_bulk: Real,
+    /// Mean over its particles in the bulk region (null when the bulk measures
+    /// are, or none of its particles is in the bulk).
+    pub mean_bulk: Option<Real>,
     /// Its particles in the bulk region.
     pub bulk_particles: u64,
     /// Number of its bodies with 0, 1, 2, … touching bodies.
@@ -112,13 +120,21 @@ pub struct AnalysisOptions {
     pub contact_tol: Real,
     /// Percolation settings (which particles are large, enumeration caps).
     pub percolation: PercolationOptions,
+    /// Bulk measures are null below this many bodies in the bulk region.
+    pub bulk_min_bodies: u64,
 }
+
+/// Default minimum of bodies in the bulk region for bulk measures: the source
+/// study's small boxes hold about 4, whose packing fraction (up to 0.765, above
+/// the densest packing) is noise, not a bulk value.
+pub const BULK_MIN_BODIES: u64 = 50;
 
 impl Default for AnalysisOptions {
     fn default() -> Self {
         AnalysisOptions {
             contact_tol: 1e-6,
             percolation: PercolationOptions::default(),
+            bulk_min_bodies: BULK_MIN_BODIES,
         }
     }
 }
@@ -189,8 +205,20 @@ pub fn analyze_timed<const D: usize>(
         Some(reg) => bed.centres.iter().map(|c| reg.contains(c)).collect(),
         None => vec![false; bed.len()],
     });
+    let bulk_bodies = count_bodies(bed, &in_bulk);
+    let bulk_note = if region.is_none() {
+        Some("the bed is too small to have a bulk region".to_string())
+    } else if bulk_bodies < opts.bulk_min_bodies {
+        Some(format!(
+            "the bulk region holds {bulk_bodies} bodies, fewer than the minimum of {}",
+            opts.bulk_min_bodies
+        ))
+    } else {
+        None
+    };
+    let bulk_ok = bulk_note.is_none();
     let coordination = times.time("coordination/summary", || {
-        coordination_summary(bed, &contacts, &z, &in_bulk)
+        coordination_summary(bed, &contacts, &z, &in_bulk, bulk_ok)
     });
     let d_max = 2.0 * bed.r_max();
     let packing = PackingSummary {
@@ -200,9 +228,12 @@ pub fn analyze_timed<const D: usize>(
         bulk: times.time("packing/bulk", || {
             region
                 .as_ref()
-                .map_or(0.0, |reg| reg.fraction_of(bed, &volumes))
+                .filter(|_| bulk_ok)
+                .map(|reg| reg.fraction_of(bed, &volumes))
         }),
         bulk_region_empty: region.is_none(),
+        bulk_bodies,
+        bulk_note,
         regions: times.time("packing/regions", || {
             regions::regional_packing_of(bed, &volumes)
         }),
@@ -235,7 +266,16 @@ fn coordination_summary<const D: usize>(
     contacts: &Contacts,
     z: &[u32],
     in_bulk: &[bool],
+    bulk_ok: bool,
 ) -> CoordinationSummary {
+    let bulk_mean = |values: &mut dyn Iterator<Item = u32>| {
+        let (mut sum, mut n) = (0.0, 0usize);
+        for v in values {
+            sum += Real::from(v);
+            n += 1;
+        }
+        (bulk_ok && n > 0).then(|| sum / n as Real)
+    };
     // One entry per body, whatever its number of beads: (body, z, species).
     let mut per_body: Vec<(u32, u32, u32)> = (0..bed.len())
         .map(|i| (bed.bodies[i], z[i], bed.species[i]))
@@ -258,7 +298,7 @@ fn coordination_summary<const D: usize>(
                     .map_or_else(String::new, |i| i.name.clone()),
                 bodies: mine().count() as u64,
                 mean: mean_of(mine()),
-                mean_bulk: mean_of(bulk(Some(s))),
+                mean_bulk: bulk_mean(&mut bulk(Some(s))),
                 bulk_particles: bulk(Some(s)).count() as u64,
                 histogram: count_histogram(mine()),
             }
@@ -271,7 +311,7 @@ fn coordination_summary<const D: usize>(
         .count() as u64;
     CoordinationSummary {
         mean: mean_of(per_body.iter().map(|e| e.1)),
-        mean_bulk: mean_of(bulk(None)),
+        mean_bulk: bulk_mean(&mut bulk(None)),
         bulk_particles: bulk(None).count() as u64,
         histogram: count_histogram(per_body.iter().map(|e| e.1)),
         histogram_bulk: count_histogram(bulk(None)),
@@ -279,6 +319,17 @@ fn coordination_summary<const D: usize>(
         floor_contacts: floor,
         wall_contacts: contacts.walls.len() as u64 - floor,
     }
+}
+
+/// Number of distinct bodies with at least one particle flagged.
+fn count_bodies<const D: usize>(bed: &Bed<D>, flagged: &[bool]) -> u64 {
+    let mut bodies: Vec<u32> = (0..bed.len())
+        .filter(|&i| flagged[i])
+        .map(|i| bed.bodies[i])
+        .collect();
+    bodies.sort_unstable();
+    bodies.dedup();
+    bodies.len() as u64
 }
 
 /// Mean of counts, 0 for none (never NaN).
@@ -321,21 +372,37 @@ mod tests {
 
     #[test]
     fn square_lattice_summary() {
-        let (contacts, s) = analyze(&square_lattice(false), 1e-6);
+        let all = AnalysisOptions {
+            bulk_min_bodies: 0,
+            ..AnalysisOptions::new(1e-6, None)
+        };
+        let (contacts, s) = analyze_with(&square_lattice(false), &all);
         assert_eq!(contacts.pairs.len(), 2 * 10 * 9);
         assert!((s.packing.global - PI / 4.0).abs() < 1e-14);
         // Bulk: [2, 8] × [2, 7]: centres 2.5..7.5 by 2.5..6.5, all with 4 neighbours.
-        assert!((s.packing.bulk - PI / 4.0).abs() < 1e-14);
+        assert!((s.packing.bulk.unwrap() - PI / 4.0).abs() < 1e-14);
         assert!(!s.packing.bulk_region_empty);
         assert_eq!(s.coordination.bulk_particles, 30);
-        assert_eq!(s.coordination.mean_bulk, 4.0);
+        assert_eq!(s.packing.bulk_bodies, 30);
+        assert_eq!(s.coordination.mean_bulk, Some(4.0));
         // Corners 2, edges 3, inside 4: 2 × 180 contacts / 100 discs.
         assert!((s.coordination.mean - 3.6).abs() < 1e-14);
         // Periodic: every disc has four neighbours.
-        let (contacts, s) = analyze(&square_lattice(true), 1e-6);
+        let (contacts, s) = analyze_with(&square_lattice(true), &all);
         assert_eq!(contacts.pairs.len(), 2 * 10 * 9 + 10);
         assert_eq!(s.coordination.bulk_particles, 50);
-        assert_eq!(s.coordination.mean_bulk, 4.0);
+        assert_eq!(s.coordination.mean_bulk, Some(4.0));
+        // 30 bodies is below the default minimum of 50: null, with the reason.
+        let (_, s) = analyze(&square_lattice(false), 1e-6);
+        assert_eq!(s.packing.bulk, None);
+        assert_eq!(s.coordination.mean_bulk, None);
+        assert_eq!(s.packing.bulk_bodies, 30);
+        let why = s.packing.bulk_note.unwrap();
+        assert!(why.contains("30 bodies") && why.contains("50"), "{why}");
+        let (_, s) = analyze(&square_lattice(true), 1e-6);
+        assert_eq!(s.packing.bulk_bodies, 50);
+        assert_eq!(s.coordination.mean_bulk, Some(4.0));
+        assert_eq!(s.packing.bulk_note, None);
     }
 
     #[test]
@@ -361,7 +428,8 @@ mod tests {
         // other disc.
         assert!((s.coordination.mean - 2.0).abs() < 1e-15);
         assert!(s.packing.bulk_region_empty);
-        assert_eq!(s.packing.bulk, 0.0);
+        assert_eq!(s.packing.bulk, None);
+        assert!(s.packing.bulk_note.is_some());
     }
 
     #[test]
@@ -376,10 +444,10 @@ mod tests {
         let (contacts, s) = analyze(&bed, 1e-6);
         assert_eq!(contacts, Contacts::default());
         assert_eq!(s.packing.global, 0.0);
-        assert_eq!(s.packing.bulk, 0.0);
+        assert_eq!(s.packing.bulk, None);
         assert!(s.packing.bulk_region_empty);
         assert_eq!(s.coordination.mean, 0.0);
-        assert_eq!(s.coordination.mean_bulk, 0.0);
+        assert_eq!(s.coordination.mean_bulk, None);
         assert_eq!(s.coordination.bulk_particles, 0);
     }
 }

@@ -116,8 +116,8 @@ impl<const D: usize> Region<D> {
 }
 
 /// The bulk region: at least `2 d_max` from the side walls (no cut on periodic
-/// axes) and the floor, and `3 d_max` below the highest particle top; `None` when
-/// the bed is too small to have one.
+/// axes) and the floor, and `3 d_max` below the bed's [`surface_height`]; `None`
+/// when the bed is too small to have one.
 pub fn bulk_region<const D: usize>(bed: &Bed<D>) -> Option<Region<D>> {
     if bed.is_empty() {
         return None;
@@ -136,9 +136,46 @@ pub fn bulk_region<const D: usize>(bed: &Bed<D>) -> Option<Region<D>> {
         }
     }
     lo[D - 1] = 2.0 * d_max;
-    hi[D - 1] = bed.top() - 3.0 * d_max;
+    hi[D - 1] = surface_height(bed) - 3.0 * d_max;
     let ok = (0..D).all(|k| lo[k].is_finite() && hi[k].is_finite() && hi[k] > lo[k]);
     ok.then_some(Region { lo, hi, wrap })
+}
+
+/// Height of the bed's surface: the mean, over columns of the floor about one
+/// largest diameter wide, of the highest particle top whose centre lies in the
+/// column (0 for a column with none). One particle sticking up (a spike) moves
+/// it by a column's share only; the highest top alone biased the bulk of wide
+/// walled beds 0.003 low.
+pub fn surface_height<const D: usize>(bed: &Bed<D>) -> Real {
+    if bed.is_empty() {
+        return 0.0;
+    }
+    let d_max = 2.0 * bed.r_max();
+    let mut n = [1usize; D];
+    let mut width = [0.0; D];
+    let mut columns = 1usize;
+    for k in 0..D - 1 {
+        let w = bed.container.size[k];
+        // At least a diameter wide, so that a filled bed has a particle in each.
+        n[k] = ((w / d_max).floor() as usize).clamp(1, 1 << 16);
+        width[k] = w / n[k] as Real;
+        columns *= n[k];
+    }
+    let mut tops = vec![0.0 as Real; columns];
+    for (c, &r) in bed.centres.iter().zip(&bed.radii) {
+        let mut index = 0;
+        for k in 0..D - 1 {
+            let i = (c[k] / width[k]).floor();
+            let i = if i.is_finite() && i > 0.0 {
+                (i as usize).min(n[k] - 1)
+            } else {
+                0
+            };
+            index = index * n[k] + i;
+        }
+        tops[index] = tops[index].max(c[D - 1] + r);
+    }
+    tops.iter().sum::<Real>() / columns as Real
 }
 
 /// Global packing fraction: solid volume ÷ box volume up to the roof. When particles

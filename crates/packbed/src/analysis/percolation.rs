@@ -38,8 +38,9 @@ pub const MAX_SEARCH_STEPS: u64 = 5_000_000;
 /// Which particles are large.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LargeRule {
-    /// The species holding the largest particle (the default).
-    LargestSpecies,
+    /// Particles with `r >=` the [`default_large_radius`] of the bed: the
+    /// largest of the species' median drawn radii (the default).
+    Median,
     /// Particles with `r >= R` (relative slack 1e-9 for radii read from text).
     Radius(Real),
 }
@@ -60,7 +61,7 @@ pub struct PercolationOptions {
 impl Default for PercolationOptions {
     fn default() -> Self {
         PercolationOptions {
-            large: LargeRule::LargestSpecies,
+            large: LargeRule::Median,
             max_chains: MAX_CHAINS,
             max_chain_length: MAX_CHAIN_LENGTH,
             max_search_steps: MAX_SEARCH_STEPS,
@@ -766,26 +767,41 @@ fn spatial_order<const D: usize>(bed: &Bed<D>, node_of: &mut [u32], first_bead: 
 
 /// Which particles are large, and the radius threshold that means.
 fn large_particles<const D: usize>(bed: &Bed<D>, rule: LargeRule) -> (Vec<bool>, Real) {
-    match rule {
-        LargeRule::Radius(r) => {
-            let cut = r * (1.0 - 1e-9);
-            (bed.radii.iter().map(|&x| x >= cut).collect(), r)
-        }
-        LargeRule::LargestSpecies => {
-            let Some(big) = (0..bed.len())
-                .max_by(|&a, &b| bed.radii[a].total_cmp(&bed.radii[b]).then(b.cmp(&a)))
-            else {
-                return (Vec::new(), 0.0);
-            };
-            let s = bed.species[big];
-            let flags: Vec<bool> = bed.species.iter().map(|&x| x == s).collect();
-            let r_min = (0..bed.len())
-                .filter(|&i| flags[i])
-                .map(|i| bed.radii[i])
-                .fold(Real::INFINITY, Real::min);
-            (flags, r_min)
-        }
+    let r = match rule {
+        LargeRule::Radius(r) => r,
+        LargeRule::Median => default_large_radius(bed),
+    };
+    // Radii read back from text differ from the threshold in the last digits.
+    let cut = r * (1.0 - 1e-9);
+    (bed.radii.iter().map(|&x| x >= cut).collect(), r)
+}
+
+/// The default threshold of "large": the largest, over the species present,
+/// of the median radius drawn in that species (0 for an empty bed).
+///
+/// A species of one size gives its radius, so radii 10 and 20 make the 20s
+/// large and equal radii make every particle large, whatever the species. A
+/// size distribution gives its median as drawn, not the truncation bound of
+/// its tail, which for a lognormal is far out and held by almost nothing.
+pub fn default_large_radius<const D: usize>(bed: &Bed<D>) -> Real {
+    let mut by_species: Vec<(u32, Real)> = bed
+        .species
+        .iter()
+        .zip(&bed.radii)
+        .map(|(&s, &r)| (s, r))
+        .collect();
+    by_species.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    let mut best: Real = 0.0;
+    for group in by_species.chunk_by(|a, b| a.0 == b.0) {
+        let m = group.len();
+        let median = if m % 2 == 1 {
+            group[m / 2].1
+        } else {
+            0.5 * (group[m / 2 - 1].1 + group[m / 2].1)
+        };
+        best = best.max(median);
     }
+    best
 }
 
 /// The chain problem along horizontal axis `k`.
@@ -1056,7 +1072,7 @@ mod tests {
         assert_eq!(p.shortest_chain, Some(3));
         assert_eq!(p.spanning_clusters, 1);
         let c = find_contacts(&bed, 1e-9);
-        let lg = large_graph(&bed, &c, LargeRule::LargestSpecies);
+        let lg = large_graph(&bed, &c, LargeRule::Median);
         let t = terminals(&bed, &c, &lg, 0);
         let e = unique_chains(&lg.graph, &t, 400, 250, u64::MAX);
         // As particle sets (node ids follow the cells, not the input order).

@@ -210,6 +210,7 @@ impl<'p, const D: usize> Engine<'p, D> {
             .plan
             .species
             .iter()
+            .filter(|s| s.ratio > 0.0)
             .map(|s| s.size.bounds().0)
             .fold(Real::INFINITY, Real::min);
         let floor_area: Real = (0..D - 1).map(|k| c.size[k]).product();
@@ -223,9 +224,18 @@ impl<'p, const D: usize> Engine<'p, D> {
                 let mut pose = self.chain_entry(shape, Orientation::Horizontal);
                 pose.com[D - 1] = r;
                 let terrain = self.terrain();
-                let fits = (0..shape.beads).all(|k| {
-                    base_layer::fits(&terrain, &(pose.com + pose.axis * shape.offset(k)), r, 0.0)
-                });
+                // The entry falls back to upright when no azimuth tried fits
+                // between the walls; upright on the floor would stand through it.
+                let flat = pose.axis[D - 1].abs() < 0.5;
+                let fits = flat
+                    && (0..shape.beads).all(|k| {
+                        base_layer::fits(
+                            &terrain,
+                            &(pose.com + pose.axis * shape.offset(k)),
+                            r,
+                            0.0,
+                        )
+                    });
                 if fits {
                     self.place_chain(shape, &pose, s);
                     failures = 0;
@@ -252,9 +262,11 @@ impl<'p, const D: usize> Engine<'p, D> {
             .species
             .iter()
             .enumerate()
+            // A species of ratio 0 is never drawn, so it has no place in the layer.
+            .filter(|(_, s)| s.ratio > 0.0)
             .map(|(i, s)| (i as u32, s.size.bounds().0))
             .min_by(|a, b| a.1.total_cmp(&b.1))
-            .expect("at least one species");
+            .expect("the ratios sum to more than zero");
         if self.chain_of(s_min, r_fill).is_some() {
             self.report.base_layer = self.bed.len() as u64;
             return;

@@ -369,7 +369,7 @@ mod tests {
     fn nan_is_refused_with_its_key() {
         let (config, bed) = small_run();
         let mut analysis = Summary::default();
-        analysis.coordination.mean_bulk = f64::NAN;
+        analysis.coordination.mean_bulk = Some(f64::NAN);
         let s = RunSummary::new(
             &config,
             &bed,
