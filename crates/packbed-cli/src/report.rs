@@ -1,5 +1,6 @@
 //! The short human summary `packbed run` prints on stdout.
 
+use packbed::analysis::percolation::DirectionPercolation;
 use packbed::analysis::Summary;
 use packbed::io::{AnalyzeSummary, RunSummary, RUN_FILES};
 use std::fmt::Write;
@@ -146,15 +147,42 @@ pub fn measures_text(a: &Summary) -> String {
     let chain = if c.spans {
         let lengths = c
             .chain_length
-            .map(|l| format!(", lengths {}–{} (mean {:.1})", l.min, l.max, l.mean))
+            .map(|l| format!(" of {}–{} particles (mean {:.1})", l.min, l.max, l.mean))
             .unwrap_or_default();
+        // 3D: per direction and summed (the source study counted "x or y" together).
+        let per_axis = |count: fn(&DirectionPercolation) -> u64, sum: u64| {
+            if c.directions.len() > 1 {
+                let each: Vec<String> = c
+                    .directions
+                    .iter()
+                    .map(|d| format!("{} {}", d.axis, count(d)))
+                    .collect();
+                format!("{} (sum {sum})", each.join(", "))
+            } else {
+                sum.to_string()
+            }
+        };
+        let capped = if c.cap_hit {
+            let mut why = Vec::new();
+            if c.directions.iter().any(|d| d.chain_cap_hit) {
+                why.push("chain count");
+            }
+            if c.directions.iter().any(|d| d.length_cap_hit) {
+                why.push("chain length");
+            }
+            if c.directions.iter().any(|d| d.search_cap_hit) {
+                why.push("search steps");
+            }
+            format!(" (enumeration capped by {})", why.join(" and "))
+        } else {
+            String::new()
+        };
         format!(
-            "spans ({} spanning clusters); shortest chain {} particles, {} disjoint chains, {}{} unique chains{lengths}",
+            "spans ({} spanning clusters); shortest chain {} particles; vertex-disjoint chains {}; unique chains {}{lengths}{capped}",
             c.spanning_clusters,
             c.shortest_chain.unwrap_or(0),
-            c.disjoint_chains,
-            c.unique_chains,
-            if c.cap_hit { "+ (cap hit)" } else { "" }
+            per_axis(|d| d.disjoint_chains, c.disjoint_chains_sum),
+            per_axis(|d| d.unique_chains, c.unique_chains),
         )
     } else {
         "no spanning chain".into()

@@ -122,10 +122,10 @@ fn chains_longer_than_the_box_are_refused() {
 }
 
 #[test]
-fn base_layer_chains_lie_flat_inside_the_box() {
-    // 100 long in a 100 × 100 floor: flat only along an axis, so most random
-    // azimuths do not fit; the base layer used to set such a chain upright
-    // with its lowest bead on the floor's level, i.e. through the floor.
+fn chains_as_long_as_the_box_is_wide_settle_inside_it() {
+    // 100 long on a 100 × 100 floor: the longest accepted. The base layer lays
+    // them flat and never upright (an upright chain with its lowest bead at the
+    // floor's level stood through it when no flat pose fitted).
     for seed in 1..=3 {
         let c = config(&format!(
             "dim = 3\nseed = {seed}\n[box]\nwidth = 100\ndepth = 100\nheight = 150\n[fill]\ncount = 40\n[[species]]\nradius = 10\nshape = \"chain\"\nbeads = 9\n"
@@ -279,4 +279,67 @@ fn a_bulk_of_a_few_bodies_is_null_with_its_reason() {
     if n > 0 {
         assert!(v["packing"]["bulk"].as_f64().is_some());
     }
+}
+
+// ---------------------------------------------------------------------------
+// 15. Percolation in 3D: per direction and summed; lengths agree with the shortest
+// ---------------------------------------------------------------------------
+
+#[test]
+fn disjoint_chains_are_reported_per_direction_and_summed() {
+    use packbed::container::Container;
+    use packbed::math::Vector;
+    // One layer of unit spheres on a 10 × 6 square lattice: 6 rows span x, 10 columns span y.
+    let mut bed: Bed<3> = Bed::new(
+        Container {
+            size: Vector([10.0, 6.0, 5.0]),
+            periodic: false,
+        },
+        Vec::new(),
+    );
+    for i in 0..10 {
+        for j in 0..6 {
+            bed.push(Vector([i as f64 + 0.5, j as f64 + 0.5, 0.5]), 0.5, 0);
+        }
+    }
+    let p = analyze(&bed, 1e-9).1.percolation;
+    let per: Vec<(String, u64)> = p
+        .directions
+        .iter()
+        .map(|d| (d.axis.clone(), d.disjoint_chains))
+        .collect();
+    assert_eq!(per, vec![("x".into(), 6), ("y".into(), 10)]);
+    assert_eq!(p.disjoint_chains, 10);
+    assert_eq!(p.disjoint_chains_sum, 16);
+    let v = serde_json::to_value(&p).unwrap();
+    assert_eq!(v["disjoint_chains_sum"], 16);
+}
+
+#[test]
+fn enumerated_chain_lengths_never_undercut_nor_skip_the_shortest_chain() {
+    use packbed::analysis::find_contacts;
+    use packbed::analysis::percolation::{percolation, PercolationOptions};
+    // With the enumeration capped at a few chains, the first chains met used to
+    // be longer than the breadth-first shortest ("shortest 47, lengths 50-250").
+    let mut checked = 0;
+    for seed in 1..=12 {
+        let c = config(&format!(
+            "dim = 2\nseed = {seed}\n[box]\nwidth = 300\nheight = 200\n[[species]]\nradius = 10\n"
+        ));
+        let (b, _) = run::<2>(&c);
+        let contacts = find_contacts(&b, 1e-6);
+        for max_chains in [1, 3] {
+            let opts = PercolationOptions {
+                max_chains,
+                ..PercolationOptions::default()
+            };
+            let p = percolation(&b, &contacts, &opts);
+            if let Some(shortest) = p.shortest_chain {
+                let l = p.chain_length.expect("a chain was enumerated");
+                assert_eq!(l.min, shortest, "seed {seed}, max_chains {max_chains}");
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 6, "only {checked} beds percolated");
 }

@@ -125,9 +125,12 @@ pub struct Percolation {
     pub spanning_clusters: u64,
     /// Shortest chain over the directions.
     pub shortest_chain: Option<u64>,
-    /// Disjoint chains in the direction with the most.
+    /// Vertex-disjoint chains in the direction with the most (2D: along x).
     pub disjoint_chains: u64,
-    /// Unique chains summed over the directions.
+    /// Vertex-disjoint chains summed over the directions (3D: x and y counted
+    /// together, as the source study counted chains "in x or y"; 2D: along x).
+    pub disjoint_chains_sum: u64,
+    /// Unique chains summed over the directions (per direction in `directions`).
     pub unique_chains: u64,
     /// Some cap of the enumeration was hit in some direction.
     pub cap_hit: bool,
@@ -464,6 +467,34 @@ pub fn unique_chains(
         }
         out.chains.len() >= max_chains
     };
+    // A shortest chain first: whatever the caps cut later, the enumerated
+    // lengths then start at the breadth-first shortest chain and never
+    // contradict it (a capped search from the first start nodes could miss it).
+    if let Some(s) = (0..n)
+        .filter(|&s| t.start[s] && to_end[s] != u32::MAX)
+        .min_by_key(|&s| (to_end[s], s))
+    {
+        if (to_end[s] as usize) < max_len {
+            let mut chain = vec![s as u32];
+            let mut u = s;
+            while to_end[u] > 0 {
+                let next = order[g.row[u]..g.row[u + 1]].iter().find(|&&e| {
+                    let v = g.adj[e] as usize;
+                    t.usable(g, e) && !t.start[v] && to_end[v] + 1 == to_end[u]
+                });
+                let Some(&e) = next else {
+                    chain.clear();
+                    break;
+                };
+                u = g.adj[e] as usize;
+                chain.push(u as u32);
+            }
+            if !chain.is_empty() && record(&chain, &mut out) {
+                out.chain_cap_hit = true;
+                return out;
+            }
+        }
+    }
     for s in 0..n {
         if !t.start[s] || to_end[s] == u32::MAX {
             continue;
@@ -957,6 +988,7 @@ pub fn percolation_timed<const D: usize>(
             .map(|d| d.disjoint_chains)
             .max()
             .unwrap_or(0),
+        disjoint_chains_sum: directions.iter().map(|d| d.disjoint_chains).sum(),
         unique_chains: directions.iter().map(|d| d.unique_chains).sum(),
         cap_hit: directions
             .iter()
