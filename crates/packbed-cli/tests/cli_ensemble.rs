@@ -84,7 +84,9 @@ const PLOTS: [&str; 4] = [
 #[test]
 fn ensembles_and_sweeps_plot_their_statistics() {
     let s = Scratch::new();
-    s.ok(&args(SMALL, &["--runs", "4", "--out", "e", "-q"]));
+    // A box wide enough for a bulk of at least 50 bodies (else its bar is left out).
+    let wide = ["--dim", "2", "--radii", "20,10", "--box", "diameters=16"];
+    s.ok(&args(&wide, &["--runs", "4", "--out", "e", "-q"]));
     for p in PLOTS {
         assert_eq!(
             png_size(&s.bytes(&format!("e/{p}.png"))),
