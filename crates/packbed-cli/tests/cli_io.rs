@@ -27,3 +27,48 @@ fn bodies_are_counted_not_numbered() {
     assert_eq!(v["counts"]["particles"], 4);
     assert_eq!(v["counts"]["bodies"], 3);
 }
+
+// ---- declared counts ------------------------------------------------------
+
+/// A LAMMPS dump or XYZ file that declares fewer atoms than it has rows is
+/// refused, naming both numbers, instead of being cut short.
+#[test]
+fn atom_count_below_the_rows_is_refused() {
+    let s = Scratch::new();
+    let dump = |n: usize| {
+        format!(
+            "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n{n}\nITEM: BOX BOUNDS ff ff ff\n\
+             0 10\n0 10\n0 10\nITEM: ATOMS id type x y z radius\n\
+             1 1 1 1 1 1\n2 1 3 1 1 1\n3 1 5 1 1 1\n"
+        )
+    };
+    let short = s.input("short.dump", &dump(2));
+    assert_user_error(
+        &s,
+        &["analyze", short.to_str().unwrap(), "--out", "a"],
+        &["short.dump:12", "3 atom lines", "says 2"],
+    );
+    let whole = s.input("whole.dump", &dump(3));
+    s.ok(&["analyze", whole.to_str().unwrap(), "--out", "a", "-q"]);
+    assert_eq!(summary(&s, "a")["counts"]["particles"], 3);
+
+    let xyz = |n: usize| {
+        format!(
+            "{n}\nLattice=\"10 0 0 0 10 0 0 0 10\" Properties=pos:R:3:radius:R:1 pbc=\"F F F\"\n\
+             1 1 1 1\n3 1 1 1\n5 1 1 1\n"
+        )
+    };
+    let short = s.input("short.xyz", &xyz(1));
+    assert_user_error(
+        &s,
+        &["analyze", short.to_str().unwrap(), "--out", "b"],
+        &["short.xyz:4", "3 particle lines", "says 1"],
+    );
+    let whole = s.input("whole.xyz", &xyz(3));
+    s.ok(&["analyze", whole.to_str().unwrap(), "--out", "b", "-q"]);
+    assert_eq!(summary(&s, "b")["counts"]["particles"], 3);
+    // A second frame after a complete first one is not extra rows.
+    let frames = s.input("frames.xyz", &format!("{}{}", xyz(3), xyz(3)));
+    s.ok(&["analyze", frames.to_str().unwrap(), "--out", "c", "-q"]);
+    assert_eq!(summary(&s, "c")["counts"]["particles"], 3);
+}

@@ -554,6 +554,22 @@ impl Reader<'_> {
             };
             rows.push((key, p, r, ty, mol, no));
         }
+        // A count below the rows would silently cut the bed short: the snapshot
+        // ends at the next ITEM (a new snapshot) or at the end of the file.
+        let extra = lines[(start + n).min(lines.len())..]
+            .iter()
+            .take_while(|l| !l.trim_start().starts_with("ITEM:"))
+            .filter(|l| !l.trim().is_empty())
+            .count();
+        if extra > 0 {
+            return Err(self.err(
+                start + n + 1,
+                format!(
+                    "{} atom lines, but ITEM: NUMBER OF ATOMS says {n}",
+                    n + extra
+                ),
+            ));
+        }
         // Dumps are often written in id-scrambled order: restore id order.
         rows.sort_by_key(|r| r.0);
         let flag = |a: usize| flags.get(a).map(String::as_str).unwrap_or("ff");
@@ -669,6 +685,22 @@ impl Reader<'_> {
                 None => j as u32,
             });
             raw.lines.push(no);
+        }
+        // A count below the rows would silently cut the bed short: after the
+        // frame comes the end of the file or the count line of the next frame.
+        let extra = lines[(first + 2 + n as usize).min(lines.len())..]
+            .iter()
+            .take_while(|l| l.trim().parse::<u64>().is_err())
+            .filter(|l| !l.trim().is_empty())
+            .count();
+        if extra > 0 {
+            return Err(self.err(
+                first + 3 + n as usize,
+                format!(
+                    "{} particle lines, but the count line says {n}",
+                    n as usize + extra
+                ),
+            ));
         }
         for s in &names {
             raw.species_info.push(Species {
