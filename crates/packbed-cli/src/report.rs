@@ -79,9 +79,14 @@ pub fn analyze_text(s: &AnalyzeSummary, out: &Path) -> String {
     } else {
         "walls"
     };
+    let from = match b.source {
+        Some("options") => " from --box".to_string(),
+        Some(f) => format!(" from the {f}"),
+        None => String::new(),
+    };
     let _ = writeln!(
         t,
-        "packbed: {} ({}D, {} particles, {} bodies, {size} box, {sides})",
+        "packbed: {} ({}D, {} particles, {} bodies, {size} box{from}, {sides})",
         s.source, s.dim, s.counts.particles, s.counts.bodies
     );
     t.push_str(&measures_text(&s.analysis));

@@ -22,7 +22,15 @@ fn bodies_are_counted_not_numbered() {
         "sparse.csv",
         "x,y,r,body\n1,1,1,0\n3,1,1,88000\n5,1,1,88000\n7,1,1,17\n",
     );
-    s.ok(&["analyze", f.to_str().unwrap(), "--box", "8,10", "--out", "a", "-q"]);
+    s.ok(&[
+        "analyze",
+        f.to_str().unwrap(),
+        "--box",
+        "8,10",
+        "--out",
+        "a",
+        "-q",
+    ]);
     let v = summary(&s, "a");
     assert_eq!(v["counts"]["particles"], 4);
     assert_eq!(v["counts"]["bodies"], 3);
@@ -71,4 +79,60 @@ fn atom_count_below_the_rows_is_refused() {
     let frames = s.input("frames.xyz", &format!("{}{}", xyz(3), xyz(3)));
     s.ok(&["analyze", frames.to_str().unwrap(), "--out", "c", "-q"]);
     assert_eq!(summary(&s, "c")["counts"]["particles"], 3);
+}
+
+// ---- the box ----------------------------------------------------------------
+
+/// `--box` and `--periodic` win over the box of the summary.json beside a
+/// particles.csv, and the output says which box was used.
+#[test]
+fn given_box_wins_over_the_summary_beside() {
+    let s = Scratch::new();
+    s.ok(&["run", "--dim", "2", "--count", "60", "--out", "r", "-q"]);
+    let run = summary(&s, "r");
+    let (w, h) = (
+        run["box"]["width"].as_f64().unwrap(),
+        run["box"]["height"].as_f64().unwrap(),
+    );
+    assert_eq!(run["box"]["periodic"], false);
+    assert!(run["box"].get("source").is_none(), "{}", run["box"]);
+
+    let o = s.ok(&["analyze", "r/particles.csv", "--out", "a"]);
+    assert!(
+        o.stdout.contains("box from the summary.json"),
+        "{}",
+        o.stdout
+    );
+    let a = summary(&s, "a");
+    assert_eq!(a["box"], {
+        let mut b = run["box"].clone();
+        b["source"] = "summary.json".into();
+        b
+    });
+
+    let given = format!("{w},{}", 2.0 * h);
+    let o = s.ok(&[
+        "analyze",
+        "r/particles.csv",
+        "--box",
+        &given,
+        "--periodic",
+        "--out",
+        "b",
+    ]);
+    assert!(
+        o.stdout.contains("box from --box, periodic sides"),
+        "{}",
+        o.stdout
+    );
+    let b = summary(&s, "b");
+    assert_eq!(b["box"]["width"].as_f64(), Some(w));
+    assert_eq!(b["box"]["height"].as_f64(), Some(2.0 * h));
+    assert_eq!(b["box"]["periodic"], true);
+    assert_eq!(b["box"]["source"], "options");
+    // The analysis used it: the same solid in a box twice as high, and no
+    // side-wall contacts with periodic sides.
+    let global = |v: &Value| v["packing"]["global"].as_f64().unwrap();
+    assert!((global(&b) - global(&a) / 2.0).abs() < 1e-12 * global(&a));
+    assert!(!s.read("b/wall_contacts.csv").contains(",x"));
 }

@@ -32,9 +32,44 @@ pub struct BoxHint {
 /// Most particles a file may declare (a larger count is a corrupt header).
 pub const MAX_PARTICLES: u64 = 2_000_000_000;
 
+/// Where the box of a bed read from a file came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BoxSource {
+    /// Given by the caller (`--box`, `--periodic`).
+    Given,
+    /// The bed file itself (dump bounds, XYZ lattice, VTU field data).
+    File,
+    /// The `summary.json` beside a `particles.csv`.
+    SummaryBeside,
+}
+
+impl BoxSource {
+    /// How `summary.json` and the screen name it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            BoxSource::Given => "options",
+            BoxSource::File => "file",
+            BoxSource::SummaryBeside => "summary.json",
+        }
+    }
+}
+
+/// What reading a bed file found out besides the bed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ReadReport {
+    /// Where the box came from.
+    pub box_source: BoxSource,
+}
+
 /// Reads a bed file. `box_hint` is used when the file carries no box (plain
 /// tables; `particles.csv` without a `summary.json` beside it).
 pub fn read_bed(path: &Path, box_hint: Option<&BoxHint>) -> Result<AnyBed> {
+    read_bed_report(path, box_hint).map(|(bed, _)| bed)
+}
+
+/// [`read_bed`], also telling where the box came from. A given `box_hint` wins
+/// over a box in the file (or in the `summary.json` beside it).
+pub fn read_bed_report(path: &Path, box_hint: Option<&BoxHint>) -> Result<(AnyBed, ReadReport)> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
         path: path.to_path_buf(),
         source: e,
@@ -84,6 +119,8 @@ struct Raw {
     size: Option<(Vec<Real>, bool)>,
     /// Box origin, subtracted from the positions (packbed's box starts at 0).
     origin: [Real; 3],
+    /// Where `size` came from, when set.
+    box_source: BoxSource,
     species_info: Vec<Species>,
 }
 
@@ -98,6 +135,7 @@ impl Raw {
             lines: Vec::new(),
             size: None,
             origin: [0.0; 3],
+            box_source: BoxSource::File,
             species_info: Vec::new(),
         }
     }
@@ -136,7 +174,7 @@ impl Reader<'_> {
     }
 
     /// The common checks, then the bed in its dimension.
-    fn finish(&self, mut raw: Raw, hint: Option<&BoxHint>) -> Result<AnyBed> {
+    fn finish(&self, mut raw: Raw, hint: Option<&BoxHint>) -> Result<(AnyBed, ReadReport)> {
         if raw.pos.is_empty() {
             return Err(self.err(1, "no particles in the file"));
         }
@@ -145,9 +183,9 @@ impl Reader<'_> {
                 return Err(self.err(raw.lines[k], format!("radius {r} must be > 0")));
             }
         }
-        let (size, periodic) = match (raw.size.take(), hint) {
-            (Some(s), _) => s,
-            (None, Some(h)) => {
+        let file_box = raw.size.take();
+        let (size, periodic, box_source) = match (hint, file_box) {
+            (Some(h), _) => {
                 if h.size.len() != raw.dim {
                     return Err(self.err(
                         1,
@@ -158,8 +196,9 @@ impl Reader<'_> {
                         ),
                     ));
                 }
-                (h.size.clone(), h.periodic)
+                (h.size.clone(), h.periodic, BoxSource::Given)
             }
+            (None, Some((s, p))) => (s, p, raw.box_source),
             (None, None) => {
                 return Err(self.err(
                     1,
@@ -203,10 +242,11 @@ impl Reader<'_> {
             }
         }
         self.check_crowding(&raw)?;
-        Ok(match raw.dim {
+        let bed = match raw.dim {
             2 => AnyBed::D2(build::<2>(&raw, &size, periodic)),
             _ => AnyBed::D3(build::<3>(&raw, &size, periodic)),
-        })
+        };
+        Ok((bed, ReadReport { box_source }))
     }
 
     /// Refuses a file whose particles sit far more densely than any packing can:
@@ -396,6 +436,7 @@ impl Reader<'_> {
             vec![w, h]
         };
         raw.size = Some((size, periodic));
+        raw.box_source = BoxSource::SummaryBeside;
         if let Some(list) = v.get("species").and_then(|s| s.as_array()) {
             for (k, s) in list.iter().enumerate() {
                 let name = s

@@ -9,6 +9,7 @@ use crate::bed::Bed;
 use crate::config::{Config, Mode};
 use crate::deposit::DepositReport;
 use crate::error::{Error, Result};
+use crate::io::read::ReadReport;
 use crate::math::Real;
 use crate::species::Shape;
 use serde::Serialize;
@@ -52,6 +53,11 @@ pub struct BoxSummary {
     pub height: Real,
     /// Periodic side boundaries.
     pub periodic: bool,
+    /// Where the box of an analysed bed file came from: `options` (`--box`,
+    /// which wins over a box in the file), `file` or `summary.json` (beside a
+    /// `particles.csv`). Absent for a run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub source: Option<&'static str>,
 }
 
 /// `counts.*`.
@@ -119,6 +125,7 @@ impl RunSummary {
                 depth: (D == 3).then(|| size[1]),
                 height: size[D - 1],
                 periodic: bed.container.periodic,
+                source: None,
             },
             counts: Counts {
                 particles: bed.len() as u64,
@@ -205,6 +212,7 @@ impl AnalyzeSummary {
     pub fn new<const D: usize>(
         source: &str,
         bed: &Bed<D>,
+        read: &ReadReport,
         settings: AnalyzeSettings,
         analysis: &Summary,
         timing: AnalyzeTiming,
@@ -219,6 +227,7 @@ impl AnalyzeSummary {
                 depth: (D == 3).then(|| size[1]),
                 height: size[D - 1],
                 periodic: bed.container.periodic,
+                source: Some(read.box_source.name()),
             },
             counts: AnalyzeCounts {
                 particles: bed.len() as u64,
