@@ -136,3 +136,93 @@ fn given_box_wins_over_the_summary_beside() {
     assert!((global(&b) - global(&a) / 2.0).abs() < 1e-12 * global(&a));
     assert!(!s.read("b/wall_contacts.csv").contains(",x"));
 }
+
+/// Particles sticking out of the box by more than 1 % of their radius are
+/// refused with their number and the line of the first; DEM-like small
+/// overlaps with the walls pass; periodic centres are wrapped.
+#[test]
+fn particles_outside_the_box_are_refused() {
+    let s = Scratch::new();
+    let analyze = |name: &str, text: &str, boxed: &str, extra: &[&str], needles: &[&str]| {
+        let f = s.input(name, text);
+        let mut args = vec!["analyze", f.to_str().unwrap(), "--box", boxed, "--out", "o"];
+        args.extend_from_slice(extra);
+        assert_user_error(&s, &args, needles);
+    };
+    // The case: a 3D table read as 2D, the heights taken for radii.
+    analyze(
+        "wall.txt",
+        "5 5 1\n49.8 5 1\n20 5 1\n55 5 3\n",
+        "50,50",
+        &[],
+        &[
+            "wall.txt:2",
+            "2 particles stick out",
+            "x1",
+            "0.800 of its radius",
+        ],
+    );
+    analyze(
+        "floor.txt",
+        "5 5 1\n9 0.9 1\n",
+        "50,50",
+        &[],
+        &["floor.txt:2", "floor"],
+    );
+    analyze(
+        "roof.txt",
+        "5 5 1\n9 49.5 1\n",
+        "50,50",
+        &[],
+        &["roof.txt:2", "roof"],
+    );
+    analyze(
+        "low.csv",
+        "x,y,z,r\n5,5,5,1\n5,-0.5,5,1\n",
+        "50,50,50",
+        &[],
+        &["low.csv:3", "y0"],
+    );
+    // The floor counts with periodic sides too, the roof does not.
+    analyze(
+        "pfloor.txt",
+        "5 5 1\n9 0.5 1\n",
+        "50,50",
+        &["--periodic"],
+        &["pfloor.txt:2", "floor"],
+    );
+
+    // Within 1 % of the radius: accepted.
+    let f = s.input("dem.txt", "0.995 5 1\n49.005 5 1\n10 0.995 1\n");
+    s.ok(&[
+        "analyze",
+        f.to_str().unwrap(),
+        "--box",
+        "50,50",
+        "--out",
+        "d",
+        "-q",
+    ]);
+    // Periodic sides: centres outside [0, W) are wrapped, and the two discs
+    // touch through the boundary; a disc above the roof passes.
+    let f = s.input("wrap.txt", "-1 1 1\n1 1 1\n53 1 1\n10 60 1\n");
+    s.ok(&[
+        "analyze",
+        f.to_str().unwrap(),
+        "--box",
+        "50,50",
+        "--periodic",
+        "--out",
+        "p",
+        "-q",
+    ]);
+    let contacts = s.read("p/contacts.csv");
+    assert!(
+        contacts.lines().any(|l| l.starts_with("0,1,")),
+        "{contacts}"
+    );
+    assert!(
+        contacts.lines().any(|l| l.starts_with("1,2,")),
+        "{contacts}"
+    );
+}

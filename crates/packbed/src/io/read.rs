@@ -59,7 +59,13 @@ impl BoxSource {
 pub struct ReadReport {
     /// Where the box came from.
     pub box_source: BoxSource,
+    /// Centres moved into `[0, W)` along periodic axes.
+    pub wrapped: u64,
 }
+
+/// How far a particle may stick out of the box, relative to its radius:
+/// DEM beds press particles a little into the walls.
+pub const OUTSIDE_TOL: Real = 0.01;
 
 /// Reads a bed file. `box_hint` is used when the file carries no box (plain
 /// tables; `particles.csv` without a `summary.json` beside it).
@@ -241,12 +247,104 @@ impl Reader<'_> {
                 p[k] -= raw.origin[k];
             }
         }
+        let wrapped = self.check_inside(&mut raw, &size, periodic, box_source)?;
         self.check_crowding(&raw)?;
         let bed = match raw.dim {
             2 => AnyBed::D2(build::<2>(&raw, &size, periodic)),
             _ => AnyBed::D3(build::<3>(&raw, &size, periodic)),
         };
-        Ok((bed, ReadReport { box_source }))
+        Ok((
+            bed,
+            ReadReport {
+                box_source,
+                wrapped,
+            },
+        ))
+    }
+
+    /// Refuses particles sticking out of the box by more than [`OUTSIDE_TOL`] of
+    /// their radius, through the floor, a side wall or (for a walled box given
+    /// by the caller) the roof; wraps centres into `[0, W)` along periodic axes
+    /// and returns how many it moved.
+    ///
+    /// The height of a box read from a file is not taken as a roof: packbed's
+    /// own beds filled by count rise above their roof (the roof is ignored
+    /// there, and the analysis takes the box up to the highest top), and so do
+    /// their exports. A box the user gives is a statement about the bed.
+    fn check_inside(
+        &self,
+        raw: &mut Raw,
+        size: &[Real],
+        periodic: bool,
+        source: BoxSource,
+    ) -> Result<u64> {
+        let d = raw.dim;
+        let v = d - 1;
+        let roof = !periodic && source == BoxSource::Given;
+        let mut wrapped = 0u64;
+        let mut outside = 0u64;
+        let mut first: Option<(usize, String)> = None;
+        const AXES: [&str; 3] = ["x", "y", "z"];
+        for k in 0..raw.pos.len() {
+            let r = raw.radii[k];
+            let tol = OUTSIDE_TOL * r;
+            let p = &mut raw.pos[k];
+            let mut out: Option<(&str, Real)> = None;
+            for a in 0..v {
+                let w = size[a];
+                if periodic {
+                    if !(0.0..w).contains(&p[a]) {
+                        let mut x = p[a].rem_euclid(w);
+                        // A tiny negative centre rounds to w itself.
+                        if x >= w {
+                            x = 0.0;
+                        }
+                        p[a] = x;
+                        wrapped += 1;
+                    }
+                } else if p[a] - r < -tol {
+                    out = out.or(Some((["wall x0", "wall y0"][a], r - p[a])));
+                } else if p[a] + r > w + tol {
+                    out = out.or(Some((["wall x1", "wall y1"][a], p[a] + r - w)));
+                }
+            }
+            if p[v] - r < -tol {
+                out = out.or(Some(("floor", r - p[v])));
+            } else if roof && p[v] + r > size[v] + tol {
+                out = out.or(Some(("roof", p[v] + r - size[v])));
+            }
+            if let Some((wall, by)) = out {
+                outside += 1;
+                if first.is_none() {
+                    let at: Vec<String> = (0..d).map(|a| format!("{} {}", AXES[a], p[a])).collect();
+                    first = Some((
+                        raw.lines[k],
+                        format!(
+                            "the first ({}, r {r}) through the {wall} by {:.3} of its radius",
+                            at.join(", "),
+                            by / r
+                        ),
+                    ));
+                }
+            }
+        }
+        if let Some((line, what)) = first {
+            let extents: Vec<String> = size.iter().map(|x| x.to_string()).collect();
+            return Err(self.err(
+                line,
+                format!(
+                    "{outside} particle{} stick{} out of the {} box {} (from the {}) by more \
+                     than {} % of the radius; {what}",
+                    if outside == 1 { "" } else { "s" },
+                    if outside == 1 { "s" } else { "" },
+                    if periodic { "periodic" } else { "walled" },
+                    extents.join(" x "),
+                    source.name(),
+                    OUTSIDE_TOL * 100.0,
+                ),
+            ));
+        }
+        Ok(wrapped)
     }
 
     /// Refuses a file whose particles sit far more densely than any packing can:
