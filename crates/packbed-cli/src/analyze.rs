@@ -4,7 +4,7 @@
 use crate::report;
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use packbed::analysis::{analyze_with, AnalysisOptions};
+use packbed::analysis::{analyze_with, overlaps, AnalysisOptions};
 use packbed::bed::{AnyBed, Bed};
 use packbed::io::read::{read_bed_report, BoxHint, ReadReport};
 use packbed::io::summary::{AnalyzeSettings, AnalyzeTiming};
@@ -75,6 +75,9 @@ pub fn analyze(args: AnalyzeArgs) -> Result<()> {
         AnyBed::D2(b) => finish(&args, b, &read, read_seconds)?,
         AnyBed::D3(b) => finish(&args, b, &read, read_seconds)?,
     };
+    if let Some(w) = report::overlap_warning(&summary) {
+        eprintln!("{w}");
+    }
     if !args.quiet {
         print!("{}", report::analyze_text(&summary, &args.out));
     }
@@ -117,6 +120,7 @@ fn finish<const D: usize>(
     let t = Instant::now();
     let opts = AnalysisOptions::new(args.contact_tol, args.large);
     let (contacts, analysis) = analyze_with(bed, &opts);
+    let overlaps = overlaps(bed, &contacts);
     let timing = AnalyzeTiming {
         read_seconds,
         analysis_seconds: t.elapsed().as_secs_f64(),
@@ -126,7 +130,7 @@ fn finish<const D: usize>(
         large_radius: args.large,
     };
     let source = args.path.display().to_string();
-    let summary = AnalyzeSummary::new(&source, bed, read, settings, &analysis, timing);
+    let summary = AnalyzeSummary::new(&source, bed, read, &overlaps, settings, &analysis, timing);
     let extras = io::RunExtras {
         pictures: !args.no_pictures,
         exports: match &args.export {

@@ -226,3 +226,46 @@ fn particles_outside_the_box_are_refused() {
         "{contacts}"
     );
 }
+
+// ---- checks on input beds -------------------------------------------------
+
+/// Overlapping and duplicate particles are analysed, with a warning on stderr
+/// and `checks.*` in summary.json; beads of one body do not count, nor do
+/// packbed's own beds read back.
+#[test]
+fn overlaps_are_reported_not_refused() {
+    let s = Scratch::new();
+    // A duplicate (overlap 2 radii), a pair overlapping by half a radius, a
+    // chain of two beads overlapping by design, one touching pair.
+    let f = s.input(
+        "overlaps.csv",
+        "x,y,r,body\n5,5,1,0\n5,5,1,1\n10,5,1,2\n11.5,5,1,3\n20,5,1,4\n21,5,1,4\n30,5,1,5\n32,5,1,6\n",
+    );
+    let o = s.ok(&["analyze", f.to_str().unwrap(), "--box", "50,50", "--out", "a", "-q"]);
+    let warning: Vec<&str> = o.stderr.lines().collect();
+    assert_eq!(warning.len(), 1, "{}", o.stderr);
+    assert!(warning[0].starts_with("packbed: warning: overlap: 2 pairs"), "{}", warning[0]);
+    assert!(warning[0].contains("2.000"), "{}", warning[0]);
+    let v = summary(&s, "a");
+    assert_eq!(v["checks"]["overlapping_pairs"], 2);
+    assert_eq!(v["checks"]["max_overlap"].as_f64(), Some(2.0));
+    assert_eq!(v["counts"]["particles"], 8);
+
+    // packbed's own beds, spheres and chains, 2D and 3D, read back: no overlap.
+    for (out, args) in [
+        ("r2", vec!["--dim", "2", "--count", "300"]),
+        ("r3", vec!["--count", "300", "--periodic"]),
+        ("c2", vec!["--dim", "2", "--beads", "4", "--count", "60"]),
+    ] {
+        let mut run = vec!["run", "--out", out, "-q", "--no-pictures"];
+        run.extend(args);
+        s.ok(&run);
+        let csv = format!("{out}/particles.csv");
+        let back = format!("{out}-a");
+        let o = s.ok(&["analyze", &csv, "--out", &back, "-q", "--no-pictures"]);
+        assert!(o.stderr.is_empty(), "{out}: {}", o.stderr);
+        let v = summary(&s, &back);
+        assert_eq!(v["checks"]["overlapping_pairs"], 0, "{out}");
+        assert_eq!(v["checks"]["max_overlap"].as_f64(), Some(0.0), "{out}");
+    }
+}

@@ -4,7 +4,7 @@
 //! The keys listed in `spec/interfaces.md` are a contract with users' scripts:
 //! add keys freely, never rename one.
 
-use crate::analysis::Summary;
+use crate::analysis::{Overlaps, Summary};
 use crate::bed::Bed;
 use crate::config::{Config, Mode};
 use crate::deposit::DepositReport;
@@ -173,6 +173,8 @@ pub struct AnalyzeSummary {
     pub counts: AnalyzeCounts,
     /// The settings of the analysis.
     pub settings: AnalyzeSettings,
+    /// What the checks of the input found (the bed is analysed all the same).
+    pub checks: Checks,
     /// Every measure of the analysis (`packing.*`, `coordination.*`, …).
     #[serde(flatten)]
     pub analysis: Summary,
@@ -187,6 +189,19 @@ pub struct AnalyzeCounts {
     pub particles: u64,
     /// Rigid bodies.
     pub bodies: u64,
+}
+
+/// `checks.*` of `packbed analyze`: findings about the input bed that do not
+/// stop the analysis.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct Checks {
+    /// Pairs of particles of different bodies overlapping by more than
+    /// [`crate::analysis::contacts::OVERLAP_TOL`] of the smaller radius.
+    pub overlapping_pairs: u64,
+    /// The worst overlap relative to the smaller radius of its pair (0: none).
+    pub max_overlap: Real,
+    /// Centres moved into `[0, W)` along periodic sides.
+    pub wrapped_centres: u64,
 }
 
 /// `settings.*` of `packbed analyze`.
@@ -213,6 +228,7 @@ impl AnalyzeSummary {
         source: &str,
         bed: &Bed<D>,
         read: &ReadReport,
+        overlaps: &Overlaps,
         settings: AnalyzeSettings,
         analysis: &Summary,
         timing: AnalyzeTiming,
@@ -234,6 +250,11 @@ impl AnalyzeSummary {
                 bodies: bed.body_count() as u64,
             },
             settings,
+            checks: Checks {
+                overlapping_pairs: overlaps.overlapping_pairs,
+                max_overlap: overlaps.max_overlap,
+                wrapped_centres: read.wrapped,
+            },
             analysis: analysis.clone(),
             timing,
         }
