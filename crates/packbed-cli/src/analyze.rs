@@ -68,6 +68,7 @@ pub fn analyze(args: AnalyzeArgs) -> Result<()> {
         io::export::Format::parse_list(list)?;
     }
     let hint = box_hint(&args)?;
+    crate::run::check_out_dir(&args.out)?;
     let t = Instant::now();
     let (bed, read) = read_bed_report(&args.path, (!hint.size.is_empty()).then_some(&hint))?;
     let read_seconds = t.elapsed().as_secs_f64();

@@ -241,10 +241,22 @@ fn overlaps_are_reported_not_refused() {
         "overlaps.csv",
         "x,y,r,body\n5,5,1,0\n5,5,1,1\n10,5,1,2\n11.5,5,1,3\n20,5,1,4\n21,5,1,4\n30,5,1,5\n32,5,1,6\n",
     );
-    let o = s.ok(&["analyze", f.to_str().unwrap(), "--box", "50,50", "--out", "a", "-q"]);
+    let o = s.ok(&[
+        "analyze",
+        f.to_str().unwrap(),
+        "--box",
+        "50,50",
+        "--out",
+        "a",
+        "-q",
+    ]);
     let warning: Vec<&str> = o.stderr.lines().collect();
     assert_eq!(warning.len(), 1, "{}", o.stderr);
-    assert!(warning[0].starts_with("packbed: warning: overlap: 2 pairs"), "{}", warning[0]);
+    assert!(
+        warning[0].starts_with("packbed: warning: overlap: 2 pairs"),
+        "{}",
+        warning[0]
+    );
     assert!(warning[0].contains("2.000"), "{}", warning[0]);
     let v = summary(&s, "a");
     assert_eq!(v["checks"]["overlapping_pairs"], 2);
@@ -298,7 +310,16 @@ fn csv_files_quote_names_with_commas() {
         ),
     );
     let c = config.to_str().unwrap();
-    s.ok(&["ensemble", c, "--runs", "2", "--out", "e", "-q", "--no-pictures"]);
+    s.ok(&[
+        "ensemble",
+        c,
+        "--runs",
+        "2",
+        "--out",
+        "e",
+        "-q",
+        "--no-pictures",
+    ]);
     let ensemble: Value = serde_json::from_str(&s.read("e/ensemble.json")).unwrap();
     let (header, rows) = read_csv(&s.read("e/ensemble.csv"));
     assert_eq!(header, ["name", "n", "mean", "sd", "min", "max", "kind"]);
@@ -325,5 +346,101 @@ fn csv_files_quote_names_with_commas() {
     for r in &rows {
         r[2].parse::<f64>().unwrap();
         r[3].parse::<f64>().unwrap();
+    }
+}
+
+// ---- unwritable output ------------------------------------------------------
+
+/// A directory nobody can create (below /proc), or one this user cannot
+/// write (a read-only directory, when not running as root).
+fn unwritable(s: &Scratch) -> Vec<String> {
+    let mut v = vec!["/proc/packbed-no-such-dir/out".to_string()];
+    let ro = s.inputs.join("read-only");
+    std::fs::create_dir(&ro).unwrap();
+    let mut perms = std::fs::metadata(&ro).unwrap().permissions();
+    perms.set_readonly(true);
+    std::fs::set_permissions(&ro, perms).unwrap();
+    // Root writes anyway: then only the /proc case tells.
+    if std::fs::write(ro.join("probe"), "x").is_err() {
+        v.push(ro.join("out").to_string_lossy().into_owned());
+    }
+    v
+}
+
+/// Runs `args` and insists that it is refused as a user error within `secs`
+/// seconds (a long build must not run first), leaving nothing in `work/`.
+fn refused_quickly(s: &Scratch, args: &[&str], secs: u64) {
+    use std::process::{Command, Stdio};
+    use std::time::{Duration, Instant};
+    let before = s.entries();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_packbed"))
+        .args(args)
+        .current_dir(&s.work)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let t = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if t.elapsed() > Duration::from_secs(secs) {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{args:?}: still running after {secs} s: the output was not checked first");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
+    assert!(
+        stderr.starts_with("packbed: error: --out "),
+        "{args:?}: {stderr}"
+    );
+    assert!(out.stdout.is_empty(), "{args:?}");
+    assert_eq!(s.entries(), before, "{args:?} left files");
+}
+
+/// An output directory that cannot be written is refused before the work
+/// (a 3D bed of 5·10^6 spheres would take minutes), by every command with
+/// --out.
+#[test]
+fn unwritable_out_is_refused_before_the_work() {
+    let s = Scratch::new();
+    s.ok(&[
+        "run",
+        "--dim",
+        "2",
+        "--count",
+        "50",
+        "--out",
+        "r",
+        "-q",
+        "--no-pictures",
+    ]);
+    let bed = s.work.join("r/particles.csv");
+    let bed = bed.to_str().unwrap();
+    let config = s.input(
+        "small.toml",
+        "dim = 2\nseed = 5\n[[species]]\nradius = 10\n",
+    );
+    let config = config.to_str().unwrap();
+    for out in unwritable(&s) {
+        let o = out.as_str();
+        let picture = format!("{out}/bed.png");
+        refused_quickly(
+            &s,
+            &["run", "--count", "5000000", "--periodic", "-q", "--out", o],
+            20,
+        );
+        refused_quickly(
+            &s,
+            &["ensemble", config, "--runs", "4000", "-q", "--out", o],
+            20,
+        );
+        refused_quickly(&s, &["analyze", bed, "-q", "--out", o], 20);
+        refused_quickly(&s, &["render", bed, "--out", &picture], 20);
+        refused_quickly(&s, &["merge", "r", "--out", o], 20);
     }
 }

@@ -121,6 +121,25 @@ impl Staging {
     }
 }
 
+/// Checks that files can be written into `dir` before any long work: creates
+/// it (and missing parents), writes and removes a hidden probe file, then
+/// removes again the directories it created. A run that would fail only when
+/// writing its results thus fails at once, and leaves nothing behind.
+pub fn probe_dir(dir: &Path) -> Result<()> {
+    let staging = Staging::new(dir)?;
+    let probe = dir.join(format!(".packbed-probe.{}.tmp", std::process::id()));
+    let written = fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+        .and_then(|mut f| f.write_all(b"probe"));
+    // Whether or not the write worked, the probe must not stay.
+    let _ = fs::remove_file(&probe);
+    // Dropped uncommitted: the directories it created are removed again.
+    drop(staging);
+    written.map_err(|e| io_err(dir, e))
+}
+
 impl Drop for Staging {
     fn drop(&mut self) {
         if self.committed {
@@ -176,6 +195,20 @@ mod tests {
             }
         });
         assert_eq!(fs::read_dir(root.join("runs")).unwrap().count(), 8);
+        fs::remove_dir_all(&root).unwrap();
+    }
+
+    #[test]
+    fn probe_leaves_nothing() {
+        let root = scratch("probe");
+        probe_dir(&root.join("a/b")).unwrap();
+        assert!(!root.exists());
+        fs::create_dir(&root).unwrap();
+        probe_dir(&root).unwrap();
+        assert_eq!(fs::read_dir(&root).unwrap().count(), 0);
+        // Below a file: refused.
+        fs::write(root.join("f"), "x").unwrap();
+        assert!(probe_dir(&root.join("f/out")).is_err());
         fs::remove_dir_all(&root).unwrap();
     }
 
