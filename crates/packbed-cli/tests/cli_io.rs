@@ -444,3 +444,120 @@ fn unwritable_out_is_refused_before_the_work() {
         refused_quickly(&s, &["merge", "r", "--out", o], 20);
     }
 }
+
+// ---- interrupted runs ---------------------------------------------------------
+
+/// Hidden temporary files (`.NAME.PID.tmp`) in `dir`.
+fn temp_files(dir: &std::path::Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok())
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .filter(|n| n.starts_with('.') && n.ends_with(".tmp"))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// A run stopped by SIGTERM or SIGINT while writing its files removes its
+/// temporary files and exits with 143 or 130.
+#[test]
+fn signals_remove_the_temporary_files() {
+    use std::process::{Command, Stdio};
+    use std::time::{Duration, Instant};
+    for (signal, code) in [("TERM", 143), ("INT", 130)] {
+        let s = Scratch::new();
+        let out = s.work.join("big");
+        // About 5 s of deposition and analysis, then ~30 MB of CSV to write.
+        let mut child = Command::new(env!("CARGO_BIN_EXE_packbed"))
+            .args([
+                "run",
+                "--dim",
+                "2",
+                "--count",
+                "200000",
+                "--radii",
+                "10",
+                "--box",
+                "3000,3000",
+                "--periodic",
+                "--no-pictures",
+                "-q",
+                "--out",
+                "big",
+            ])
+            .current_dir(&s.work)
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let t = Instant::now();
+        // The bed's own file, not the probe of --out made at the start.
+        while !temp_files(&out)
+            .iter()
+            .any(|n| n.starts_with(".particles.csv."))
+        {
+            assert!(
+                child.try_wait().unwrap().is_none(),
+                "finished before it was stopped"
+            );
+            assert!(
+                t.elapsed() < Duration::from_secs(120),
+                "no temporary file seen"
+            );
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        let killed = Command::new("kill")
+            .args([&format!("-{signal}"), &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(killed.success());
+        let o = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(code), "SIG{signal}: {stderr}");
+        assert!(stderr.contains(&format!("SIG{signal}")), "{stderr}");
+        assert_eq!(temp_files(&out), Vec::<String>::new(), "SIG{signal}");
+        assert!(!out.join("summary.json").exists());
+    }
+}
+
+/// Temporary files a killed run left (SIGKILL cannot be caught) are removed
+/// by the next run into the same directory when their process is gone; files
+/// of a live process and other names are left alone.
+#[test]
+fn stale_temporary_files_are_removed_by_the_next_run() {
+    let s = Scratch::new();
+    let out = s.work.join("r");
+    std::fs::create_dir(&out).unwrap();
+    // Above the largest process id Linux hands out (2^22).
+    let stale = [".particles.csv.999999999.tmp", ".summary.json.4194305.tmp"];
+    let alive = format!(".particles.csv.{}.tmp", std::process::id());
+    let others = [
+        ".notes.tmp",
+        ".particles.csv.12ab.tmp",
+        "keep.999999999.tmp",
+        &alive,
+    ];
+    for n in stale.iter().chain(&others) {
+        std::fs::write(out.join(n), "half").unwrap();
+    }
+    s.ok(&[
+        "run",
+        "--dim",
+        "2",
+        "--count",
+        "30",
+        "--out",
+        "r",
+        "-q",
+        "--no-pictures",
+    ]);
+    for n in stale {
+        assert!(!out.join(n).exists(), "{n} is still there");
+    }
+    for n in others {
+        assert_eq!(std::fs::read_to_string(out.join(n)).unwrap(), "half", "{n}");
+    }
+    assert!(out.join("summary.json").exists());
+}
