@@ -4,9 +4,9 @@
 use crate::report;
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use packbed::analysis::{analyze_with, AnalysisOptions};
+use packbed::analysis::{analyze_with, overlaps, AnalysisOptions};
 use packbed::bed::{AnyBed, Bed};
-use packbed::io::read::{read_bed, BoxHint};
+use packbed::io::read::{read_bed_report, BoxHint, ReadReport};
 use packbed::io::summary::{AnalyzeSettings, AnalyzeTiming};
 use packbed::io::{self, AnalyzeSummary, ANALYZE_FILES};
 use std::path::{Path, PathBuf};
@@ -17,7 +17,8 @@ use std::time::Instant;
 pub struct AnalyzeArgs {
     /// The bed file (packbed particles.csv, plain x y [z] r, LAMMPS dump, XYZ).
     pub path: PathBuf,
-    /// Box when the file has none: W,H (2D) or W,D,H (3D).
+    /// Box: W,H (2D) or W,D,H (3D); wins over a box in the file or in the
+    /// summary.json beside it.
     #[arg(long = "box", value_name = "W,[D,]H", allow_hyphen_values = true)]
     pub container: Option<String>,
     /// Periodic side boundaries (with --box).
@@ -67,13 +68,17 @@ pub fn analyze(args: AnalyzeArgs) -> Result<()> {
         io::export::Format::parse_list(list)?;
     }
     let hint = box_hint(&args)?;
+    crate::run::check_out_dir(&args.out)?;
     let t = Instant::now();
-    let bed = read_bed(&args.path, (!hint.size.is_empty()).then_some(&hint))?;
+    let (bed, read) = read_bed_report(&args.path, (!hint.size.is_empty()).then_some(&hint))?;
     let read_seconds = t.elapsed().as_secs_f64();
     let summary = match &bed {
-        AnyBed::D2(b) => finish(&args, b, read_seconds)?,
-        AnyBed::D3(b) => finish(&args, b, read_seconds)?,
+        AnyBed::D2(b) => finish(&args, b, &read, read_seconds)?,
+        AnyBed::D3(b) => finish(&args, b, &read, read_seconds)?,
     };
+    if let Some(w) = report::overlap_warning(&summary) {
+        eprintln!("{w}");
+    }
     if !args.quiet {
         print!("{}", report::analyze_text(&summary, &args.out));
     }
@@ -110,11 +115,13 @@ fn box_hint(args: &AnalyzeArgs) -> Result<BoxHint> {
 fn finish<const D: usize>(
     args: &AnalyzeArgs,
     bed: &Bed<D>,
+    read: &ReadReport,
     read_seconds: f64,
 ) -> Result<AnalyzeSummary> {
     let t = Instant::now();
     let opts = AnalysisOptions::new(args.contact_tol, args.large);
     let (contacts, analysis) = analyze_with(bed, &opts);
+    let overlaps = overlaps(bed, &contacts);
     let timing = AnalyzeTiming {
         read_seconds,
         analysis_seconds: t.elapsed().as_secs_f64(),
@@ -124,7 +131,7 @@ fn finish<const D: usize>(
         large_radius: args.large,
     };
     let source = args.path.display().to_string();
-    let summary = AnalyzeSummary::new(&source, bed, settings, &analysis, timing);
+    let summary = AnalyzeSummary::new(&source, bed, read, &overlaps, settings, &analysis, timing);
     let extras = io::RunExtras {
         pictures: !args.no_pictures,
         exports: match &args.export {

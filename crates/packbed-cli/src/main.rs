@@ -47,6 +47,7 @@ enum Command {
 
 fn main() -> ExitCode {
     install_panic_hook();
+    install_signal_handler();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => return clap_exit(e),
@@ -135,6 +136,34 @@ fn chain(e: &anyhow::Error) -> String {
 fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
+
+/// On SIGINT (Ctrl-C) or SIGTERM, removes the temporary files being written
+/// (they would otherwise pile up as hidden `.NAME.PID.tmp` files) and exits
+/// with the shell's code for the signal, 130 or 143. SIGKILL cannot be
+/// caught: the next run into the same directory removes what it left.
+#[cfg(unix)]
+fn install_signal_handler() {
+    use signal_hook::consts::signal::{SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else {
+        // Without the handler the signals keep their default action.
+        return;
+    };
+    std::thread::spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            packbed::io::atomic::abandon_in_flight();
+            let name = if signal == SIGINT {
+                "SIGINT"
+            } else {
+                "SIGTERM"
+            };
+            eprintln!("packbed: stopped by {name}; its temporary files are removed");
+            std::process::exit(128 + signal);
+        }
+    });
+}
+
+#[cfg(not(unix))]
+fn install_signal_handler() {}
 
 /// A panic is a bug in packbed, never the user's fault: say so in one line
 /// instead of the default message that suggests setting RUST_BACKTRACE.

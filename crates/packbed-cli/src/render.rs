@@ -101,6 +101,11 @@ pub fn render(args: RenderArgs) -> Result<()> {
     if out == args.path {
         bail!("--out {}: would overwrite the bed file", out.display());
     }
+    let out_dir = out
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    packbed::io::atomic::probe_dir(out_dir).with_context(|| format!("--out {}", out.display()))?;
     let hint = match &args.box_size {
         Some(b) => Some(BoxHint {
             size: numbers(b, "--box")?,

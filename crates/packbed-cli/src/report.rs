@@ -80,9 +80,14 @@ pub fn analyze_text(s: &AnalyzeSummary, out: &Path) -> String {
     } else {
         "walls"
     };
+    let from = match b.source {
+        Some("options") => " from --box".to_string(),
+        Some(f) => format!(" from the {f}"),
+        None => String::new(),
+    };
     let _ = writeln!(
         t,
-        "packbed: {} ({}D, {} particles, {} bodies, {size} box, {sides})",
+        "packbed: {} ({}D, {} particles, {} bodies, {size} box{from}, {sides})",
         s.source, s.dim, s.counts.particles, s.counts.bodies
     );
     t.push_str(&measures_text(&s.analysis));
@@ -93,6 +98,24 @@ pub fn analyze_text(s: &AnalyzeSummary, out: &Path) -> String {
     );
     let _ = writeln!(t, "  {}", crate::analyze::files(out));
     t
+}
+
+/// The warning about overlapping particles in an analysed bed, if any.
+pub fn overlap_warning(s: &AnalyzeSummary) -> Option<String> {
+    let c = &s.checks;
+    (c.overlapping_pairs > 0).then(|| {
+        format!(
+            "packbed: warning: overlap: {} pair{} of particles overlap, the worst by {} of the \
+             smaller radius (analysed all the same; checks.* in summary.json)",
+            c.overlapping_pairs,
+            if c.overlapping_pairs == 1 { "" } else { "s" },
+            if c.max_overlap >= 1e-3 {
+                format!("{:.3}", c.max_overlap)
+            } else {
+                format!("{:.1e}", c.max_overlap)
+            }
+        )
+    })
 }
 
 fn opt(v: Option<f64>) -> String {

@@ -84,18 +84,20 @@ pub fn source_name(path: Option<&Path>, overrides: &Overrides) -> String {
     }
 }
 
-/// Refuses an output path that can never become a directory before the run, so
-/// that a long run does not fail at its very end.
+/// Refuses an output directory that cannot be created or written before the
+/// run, so that a long run does not fail at its very end.
 pub fn check_out_dir(out: &Path) -> Result<()> {
     let existing = out
         .ancestors()
         .find(|a| a.as_os_str().is_empty() || a.exists());
-    match existing {
-        Some(a) if !a.as_os_str().is_empty() && !a.is_dir() => anyhow::bail!(
-            "--out {}: {} exists and is not a directory",
-            out.display(),
-            a.display()
-        ),
-        _ => Ok(()),
+    if let Some(a) = existing {
+        if !a.as_os_str().is_empty() && !a.is_dir() {
+            anyhow::bail!(
+                "--out {}: {} exists and is not a directory",
+                out.display(),
+                a.display()
+            );
+        }
     }
+    io::atomic::probe_dir(out).with_context(|| format!("--out {}", out.display()))
 }

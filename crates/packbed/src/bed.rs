@@ -54,9 +54,14 @@ impl<const D: usize> Bed<D> {
         self.centres.is_empty()
     }
 
-    /// Number of bodies (a sphere is a body of one bead).
+    /// Number of distinct bodies (a sphere is a body of one bead).
     pub fn body_count(&self) -> usize {
-        self.bodies.iter().max().map_or(0, |&b| b as usize + 1)
+        // Bed files may number bodies sparsely (molecule ids of a DEM export),
+        // so the largest id + 1 is not the count.
+        let mut ids = self.bodies.clone();
+        ids.sort_unstable();
+        ids.dedup();
+        ids.len()
     }
 
     /// Appends a particle that is a body of its own (numbered after the last body).

@@ -55,8 +55,13 @@ fn bed3(periodic: bool) -> Bed<3> {
         (s >> 11) as f64 / (1u64 << 53) as f64
     };
     for _ in 0..50 {
-        let c = Vector([100.0 * next(), 80.0 * next(), 120.0 * next()]);
-        bed.push(c, 1.0 + 9.0 * next() / 3.0, (next() * 3.0) as u32);
+        let mut c = Vector([100.0 * next(), 80.0 * next(), 120.0 * next()]);
+        let r = 1.0 + 9.0 * next() / 3.0;
+        // Inside the box: the reader refuses particles sticking out of it.
+        for k in 0..3 {
+            c[k] = c[k].clamp(r, bed.container.size[k] - r);
+        }
+        bed.push(c, r, (next() * 3.0) as u32);
     }
     let body = bed.bodies.last().unwrap() + 1;
     bed.push_bead(Vector([10.0, 10.0, 10.0]), 2.5, 3, body);

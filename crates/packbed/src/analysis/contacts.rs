@@ -13,6 +13,7 @@ use crate::bed::Bed;
 use crate::container::Wall;
 use crate::math::Real;
 use rayon::prelude::*;
+use serde::Serialize;
 
 /// Two touching particles (`i < j`) and the gap between their surfaces.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -87,6 +88,38 @@ pub fn find_contacts<const D: usize>(bed: &Bed<D>, contact_tol: Real) -> Contact
         }
     }
     Contacts { pairs, walls }
+}
+
+/// Overlaps smaller than this fraction of the smaller radius are touches, not
+/// overlaps: packbed's own beds overlap by about `1e-13` of a radius (chains up
+/// to `1e-10`), and a bed written with six or seven significant digits by
+/// another tool by about `1e-6`.
+pub const OVERLAP_TOL: Real = 1e-6;
+
+/// Pairs of particles of different bodies that overlap, for the checks on
+/// beds read from files (beads of one chain overlap by design).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Overlaps {
+    /// Pairs overlapping by more than [`OVERLAP_TOL`] of the smaller radius.
+    pub overlapping_pairs: u64,
+    /// The worst of those overlaps relative to the smaller radius (2 for two
+    /// copies of one particle); 0 without any.
+    pub max_overlap: Real,
+}
+
+/// The overlaps among `contacts` (which hold every overlapping pair of
+/// different bodies whenever the contact tolerance is not negative).
+pub fn overlaps<const D: usize>(bed: &Bed<D>, contacts: &Contacts) -> Overlaps {
+    let mut o = Overlaps::default();
+    for c in &contacts.pairs {
+        let r = bed.radii[c.i as usize].min(bed.radii[c.j as usize]);
+        let by = -c.gap / r;
+        if by > OVERLAP_TOL {
+            o.overlapping_pairs += 1;
+            o.max_overlap = o.max_overlap.max(by);
+        }
+    }
+    o
 }
 
 /// Coordination number of every particle: the number of distinct other bodies its

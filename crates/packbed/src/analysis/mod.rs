@@ -19,7 +19,9 @@ use crate::bed::Bed;
 use crate::math::Real;
 use serde::Serialize;
 
-pub use contacts::{coordination, find_contacts, Contact, Contacts, WallContact};
+pub use contacts::{
+    coordination, find_contacts, overlaps, Contact, Contacts, Overlaps, WallContact,
+};
 pub use histogram::{count_histogram, BinnedHistogram};
 pub use orientation::Orientation;
 pub use packing::{ball_box_volume, bulk_region, Region};

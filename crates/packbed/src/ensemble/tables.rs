@@ -96,44 +96,64 @@ fn stats_json(s: &Stats) -> Vec<(&'static str, Value)> {
 /// Header of `ensemble.csv`.
 pub const CSV_HEADER: &str = "name,n,mean,sd,min,max,kind";
 
-fn csv_row(t: &mut String, name: &str, s: &Stats, kind: &str) {
-    let _ = writeln!(
-        t,
-        "{name},{},{},{},{},{},{kind}",
-        s.n,
-        Num(s.mean),
-        Num(s.sd),
-        Num(s.min),
-        Num(s.max)
-    );
+/// CSV text written through the `csv` crate, so that a name holding a comma,
+/// a quote or a line break (measures are named after species, and species
+/// names are the user's) is quoted instead of breaking the columns.
+fn csv_text(rows: impl FnOnce(&mut csv::Writer<Vec<u8>>) -> csv::Result<()>) -> String {
+    let mut w = csv::WriterBuilder::new().from_writer(Vec::new());
+    // Writing into memory does not fail; an error here would be a bug in the
+    // rows (a record of the wrong length), and leaves the rows written so far.
+    let _ = rows(&mut w);
+    let bytes = w.into_inner().unwrap_or_default();
+    String::from_utf8(bytes).unwrap_or_default()
+}
+
+fn csv_row(w: &mut csv::Writer<Vec<u8>>, name: &str, s: &Stats, kind: &str) -> csv::Result<()> {
+    w.write_record([
+        name,
+        &s.n.to_string(),
+        &Num(s.mean).to_string(),
+        &Num(s.sd).to_string(),
+        &Num(s.min).to_string(),
+        &Num(s.max).to_string(),
+        kind,
+    ])
 }
 
 /// `ensemble.csv`: one row per scalar measure, then one per profile entry
 /// (`packing.profile[3]`); booleans have kind `percent` (their mean is the
 /// percentage of beds where they hold).
 pub fn ensemble_csv(a: &Aggregate) -> String {
-    let mut t = String::new();
-    let _ = writeln!(t, "{CSV_HEADER}");
-    for m in &a.measures {
-        csv_row(&mut t, &m.name, &m.stats, m.kind.as_str());
-    }
-    for s in &a.series {
-        for (k, e) in s.entries.iter().enumerate() {
-            csv_row(&mut t, &format!("{}[{k}]", s.name), e, Kind::Value.as_str());
+    csv_text(|w| {
+        w.write_record(CSV_HEADER.split(','))?;
+        for m in &a.measures {
+            csv_row(w, &m.name, &m.stats, m.kind.as_str())?;
         }
-    }
-    t
+        for s in &a.series {
+            for (k, e) in s.entries.iter().enumerate() {
+                csv_row(w, &format!("{}[{k}]", s.name), e, Kind::Value.as_str())?;
+            }
+        }
+        Ok(())
+    })
 }
 
 /// `histograms.csv`: `name,bin,count,fraction`, counts summed over the beds.
 pub fn histograms_csv(a: &Aggregate) -> String {
-    let mut t = String::from("name,bin,count,fraction\n");
-    for h in &a.histograms {
-        for (k, (c, f)) in h.counts.iter().zip(&h.fraction).enumerate() {
-            let _ = writeln!(t, "{},{k},{},{}", h.name, Num(*c), Num(*f));
+    csv_text(|w| {
+        w.write_record(["name", "bin", "count", "fraction"])?;
+        for h in &a.histograms {
+            for (k, (c, f)) in h.counts.iter().zip(&h.fraction).enumerate() {
+                w.write_record([
+                    h.name.as_str(),
+                    &k.to_string(),
+                    &Num(*c).to_string(),
+                    &Num(*f).to_string(),
+                ])?;
+            }
         }
-    }
-    t
+        Ok(())
+    })
 }
 
 /// Decimals that show `x` to about `sig` significant digits.
@@ -298,27 +318,28 @@ pub struct SweepRow<'a> {
 /// `sweep.csv`: `index,label,name,n,mean,sd,min,max,kind`, one row per value and
 /// scalar measure.
 pub fn sweep_csv(rows: &[SweepRow]) -> String {
-    let mut w = csv::WriterBuilder::new().from_writer(Vec::new());
-    let _ = w.write_record([
-        "index", "label", "name", "n", "mean", "sd", "min", "max", "kind",
-    ]);
-    for (i, r) in rows.iter().enumerate() {
-        for m in &r.aggregate.measures {
-            let s = &m.stats;
-            let _ = w.write_record([
-                i.to_string(),
-                r.label.to_string(),
-                m.name.clone(),
-                s.n.to_string(),
-                Num(s.mean).to_string(),
-                Num(s.sd).to_string(),
-                Num(s.min).to_string(),
-                Num(s.max).to_string(),
-                m.kind.as_str().to_string(),
-            ]);
+    csv_text(|w| {
+        w.write_record([
+            "index", "label", "name", "n", "mean", "sd", "min", "max", "kind",
+        ])?;
+        for (i, r) in rows.iter().enumerate() {
+            for m in &r.aggregate.measures {
+                let s = &m.stats;
+                w.write_record([
+                    i.to_string(),
+                    r.label.to_string(),
+                    m.name.clone(),
+                    s.n.to_string(),
+                    Num(s.mean).to_string(),
+                    Num(s.sd).to_string(),
+                    Num(s.min).to_string(),
+                    Num(s.max).to_string(),
+                    m.kind.as_str().to_string(),
+                ])?;
+            }
         }
-    }
-    String::from_utf8(w.into_inner().unwrap_or_default()).unwrap_or_default()
+        Ok(())
+    })
 }
 
 /// Measures shown side by side in the first table of `sweep.md`, if present.

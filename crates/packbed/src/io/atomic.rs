@@ -3,11 +3,94 @@
 //! complete. An interrupted or failed run therefore never leaves a half-written
 //! file under a name that looks finished, and a run that fails before its first
 //! file leaves no directory behind.
+//!
+//! Temporary files are named `.NAME.PID.tmp`. Those being written are listed
+//! in a registry, so that a handler of SIGINT/SIGTERM can remove them
+//! ([`abandon_in_flight`]); those a killed process left behind (SIGKILL, power
+//! loss) are removed by the next [`Staging`] of the same directory once their
+//! process is gone.
 
 use crate::error::{Error, Result};
 use std::fs::{self, File};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard};
+
+/// Temporary files being written by this process, in any thread.
+static IN_FLIGHT: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn in_flight() -> MutexGuard<'static, Vec<PathBuf>> {
+    // A thread that panicked while holding the lock left a valid list.
+    IN_FLIGHT.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Creates `tmp` and registers it, under the registry's lock, so that a
+/// signal handler never misses a file that exists.
+fn create_tracked(tmp: &Path) -> std::io::Result<File> {
+    let mut list = in_flight();
+    let file = File::create(tmp)?;
+    list.push(tmp.to_path_buf());
+    Ok(file)
+}
+
+fn untrack(tmp: &Path) {
+    let mut list = in_flight();
+    if let Some(k) = list.iter().rposition(|p| p == tmp) {
+        list.swap_remove(k);
+    }
+}
+
+/// Removes every temporary file this process is writing, for a handler of
+/// SIGINT or SIGTERM that ends the process right after. The registry stays
+/// locked for good, so that no thread can start another file meanwhile (it
+/// waits for an exit that is about to come).
+pub fn abandon_in_flight() {
+    let list = in_flight();
+    for tmp in list.iter() {
+        let _ = fs::remove_file(tmp);
+    }
+    std::mem::forget(list);
+}
+
+/// The temporary file name of `name` for process `pid`.
+fn temp_name(name: &str, pid: u32) -> String {
+    format!(".{name}.{pid}.tmp")
+}
+
+/// The process id in a temporary file name of packbed's (`.NAME.PID.tmp`).
+fn temp_pid(file_name: &str) -> Option<u32> {
+    let inner = file_name.strip_prefix('.')?.strip_suffix(".tmp")?;
+    let (name, pid) = inner.rsplit_once('.')?;
+    if name.is_empty() || pid.is_empty() || !pid.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    pid.parse().ok()
+}
+
+/// Whether process `pid` may be running. Without `/proc` nothing can be told,
+/// and every process counts as running (its files are left alone).
+fn process_may_run(pid: u32) -> bool {
+    let proc = Path::new("/proc");
+    pid == std::process::id() || !proc.join("self").exists() || proc.join(pid.to_string()).exists()
+}
+
+/// Removes the temporary files of packbed's naming in `dir` whose process is
+/// gone (killed before it could tidy up). Best effort: a file that cannot be
+/// removed is left as it was.
+fn remove_stale(dir: &Path) {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let name = e.file_name();
+        let Some(pid) = name.to_str().and_then(temp_pid) else {
+            continue;
+        };
+        if !process_may_run(pid) && e.file_type().is_ok_and(|t| t.is_file()) {
+            let _ = fs::remove_file(e.path());
+        }
+    }
+}
 
 /// An output directory being filled: files are staged, then committed together.
 #[derive(Debug)]
@@ -64,6 +147,9 @@ impl Staging {
                 std::io::Error::other("exists and is not a directory"),
             ));
         }
+        if staging.created.is_empty() {
+            remove_stale(dir);
+        }
         Ok(staging)
     }
 
@@ -91,8 +177,8 @@ impl Staging {
         let target = self.dir.join(name);
         // Hidden and named after the process, so that two runs into the same
         // directory never write the same temporary file.
-        let tmp = self.dir.join(format!(".{name}.{}.tmp", std::process::id()));
-        let file = File::create(&tmp).map_err(|e| io_err(&tmp, e))?;
+        let tmp = self.dir.join(temp_name(name, std::process::id()));
+        let file = create_tracked(&tmp).map_err(|e| io_err(&tmp, e))?;
         // Registered before writing, so that a failure below still removes it.
         self.staged.push((tmp.clone(), target.clone()));
         let mut w = BufWriter::new(file);
@@ -114,11 +200,28 @@ impl Staging {
         let mut done = Vec::with_capacity(self.staged.len());
         for (tmp, target) in &self.staged {
             fs::rename(tmp, target).map_err(|e| io_err(target, e))?;
+            untrack(tmp);
             done.push(target.clone());
         }
         self.committed = true;
         Ok(done)
     }
+}
+
+/// Checks that files can be written into `dir` before any long work: creates
+/// it (and missing parents), writes and removes a hidden probe file, then
+/// removes again the directories it created. A run that would fail only when
+/// writing its results thus fails at once, and leaves nothing behind.
+pub fn probe_dir(dir: &Path) -> Result<()> {
+    let staging = Staging::new(dir)?;
+    let probe = dir.join(temp_name("packbed-probe", std::process::id()));
+    let written = create_tracked(&probe).and_then(|mut f| f.write_all(b"probe"));
+    // Whether or not the write worked, the probe must not stay.
+    let _ = fs::remove_file(&probe);
+    untrack(&probe);
+    // Dropped uncommitted: the directories it created are removed again.
+    drop(staging);
+    written.map_err(|e| io_err(dir, e))
 }
 
 impl Drop for Staging {
@@ -130,6 +233,7 @@ impl Drop for Staging {
         // the one being reported, not a failure to tidy up.
         for (tmp, _) in &self.staged {
             let _ = fs::remove_file(tmp);
+            untrack(tmp);
         }
         for d in self.created.iter().rev() {
             let _ = fs::remove_dir(d);
@@ -177,6 +281,36 @@ mod tests {
         });
         assert_eq!(fs::read_dir(root.join("runs")).unwrap().count(), 8);
         fs::remove_dir_all(&root).unwrap();
+    }
+
+    #[test]
+    fn probe_leaves_nothing() {
+        let root = scratch("probe");
+        probe_dir(&root.join("a/b")).unwrap();
+        assert!(!root.exists());
+        fs::create_dir(&root).unwrap();
+        probe_dir(&root).unwrap();
+        assert_eq!(fs::read_dir(&root).unwrap().count(), 0);
+        // Below a file: refused.
+        fs::write(root.join("f"), "x").unwrap();
+        assert!(probe_dir(&root.join("f/out")).is_err());
+        fs::remove_dir_all(&root).unwrap();
+    }
+
+    #[test]
+    fn temp_names_and_their_process() {
+        assert_eq!(temp_pid(&temp_name("particles.csv", 4321)), Some(4321));
+        assert_eq!(temp_pid(".summary.json.17.tmp"), Some(17));
+        for other in [
+            "particles.csv",
+            ".particles.csv.tmp",
+            ".particles.csv.12a.tmp",
+            "..12.tmp",
+            "x.particles.csv.12.tmp",
+            ".particles.csv.12.tmp~",
+        ] {
+            assert_eq!(temp_pid(other), None, "{other}");
+        }
     }
 
     #[test]

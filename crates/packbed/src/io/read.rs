@@ -32,9 +32,50 @@ pub struct BoxHint {
 /// Most particles a file may declare (a larger count is a corrupt header).
 pub const MAX_PARTICLES: u64 = 2_000_000_000;
 
+/// Where the box of a bed read from a file came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BoxSource {
+    /// Given by the caller (`--box`, `--periodic`).
+    Given,
+    /// The bed file itself (dump bounds, XYZ lattice, VTU field data).
+    File,
+    /// The `summary.json` beside a `particles.csv`.
+    SummaryBeside,
+}
+
+impl BoxSource {
+    /// How `summary.json` and the screen name it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            BoxSource::Given => "options",
+            BoxSource::File => "file",
+            BoxSource::SummaryBeside => "summary.json",
+        }
+    }
+}
+
+/// What reading a bed file found out besides the bed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ReadReport {
+    /// Where the box came from.
+    pub box_source: BoxSource,
+    /// Centres moved into `[0, W)` along periodic axes.
+    pub wrapped: u64,
+}
+
+/// How far a particle may stick out of the box, relative to its radius:
+/// DEM beds press particles a little into the walls.
+pub const OUTSIDE_TOL: Real = 0.01;
+
 /// Reads a bed file. `box_hint` is used when the file carries no box (plain
 /// tables; `particles.csv` without a `summary.json` beside it).
 pub fn read_bed(path: &Path, box_hint: Option<&BoxHint>) -> Result<AnyBed> {
+    read_bed_report(path, box_hint).map(|(bed, _)| bed)
+}
+
+/// [`read_bed`], also telling where the box came from. A given `box_hint` wins
+/// over a box in the file (or in the `summary.json` beside it).
+pub fn read_bed_report(path: &Path, box_hint: Option<&BoxHint>) -> Result<(AnyBed, ReadReport)> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
         path: path.to_path_buf(),
         source: e,
@@ -84,6 +125,8 @@ struct Raw {
     size: Option<(Vec<Real>, bool)>,
     /// Box origin, subtracted from the positions (packbed's box starts at 0).
     origin: [Real; 3],
+    /// Where `size` came from, when set.
+    box_source: BoxSource,
     species_info: Vec<Species>,
 }
 
@@ -98,6 +141,7 @@ impl Raw {
             lines: Vec::new(),
             size: None,
             origin: [0.0; 3],
+            box_source: BoxSource::File,
             species_info: Vec::new(),
         }
     }
@@ -136,7 +180,7 @@ impl Reader<'_> {
     }
 
     /// The common checks, then the bed in its dimension.
-    fn finish(&self, mut raw: Raw, hint: Option<&BoxHint>) -> Result<AnyBed> {
+    fn finish(&self, mut raw: Raw, hint: Option<&BoxHint>) -> Result<(AnyBed, ReadReport)> {
         if raw.pos.is_empty() {
             return Err(self.err(1, "no particles in the file"));
         }
@@ -145,9 +189,9 @@ impl Reader<'_> {
                 return Err(self.err(raw.lines[k], format!("radius {r} must be > 0")));
             }
         }
-        let (size, periodic) = match (raw.size.take(), hint) {
-            (Some(s), _) => s,
-            (None, Some(h)) => {
+        let file_box = raw.size.take();
+        let (size, periodic, box_source) = match (hint, file_box) {
+            (Some(h), _) => {
                 if h.size.len() != raw.dim {
                     return Err(self.err(
                         1,
@@ -158,8 +202,9 @@ impl Reader<'_> {
                         ),
                     ));
                 }
-                (h.size.clone(), h.periodic)
+                (h.size.clone(), h.periodic, BoxSource::Given)
             }
+            (None, Some((s, p))) => (s, p, raw.box_source),
             (None, None) => {
                 return Err(self.err(
                     1,
@@ -202,11 +247,104 @@ impl Reader<'_> {
                 p[k] -= raw.origin[k];
             }
         }
+        let wrapped = self.check_inside(&mut raw, &size, periodic, box_source)?;
         self.check_crowding(&raw)?;
-        Ok(match raw.dim {
+        let bed = match raw.dim {
             2 => AnyBed::D2(build::<2>(&raw, &size, periodic)),
             _ => AnyBed::D3(build::<3>(&raw, &size, periodic)),
-        })
+        };
+        Ok((
+            bed,
+            ReadReport {
+                box_source,
+                wrapped,
+            },
+        ))
+    }
+
+    /// Refuses particles sticking out of the box by more than [`OUTSIDE_TOL`] of
+    /// their radius, through the floor, a side wall or (for a walled box given
+    /// by the caller) the roof; wraps centres into `[0, W)` along periodic axes
+    /// and returns how many it moved.
+    ///
+    /// The height of a box read from a file is not taken as a roof: packbed's
+    /// own beds filled by count rise above their roof (the roof is ignored
+    /// there, and the analysis takes the box up to the highest top), and so do
+    /// their exports. A box the user gives is a statement about the bed.
+    fn check_inside(
+        &self,
+        raw: &mut Raw,
+        size: &[Real],
+        periodic: bool,
+        source: BoxSource,
+    ) -> Result<u64> {
+        let d = raw.dim;
+        let v = d - 1;
+        let roof = !periodic && source == BoxSource::Given;
+        let mut wrapped = 0u64;
+        let mut outside = 0u64;
+        let mut first: Option<(usize, String)> = None;
+        const AXES: [&str; 3] = ["x", "y", "z"];
+        for k in 0..raw.pos.len() {
+            let r = raw.radii[k];
+            let tol = OUTSIDE_TOL * r;
+            let p = &mut raw.pos[k];
+            let mut out: Option<(&str, Real)> = None;
+            for a in 0..v {
+                let w = size[a];
+                if periodic {
+                    if !(0.0..w).contains(&p[a]) {
+                        let mut x = p[a].rem_euclid(w);
+                        // A tiny negative centre rounds to w itself.
+                        if x >= w {
+                            x = 0.0;
+                        }
+                        p[a] = x;
+                        wrapped += 1;
+                    }
+                } else if p[a] - r < -tol {
+                    out = out.or(Some((["wall x0", "wall y0"][a], r - p[a])));
+                } else if p[a] + r > w + tol {
+                    out = out.or(Some((["wall x1", "wall y1"][a], p[a] + r - w)));
+                }
+            }
+            if p[v] - r < -tol {
+                out = out.or(Some(("floor", r - p[v])));
+            } else if roof && p[v] + r > size[v] + tol {
+                out = out.or(Some(("roof", p[v] + r - size[v])));
+            }
+            if let Some((wall, by)) = out {
+                outside += 1;
+                if first.is_none() {
+                    let at: Vec<String> = (0..d).map(|a| format!("{} {}", AXES[a], p[a])).collect();
+                    first = Some((
+                        raw.lines[k],
+                        format!(
+                            "the first ({}, r {r}) through the {wall} by {:.3} of its radius",
+                            at.join(", "),
+                            by / r
+                        ),
+                    ));
+                }
+            }
+        }
+        if let Some((line, what)) = first {
+            let extents: Vec<String> = size.iter().map(|x| x.to_string()).collect();
+            return Err(self.err(
+                line,
+                format!(
+                    "{outside} particle{} stick{} out of the {} box {} (from the {}) by more \
+                     than {} % of the radius; {what}",
+                    if outside == 1 { "" } else { "s" },
+                    if outside == 1 { "s" } else { "" },
+                    if periodic { "periodic" } else { "walled" },
+                    extents.join(" x "),
+                    source.name(),
+                    OUTSIDE_TOL * 100.0,
+                ),
+            ));
+        }
+        Ok(wrapped)
     }
 
     /// Refuses a file whose particles sit far more densely than any packing can:
@@ -396,6 +534,7 @@ impl Reader<'_> {
             vec![w, h]
         };
         raw.size = Some((size, periodic));
+        raw.box_source = BoxSource::SummaryBeside;
         if let Some(list) = v.get("species").and_then(|s| s.as_array()) {
             for (k, s) in list.iter().enumerate() {
                 let name = s
@@ -554,6 +693,22 @@ impl Reader<'_> {
             };
             rows.push((key, p, r, ty, mol, no));
         }
+        // A count below the rows would silently cut the bed short: the snapshot
+        // ends at the next ITEM (a new snapshot) or at the end of the file.
+        let extra = lines[(start + n).min(lines.len())..]
+            .iter()
+            .take_while(|l| !l.trim_start().starts_with("ITEM:"))
+            .filter(|l| !l.trim().is_empty())
+            .count();
+        if extra > 0 {
+            return Err(self.err(
+                start + n + 1,
+                format!(
+                    "{} atom lines, but ITEM: NUMBER OF ATOMS says {n}",
+                    n + extra
+                ),
+            ));
+        }
         // Dumps are often written in id-scrambled order: restore id order.
         rows.sort_by_key(|r| r.0);
         let flag = |a: usize| flags.get(a).map(String::as_str).unwrap_or("ff");
@@ -669,6 +824,22 @@ impl Reader<'_> {
                 None => j as u32,
             });
             raw.lines.push(no);
+        }
+        // A count below the rows would silently cut the bed short: after the
+        // frame comes the end of the file or the count line of the next frame.
+        let extra = lines[(first + 2 + n as usize).min(lines.len())..]
+            .iter()
+            .take_while(|l| l.trim().parse::<u64>().is_err())
+            .filter(|l| !l.trim().is_empty())
+            .count();
+        if extra > 0 {
+            return Err(self.err(
+                first + 3 + n as usize,
+                format!(
+                    "{} particle lines, but the count line says {n}",
+                    n as usize + extra
+                ),
+            ));
         }
         for s in &names {
             raw.species_info.push(Species {

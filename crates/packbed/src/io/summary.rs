@@ -4,11 +4,12 @@
 //! The keys listed in `spec/interfaces.md` are a contract with users' scripts:
 //! add keys freely, never rename one.
 
-use crate::analysis::Summary;
+use crate::analysis::{Overlaps, Summary};
 use crate::bed::Bed;
 use crate::config::{Config, Mode};
 use crate::deposit::DepositReport;
 use crate::error::{Error, Result};
+use crate::io::read::ReadReport;
 use crate::math::Real;
 use crate::species::Shape;
 use serde::Serialize;
@@ -52,6 +53,11 @@ pub struct BoxSummary {
     pub height: Real,
     /// Periodic side boundaries.
     pub periodic: bool,
+    /// Where the box of an analysed bed file came from: `options` (`--box`,
+    /// which wins over a box in the file), `file` or `summary.json` (beside a
+    /// `particles.csv`). Absent for a run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub source: Option<&'static str>,
 }
 
 /// `counts.*`.
@@ -119,6 +125,7 @@ impl RunSummary {
                 depth: (D == 3).then(|| size[1]),
                 height: size[D - 1],
                 periodic: bed.container.periodic,
+                source: None,
             },
             counts: Counts {
                 particles: bed.len() as u64,
@@ -166,6 +173,8 @@ pub struct AnalyzeSummary {
     pub counts: AnalyzeCounts,
     /// The settings of the analysis.
     pub settings: AnalyzeSettings,
+    /// What the checks of the input found (the bed is analysed all the same).
+    pub checks: Checks,
     /// Every measure of the analysis (`packing.*`, `coordination.*`, …).
     #[serde(flatten)]
     pub analysis: Summary,
@@ -180,6 +189,19 @@ pub struct AnalyzeCounts {
     pub particles: u64,
     /// Rigid bodies.
     pub bodies: u64,
+}
+
+/// `checks.*` of `packbed analyze`: findings about the input bed that do not
+/// stop the analysis.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct Checks {
+    /// Pairs of particles of different bodies overlapping by more than
+    /// [`crate::analysis::contacts::OVERLAP_TOL`] of the smaller radius.
+    pub overlapping_pairs: u64,
+    /// The worst overlap relative to the smaller radius of its pair (0: none).
+    pub max_overlap: Real,
+    /// Centres moved into `[0, W)` along periodic sides.
+    pub wrapped_centres: u64,
 }
 
 /// `settings.*` of `packbed analyze`.
@@ -205,6 +227,8 @@ impl AnalyzeSummary {
     pub fn new<const D: usize>(
         source: &str,
         bed: &Bed<D>,
+        read: &ReadReport,
+        overlaps: &Overlaps,
         settings: AnalyzeSettings,
         analysis: &Summary,
         timing: AnalyzeTiming,
@@ -219,12 +243,18 @@ impl AnalyzeSummary {
                 depth: (D == 3).then(|| size[1]),
                 height: size[D - 1],
                 periodic: bed.container.periodic,
+                source: Some(read.box_source.name()),
             },
             counts: AnalyzeCounts {
                 particles: bed.len() as u64,
                 bodies: bed.body_count() as u64,
             },
             settings,
+            checks: Checks {
+                overlapping_pairs: overlaps.overlapping_pairs,
+                max_overlap: overlaps.max_overlap,
+                wrapped_centres: read.wrapped,
+            },
             analysis: analysis.clone(),
             timing,
         }
