@@ -78,6 +78,10 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
     if args.jobs == Some(0) {
         bail!("--jobs must be at least 1");
     }
+    let threads = ensemble::worker_threads(args.jobs);
+    if let Some(j) = args.jobs.filter(|&j| j > threads) {
+        eprintln!("packbed: note: --jobs {j} is more than the {threads} cores here; using {threads} threads");
+    }
     let shard = match &args.shard {
         Some(s) => Shard::parse(s)?,
         None => Shard::ALL,
@@ -114,15 +118,27 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
         b.finish_and_clear();
     }
     let outcome = outcome?;
+    if let Some(earlier) = outcome.reduced_from {
+        eprintln!(
+            "packbed: note: {} held an ensemble of {earlier} replicates; --runs {runs} reuses those of {} that are finished, and the statistics are over the {runs} requested ({} stay on disk, unused)",
+            args.out.display(),
+            replicate_range(0, runs),
+            replicate_range(runs, earlier)
+        );
+    }
     if !args.quiet {
-        let threads = args.jobs.unwrap_or_else(rayon_threads);
         print!("{}", summary_text(&outcome, &args.out, Some(threads)));
     }
     Ok(())
 }
 
-fn rayon_threads() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
+/// `replicate 3` or `replicates 3–9` for the replicates `lo..hi`.
+fn replicate_range(lo: u64, hi: u64) -> String {
+    if hi == lo + 1 {
+        format!("replicate {lo}")
+    } else {
+        format!("replicates {lo}–{}", hi - 1)
+    }
 }
 
 /// Runs `packbed merge`.

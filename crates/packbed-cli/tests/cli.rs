@@ -654,3 +654,73 @@ fn run_writes_the_regional_packing_plot() {
         assert!(svg.contains(region), "{region} missing from the SVG");
     }
 }
+
+/// A roof-miss count no run could reach is refused up front with its bound
+/// (before, each miss cost a drop and such a run never ended).
+#[test]
+fn absurd_roof_misses_are_refused_with_the_bound() {
+    let s = Scratch::new();
+    for misses in ["1000000000000000", "1000000000000000000"] {
+        let c = s.input(
+            "misses.toml",
+            &format!("dim = 2\n[box]\nwidth = 100\nheight = 40\n[fill]\nroof_misses = {misses}\n[[species]]\nradius = 10\n"),
+        );
+        let args = ["run", c.to_str().unwrap(), "--out", "m"];
+        let o = within(&s, &args, 60);
+        assert_eq!(o.code, 2, "{}", o.stderr);
+        assert_user_error(
+            &s,
+            &args,
+            &["misses.toml", "fill.roof_misses", "at most", misses],
+        );
+    }
+    // A sensible number still runs.
+    let c = s.input(
+        "ok.toml",
+        "dim = 2\n[box]\nwidth = 100\nheight = 40\n[fill]\nroof_misses = 1000\n[[species]]\nradius = 10\n",
+    );
+    s.ok(&["run", c.to_str().unwrap(), "--out", "m", "--quiet"]);
+}
+
+/// Runs `packbed` but gives up (killing it) after `secs` seconds.
+fn within(s: &Scratch, args: &[&str], secs: u64) -> Outcome {
+    use std::io::Read;
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_packbed"))
+        .args(args)
+        .current_dir(&s.work)
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    let status = loop {
+        if let Some(st) = child.try_wait().unwrap() {
+            break st;
+        }
+        if start.elapsed().as_secs() >= secs {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{args:?} still running after {secs} s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    let (mut stdout, mut stderr) = (String::new(), String::new());
+    child
+        .stdout
+        .take()
+        .unwrap()
+        .read_to_string(&mut stdout)
+        .unwrap();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut stderr)
+        .unwrap();
+    Outcome {
+        code: status.code().unwrap_or(-1),
+        stdout,
+        stderr,
+    }
+}

@@ -351,3 +351,25 @@ fn render_help_names_the_options() {
         assert!(o.stdout.contains(opt), "{opt}");
     }
 }
+
+/// A 2D picture has no view or cut-away: asking for one is refused, not ignored.
+#[test]
+fn view_and_cut_on_a_2d_bed_are_refused() {
+    let t = tmp();
+    let d = t.path();
+    std::fs::write(d.join("discs.txt"), "10 10 5\n20 10 5\n").unwrap();
+    let bed = ["render", "discs.txt", "--box", "40,40", "--out", "p.png"];
+    for (extra, needles) in [
+        (&["--view", "20,60"][..], &["--view", "2D", "discs.txt"][..]),
+        (&["--cut", "half"][..], &["--cut", "2D"][..]),
+        (
+            &["--cut", "x:0:10", "--view", "0,10"][..],
+            &["--view and --cut", "2D"][..],
+        ),
+    ] {
+        let args: Vec<&str> = bed.iter().chain(extra).copied().collect();
+        refused(d, &args, needles);
+        assert!(!d.join("p.png").exists(), "{args:?} wrote the picture");
+    }
+    ok(d, &bed);
+}

@@ -575,6 +575,17 @@ impl Config {
                 "this run would place up to {estimate:.3e} particles, more than this machine's memory holds (about {budget:.3e})"
             )));
         }
+        // Every roof overflow costs a whole drop, so misses get the bound the
+        // particle count has: beyond it a run would go on for days (RSA ignores
+        // them).
+        if let (Fill::Roof { misses }, Mode::Deposit) = (fill, self.mode) {
+            let most = budget as u64;
+            if misses > most {
+                return Err(Error::config(format!(
+                    "fill.roof_misses must be at most {most} (as many drops as fill.count may place on this machine), got {misses}"
+                )));
+            }
+        }
         let tol = self.analysis.contact_tol;
         if !(tol.is_finite() && tol >= 0.0) {
             return Err(Error::config(format!(

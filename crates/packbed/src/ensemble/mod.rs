@@ -140,6 +140,18 @@ pub struct Outcome {
     pub wall_seconds: f64,
     /// The files written at the top of the output directory.
     pub files: Vec<PathBuf>,
+    /// The replicate count of the ensemble found in the output directory when
+    /// it was larger than this run's: only the first `runs` were reused and
+    /// the statistics cover those alone.
+    pub reduced_from: Option<u64>,
+}
+
+/// Worker threads for `jobs` (`None`: all cores), never more than the cores:
+/// one bed per thread is CPU-bound, and extra threads only thrash the caches
+/// (measured 70 × slower with `--jobs` far above the core count).
+pub fn worker_threads(jobs: Option<usize>) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    jobs.map_or(cores, |j| j.clamp(1, cores))
 }
 
 /// One config of the ensemble: the whole config, or one sweep value.
@@ -343,10 +355,10 @@ impl Manifest {
 }
 
 /// Checks that `out` can hold this ensemble: new, empty, or the same ensemble
-/// (same config, shard and packbed version) to resume.
-fn check_out(out: &Path, wanted: &Manifest) -> Result<()> {
+/// (same config, shard and packbed version) to resume, whose manifest it returns.
+fn check_out(out: &Path, wanted: &Manifest) -> Result<Option<Manifest>> {
     if !out.exists() {
-        return Ok(());
+        return Ok(None);
     }
     if !out.is_dir() {
         return Err(Error::Impossible(format!(
@@ -360,7 +372,7 @@ fn check_out(out: &Path, wanted: &Manifest) -> Result<()> {
             .next()
             .is_none();
         return if empty {
-            Ok(())
+            Ok(None)
         } else {
             Err(Error::Impossible(format!(
                 "--out {}: the directory is not empty and holds no ensemble ({MANIFEST}); choose a new or empty directory",
@@ -398,7 +410,7 @@ fn check_out(out: &Path, wanted: &Manifest) -> Result<()> {
             wanted.packbed_version
         )));
     }
-    Ok(())
+    Ok(Some(have))
 }
 
 fn write_manifest(out: &Path, m: &Manifest) -> Result<()> {
@@ -486,13 +498,13 @@ pub fn run(
         shard: opts.shard,
         config: config_key(config),
     };
-    check_out(out, &manifest)?;
+    let earlier = check_out(out, &manifest)?;
     write_manifest(out, &manifest)?;
     let mine: Vec<u64> = (0..opts.runs).filter(|&i| opts.shard.has(i)).collect();
     let total = mine.len() as u64 * pts.len() as u64;
     let done = AtomicU64::new(0);
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(opts.jobs.unwrap_or(0))
+        .num_threads(worker_threads(opts.jobs))
         .build()
         .map_err(|e| Error::Impossible(format!("cannot start worker threads: {e}")))?;
     let mut results = Vec::with_capacity(pts.len());
@@ -527,6 +539,7 @@ pub fn run(
         points: Vec::new(),
         wall_seconds: wall,
         files: Vec::new(),
+        reduced_from: earlier.map(|m| m.runs).filter(|&r| r > opts.runs),
     };
     for (p, dir, values, built) in results {
         let resumed = values.len() as u64 - built;
@@ -785,6 +798,7 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
         points: Vec::new(),
         wall_seconds: 0.0,
         files: Vec::new(),
+        reduced_from: None,
     };
     let mut merged = Vec::new();
     for (p, found) in gathered {
