@@ -3,7 +3,8 @@
 
 use crate::report;
 use anyhow::{bail, Context, Result};
-use clap::Args;
+use clap::{Args, ValueEnum};
+use packbed::analysis::orientation::AngleFrom;
 use packbed::analysis::{analyze_with, AnalysisOptions};
 use packbed::bed::{AnyBed, Bed};
 use packbed::io::read::{read_bed, BoxHint};
@@ -35,6 +36,10 @@ pub struct AnalyzeArgs {
     /// (default: the species of the largest particle).
     #[arg(long, value_name = "R", allow_hyphen_values = true)]
     pub large: Option<f64>,
+    /// Measure chain angles from the vertical (default) or from the horizontal
+    /// (as the source study did).
+    #[arg(long, value_enum, value_name = "FROM", default_value = "vertical")]
+    pub chain_angle_from: AngleFromArg,
     /// Directory for the output files (created if needed).
     #[arg(long, value_name = "DIR", default_value = "packbed-analysis")]
     pub out: PathBuf,
@@ -47,6 +52,24 @@ pub struct AnalyzeArgs {
     /// No summary on stdout.
     #[arg(long, short)]
     pub quiet: bool,
+}
+
+/// `--chain-angle-from`: the library's [`AngleFrom`] for clap.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum AngleFromArg {
+    /// Angles from the vertical: signed −90…90 in 2D, polar 0…90 in 3D.
+    Vertical,
+    /// Angles from the horizontal: 0…180 in 2D, elevation 0…90 in 3D.
+    Horizontal,
+}
+
+impl From<AngleFromArg> for AngleFrom {
+    fn from(a: AngleFromArg) -> AngleFrom {
+        match a {
+            AngleFromArg::Vertical => AngleFrom::Vertical,
+            AngleFromArg::Horizontal => AngleFrom::Horizontal,
+        }
+    }
 }
 
 /// Runs `packbed analyze`.
@@ -113,7 +136,10 @@ fn finish<const D: usize>(
     read_seconds: f64,
 ) -> Result<AnalyzeSummary> {
     let t = Instant::now();
-    let opts = AnalysisOptions::new(args.contact_tol, args.large);
+    let opts = AnalysisOptions {
+        angle_from: args.chain_angle_from.into(),
+        ..AnalysisOptions::new(args.contact_tol, args.large)
+    };
     let (contacts, analysis) = analyze_with(bed, &opts);
     let timing = AnalyzeTiming {
         read_seconds,
@@ -122,6 +148,7 @@ fn finish<const D: usize>(
     let settings = AnalyzeSettings {
         contact_tol: args.contact_tol,
         large_radius: args.large,
+        chain_angle_from: args.chain_angle_from.into(),
     };
     let source = args.path.display().to_string();
     let summary = AnalyzeSummary::new(&source, bed, settings, &analysis, timing);

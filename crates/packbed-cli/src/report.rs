@@ -166,8 +166,11 @@ pub fn measures_text(a: &Summary) -> String {
     if let Some(o) = &a.orientation {
         let _ = writeln!(
             t,
-            "  orientation: {} chains, order parameter S = {:.3}, mean angle from vertical {:.1}°",
-            o.bodies, o.order_parameter, o.mean_angle
+            "  orientation: {} chains, order parameter S = {:.3}, mean angle from {} {:.1}°",
+            o.bodies,
+            o.order_parameter,
+            o.angle_from.name(),
+            o.mean_angle
         );
     }
     let g = &a.segregation;

@@ -724,3 +724,70 @@ fn within(s: &Scratch, args: &[&str], secs: u64) -> Outcome {
         stderr,
     }
 }
+
+/// `[analysis] chain_angle_from = "horizontal"` (and `analyze
+/// --chain-angle-from`) give the source study's angles, and the outputs say so.
+#[test]
+fn chain_angles_from_the_horizontal_on_request() {
+    let s = Scratch::new();
+    let bed = "dim = 2\nseed = 3\n[box]\nwidth = 300\nheight = 200\n[fill]\ncount = 40\n\
+               [[species]]\nradius = 10\nshape = \"chain\"\nbeads = 3\norientation = \"random\"\n";
+    let h = s.input(
+        "h.toml",
+        &format!("{bed}[analysis]\nchain_angle_from = \"horizontal\"\n"),
+    );
+    let o = s.ok(&["run", h.to_str().unwrap(), "--out", "h"]);
+    assert!(
+        o.stdout.contains("mean angle from horizontal"),
+        "{}",
+        o.stdout
+    );
+    let v = s.input("v.toml", bed);
+    s.ok(&["run", v.to_str().unwrap(), "--out", "v", "--quiet"]);
+    let (h, v) = (summary(&s, "h"), summary(&s, "v"));
+    assert_eq!(h["orientation"]["angle_from"], "horizontal");
+    assert_eq!(v["orientation"]["angle_from"], "vertical");
+    let mean = |j: &Value| j["orientation"]["mean_angle"].as_f64().unwrap();
+    assert!(
+        (mean(&h) - (90.0 - mean(&v))).abs() < 1e-9,
+        "{} {}",
+        mean(&h),
+        mean(&v)
+    );
+    assert_eq!(h["orientation"]["histogram"]["lo"], 0.0);
+    assert_eq!(v["orientation"]["histogram"]["lo"], -90.0);
+    assert_eq!(h["config"]["analysis"]["chain_angle_from"], "horizontal");
+    let texts = common::svg_texts(&s.read("h/plot_chain_angles.svg"));
+    assert!(
+        texts.iter().any(|t| t.contains("from horizontal")),
+        "{texts:?}"
+    );
+    let texts = common::svg_texts(&s.read("v/plot_chain_angles.svg"));
+    assert!(
+        texts.iter().any(|t| t.contains("from vertical")),
+        "{texts:?}"
+    );
+    // analyze gives the same numbers on the file, in either convention.
+    s.ok(&[
+        "analyze",
+        "v/particles.csv",
+        "--chain-angle-from",
+        "horizontal",
+        "--out",
+        "a",
+        "--quiet",
+    ]);
+    let a = summary(&s, "a");
+    assert_eq!(a["orientation"]["angle_from"], "horizontal");
+    assert_eq!(a["settings"]["chain_angle_from"], "horizontal");
+    assert_eq!(a["orientation"]["histogram"], h["orientation"]["histogram"]);
+    let bad = s.input(
+        "bad.toml",
+        &format!("{bed}[analysis]\nchain_angle_from = \"diagonal\"\n"),
+    );
+    assert_user_error(
+        &s,
+        &["run", bad.to_str().unwrap()],
+        &["bad.toml", "diagonal", "horizontal"],
+    );
+}

@@ -1,6 +1,7 @@
 //! The run configuration: the TOML schema of `spec/interfaces.md` (strict: unknown
 //! keys are errors) and its validation into a [`Plan`] the engine can run.
 
+use crate::analysis::orientation::AngleFrom;
 use crate::container::Container;
 use crate::ensemble::sweep::{EnsembleConfig, SweepConfig};
 use crate::error::{Error, Result};
@@ -188,6 +189,9 @@ pub struct AnalysisConfig {
     /// Percolation: particles with `r >=` this are large (default: largest class).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub large_radius: Option<Real>,
+    /// Chain angles from the `vertical` (default) or the `horizontal`.
+    #[serde(default, skip_serializing_if = "AngleFrom::is_vertical")]
+    pub chain_angle_from: AngleFrom,
 }
 
 impl Default for AnalysisConfig {
@@ -195,6 +199,7 @@ impl Default for AnalysisConfig {
         AnalysisConfig {
             contact_tol: default_contact_tol(),
             large_radius: None,
+            chain_angle_from: AngleFrom::Vertical,
         }
     }
 }

@@ -45,10 +45,13 @@ fn analyse<const D: usize>(
     start: Instant,
 ) -> (Contacts, RunSummary) {
     let t = Instant::now();
-    let options = crate::analysis::AnalysisOptions::new(
-        config.analysis.contact_tol,
-        config.analysis.large_radius,
-    );
+    let options = crate::analysis::AnalysisOptions {
+        angle_from: config.analysis.chain_angle_from,
+        ..crate::analysis::AnalysisOptions::new(
+            config.analysis.contact_tol,
+            config.analysis.large_radius,
+        )
+    };
     let (contacts, analysis) = crate::analysis::analyze_with(bed, &options);
     let timing = Timing {
         deposit_seconds: deposit.deposit_seconds,

@@ -112,6 +112,8 @@ pub struct AnalysisOptions {
     pub contact_tol: Real,
     /// Percolation settings (which particles are large, enumeration caps).
     pub percolation: PercolationOptions,
+    /// The direction chain angles are measured from.
+    pub angle_from: orientation::AngleFrom,
 }
 
 impl Default for AnalysisOptions {
@@ -119,6 +121,7 @@ impl Default for AnalysisOptions {
         AnalysisOptions {
             contact_tol: 1e-6,
             percolation: PercolationOptions::default(),
+            angle_from: orientation::AngleFrom::Vertical,
         }
     }
 }
@@ -221,7 +224,9 @@ pub fn analyze_timed<const D: usize>(
         coordination,
         percolation,
         voids,
-        orientation: times.time("orientation", || orientation::orientation(bed)),
+        orientation: times.time("orientation", || {
+            orientation::orientation(bed, opts.angle_from)
+        }),
         segregation: times.time("segregation", || {
             segregation::segregation(bed, d_max, &volumes)
         }),

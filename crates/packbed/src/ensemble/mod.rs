@@ -637,7 +637,14 @@ fn write_point(
         s.stage(name, |w| w.write_all(text.as_bytes()))?;
     }
     if pictures {
-        stage_plots(&mut s, &plots::ensemble_plots(&aggregate))?;
+        stage_plots(
+            &mut s,
+            &plots::ensemble_plots(
+                &aggregate,
+                p.config.dim as usize,
+                p.config.analysis.chain_angle_from,
+            ),
+        )?;
     }
     s.commit()?;
     Ok(aggregate)
