@@ -9,8 +9,8 @@ use packbed::analysis::{analyze_with, AnalysisOptions};
 use packbed::bed::{AnyBed, Bed};
 use packbed::io::read::{read_bed, BoxHint};
 use packbed::io::summary::{AnalyzeSettings, AnalyzeTiming};
-use packbed::io::{self, AnalyzeSummary, ANALYZE_FILES};
-use std::path::{Path, PathBuf};
+use packbed::io::{self, AnalyzeSummary};
+use std::path::PathBuf;
 use std::time::Instant;
 
 /// Arguments of `packbed analyze`.
@@ -93,12 +93,12 @@ pub fn analyze(args: AnalyzeArgs) -> Result<()> {
     let t = Instant::now();
     let bed = read_bed(&args.path, (!hint.size.is_empty()).then_some(&hint))?;
     let read_seconds = t.elapsed().as_secs_f64();
-    let summary = match &bed {
+    let (summary, written) = match &bed {
         AnyBed::D2(b) => finish(&args, b, read_seconds)?,
         AnyBed::D3(b) => finish(&args, b, read_seconds)?,
     };
     if !args.quiet {
-        print!("{}", report::analyze_text(&summary, &args.out));
+        print!("{}", report::analyze_text(&summary, &args.out, &written));
     }
     Ok(())
 }
@@ -134,7 +134,7 @@ fn finish<const D: usize>(
     args: &AnalyzeArgs,
     bed: &Bed<D>,
     read_seconds: f64,
-) -> Result<AnalyzeSummary> {
+) -> Result<(AnalyzeSummary, Vec<PathBuf>)> {
     let t = Instant::now();
     let opts = AnalysisOptions {
         angle_from: args.chain_angle_from.into(),
@@ -159,12 +159,7 @@ fn finish<const D: usize>(
             None => Vec::new(),
         },
     };
-    io::write_analysis(&args.out, bed, &contacts, &summary, &extras)
+    let written = io::write_analysis(&args.out, bed, &contacts, &summary, &extras)
         .with_context(|| format!("--out {}", args.out.display()))?;
-    Ok(summary)
-}
-
-/// The files `analyze` writes, for the summary line.
-pub fn files(out: &Path) -> String {
-    format!("files in {}: {}", out.display(), ANALYZE_FILES.join(", "))
+    Ok((summary, written))
 }

@@ -166,12 +166,19 @@ fn summary_text(o: &Outcome, out: &std::path::Path, threads: Option<usize>) -> S
     let built: u64 = o.points.iter().map(|p| p.built).sum();
     let resumed: u64 = o.points.iter().map(|p| p.resumed).sum();
     let how = match threads {
-        Some(j) => format!("{built} built, {resumed} resumed, {j} threads"),
-        None => format!("merged from {resumed} replicate summaries"),
+        Some(j) => format!(
+            "{built} built, {resumed} resumed, {}",
+            crate::report::count(j as u64, "thread", "threads")
+        ),
+        None => format!(
+            "merged from {}",
+            crate::report::count(resumed, "replicate summary", "replicate summaries")
+        ),
     };
     let _ = writeln!(
         t,
-        "packbed: ensemble of {beds} beds ({how}) in {:.2} s",
+        "packbed: ensemble of {} ({how}) in {:.2} s",
+        crate::report::count(beds, "bed", "beds"),
         o.wall_seconds
     );
     for p in &o.points {
@@ -192,16 +199,26 @@ fn summary_text(o: &Outcome, out: &std::path::Path, threads: Option<usize>) -> S
             }
         }
     }
-    let names: Vec<String> = o
-        .files
-        .iter()
-        .filter_map(|f| f.file_name().map(|n| n.to_string_lossy().into_owned()))
-        .collect();
-    let _ = writeln!(
-        t,
-        "  files in {}: {}, runs/",
-        out.display(),
-        names.join(", ")
-    );
+    let names = crate::report::file_names;
+    match o.points.first().filter(|p| p.label.is_some()) {
+        // A sweep: its comparison on top, each value's statistics in its directory.
+        Some(p) => {
+            let _ = writeln!(t, "  files in {}: {}", out.display(), names(&o.files));
+            let _ = writeln!(
+                t,
+                "  in each of {} sweep/*/: {}, runs/",
+                o.points.len(),
+                names(&p.files)
+            );
+        }
+        None => {
+            let _ = writeln!(
+                t,
+                "  files in {}: {}, runs/",
+                out.display(),
+                names(&o.files)
+            );
+        }
+    }
     t
 }

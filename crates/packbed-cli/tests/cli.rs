@@ -791,3 +791,204 @@ fn chain_angles_from_the_horizontal_on_request() {
         &["bad.toml", "diagonal", "horizontal"],
     );
 }
+
+// ---- the screen summary and the shape of errors ---------------------------
+
+/// The names in the `files in DIR: …` line of a summary.
+fn listed(stdout: &str) -> Vec<String> {
+    let line = stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("files in "))
+        .unwrap_or_else(|| panic!("no files line in {stdout}"));
+    let (_, names) = line.split_once(": ").unwrap();
+    names
+        .split(", ")
+        .map(|n| n.trim().trim_end_matches('/').to_string())
+        .collect()
+}
+
+/// Every file in `dir`, sorted.
+fn files_in(s: &Scratch, dir: &str) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(s.path(dir))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn screen_summaries_list_every_file_written() {
+    let s = Scratch::new();
+    let o = s.ok(&[
+        "run",
+        "--dim",
+        "2",
+        "--radii",
+        "10",
+        "--box",
+        "diameters=6",
+        "--out",
+        "r",
+    ]);
+    let mut names = listed(&o.stdout);
+    names.sort();
+    assert_eq!(names, files_in(&s, "r"), "{}", o.stdout);
+    assert!(names.iter().any(|n| n == "bed.png"), "{names:?}");
+    let o = s.ok(&[
+        "analyze",
+        "r/particles.csv",
+        "--out",
+        "a",
+        "--export",
+        "xyz",
+    ]);
+    let mut names = listed(&o.stdout);
+    names.sort();
+    assert_eq!(names, files_in(&s, "a"), "{}", o.stdout);
+    let o = s.ok(&[
+        "ensemble",
+        "--dim",
+        "2",
+        "--radii",
+        "10",
+        "--box",
+        "diameters=6",
+        "--runs",
+        "2",
+        "--out",
+        "e",
+    ]);
+    let mut names = listed(&o.stdout);
+    names.sort();
+    assert_eq!(names, files_in(&s, "e"), "{}", o.stdout);
+    assert!(names.iter().any(|n| n == "plot_packing.png"), "{names:?}");
+}
+
+/// `text` holds `phrase` as a count of its own (not the end of `11 clusters`).
+fn says(text: &str, phrase: &str) -> bool {
+    text.match_indices(phrase).any(|(i, _)| {
+        !text[..i].ends_with(|c: char| c.is_ascii_digit())
+            && !text[i + phrase.len()..].starts_with(|c: char| c.is_alphanumeric())
+    })
+}
+
+#[test]
+fn screen_summary_counts_in_the_singular_and_by_name() {
+    let s = Scratch::new();
+    // Seven discs in a box of 3.33 diameters: one roof overflow, one cluster,
+    // one spanning cluster, one disjoint chain.
+    let o = s.ok(&[
+        "run",
+        "--dim",
+        "2",
+        "--radii",
+        "10",
+        "--box",
+        "diameters=3.3333333",
+        "--out",
+        "one",
+    ]);
+    for bad in [
+        "1 roof overflows",
+        "1 clusters",
+        "1 spanning clusters",
+        "1 disjoint chains",
+    ] {
+        assert!(!says(&o.stdout, bad), "`{bad}` in\n{}", o.stdout);
+    }
+    for good in [
+        "1 roof overflow",
+        "1 cluster",
+        "1 spanning cluster",
+        "1 disjoint chain",
+    ] {
+        assert!(says(&o.stdout, good), "`{good}` not in\n{}", o.stdout);
+    }
+    // Box sizes without float noise on screen; summary.json keeps every digit.
+    assert!(o.stdout.contains("66.6667 × 66.6667 box"), "{}", o.stdout);
+    assert_eq!(summary(&s, "one")["box"]["width"], 66.666666);
+
+    // Segregation by species name; the base layer of chains in bodies.
+    let c = s.input(
+        "named.toml",
+        "dim = 2\nseed = 2\n[box]\nwidth = 400\nheight = 300\n[fill]\ncount = 30\n\
+         [[species]]\nname = \"coarse\"\nradius = 20\nshape = \"chain\"\nbeads = 3\n\
+         [[species]]\nname = \"fine\"\nradius = 10\nshape = \"chain\"\nbeads = 3\n",
+    );
+    let o = s.ok(&["run", c.to_str().unwrap(), "--out", "named"]);
+    let seg = o
+        .stdout
+        .lines()
+        .find(|l| l.contains("segregation"))
+        .unwrap();
+    assert!(seg.contains("coarse ") && seg.contains("fine "), "{seg}");
+    assert!(!seg.contains("species 0"), "{seg}");
+    let j = summary(&s, "named");
+    let bodies = j["counts"]["bodies"].as_u64().unwrap();
+    let dropped = j["counts"]["dropped"].as_u64().unwrap();
+    let line = o
+        .stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("particles:"))
+        .unwrap();
+    let base: u64 = line
+        .split_once('(')
+        .unwrap()
+        .1
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(base > 0, "{line}");
+    assert_eq!(base + dropped, bodies, "{line}");
+    assert!(line.contains(&format!("{bodies} bodies")), "{line}");
+}
+
+/// Errors with a place in a file read `packbed: error: FILE:LINE: what`,
+/// whatever wraps them.
+#[test]
+fn errors_with_a_line_lead_with_file_and_line() {
+    let s = Scratch::new();
+    let c = s.input(
+        "typo.toml",
+        "dim = 2\n[[species]]\nradius = 10\nradiu = 3\n",
+    );
+    let typo = c.to_str().unwrap().to_string();
+    assert_user_error(&s, &["run", &typo], &["radiu"]);
+    assert_user_error(&s, &["ensemble", &typo, "--runs", "2"], &["radiu"]);
+    s.input("table.csv", "radius,weight\n10,1\nx,2\n");
+    let p = s.input(
+        "psd.toml",
+        "dim = 2\n[[species]]\nsize = { table = \"table.csv\" }\n",
+    );
+    let table = s.inputs.join("table.csv").to_str().unwrap().to_string();
+    assert_user_error(&s, &["run", p.to_str().unwrap()], &["psd.toml"]);
+    let bed = s.input("bed.txt", "1 2 1\n3 4 x\n");
+    let bed = bed.to_str().unwrap().to_string();
+    for (args, place) in [
+        (vec!["run", typo.as_str()], format!("{typo}:4: ")),
+        (
+            vec!["ensemble", typo.as_str(), "--runs", "2"],
+            format!("{typo}:4: "),
+        ),
+        (vec!["run", p.to_str().unwrap()], format!("{table}:3: ")),
+        (
+            vec!["analyze", bed.as_str(), "--box", "10,10"],
+            format!("{bed}:2: "),
+        ),
+        (
+            vec!["render", bed.as_str(), "--box", "10,10"],
+            format!("{bed}:2: "),
+        ),
+    ] {
+        let o = s.packbed(&args);
+        assert_eq!(o.code, 2, "{args:?}");
+        assert!(
+            o.stderr.starts_with(&format!("packbed: error: {place}")),
+            "{args:?}: {}",
+            o.stderr
+        );
+    }
+}

@@ -254,16 +254,17 @@ impl Default for Config {
 impl Config {
     /// Parses a TOML configuration; `origin` names the file in error messages.
     pub fn from_toml(text: &str, origin: &str) -> Result<Config> {
+        // `FILE:LINE: what`, the shape of every error with a place in a file.
         toml::from_str(text).map_err(|e| {
-            let msg = e.message().to_string();
-            let at = e
-                .span()
-                .map(|s| {
-                    let line = text[..s.start.min(text.len())].matches('\n').count() + 1;
-                    format!(":{line}")
-                })
-                .unwrap_or_default();
-            Error::config(format!("{origin}{at}: {msg}"))
+            let message = e.message().trim().to_string();
+            match e.span() {
+                Some(s) => Error::Data {
+                    path: origin.into(),
+                    line: text[..s.start.min(text.len())].matches('\n').count() + 1,
+                    message,
+                },
+                None => Error::config(format!("{origin}: {message}")),
+            }
         })
     }
 

@@ -129,6 +129,8 @@ pub struct PointResult {
     pub built: u64,
     /// Replicates found done in the directory (resumed).
     pub resumed: u64,
+    /// The statistics files and plots written into `dir`.
+    pub files: Vec<PathBuf>,
 }
 
 /// What an ensemble (or a merge) produced.
@@ -138,7 +140,8 @@ pub struct Outcome {
     pub points: Vec<PointResult>,
     /// Wall time of the invocation in seconds.
     pub wall_seconds: f64,
-    /// The files written at the top of the output directory.
+    /// The files written at the top of the output directory (the manifest, and
+    /// the statistics and plots of a plain ensemble or the sweep's comparison).
     pub files: Vec<PathBuf>,
     /// The replicate count of the ensemble found in the output directory when
     /// it was larger than this run's: only the first `runs` were reused and
@@ -543,7 +546,7 @@ pub fn run(
     };
     for (p, dir, values, built) in results {
         let resumed = values.len() as u64 - built;
-        let aggregate = write_point(
+        let (aggregate, files) = write_point(
             p,
             &dir,
             opts.runs,
@@ -559,9 +562,13 @@ pub fn run(
             aggregate,
             built,
             resumed,
+            files,
         });
     }
-    outcome.files = write_sweep(config, out, &outcome.points, opts.pictures)?;
+    outcome.files = vec![out.join(MANIFEST)];
+    outcome
+        .files
+        .extend(write_sweep(config, out, &outcome.points, opts.pictures)?);
     Ok(outcome)
 }
 
@@ -586,7 +593,8 @@ fn stage_plots(s: &mut Staging, plots: &[(String, crate::render::plot::Plot)]) -
     Ok(())
 }
 
-/// Writes the statistics files of one point; returns its aggregate.
+/// Writes the statistics files of one point; returns its aggregate and the
+/// files written.
 #[allow(clippy::too_many_arguments)]
 fn write_point(
     p: &Point,
@@ -597,7 +605,7 @@ fn write_point(
     (built, resumed): (u64, u64),
     wall: f64,
     pictures: bool,
-) -> Result<Aggregate> {
+) -> Result<(Aggregate, Vec<PathBuf>)> {
     let aggregate = stats::measures_of(values)?;
     let timing = stats::timings_of(values)?;
     let header = tables::Header {
@@ -646,8 +654,8 @@ fn write_point(
             ),
         )?;
     }
-    s.commit()?;
-    Ok(aggregate)
+    let files = s.commit()?;
+    Ok((aggregate, files))
 }
 
 fn write_sweep(
@@ -657,7 +665,7 @@ fn write_sweep(
     pictures: bool,
 ) -> Result<Vec<PathBuf>> {
     let Some(sw) = &config.sweep else {
-        return Ok(ENSEMBLE_FILES.iter().map(|f| out.join(f)).collect());
+        return Ok(points.iter().flat_map(|p| p.files.clone()).collect());
     };
     let rows: Vec<tables::SweepRow> = points
         .iter()
@@ -823,7 +831,7 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
     outcome.wall_seconds = wall;
     for (p, values) in merged {
         let dir = out.join(&p.dir);
-        let aggregate = write_point(
+        let (aggregate, files) = write_point(
             p,
             &dir,
             first.runs,
@@ -839,9 +847,13 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
             aggregate,
             built: 0,
             resumed: values.len() as u64,
+            files,
         });
     }
-    outcome.files = write_sweep(&config, out, &outcome.points, pictures)?;
+    outcome.files = vec![out.join(MANIFEST)];
+    outcome
+        .files
+        .extend(write_sweep(&config, out, &outcome.points, pictures)?);
     Ok(outcome)
 }
 
