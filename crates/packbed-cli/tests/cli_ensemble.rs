@@ -424,3 +424,19 @@ fn fewer_runs_than_the_directory_holds_are_announced() {
     let o = s.ok(&args(SMALL, &["--runs", "4", "--out", "e"]));
     assert!(o.stderr.is_empty(), "{}", o.stderr);
 }
+
+/// One replicate is `1 bed`, on screen and in ensemble.md.
+#[test]
+fn one_bed_is_singular() {
+    let s = Scratch::new();
+    let o = s.ok(&args(SMALL, &["--runs", "1", "--jobs", "1", "--out", "e"]));
+    assert!(
+        o.stdout.starts_with("packbed: ensemble of 1 bed ("),
+        "{}",
+        o.stdout
+    );
+    assert!(o.stdout.contains("1 thread)"), "{}", o.stdout);
+    let md = s.read("e/ensemble.md");
+    assert!(md.starts_with("# Ensemble of 1 bed\n"), "{md}");
+    assert!(!md.contains("1 beds"), "{md}");
+}
