@@ -3,13 +3,14 @@
 
 use crate::report;
 use anyhow::{bail, Context, Result};
-use clap::Args;
+use clap::{Args, ValueEnum};
+use packbed::analysis::orientation::AngleFrom;
 use packbed::analysis::{analyze_with, overlaps, AnalysisOptions};
 use packbed::bed::{AnyBed, Bed};
 use packbed::io::read::{read_bed_report, BoxHint, ReadReport};
 use packbed::io::summary::{AnalyzeSettings, AnalyzeTiming};
-use packbed::io::{self, AnalyzeSummary, ANALYZE_FILES};
-use std::path::{Path, PathBuf};
+use packbed::io::{self, AnalyzeSummary};
+use std::path::PathBuf;
 use std::time::Instant;
 
 /// Arguments of `packbed analyze`.
@@ -33,9 +34,16 @@ pub struct AnalyzeArgs {
     )]
     pub contact_tol: f64,
     /// Percolation threshold: particles with radius >= R count as large
-    /// (default: the species of the largest particle).
+    /// (default: the largest of the species' median radii).
     #[arg(long, value_name = "R", allow_hyphen_values = true)]
     pub large: Option<f64>,
+    /// Bulk measures are null when the bulk region holds fewer bodies.
+    #[arg(long, value_name = "N", default_value_t = packbed::analysis::BULK_MIN_BODIES)]
+    pub bulk_min_bodies: u64,
+    /// Measure chain angles from the vertical (default) or from the horizontal
+    /// (as the source study did).
+    #[arg(long, value_enum, value_name = "FROM", default_value = "vertical")]
+    pub chain_angle_from: AngleFromArg,
     /// Directory for the output files (created if needed).
     #[arg(long, value_name = "DIR", default_value = "packbed-analysis")]
     pub out: PathBuf,
@@ -48,6 +56,24 @@ pub struct AnalyzeArgs {
     /// No summary on stdout.
     #[arg(long, short)]
     pub quiet: bool,
+}
+
+/// `--chain-angle-from`: the library's [`AngleFrom`] for clap.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum AngleFromArg {
+    /// Angles from the vertical: signed −90…90 in 2D, polar 0…90 in 3D.
+    Vertical,
+    /// Angles from the horizontal: 0…180 in 2D, elevation 0…90 in 3D.
+    Horizontal,
+}
+
+impl From<AngleFromArg> for AngleFrom {
+    fn from(a: AngleFromArg) -> AngleFrom {
+        match a {
+            AngleFromArg::Vertical => AngleFrom::Vertical,
+            AngleFromArg::Horizontal => AngleFrom::Horizontal,
+        }
+    }
 }
 
 /// Runs `packbed analyze`.
@@ -72,7 +98,7 @@ pub fn analyze(args: AnalyzeArgs) -> Result<()> {
     let t = Instant::now();
     let (bed, read) = read_bed_report(&args.path, (!hint.size.is_empty()).then_some(&hint))?;
     let read_seconds = t.elapsed().as_secs_f64();
-    let summary = match &bed {
+    let (summary, written) = match &bed {
         AnyBed::D2(b) => finish(&args, b, &read, read_seconds)?,
         AnyBed::D3(b) => finish(&args, b, &read, read_seconds)?,
     };
@@ -80,7 +106,7 @@ pub fn analyze(args: AnalyzeArgs) -> Result<()> {
         eprintln!("{w}");
     }
     if !args.quiet {
-        print!("{}", report::analyze_text(&summary, &args.out));
+        print!("{}", report::analyze_text(&summary, &args.out, &written));
     }
     Ok(())
 }
@@ -117,9 +143,13 @@ fn finish<const D: usize>(
     bed: &Bed<D>,
     read: &ReadReport,
     read_seconds: f64,
-) -> Result<AnalyzeSummary> {
+) -> Result<(AnalyzeSummary, Vec<PathBuf>)> {
     let t = Instant::now();
-    let opts = AnalysisOptions::new(args.contact_tol, args.large);
+    let opts = AnalysisOptions {
+        angle_from: args.chain_angle_from.into(),
+        bulk_min_bodies: args.bulk_min_bodies,
+        ..AnalysisOptions::new(args.contact_tol, args.large)
+    };
     let (contacts, analysis) = analyze_with(bed, &opts);
     let overlaps = overlaps(bed, &contacts);
     let timing = AnalyzeTiming {
@@ -129,6 +159,7 @@ fn finish<const D: usize>(
     let settings = AnalyzeSettings {
         contact_tol: args.contact_tol,
         large_radius: args.large,
+        chain_angle_from: args.chain_angle_from.into(),
     };
     let source = args.path.display().to_string();
     let summary = AnalyzeSummary::new(&source, bed, read, &overlaps, settings, &analysis, timing);
@@ -139,12 +170,7 @@ fn finish<const D: usize>(
             None => Vec::new(),
         },
     };
-    io::write_analysis(&args.out, bed, &contacts, &summary, &extras)
+    let written = io::write_analysis(&args.out, bed, &contacts, &summary, &extras)
         .with_context(|| format!("--out {}", args.out.display()))?;
-    Ok(summary)
-}
-
-/// The files `analyze` writes, for the summary line.
-pub fn files(out: &Path) -> String {
-    format!("files in {}: {}", out.display(), ANALYZE_FILES.join(", "))
+    Ok((summary, written))
 }

@@ -78,6 +78,10 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
     if args.jobs == Some(0) {
         bail!("--jobs must be at least 1");
     }
+    let threads = ensemble::worker_threads(args.jobs);
+    if let Some(j) = args.jobs.filter(|&j| j > threads) {
+        eprintln!("packbed: note: --jobs {j} is more than the {threads} cores here; using {threads} threads");
+    }
     let shard = match &args.shard {
         Some(s) => Shard::parse(s)?,
         None => Shard::ALL,
@@ -114,15 +118,27 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
         b.finish_and_clear();
     }
     let outcome = outcome?;
+    if let Some(earlier) = outcome.reduced_from {
+        eprintln!(
+            "packbed: note: {} held an ensemble of {earlier} replicates; --runs {runs} reuses those of {} that are finished, and the statistics are over the {runs} requested ({} stay on disk, unused)",
+            args.out.display(),
+            replicate_range(0, runs),
+            replicate_range(runs, earlier)
+        );
+    }
     if !args.quiet {
-        let threads = args.jobs.unwrap_or_else(rayon_threads);
         print!("{}", summary_text(&outcome, &args.out, Some(threads)));
     }
     Ok(())
 }
 
-fn rayon_threads() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
+/// `replicate 3` or `replicates 3–9` for the replicates `lo..hi`.
+fn replicate_range(lo: u64, hi: u64) -> String {
+    if hi == lo + 1 {
+        format!("replicate {lo}")
+    } else {
+        format!("replicates {lo}–{}", hi - 1)
+    }
 }
 
 /// Runs `packbed merge`.
@@ -150,12 +166,19 @@ fn summary_text(o: &Outcome, out: &std::path::Path, threads: Option<usize>) -> S
     let built: u64 = o.points.iter().map(|p| p.built).sum();
     let resumed: u64 = o.points.iter().map(|p| p.resumed).sum();
     let how = match threads {
-        Some(j) => format!("{built} built, {resumed} resumed, {j} threads"),
-        None => format!("merged from {resumed} replicate summaries"),
+        Some(j) => format!(
+            "{built} built, {resumed} resumed, {}",
+            crate::report::count(j as u64, "thread", "threads")
+        ),
+        None => format!(
+            "merged from {}",
+            crate::report::count(resumed, "replicate summary", "replicate summaries")
+        ),
     };
     let _ = writeln!(
         t,
-        "packbed: ensemble of {beds} beds ({how}) in {:.2} s",
+        "packbed: ensemble of {} ({how}) in {:.2} s",
+        crate::report::count(beds, "bed", "beds"),
         o.wall_seconds
     );
     for p in &o.points {
@@ -176,16 +199,26 @@ fn summary_text(o: &Outcome, out: &std::path::Path, threads: Option<usize>) -> S
             }
         }
     }
-    let names: Vec<String> = o
-        .files
-        .iter()
-        .filter_map(|f| f.file_name().map(|n| n.to_string_lossy().into_owned()))
-        .collect();
-    let _ = writeln!(
-        t,
-        "  files in {}: {}, runs/",
-        out.display(),
-        names.join(", ")
-    );
+    let names = crate::report::file_names;
+    match o.points.first().filter(|p| p.label.is_some()) {
+        // A sweep: its comparison on top, each value's statistics in its directory.
+        Some(p) => {
+            let _ = writeln!(t, "  files in {}: {}", out.display(), names(&o.files));
+            let _ = writeln!(
+                t,
+                "  in each of {} sweep/*/: {}, runs/",
+                o.points.len(),
+                names(&p.files)
+            );
+        }
+        None => {
+            let _ = writeln!(
+                t,
+                "  files in {}: {}, runs/",
+                out.display(),
+                names(&o.files)
+            );
+        }
+    }
     t
 }

@@ -67,7 +67,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("packbed: error: {}", one_line(&chain(&e)));
+            eprintln!("packbed: error: {}", one_line(&message(&e)));
             ExitCode::from(EXIT_USER_ERROR)
         }
     }
@@ -116,11 +116,32 @@ fn clap_exit(e: clap::Error) -> ExitCode {
     }
 }
 
-/// The error and its causes as "what: why", leaving out a cause whose text the
+/// The one line of an error: `FILE:LINE: what` when it has a place in a file,
+/// else `what` (which may start with the file, `FILE: what`). A place found
+/// under a context (the config that named a PSD table, say) still leads, the
+/// context following in parentheses, so that every error with a line has the
+/// same shape.
+fn message(e: &anyhow::Error) -> String {
+    let placed = e.chain().position(|c| {
+        matches!(
+            c.downcast_ref::<packbed::Error>(),
+            Some(packbed::Error::Data { .. })
+        )
+    });
+    match placed {
+        Some(k) if k > 0 => {
+            let outer: Vec<String> = e.chain().take(k).map(|c| c.to_string()).collect();
+            format!("{} (in {})", chain(e.chain().skip(k)), outer.join(": "))
+        }
+        _ => chain(e.chain()),
+    }
+}
+
+/// The errors of a chain as "what: why", leaving out a cause whose text the
 /// message already quotes (the library's I/O errors include their source).
-fn chain(e: &anyhow::Error) -> String {
+fn chain<'a>(causes: impl Iterator<Item = &'a (dyn std::error::Error + 'static)>) -> String {
     let mut text = String::new();
-    for cause in e.chain() {
+    for cause in causes {
         let c = cause.to_string();
         if !text.contains(&c) {
             if !text.is_empty() {

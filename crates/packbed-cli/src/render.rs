@@ -46,14 +46,10 @@ pub struct RenderArgs {
     /// Image height in pixels.
     #[arg(long, default_value_t = 1000)]
     pub height: u32,
-    /// 3D view as AZIMUTH,ELEVATION in degrees (azimuth from the front towards +x).
-    #[arg(
-        long,
-        value_name = "AZ,EL",
-        default_value = "-30,30",
-        allow_hyphen_values = true
-    )]
-    pub view: String,
+    /// 3D view as AZIMUTH,ELEVATION in degrees (azimuth from the front towards +x);
+    /// default -30,30.
+    #[arg(long, value_name = "AZ,EL", allow_hyphen_values = true)]
+    pub view: Option<String>,
     /// 3D cut-away: `half` (back half), or a slab `x:LO:HI`, `y:LO:HI`, `z:LO:HI`.
     #[arg(long, value_name = "CUT")]
     pub cut: Option<String>,
@@ -113,20 +109,26 @@ pub fn render(args: RenderArgs) -> Result<()> {
         }),
         None => None,
     };
-    let view = numbers(&args.view, "--view")?;
-    if view.len() != 2 {
-        bail!("--view {}: give AZIMUTH,ELEVATION in degrees", args.view);
-    }
+    let view = match &args.view {
+        Some(text) => {
+            let v = numbers(text, "--view")?;
+            if v.len() != 2 {
+                bail!("--view {text}: give AZIMUTH,ELEVATION in degrees");
+            }
+            View {
+                azimuth: v[0],
+                elevation: v[1],
+            }
+        }
+        None => View::default(),
+    };
     let mut opts = RenderOptions {
         width: args.width,
         height: args.height,
         network: args.network || args.color == Color::Contacts,
         contact_tol: args.contact_tol,
         outlines: !args.no_outlines,
-        view: View {
-            azimuth: view[0],
-            elevation: view[1],
-        },
+        view,
         cut: parse_cut(args.cut.as_deref())?,
         supersample: args.supersample,
         title: args.title.clone(),
@@ -134,6 +136,29 @@ pub fn render(args: RenderArgs) -> Result<()> {
     };
     opts.check()?;
     let bed = read_bed(&args.path, hint.as_ref())?;
+    if let AnyBed::D2(_) = &bed {
+        // A 2D picture has no viewing direction and nothing in front to cut
+        // away: taking the options silently would hide a mistaken file.
+        let given: Vec<&str> = [
+            ("--view", args.view.is_some()),
+            ("--cut", args.cut.is_some()),
+        ]
+        .iter()
+        .filter_map(|&(o, g)| g.then_some(o))
+        .collect();
+        if !given.is_empty() {
+            bail!(
+                "{} {}: {} is a 2D bed (views and cut-aways are for 3D beds)",
+                given.join(" and "),
+                if given.len() == 1 {
+                    "applies only in 3D"
+                } else {
+                    "apply only in 3D"
+                },
+                args.path.display()
+            );
+        }
+    }
     opts.color = match args.color {
         Color::Species => ColorBy::Species,
         Color::Contacts | Color::Coordination => ColorBy::Coordination,

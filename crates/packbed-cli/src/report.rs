@@ -2,18 +2,62 @@
 
 use packbed::analysis::percolation::DirectionPercolation;
 use packbed::analysis::Summary;
-use packbed::io::{AnalyzeSummary, RunSummary, RUN_FILES};
+use packbed::io::summary::BoxSummary;
+use packbed::io::{AnalyzeSummary, RunSummary};
 use std::fmt::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// `1 cluster`, `2 clusters`.
+pub fn count(n: u64, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
+/// A length for the screen: at most six significant digits (but the whole
+/// integer part), trailing zeros dropped, so that a box of 1485.1720000000003
+/// reads 1485.17 (`summary.json` keeps every digit).
+pub fn length(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let magnitude = x.abs().log10().floor() as i32;
+    let trim = |t: String| -> String {
+        if t.contains('.') {
+            t.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            t
+        }
+    };
+    if !(-4..15).contains(&magnitude) {
+        let t = format!("{x:.5e}");
+        let (mantissa, exponent) = t.split_once('e').unwrap_or((&t, "0"));
+        return format!("{}e{exponent}", trim(mantissa.to_string()));
+    }
+    let decimals = (5 - magnitude).max(0) as usize;
+    trim(format!("{x:.decimals$}"))
+}
+
+/// `W × H` or `W × D × H`.
+fn box_size(b: &BoxSummary) -> String {
+    match b.depth {
+        Some(d) => format!("{} × {} × {}", length(b.width), length(d), length(b.height)),
+        None => format!("{} × {}", length(b.width), length(b.height)),
+    }
+}
+
+/// The names of the files written, for the last line of a summary.
+pub fn file_names(files: &[PathBuf]) -> String {
+    files
+        .iter()
+        .filter_map(|f| f.file_name().map(|n| n.to_string_lossy().into_owned()))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
 
 /// A few lines for a person: what was built, what it measures, where the files are.
-pub fn run_text(s: &RunSummary, out: &Path) -> String {
+pub fn run_text(s: &RunSummary, out: &Path, files: &[PathBuf]) -> String {
     let mut t = String::new();
     let b = &s.container;
-    let size = match b.depth {
-        Some(d) => format!("{} × {} × {}", b.width, d, b.height),
-        None => format!("{} × {}", b.width, b.height),
-    };
+    let size = box_size(b);
     let sides = if b.periodic {
         "periodic sides"
     } else {
@@ -50,31 +94,47 @@ pub fn run_text(s: &RunSummary, out: &Path) -> String {
             }
         );
     } else {
+        // `dropped` counts bodies; with chains the base layer must too (its
+        // count in summary.json is in beads, the rows of particles.csv).
+        let what = if c.bodies == c.particles {
+            count(c.particles, "particle", "particles")
+        } else {
+            format!(
+                "{} in {}",
+                count(c.particles, "particle", "particles"),
+                count(c.bodies, "body", "bodies")
+            )
+        };
+        let base = if c.bodies == c.particles {
+            c.base_layer
+        } else {
+            c.bodies.saturating_sub(c.dropped)
+        };
         let _ = writeln!(
             t,
-            "  particles: {} ({} base layer, {} dropped; {} re-drops, {} roof overflows)",
-            c.particles, c.base_layer, c.dropped, c.redrops, c.roof_overflows
+            "  particles: {what} ({base} base layer, {} dropped; {}, {})",
+            c.dropped,
+            count(c.redrops, "re-drop", "re-drops"),
+            count(c.roof_overflows, "roof overflow", "roof overflows")
         );
     }
-    t.push_str(&measures_text(&s.analysis));
+    let names: Vec<String> = s.species.iter().map(|sp| sp.name.clone()).collect();
+    t.push_str(&measures_text(&s.analysis, &names));
     let tm = &s.timing;
     let _ = writeln!(
         t,
         "  time: {:.3} s (deposition {:.3} s, analysis {:.3} s)",
         tm.total_seconds, tm.deposit_seconds, tm.analysis_seconds
     );
-    let _ = writeln!(t, "  files in {}: {}", out.display(), RUN_FILES.join(", "));
+    let _ = writeln!(t, "  files in {}: {}", out.display(), file_names(files));
     t
 }
 
 /// The summary `packbed analyze` prints.
-pub fn analyze_text(s: &AnalyzeSummary, out: &Path) -> String {
+pub fn analyze_text(s: &AnalyzeSummary, out: &Path, files: &[PathBuf]) -> String {
     let mut t = String::new();
     let b = &s.container;
-    let size = match b.depth {
-        Some(d) => format!("{} × {} × {}", b.width, d, b.height),
-        None => format!("{} × {}", b.width, b.height),
-    };
+    let size = box_size(b);
     let sides = if b.periodic {
         "periodic sides"
     } else {
@@ -87,16 +147,19 @@ pub fn analyze_text(s: &AnalyzeSummary, out: &Path) -> String {
     };
     let _ = writeln!(
         t,
-        "packbed: {} ({}D, {} particles, {} bodies, {size} box{from}, {sides})",
-        s.source, s.dim, s.counts.particles, s.counts.bodies
+        "packbed: {} ({}D, {}, {}, {size} box{from}, {sides})",
+        s.source,
+        s.dim,
+        count(s.counts.particles, "particle", "particles"),
+        count(s.counts.bodies, "body", "bodies")
     );
-    t.push_str(&measures_text(&s.analysis));
+    t.push_str(&measures_text(&s.analysis, &[]));
     let _ = writeln!(
         t,
         "  time: read {:.3} s, analysis {:.3} s",
         s.timing.read_seconds, s.timing.analysis_seconds
     );
-    let _ = writeln!(t, "  {}", crate::analyze::files(out));
+    let _ = writeln!(t, "  files in {}: {}", out.display(), file_names(files));
     t
 }
 
@@ -126,17 +189,33 @@ fn opt3(v: Option<f64>) -> String {
     v.map_or("-".into(), |x| format!("{x:.3}"))
 }
 
-/// One line per measure, shared by `run` and `analyze`.
-pub fn measures_text(a: &Summary) -> String {
+/// One line per measure, shared by `run` and `analyze`; `names` are the
+/// species names by index where known.
+pub fn measures_text(a: &Summary, names: &[String]) -> String {
+    // Species by name: the run's, else the analysis's own, else the index.
+    let species_name = |i: usize| -> String {
+        names
+            .get(i)
+            .filter(|n| !n.is_empty())
+            .cloned()
+            .or_else(|| {
+                a.coordination
+                    .by_species
+                    .iter()
+                    .find(|s| s.species as usize == i && !s.name.is_empty())
+                    .map(|s| s.name.clone())
+            })
+            .unwrap_or_else(|| format!("species {i}"))
+    };
     let mut t = String::new();
     let p = &a.packing;
     let r = &p.regions;
     let _ = writeln!(
         t,
-        "  packing fraction: global {:.4}, bulk {} ({} bodies); floor {}, roof {}, wall {}, centre {}",
+        "  packing fraction: global {:.4}, bulk {} ({}); floor {}, roof {}, wall {}, centre {}",
         p.global,
         opt(p.bulk),
-        p.bulk_bodies,
+        count(p.bulk_bodies, "body", "bodies"),
         opt(r.floor),
         opt(r.roof),
         opt(r.wall),
@@ -145,8 +224,12 @@ pub fn measures_text(a: &Summary) -> String {
     let k = &a.coordination;
     let _ = writeln!(
         t,
-        "  coordination: bulk {} ({} particles in the bulk), overall {:.3}; {} floor and {} wall contacts",
-        opt3(k.mean_bulk), k.bulk_particles, k.mean, k.floor_contacts, k.wall_contacts
+        "  coordination: bulk {} ({} in the bulk), overall {:.3}; {} and {}",
+        opt3(k.mean_bulk),
+        count(k.bulk_particles, "particle", "particles"),
+        k.mean,
+        count(k.floor_contacts, "floor contact", "floor contacts"),
+        count(k.wall_contacts, "wall contact", "wall contacts")
     );
     if let Some(why) = &p.bulk_note {
         let _ = writeln!(t, "  bulk measures: none ({why})");
@@ -156,12 +239,12 @@ pub fn measures_text(a: &Summary) -> String {
             .by_species
             .iter()
             .map(|s| {
-                let name = if s.name.is_empty() {
-                    format!("species {}", s.species)
-                } else {
-                    s.name.clone()
-                };
-                format!("{name} {:.3} (bulk {})", s.mean, opt3(s.mean_bulk))
+                format!(
+                    "{} {:.3} (bulk {})",
+                    species_name(s.species as usize),
+                    s.mean,
+                    opt3(s.mean_bulk)
+                )
             })
             .collect();
         let _ = writeln!(t, "    by species: {}", per.join(", "));
@@ -173,16 +256,16 @@ pub fn measures_text(a: &Summary) -> String {
             .map(|l| format!(" of {}–{} particles (mean {:.1})", l.min, l.max, l.mean))
             .unwrap_or_default();
         // 3D: per direction and summed (the source study counted "x or y" together).
-        let per_axis = |count: fn(&DirectionPercolation) -> u64, sum: u64| {
+        let per_axis = |of: fn(&DirectionPercolation) -> u64, sum: u64, one: &str, many: &str| {
             if c.directions.len() > 1 {
                 let each: Vec<String> = c
                     .directions
                     .iter()
-                    .map(|d| format!("{} {}", d.axis, count(d)))
+                    .map(|d| format!("{} {}", d.axis, of(d)))
                     .collect();
-                format!("{} (sum {sum})", each.join(", "))
+                format!("{many} {} (sum {sum})", each.join(", "))
             } else {
-                sum.to_string()
+                count(sum, one, many)
             }
         };
         let capped = if c.cap_hit {
@@ -201,19 +284,31 @@ pub fn measures_text(a: &Summary) -> String {
             String::new()
         };
         format!(
-            "spans ({} spanning clusters); shortest chain {} particles; vertex-disjoint chains {}; unique chains {}{lengths}{capped}",
-            c.spanning_clusters,
-            c.shortest_chain.unwrap_or(0),
-            per_axis(|d| d.disjoint_chains, c.disjoint_chains_sum),
-            per_axis(|d| d.unique_chains, c.unique_chains),
+            "spans ({}); shortest chain {}; {}; {}{lengths}{capped}",
+            count(c.spanning_clusters, "spanning cluster", "spanning clusters"),
+            count(c.shortest_chain.unwrap_or(0), "particle", "particles"),
+            per_axis(
+                |d| d.disjoint_chains,
+                c.disjoint_chains_sum,
+                "vertex-disjoint chain",
+                "vertex-disjoint chains"
+            ),
+            per_axis(
+                |d| d.unique_chains,
+                c.unique_chains,
+                "unique chain",
+                "unique chains"
+            ),
         )
     } else {
         "no spanning chain".into()
     };
     let _ = writeln!(
         t,
-        "  percolation (r >= {}: {} large bodies, {} clusters): {chain}",
-        c.large_radius, c.large_bodies, c.clusters
+        "  percolation (r >= {}: {}, {}): {chain}",
+        length(c.large_radius),
+        count(c.large_bodies, "large body", "large bodies"),
+        count(c.clusters, "cluster", "clusters")
     );
     if let Some(v) = &a.voids {
         let _ = writeln!(
@@ -225,8 +320,11 @@ pub fn measures_text(a: &Summary) -> String {
     if let Some(o) = &a.orientation {
         let _ = writeln!(
             t,
-            "  orientation: {} chains, order parameter S = {:.3}, mean angle from vertical {:.1}°",
-            o.bodies, o.order_parameter, o.mean_angle
+            "  orientation: {}, order parameter S = {:.3}, mean angle from {} {:.1}°",
+            count(o.bodies, "chain", "chains"),
+            o.order_parameter,
+            o.angle_from.name(),
+            o.mean_angle
         );
     }
     let g = &a.segregation;
@@ -235,7 +333,7 @@ pub fn measures_text(a: &Summary) -> String {
             .bottom_fraction
             .iter()
             .enumerate()
-            .map(|(i, f)| format!("species {i} {:.1}%", 100.0 * f))
+            .map(|(i, f)| format!("{} {:.1}%", species_name(i), 100.0 * f))
             .collect();
         let _ = writeln!(
             t,
@@ -245,4 +343,26 @@ pub fn measures_text(a: &Summary) -> String {
         );
     }
     t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::length;
+
+    #[test]
+    fn lengths_have_at_most_six_significant_digits() {
+        for (x, want) in [
+            (1485.1720000000003, "1485.17"),
+            (600.0, "600"),
+            (66.666666, "66.6667"),
+            (0.1 + 0.2, "0.3"),
+            (123456789.0, "123456789"),
+            (2.5e-7, "2.5e-7"),
+            (1.0e20 / 3.0, "3.33333e19"),
+            (-12.5, "-12.5"),
+            (0.0, "0"),
+        ] {
+            assert_eq!(length(x), want, "{x}");
+        }
+    }
 }

@@ -46,9 +46,12 @@ pub fn run(args: RunArgs) -> Result<()> {
     let finished = packbed::pipeline::run_bed(&config, &mut |n| progress.update(n));
     progress.finish();
     let finished = finished?;
-    finished.write_with(&args.out, &extras)?;
+    let written = finished.write_with(&args.out, &extras)?;
     if !args.quiet {
-        print!("{}", report::run_text(&finished.summary, &args.out));
+        print!(
+            "{}",
+            report::run_text(&finished.summary, &args.out, &written)
+        );
     }
     Ok(())
 }

@@ -669,3 +669,343 @@ fn run_writes_the_regional_packing_plot() {
         assert!(svg.contains(region), "{region} missing from the SVG");
     }
 }
+
+/// A roof-miss count no run could reach is refused up front with its bound
+/// (before, each miss cost a drop and such a run never ended).
+#[test]
+fn absurd_roof_misses_are_refused_with_the_bound() {
+    let s = Scratch::new();
+    for misses in ["1000000000000000", "1000000000000000000"] {
+        let c = s.input(
+            "misses.toml",
+            &format!("dim = 2\n[box]\nwidth = 100\nheight = 40\n[fill]\nroof_misses = {misses}\n[[species]]\nradius = 10\n"),
+        );
+        let args = ["run", c.to_str().unwrap(), "--out", "m"];
+        let o = within(&s, &args, 60);
+        assert_eq!(o.code, 2, "{}", o.stderr);
+        assert_user_error(
+            &s,
+            &args,
+            &["misses.toml", "fill.roof_misses", "at most", misses],
+        );
+    }
+    // A sensible number still runs.
+    let c = s.input(
+        "ok.toml",
+        "dim = 2\n[box]\nwidth = 100\nheight = 40\n[fill]\nroof_misses = 1000\n[[species]]\nradius = 10\n",
+    );
+    s.ok(&["run", c.to_str().unwrap(), "--out", "m", "--quiet"]);
+}
+
+/// Runs `packbed` but gives up (killing it) after `secs` seconds.
+fn within(s: &Scratch, args: &[&str], secs: u64) -> Outcome {
+    use std::io::Read;
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_packbed"))
+        .args(args)
+        .current_dir(&s.work)
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    let status = loop {
+        if let Some(st) = child.try_wait().unwrap() {
+            break st;
+        }
+        if start.elapsed().as_secs() >= secs {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{args:?} still running after {secs} s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    let (mut stdout, mut stderr) = (String::new(), String::new());
+    child
+        .stdout
+        .take()
+        .unwrap()
+        .read_to_string(&mut stdout)
+        .unwrap();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut stderr)
+        .unwrap();
+    Outcome {
+        code: status.code().unwrap_or(-1),
+        stdout,
+        stderr,
+    }
+}
+
+/// `[analysis] chain_angle_from = "horizontal"` (and `analyze
+/// --chain-angle-from`) give the source study's angles, and the outputs say so.
+#[test]
+fn chain_angles_from_the_horizontal_on_request() {
+    let s = Scratch::new();
+    let bed = "dim = 2\nseed = 3\n[box]\nwidth = 300\nheight = 200\n[fill]\ncount = 40\n\
+               [[species]]\nradius = 10\nshape = \"chain\"\nbeads = 3\norientation = \"random\"\n";
+    let h = s.input(
+        "h.toml",
+        &format!("{bed}[analysis]\nchain_angle_from = \"horizontal\"\n"),
+    );
+    let o = s.ok(&["run", h.to_str().unwrap(), "--out", "h"]);
+    assert!(
+        o.stdout.contains("mean angle from horizontal"),
+        "{}",
+        o.stdout
+    );
+    let v = s.input("v.toml", bed);
+    s.ok(&["run", v.to_str().unwrap(), "--out", "v", "--quiet"]);
+    let (h, v) = (summary(&s, "h"), summary(&s, "v"));
+    assert_eq!(h["orientation"]["angle_from"], "horizontal");
+    assert_eq!(v["orientation"]["angle_from"], "vertical");
+    let mean = |j: &Value| j["orientation"]["mean_angle"].as_f64().unwrap();
+    assert!(
+        (mean(&h) - (90.0 - mean(&v))).abs() < 1e-9,
+        "{} {}",
+        mean(&h),
+        mean(&v)
+    );
+    assert_eq!(h["orientation"]["histogram"]["lo"], 0.0);
+    assert_eq!(v["orientation"]["histogram"]["lo"], -90.0);
+    assert_eq!(h["config"]["analysis"]["chain_angle_from"], "horizontal");
+    let texts = common::svg_texts(&s.read("h/plot_chain_angles.svg"));
+    assert!(
+        texts.iter().any(|t| t.contains("from horizontal")),
+        "{texts:?}"
+    );
+    let texts = common::svg_texts(&s.read("v/plot_chain_angles.svg"));
+    assert!(
+        texts.iter().any(|t| t.contains("from vertical")),
+        "{texts:?}"
+    );
+    // analyze gives the same numbers on the file, in either convention.
+    s.ok(&[
+        "analyze",
+        "v/particles.csv",
+        "--chain-angle-from",
+        "horizontal",
+        "--out",
+        "a",
+        "--quiet",
+    ]);
+    let a = summary(&s, "a");
+    assert_eq!(a["orientation"]["angle_from"], "horizontal");
+    assert_eq!(a["settings"]["chain_angle_from"], "horizontal");
+    assert_eq!(a["orientation"]["histogram"], h["orientation"]["histogram"]);
+    let bad = s.input(
+        "bad.toml",
+        &format!("{bed}[analysis]\nchain_angle_from = \"diagonal\"\n"),
+    );
+    assert_user_error(
+        &s,
+        &["run", bad.to_str().unwrap()],
+        &["bad.toml", "diagonal", "horizontal"],
+    );
+}
+
+// ---- the screen summary and the shape of errors ---------------------------
+
+/// The names in the `files in DIR: …` line of a summary.
+fn listed(stdout: &str) -> Vec<String> {
+    let line = stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("files in "))
+        .unwrap_or_else(|| panic!("no files line in {stdout}"));
+    let (_, names) = line.split_once(": ").unwrap();
+    names
+        .split(", ")
+        .map(|n| n.trim().trim_end_matches('/').to_string())
+        .collect()
+}
+
+/// Every file in `dir`, sorted.
+fn files_in(s: &Scratch, dir: &str) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(s.path(dir))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn screen_summaries_list_every_file_written() {
+    let s = Scratch::new();
+    let o = s.ok(&[
+        "run",
+        "--dim",
+        "2",
+        "--radii",
+        "10",
+        "--box",
+        "diameters=6",
+        "--out",
+        "r",
+    ]);
+    let mut names = listed(&o.stdout);
+    names.sort();
+    assert_eq!(names, files_in(&s, "r"), "{}", o.stdout);
+    assert!(names.iter().any(|n| n == "bed.png"), "{names:?}");
+    let o = s.ok(&[
+        "analyze",
+        "r/particles.csv",
+        "--out",
+        "a",
+        "--export",
+        "xyz",
+    ]);
+    let mut names = listed(&o.stdout);
+    names.sort();
+    assert_eq!(names, files_in(&s, "a"), "{}", o.stdout);
+    let o = s.ok(&[
+        "ensemble",
+        "--dim",
+        "2",
+        "--radii",
+        "10",
+        "--box",
+        "diameters=6",
+        "--runs",
+        "2",
+        "--out",
+        "e",
+    ]);
+    let mut names = listed(&o.stdout);
+    names.sort();
+    assert_eq!(names, files_in(&s, "e"), "{}", o.stdout);
+    assert!(names.iter().any(|n| n == "plot_packing.png"), "{names:?}");
+}
+
+/// `text` holds `phrase` as a count of its own (not the end of `11 clusters`).
+fn says(text: &str, phrase: &str) -> bool {
+    text.match_indices(phrase).any(|(i, _)| {
+        !text[..i].ends_with(|c: char| c.is_ascii_digit())
+            && !text[i + phrase.len()..].starts_with(|c: char| c.is_alphanumeric())
+    })
+}
+
+#[test]
+fn screen_summary_counts_in_the_singular_and_by_name() {
+    let s = Scratch::new();
+    // Seven discs in a box of 3.33 diameters: one roof overflow (the fill
+    // stops at the first), one cluster, one spanning cluster, one disjoint chain.
+    let first_miss = s.input("first-miss.toml", "[fill]\nroof_misses = 0\n");
+    let o = s.ok(&[
+        "run",
+        first_miss.to_str().unwrap(),
+        "--dim",
+        "2",
+        "--radii",
+        "10",
+        "--box",
+        "diameters=3.3333333",
+        "--out",
+        "one",
+    ]);
+    for bad in [
+        "1 roof overflows",
+        "1 clusters",
+        "1 spanning clusters",
+        "1 vertex-disjoint chains",
+    ] {
+        assert!(!says(&o.stdout, bad), "`{bad}` in\n{}", o.stdout);
+    }
+    for good in [
+        "1 roof overflow",
+        "1 cluster",
+        "1 spanning cluster",
+        "1 vertex-disjoint chain",
+    ] {
+        assert!(says(&o.stdout, good), "`{good}` not in\n{}", o.stdout);
+    }
+    // Box sizes without float noise on screen; summary.json keeps every digit.
+    assert!(o.stdout.contains("66.6667 × 66.6667 box"), "{}", o.stdout);
+    assert_eq!(summary(&s, "one")["box"]["width"], 66.666666);
+
+    // Segregation by species name; the base layer of chains in bodies.
+    let c = s.input(
+        "named.toml",
+        "dim = 2\nseed = 2\n[box]\nwidth = 400\nheight = 300\n[fill]\ncount = 30\n\
+         [[species]]\nname = \"coarse\"\nradius = 20\nshape = \"chain\"\nbeads = 3\n\
+         [[species]]\nname = \"fine\"\nradius = 10\nshape = \"chain\"\nbeads = 3\n",
+    );
+    let o = s.ok(&["run", c.to_str().unwrap(), "--out", "named"]);
+    let seg = o
+        .stdout
+        .lines()
+        .find(|l| l.contains("segregation"))
+        .unwrap();
+    assert!(seg.contains("coarse ") && seg.contains("fine "), "{seg}");
+    assert!(!seg.contains("species 0"), "{seg}");
+    let j = summary(&s, "named");
+    let bodies = j["counts"]["bodies"].as_u64().unwrap();
+    let dropped = j["counts"]["dropped"].as_u64().unwrap();
+    let line = o
+        .stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("particles:"))
+        .unwrap();
+    let base: u64 = line
+        .split_once('(')
+        .unwrap()
+        .1
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(base > 0, "{line}");
+    assert_eq!(base + dropped, bodies, "{line}");
+    assert!(line.contains(&format!("{bodies} bodies")), "{line}");
+}
+
+/// Errors with a place in a file read `packbed: error: FILE:LINE: what`,
+/// whatever wraps them.
+#[test]
+fn errors_with_a_line_lead_with_file_and_line() {
+    let s = Scratch::new();
+    let c = s.input(
+        "typo.toml",
+        "dim = 2\n[[species]]\nradius = 10\nradiu = 3\n",
+    );
+    let typo = c.to_str().unwrap().to_string();
+    assert_user_error(&s, &["run", &typo], &["radiu"]);
+    assert_user_error(&s, &["ensemble", &typo, "--runs", "2"], &["radiu"]);
+    s.input("table.csv", "radius,weight\n10,1\nx,2\n");
+    let p = s.input(
+        "psd.toml",
+        "dim = 2\n[[species]]\nsize = { table = \"table.csv\" }\n",
+    );
+    let table = s.inputs.join("table.csv").to_str().unwrap().to_string();
+    assert_user_error(&s, &["run", p.to_str().unwrap()], &["psd.toml"]);
+    let bed = s.input("bed.txt", "1 2 1\n3 4 x\n");
+    let bed = bed.to_str().unwrap().to_string();
+    for (args, place) in [
+        (vec!["run", typo.as_str()], format!("{typo}:4: ")),
+        (
+            vec!["ensemble", typo.as_str(), "--runs", "2"],
+            format!("{typo}:4: "),
+        ),
+        (vec!["run", p.to_str().unwrap()], format!("{table}:3: ")),
+        (
+            vec!["analyze", bed.as_str(), "--box", "10,10"],
+            format!("{bed}:2: "),
+        ),
+        (
+            vec!["render", bed.as_str(), "--box", "10,10"],
+            format!("{bed}:2: "),
+        ),
+    ] {
+        let o = s.packbed(&args);
+        assert_eq!(o.code, 2, "{args:?}");
+        assert!(
+            o.stderr.starts_with(&format!("packbed: error: {place}")),
+            "{args:?}: {}",
+            o.stderr
+        );
+    }
+}

@@ -369,3 +369,76 @@ fn replicate_seeds_rebuild_with_run() {
     assert_eq!(v["packing"], w["packing"]);
     assert_eq!(v["counts"], w["counts"]);
 }
+
+/// `--jobs` far above the cores is capped at them, with one note on stderr.
+#[test]
+fn jobs_above_the_cores_are_capped_with_a_note() {
+    let s = Scratch::new();
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let o = s.ok(&args(
+        SMALL,
+        &["--runs", "2", "--jobs", "1000", "--out", "e"],
+    ));
+    let notes: Vec<&str> = o.stderr.lines().collect();
+    assert_eq!(notes.len(), 1, "{}", o.stderr);
+    assert!(
+        notes[0].contains("--jobs 1000") && notes[0].contains(&format!("using {cores} threads")),
+        "{}",
+        o.stderr
+    );
+    assert!(
+        o.stdout.contains(&format!("{cores} threads")),
+        "{}",
+        o.stdout
+    );
+    let o = s.ok(&args(SMALL, &["--runs", "2", "--jobs", "1", "--out", "f"]));
+    assert!(o.stderr.is_empty(), "{}", o.stderr);
+}
+
+/// A smaller `--runs` into an existing ensemble says which replicates it reuses
+/// and that the statistics are over the runs requested.
+#[test]
+fn fewer_runs_than_the_directory_holds_are_announced() {
+    let s = Scratch::new();
+    s.ok(&args(SMALL, &["--runs", "4", "--out", "e"]));
+    let o = s.ok(&args(SMALL, &["--runs", "2", "--out", "e"]));
+    let notes: Vec<&str> = o.stderr.lines().collect();
+    assert_eq!(notes.len(), 1, "{}", o.stderr);
+    for n in [
+        "4 replicates",
+        "replicates 0–1",
+        "over the 2 requested",
+        "replicates 2–3",
+    ] {
+        assert!(notes[0].contains(n), "`{n}` not in {}", notes[0]);
+    }
+    assert!(
+        o.stdout.contains("ensemble of 2 beds (0 built, 2 resumed"),
+        "{}",
+        o.stdout
+    );
+    let csv = s.read("e/ensemble.csv");
+    assert!(
+        csv.lines().any(|l| l.starts_with("packing.global,2,")),
+        "{csv}"
+    );
+    // Growing again, or the same count, is the ordinary resume: no note.
+    let o = s.ok(&args(SMALL, &["--runs", "4", "--out", "e"]));
+    assert!(o.stderr.is_empty(), "{}", o.stderr);
+}
+
+/// One replicate is `1 bed`, on screen and in ensemble.md.
+#[test]
+fn one_bed_is_singular() {
+    let s = Scratch::new();
+    let o = s.ok(&args(SMALL, &["--runs", "1", "--jobs", "1", "--out", "e"]));
+    assert!(
+        o.stdout.starts_with("packbed: ensemble of 1 bed ("),
+        "{}",
+        o.stdout
+    );
+    assert!(o.stdout.contains("1 thread)"), "{}", o.stdout);
+    let md = s.read("e/ensemble.md");
+    assert!(md.starts_with("# Ensemble of 1 bed\n"), "{md}");
+    assert!(!md.contains("1 beds"), "{md}");
+}

@@ -260,10 +260,23 @@ fn bad_bed_files_and_exports_are_refused() {
 
 /// OVITO reads the LAMMPS dump and the XYZ export of a 3D bed of equal spheres
 /// and finds packbed's count, radii, box, periodic flags and mean coordination.
-/// Not skipped silently: a missing `ovito` module fails the test unless
-/// `PACKBED_SKIP_OVITO=1` opts out explicitly (`.ci/run` installs ovito).
+/// The `ovito` Python module is optional on a developer's machine: without it
+/// the test says "skipped: …" on stderr and passes, so `cargo test` goes on to
+/// the doc tests. `PACKBED_REQUIRE_OVITO=1` (set by `.ci/run`, which installs
+/// the module) makes a missing module or Python a failure, so CI still proves
+/// that the exports load in OVITO.
 #[test]
 fn ovito_reads_the_exports_and_agrees_on_coordination() {
+    let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
+    let required = std::env::var("PACKBED_REQUIRE_OVITO").as_deref() == Ok("1");
+    if let Some(why) = ovito_missing(&python) {
+        assert!(
+            !required,
+            "PACKBED_REQUIRE_OVITO=1 but {why} (pip install ovito)"
+        );
+        eprintln!("skipped: the OVITO export check ({why}; pip install ovito, or set PACKBED_REQUIRE_OVITO=1 to make this a failure)");
+        return;
+    }
     let script: PathBuf = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/ovito_check.py");
     let t = tmp();
     let d = t.path();
@@ -285,26 +298,13 @@ fn ovito_reads_the_exports_and_agrees_on_coordination() {
         }
         args.extend(["--out", out, "--export", "dump,xyz", "--no-pictures"]);
         ok(d, &args);
-        let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
         let o = Command::new(&python)
             .arg(&script)
             .arg(d.join(out))
             .stdin(Stdio::null())
-            .output();
-        let o = match o {
-            Ok(o) => o,
-            Err(e) => panic!(
-                "cannot run {python} ({e}); set PACKBED_SKIP_OVITO=1 to skip this test knowingly"
-            ),
-        };
+            .output()
+            .unwrap_or_else(|e| panic!("cannot run {python}: {e}"));
         let stderr = String::from_utf8_lossy(&o.stderr);
-        if o.status.code() == Some(3) {
-            if std::env::var("PACKBED_SKIP_OVITO").as_deref() == Ok("1") {
-                eprintln!("skipping the OVITO check: PACKBED_SKIP_OVITO=1");
-                return;
-            }
-            panic!("the ovito Python module is missing (pip install ovito), or set PACKBED_SKIP_OVITO=1: {stderr}");
-        }
         assert!(
             o.status.success(),
             "{out}: {}{stderr}",
@@ -312,6 +312,26 @@ fn ovito_reads_the_exports_and_agrees_on_coordination() {
         );
         let stdout = String::from_utf8_lossy(&o.stdout);
         assert_eq!(stdout.lines().count(), 2, "{stdout}");
+    }
+}
+
+/// Why the OVITO check cannot run here, or `None` when `import ovito` works.
+fn ovito_missing(python: &str) -> Option<String> {
+    match Command::new(python)
+        .args(["-c", "import ovito, numpy"])
+        .stdin(Stdio::null())
+        .output()
+    {
+        Err(e) => Some(format!("cannot run {python}: {e}")),
+        Ok(o) if !o.status.success() => Some(format!(
+            "{python} cannot import the ovito module: {}",
+            String::from_utf8_lossy(&o.stderr)
+                .lines()
+                .last()
+                .unwrap_or("")
+                .trim()
+        )),
+        Ok(_) => None,
     }
 }
 
@@ -330,4 +350,26 @@ fn render_help_names_the_options() {
     ] {
         assert!(o.stdout.contains(opt), "{opt}");
     }
+}
+
+/// A 2D picture has no view or cut-away: asking for one is refused, not ignored.
+#[test]
+fn view_and_cut_on_a_2d_bed_are_refused() {
+    let t = tmp();
+    let d = t.path();
+    std::fs::write(d.join("discs.txt"), "10 10 5\n20 10 5\n").unwrap();
+    let bed = ["render", "discs.txt", "--box", "40,40", "--out", "p.png"];
+    for (extra, needles) in [
+        (&["--view", "20,60"][..], &["--view", "2D", "discs.txt"][..]),
+        (&["--cut", "half"][..], &["--cut", "2D"][..]),
+        (
+            &["--cut", "x:0:10", "--view", "0,10"][..],
+            &["--view and --cut", "2D"][..],
+        ),
+    ] {
+        let args: Vec<&str> = bed.iter().chain(extra).copied().collect();
+        refused(d, &args, needles);
+        assert!(!d.join("p.png").exists(), "{args:?} wrote the picture");
+    }
+    ok(d, &bed);
 }

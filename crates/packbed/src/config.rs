@@ -1,6 +1,7 @@
 //! The run configuration: the TOML schema of `spec/interfaces.md` (strict: unknown
 //! keys are errors) and its validation into a [`Plan`] the engine can run.
 
+use crate::analysis::orientation::AngleFrom;
 use crate::container::Container;
 use crate::ensemble::sweep::{EnsembleConfig, SweepConfig};
 use crate::error::{Error, Result};
@@ -201,6 +202,9 @@ pub struct AnalysisConfig {
     /// Bulk measures are null when the bulk region holds fewer bodies than this.
     #[serde(default = "default_bulk_min_bodies")]
     pub bulk_min_bodies: u64,
+    /// Chain angles from the `vertical` (default) or the `horizontal`.
+    #[serde(default, skip_serializing_if = "AngleFrom::is_vertical")]
+    pub chain_angle_from: AngleFrom,
 }
 
 impl Default for AnalysisConfig {
@@ -209,6 +213,7 @@ impl Default for AnalysisConfig {
             contact_tol: default_contact_tol(),
             large_radius: None,
             bulk_min_bodies: default_bulk_min_bodies(),
+            chain_angle_from: AngleFrom::Vertical,
         }
     }
 }
@@ -267,16 +272,17 @@ impl Default for Config {
 impl Config {
     /// Parses a TOML configuration; `origin` names the file in error messages.
     pub fn from_toml(text: &str, origin: &str) -> Result<Config> {
+        // `FILE:LINE: what`, the shape of every error with a place in a file.
         toml::from_str(text).map_err(|e| {
-            let msg = e.message().to_string();
-            let at = e
-                .span()
-                .map(|s| {
-                    let line = text[..s.start.min(text.len())].matches('\n').count() + 1;
-                    format!(":{line}")
-                })
-                .unwrap_or_default();
-            Error::config(format!("{origin}{at}: {msg}"))
+            let message = e.message().trim().to_string();
+            match e.span() {
+                Some(s) => Error::Data {
+                    path: origin.into(),
+                    line: text[..s.start.min(text.len())].matches('\n').count() + 1,
+                    message,
+                },
+                None => Error::config(format!("{origin}: {message}")),
+            }
         })
     }
 
@@ -593,6 +599,17 @@ impl Config {
             return Err(Error::Impossible(format!(
                 "this run would place up to {estimate:.3e} particles, more than this machine's memory holds (about {budget:.3e})"
             )));
+        }
+        // Every roof overflow costs a whole drop, so misses get the bound the
+        // particle count has: beyond it a run would go on for days (RSA ignores
+        // them).
+        if let (Fill::Roof { misses }, Mode::Deposit) = (fill, self.mode) {
+            let most = budget as u64;
+            if misses > most {
+                return Err(Error::config(format!(
+                    "fill.roof_misses must be at most {most} (as many drops as fill.count may place on this machine), got {misses}"
+                )));
+            }
         }
         let tol = self.analysis.contact_tol;
         if !(tol.is_finite() && tol >= 0.0) {

@@ -47,6 +47,7 @@ fn analyse<const D: usize>(
     let t = Instant::now();
     let options = crate::analysis::AnalysisOptions {
         bulk_min_bodies: config.analysis.bulk_min_bodies,
+        angle_from: config.analysis.chain_angle_from,
         ..crate::analysis::AnalysisOptions::new(
             config.analysis.contact_tol,
             config.analysis.large_radius,

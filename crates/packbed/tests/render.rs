@@ -410,7 +410,11 @@ fn plots_have_their_labels_inside_the_page() {
             ("wall".into(), 0.5, Some(0.01)),
             ("centre".into(), 0.6, Some(0.01)),
         ]),
-        render::run_plots::chain_angle_histogram(&[-30.0, 2.0, 4.0, 88.0], 2),
+        render::run_plots::chain_angle_histogram(
+            &[-30.0, 2.0, 4.0, 88.0],
+            2,
+            packbed::analysis::orientation::AngleFrom::Vertical,
+        ),
         render::run_plots::sweep_measure(
             "bulk packing fraction",
             "size ratio",

@@ -124,6 +124,8 @@ pub struct AnalysisOptions {
     pub percolation: PercolationOptions,
     /// Bulk measures are null below this many bodies in the bulk region.
     pub bulk_min_bodies: u64,
+    /// The direction chain angles are measured from.
+    pub angle_from: orientation::AngleFrom,
 }
 
 /// Default minimum of bodies in the bulk region for bulk measures: the source
@@ -137,6 +139,7 @@ impl Default for AnalysisOptions {
             contact_tol: 1e-6,
             percolation: PercolationOptions::default(),
             bulk_min_bodies: BULK_MIN_BODIES,
+            angle_from: orientation::AngleFrom::Vertical,
         }
     }
 }
@@ -254,7 +257,9 @@ pub fn analyze_timed<const D: usize>(
         coordination,
         percolation,
         voids,
-        orientation: times.time("orientation", || orientation::orientation(bed)),
+        orientation: times.time("orientation", || {
+            orientation::orientation(bed, opts.angle_from)
+        }),
         segregation: times.time("segregation", || {
             segregation::segregation(bed, d_max, &volumes)
         }),

@@ -6,6 +6,12 @@
 //! The orientational order parameter is `S = <(3 cos² θ − 1) / 2>` (1: all
 //! upright, −1/2: all flat).
 //!
+//! The source study measured angles from the horizontal instead; with
+//! [`AngleFrom::Horizontal`] every angle (histogram, mean) is `90° − ` the angle
+//! from vertical: in 2D 0°–180° (0° lying to the right, 90° upright, 180° lying
+//! to the left), in 3D the elevation 0°–90° above the horizontal. The order
+//! parameter and the azimuth do not depend on the convention.
+//!
 //! A body lying flat (tilt below [`FLAT_TILT`]) has no upper end, so its axis
 //! points from its first bead to its last. A chain enters upright with its first
 //! bead at the bottom, so one that fell flat is counted on the side it fell to;
@@ -18,7 +24,7 @@ use super::histogram::BinnedHistogram;
 use super::profile::species_count;
 use crate::bed::Bed;
 use crate::math::{Real, Vector};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Width of the angle bins, degrees.
 pub const BIN_DEGREES: Real = 5.0;
@@ -27,6 +33,52 @@ pub const BIN_DEGREES: Real = 5.0;
 /// a tilt of about 6·10⁻⁸ degrees, far above the rounding of bead positions
 /// (~10⁻¹² of a radius) and far below any tilt a bed can resolve.
 pub const FLAT_TILT: Real = 1e-9;
+
+/// The direction chain angles are measured from (`analysis.chain_angle_from`,
+/// `packbed analyze --chain-angle-from`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AngleFrom {
+    /// From the vertical: signed −90°–90° in 2D, polar 0°–90° in 3D (default).
+    #[default]
+    Vertical,
+    /// From the horizontal, as the source study: 0°–180° in 2D, 0°–90° in 3D.
+    Horizontal,
+}
+
+impl AngleFrom {
+    /// True for the default, so that configs which do not choose keep their
+    /// serialised form (and ensemble fingerprints) unchanged.
+    pub fn is_vertical(&self) -> bool {
+        *self == AngleFrom::Vertical
+    }
+
+    /// The name used in configs and in `summary.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            AngleFrom::Vertical => "vertical",
+            AngleFrom::Horizontal => "horizontal",
+        }
+    }
+
+    /// This convention's angle of an axis whose angle from vertical is `a`
+    /// (signed in 2D, polar in 3D), degrees.
+    pub fn convert(self, a: Real) -> Real {
+        match self {
+            AngleFrom::Vertical => a,
+            AngleFrom::Horizontal => 90.0 - a,
+        }
+    }
+
+    /// The range of the angles in dimension `d`, degrees.
+    pub fn range(self, d: usize) -> (Real, Real) {
+        match (self, d) {
+            (AngleFrom::Vertical, 2) => (-90.0, 90.0),
+            (AngleFrom::Horizontal, 2) => (0.0, 180.0),
+            _ => (0.0, 90.0),
+        }
+    }
+}
 
 /// One body's axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -50,9 +102,10 @@ pub struct OrientationStats {
     pub bodies: u64,
     /// `S = <(3 cos² θ − 1) / 2>`.
     pub order_parameter: Real,
-    /// Mean angle from vertical, degrees.
+    /// Mean angle in the bed's convention (see [`Orientation::angle_from`]), degrees.
     pub mean_angle: Real,
-    /// Angle from vertical: `[-90, 90]` in 2D, `[0, 90]` in 3D, 5° bins.
+    /// Angle in the bed's convention, 5° bins: from vertical `[-90, 90]` in 2D
+    /// and `[0, 90]` in 3D; from horizontal `[0, 180]` in 2D and `[0, 90]` in 3D.
     pub histogram: BinnedHistogram,
     /// Azimuth `[-180, 180]` in 5° bins (3D only).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -64,11 +117,13 @@ pub struct OrientationStats {
 pub struct Orientation {
     /// Bodies of several beads.
     pub bodies: u64,
-    /// Over all such bodies.
+    /// The direction the angles are measured from.
+    pub angle_from: AngleFrom,
+    /// Over all such bodies (with respect to the vertical in either convention).
     pub order_parameter: Real,
-    /// Mean angle from vertical, degrees.
+    /// Mean angle, degrees.
     pub mean_angle: Real,
-    /// Angle from vertical over all such bodies.
+    /// Angle over all such bodies.
     pub histogram: BinnedHistogram,
     /// Azimuth over all such bodies (3D only).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -206,20 +261,21 @@ fn describe(body: u32, species: u32, axis: [Real; 3], d: usize) -> BodyAxis {
     }
 }
 
-fn stats(axes: &[&BodyAxis], d: usize) -> OrientationStats {
-    let lo = if d == 2 { -90.0 } else { 0.0 };
-    let mut histogram = BinnedHistogram::new(lo, 90.0, BIN_DEGREES);
+fn stats(axes: &[&BodyAxis], d: usize, from: AngleFrom) -> OrientationStats {
+    let (lo, hi) = from.range(d);
+    let mut histogram = BinnedHistogram::new(lo, hi, BIN_DEGREES);
     let mut azimuth = (d == 3).then(|| BinnedHistogram::new(-180.0, 180.0, BIN_DEGREES));
     let mut s = 0.0;
     let mut mean = 0.0;
     for a in axes {
-        histogram.add(a.angle);
+        let angle = from.convert(a.angle);
+        histogram.add(angle);
         if let Some(h) = azimuth.as_mut() {
             h.add(a.azimuth);
         }
         let c = a.axis[2];
         s += 0.5 * (3.0 * c * c - 1.0);
-        mean += a.angle;
+        mean += angle;
     }
     let n = axes.len();
     OrientationStats {
@@ -231,22 +287,24 @@ fn stats(axes: &[&BodyAxis], d: usize) -> OrientationStats {
     }
 }
 
-/// Orientation statistics of `bed`, `None` when no body has several beads.
-pub fn orientation<const D: usize>(bed: &Bed<D>) -> Option<Orientation> {
+/// Orientation statistics of `bed` with angles measured from `from`, `None`
+/// when no body has several beads.
+pub fn orientation<const D: usize>(bed: &Bed<D>, from: AngleFrom) -> Option<Orientation> {
     let axes = body_axes(bed);
     if axes.is_empty() {
         return None;
     }
     let all: Vec<&BodyAxis> = axes.iter().collect();
-    let total = stats(&all, D);
+    let total = stats(&all, D, from);
     let by_species = (0..species_count(bed) as u32)
         .map(|s| {
             let group: Vec<&BodyAxis> = axes.iter().filter(|a| a.species == s).collect();
-            stats(&group, D)
+            stats(&group, D, from)
         })
         .collect();
     Some(Orientation {
         bodies: total.bodies,
+        angle_from: from,
         order_parameter: total.order_parameter,
         mean_angle: total.mean_angle,
         histogram: total.histogram,
@@ -308,7 +366,7 @@ mod tests {
         for (g, w) in angles.iter().zip(want) {
             assert!((g - w).abs() < 1e-9, "{angles:?}");
         }
-        let o = orientation(&bed).unwrap();
+        let o = orientation(&bed, AngleFrom::Vertical).unwrap();
         assert_eq!(o.bodies, 4);
         let c30 = t.cos() * t.cos();
         let s = (1.0 + 2.0 * 0.5 * (3.0 * c30 - 1.0) - 0.5) / 4.0;
@@ -351,7 +409,7 @@ mod tests {
         }
         let angles: Vec<Real> = body_axes(&bed).iter().map(|a| a.angle).collect();
         assert_eq!(angles, [90.0, -90.0, 90.0, -90.0, 90.0]);
-        let o = orientation(&bed).unwrap();
+        let o = orientation(&bed, AngleFrom::Vertical).unwrap();
         assert_eq!((o.histogram.counts[0], o.histogram.counts[35]), (2, 3));
         // A real tilt keeps the upper end's side whatever the bead order.
         let mut tilted = Bed::new(bed.container, Vec::new());
@@ -422,7 +480,7 @@ mod tests {
         assert!((axes[0].azimuth - 45.0).abs() < 1e-9);
         assert!((axes[1].angle - 90.0).abs() < 1e-9);
         assert!(axes[1].azimuth.abs() < 1e-9);
-        let o = orientation(&bed).unwrap();
+        let o = orientation(&bed, AngleFrom::Vertical).unwrap();
         // cos²θ = 1/3 gives 0; lying flat gives −1/2.
         assert!((o.order_parameter - (-0.25)).abs() < 1e-12);
         assert_eq!(o.histogram.counts.len(), 18);
@@ -445,6 +503,6 @@ mod tests {
             Vec::new(),
         );
         bed.push(Vector([1.0, 1.0]), 1.0, 0);
-        assert!(orientation(&bed).is_none());
+        assert!(orientation(&bed, AngleFrom::Vertical).is_none());
     }
 }

@@ -129,6 +129,8 @@ pub struct PointResult {
     pub built: u64,
     /// Replicates found done in the directory (resumed).
     pub resumed: u64,
+    /// The statistics files and plots written into `dir`.
+    pub files: Vec<PathBuf>,
 }
 
 /// What an ensemble (or a merge) produced.
@@ -138,8 +140,21 @@ pub struct Outcome {
     pub points: Vec<PointResult>,
     /// Wall time of the invocation in seconds.
     pub wall_seconds: f64,
-    /// The files written at the top of the output directory.
+    /// The files written at the top of the output directory (the manifest, and
+    /// the statistics and plots of a plain ensemble or the sweep's comparison).
     pub files: Vec<PathBuf>,
+    /// The replicate count of the ensemble found in the output directory when
+    /// it was larger than this run's: only the first `runs` were reused and
+    /// the statistics cover those alone.
+    pub reduced_from: Option<u64>,
+}
+
+/// Worker threads for `jobs` (`None`: all cores), never more than the cores:
+/// one bed per thread is CPU-bound, and extra threads only thrash the caches
+/// (measured 70 × slower with `--jobs` far above the core count).
+pub fn worker_threads(jobs: Option<usize>) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    jobs.map_or(cores, |j| j.clamp(1, cores))
 }
 
 /// One config of the ensemble: the whole config, or one sweep value.
@@ -343,10 +358,10 @@ impl Manifest {
 }
 
 /// Checks that `out` can hold this ensemble: new, empty, or the same ensemble
-/// (same config, shard and packbed version) to resume.
-fn check_out(out: &Path, wanted: &Manifest) -> Result<()> {
+/// (same config, shard and packbed version) to resume, whose manifest it returns.
+fn check_out(out: &Path, wanted: &Manifest) -> Result<Option<Manifest>> {
     if !out.exists() {
-        return Ok(());
+        return Ok(None);
     }
     if !out.is_dir() {
         return Err(Error::Impossible(format!(
@@ -360,7 +375,7 @@ fn check_out(out: &Path, wanted: &Manifest) -> Result<()> {
             .next()
             .is_none();
         return if empty {
-            Ok(())
+            Ok(None)
         } else {
             Err(Error::Impossible(format!(
                 "--out {}: the directory is not empty and holds no ensemble ({MANIFEST}); choose a new or empty directory",
@@ -398,7 +413,7 @@ fn check_out(out: &Path, wanted: &Manifest) -> Result<()> {
             wanted.packbed_version
         )));
     }
-    Ok(())
+    Ok(Some(have))
 }
 
 fn write_manifest(out: &Path, m: &Manifest) -> Result<()> {
@@ -486,13 +501,13 @@ pub fn run(
         shard: opts.shard,
         config: config_key(config),
     };
-    check_out(out, &manifest)?;
+    let earlier = check_out(out, &manifest)?;
     write_manifest(out, &manifest)?;
     let mine: Vec<u64> = (0..opts.runs).filter(|&i| opts.shard.has(i)).collect();
     let total = mine.len() as u64 * pts.len() as u64;
     let done = AtomicU64::new(0);
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(opts.jobs.unwrap_or(0))
+        .num_threads(worker_threads(opts.jobs))
         .build()
         .map_err(|e| Error::Impossible(format!("cannot start worker threads: {e}")))?;
     let mut results = Vec::with_capacity(pts.len());
@@ -527,10 +542,11 @@ pub fn run(
         points: Vec::new(),
         wall_seconds: wall,
         files: Vec::new(),
+        reduced_from: earlier.map(|m| m.runs).filter(|&r| r > opts.runs),
     };
     for (p, dir, values, built) in results {
         let resumed = values.len() as u64 - built;
-        let aggregate = write_point(
+        let (aggregate, files) = write_point(
             p,
             &dir,
             opts.runs,
@@ -546,9 +562,13 @@ pub fn run(
             aggregate,
             built,
             resumed,
+            files,
         });
     }
-    outcome.files = write_sweep(config, out, &outcome.points, opts.pictures)?;
+    outcome.files = vec![out.join(MANIFEST)];
+    outcome
+        .files
+        .extend(write_sweep(config, out, &outcome.points, opts.pictures)?);
     Ok(outcome)
 }
 
@@ -573,7 +593,8 @@ fn stage_plots(s: &mut Staging, plots: &[(String, crate::render::plot::Plot)]) -
     Ok(())
 }
 
-/// Writes the statistics files of one point; returns its aggregate.
+/// Writes the statistics files of one point; returns its aggregate and the
+/// files written.
 #[allow(clippy::too_many_arguments)]
 fn write_point(
     p: &Point,
@@ -584,7 +605,7 @@ fn write_point(
     (built, resumed): (u64, u64),
     wall: f64,
     pictures: bool,
-) -> Result<Aggregate> {
+) -> Result<(Aggregate, Vec<PathBuf>)> {
     let aggregate = stats::measures_of(values)?;
     let timing = stats::timings_of(values)?;
     let header = tables::Header {
@@ -624,10 +645,17 @@ fn write_point(
         s.stage(name, |w| w.write_all(text.as_bytes()))?;
     }
     if pictures {
-        stage_plots(&mut s, &plots::ensemble_plots(&aggregate))?;
+        stage_plots(
+            &mut s,
+            &plots::ensemble_plots(
+                &aggregate,
+                p.config.dim as usize,
+                p.config.analysis.chain_angle_from,
+            ),
+        )?;
     }
-    s.commit()?;
-    Ok(aggregate)
+    let files = s.commit()?;
+    Ok((aggregate, files))
 }
 
 fn write_sweep(
@@ -637,7 +665,7 @@ fn write_sweep(
     pictures: bool,
 ) -> Result<Vec<PathBuf>> {
     let Some(sw) = &config.sweep else {
-        return Ok(ENSEMBLE_FILES.iter().map(|f| out.join(f)).collect());
+        return Ok(points.iter().flat_map(|p| p.files.clone()).collect());
     };
     let rows: Vec<tables::SweepRow> = points
         .iter()
@@ -785,6 +813,7 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
         points: Vec::new(),
         wall_seconds: 0.0,
         files: Vec::new(),
+        reduced_from: None,
     };
     let mut merged = Vec::new();
     for (p, found) in gathered {
@@ -802,7 +831,7 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
     outcome.wall_seconds = wall;
     for (p, values) in merged {
         let dir = out.join(&p.dir);
-        let aggregate = write_point(
+        let (aggregate, files) = write_point(
             p,
             &dir,
             first.runs,
@@ -818,9 +847,13 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
             aggregate,
             built: 0,
             resumed: values.len() as u64,
+            files,
         });
     }
-    outcome.files = write_sweep(&config, out, &outcome.points, pictures)?;
+    outcome.files = vec![out.join(MANIFEST)];
+    outcome
+        .files
+        .extend(write_sweep(&config, out, &outcome.points, pictures)?);
     Ok(outcome)
 }
 

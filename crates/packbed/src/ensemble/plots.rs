@@ -10,12 +10,14 @@
 
 use super::stats::{Aggregate, Histogram, Series as StatSeries, Stats};
 use super::sweep::{SweepConfig, SweepValue};
+use crate::analysis::orientation::AngleFrom;
 use crate::render::plot::{format_number, BarGroup, Plot, PlotData, Series};
 use crate::render::run_plots::chain_angle_plot;
 
 /// Plots of one ensemble, as `(file stem, plot)`; only those whose measures
 /// the beds have.
-pub fn ensemble_plots(a: &Aggregate) -> Vec<(String, Plot)> {
+/// `dim` and `angle_from` say how the chain-angle histogram is to be read.
+pub fn ensemble_plots(a: &Aggregate, dim: usize, angle_from: AngleFrom) -> Vec<(String, Plot)> {
     let beds = a.replicates;
     let mut out = Vec::new();
     if let Some(p) = packing_bars(a, beds) {
@@ -30,7 +32,7 @@ pub fn ensemble_plots(a: &Aggregate) -> Vec<(String, Plot)> {
     if let Some(p) = packing_profile(a, beds) {
         out.push(("plot_profile".to_string(), p));
     }
-    if let Some(p) = chain_angles(a, beds) {
+    if let Some(p) = chain_angles(a, beds, dim, angle_from) {
         out.push(("plot_chain_angles".to_string(), p));
     }
     out
@@ -237,7 +239,7 @@ fn packing_profile(a: &Aggregate, beds: u64) -> Option<Plot> {
 }
 
 /// The chain-axis angle histogram summed over the beds.
-fn chain_angles(a: &Aggregate, beds: u64) -> Option<Plot> {
+fn chain_angles(a: &Aggregate, beds: u64, dim: usize, from: AngleFrom) -> Option<Plot> {
     let h = histogram(a, "orientation.histogram.counts")?;
     let lo = measure(a, "orientation.histogram.lo")?.mean;
     let width = measure(a, "orientation.histogram.bin_width")?.mean;
@@ -261,6 +263,8 @@ fn chain_angles(a: &Aggregate, beds: u64) -> Option<Plot> {
         points,
         lo,
         width,
+        dim,
+        from,
     ))
 }
 
@@ -494,7 +498,7 @@ mod tests {
             ("packing.global", 0.55, 0.01),
             ("packing.regions.wall", 0.5, 0.02),
         ]);
-        let plots = ensemble_plots(&a);
+        let plots = ensemble_plots(&a, 3, AngleFrom::Vertical);
         let (_, p) = plots.iter().find(|p| p.0 == "plot_packing").unwrap();
         let PlotData::Bars { categories, groups } = &p.data else {
             panic!("bars expected");
@@ -513,7 +517,7 @@ mod tests {
             ("coordination.by_species.large.mean", 6.0, 0.3),
             ("coordination.by_species.small.mean", 3.0, 0.4),
         ]);
-        let plots = ensemble_plots(&a);
+        let plots = ensemble_plots(&a, 3, AngleFrom::Vertical);
         let (_, p) = plots
             .iter()
             .find(|p| p.0 == "plot_coordination_means")
@@ -529,14 +533,21 @@ mod tests {
 
     #[test]
     fn random_orientation_reference_sums_to_all_chains() {
-        for (lo, bins) in [(0.0, 18), (-90.0, 36)] {
-            let r = isotropic_angles(lo, 5.0, bins);
+        for (lo, bins, dim, from) in [
+            (0.0, 18, 3, AngleFrom::Vertical),
+            (-90.0, 36, 2, AngleFrom::Vertical),
+            (0.0, 18, 3, AngleFrom::Horizontal),
+            (0.0, 36, 2, AngleFrom::Horizontal),
+        ] {
+            let r = isotropic_angles(lo, 5.0, bins, dim, from);
             let total: f64 = r.points.iter().map(|p| p.1).sum();
             assert!((total - 100.0).abs() < 1e-9, "{lo}: {total}");
         }
         // In space, near-horizontal axes are the likeliest by far.
-        let r = isotropic_angles(0.0, 5.0, 18);
+        let r = isotropic_angles(0.0, 5.0, 18, 3, AngleFrom::Vertical);
         assert!(r.points[17].1 > 10.0 * r.points[0].1);
+        let h = isotropic_angles(0.0, 5.0, 18, 3, AngleFrom::Horizontal);
+        assert!((h.points[0].1 - r.points[17].1).abs() < 1e-12);
     }
 
     #[test]

@@ -256,12 +256,21 @@ pub fn describe(c: &Config) -> String {
     )
 }
 
+/// `1 bed`, `2 beds`.
+fn beds(n: u64) -> String {
+    if n == 1 {
+        "1 bed".into()
+    } else {
+        format!("{n} beds")
+    }
+}
+
 /// `ensemble.md`: the human table.
 pub fn ensemble_md(h: &Header, a: &Aggregate) -> String {
     let mut t = String::new();
     let title = match &h.sweep {
-        Some((p, label, _)) => format!("Ensemble of {} beds: {p} = {label}", a.replicates),
-        None => format!("Ensemble of {} beds", a.replicates),
+        Some((p, label, _)) => format!("Ensemble of {}: {p} = {label}", beds(a.replicates)),
+        None => format!("Ensemble of {}", beds(a.replicates)),
     };
     let _ = writeln!(t, "# {title}\n");
     let _ = writeln!(t, "{}.", describe(h.config));
@@ -286,8 +295,9 @@ pub fn ensemble_md(h: &Header, a: &Aggregate) -> String {
     for hist in &a.histograms {
         let _ = writeln!(
             t,
-            "\n## {} (summed over {} beds, fraction of all entries)\n",
-            hist.name, hist.replicates
+            "\n## {} (summed over {}, fraction of all entries)\n",
+            hist.name,
+            beds(hist.replicates)
         );
         let bins: Vec<String> = (0..hist.counts.len()).map(|k| k.to_string()).collect();
         let _ = writeln!(t, "| bin | {} |", bins.join(" | "));

@@ -56,7 +56,13 @@ pub fn write_run_with<const D: usize>(
     // Rendered before touching the disk: a bad value must not leave a directory.
     let json = summary.to_json()?;
     let files = if extras.pictures || !extras.exports.is_empty() {
-        crate::render::run_files::files(bed, contacts, summary.config.analysis.contact_tol, extras)?
+        crate::render::run_files::files(
+            bed,
+            contacts,
+            summary.config.analysis.contact_tol,
+            summary.config.analysis.chain_angle_from,
+            extras,
+        )?
     } else {
         Vec::new()
     };
@@ -86,7 +92,13 @@ pub fn write_analysis<const D: usize>(
 ) -> Result<Vec<PathBuf>> {
     let json = summary.to_json()?;
     let files = if extras.pictures || !extras.exports.is_empty() {
-        crate::render::run_files::files(bed, contacts, summary.settings.contact_tol, extras)?
+        crate::render::run_files::files(
+            bed,
+            contacts,
+            summary.settings.contact_tol,
+            summary.settings.chain_angle_from,
+            extras,
+        )?
     } else {
         Vec::new()
     };

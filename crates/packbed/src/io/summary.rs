@@ -211,6 +211,8 @@ pub struct AnalyzeSettings {
     pub contact_tol: Real,
     /// Percolation threshold radius given (`null`: the largest species).
     pub large_radius: Option<Real>,
+    /// The direction chain angles are measured from.
+    pub chain_angle_from: crate::analysis::orientation::AngleFrom,
 }
 
 /// `timing.*` of `packbed analyze`, seconds of wall time.

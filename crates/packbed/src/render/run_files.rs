@@ -3,6 +3,7 @@
 
 use super::run_plots;
 use super::{render_png, render_svg, RenderOptions};
+use crate::analysis::orientation::AngleFrom;
 use crate::analysis::{coordination, profile, Contacts};
 use crate::bed::{AnyBed, Bed};
 use crate::error::{Error, Result};
@@ -17,6 +18,7 @@ pub fn files<const D: usize>(
     bed: &Bed<D>,
     contacts: &Contacts,
     contact_tol: Real,
+    angle_from: AngleFrom,
     extras: &RunExtras,
 ) -> Result<Vec<(String, Vec<u8>)>> {
     let mut out = Vec::new();
@@ -63,7 +65,7 @@ pub fn files<const D: usize>(
         if !angles.is_empty() {
             plots.push((
                 "plot_chain_angles",
-                run_plots::chain_angle_histogram(&angles, D),
+                run_plots::chain_angle_histogram(&angles, D, angle_from),
             ));
         }
         for (name, plot) in plots {

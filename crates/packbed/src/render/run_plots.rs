@@ -4,6 +4,7 @@
 //! returns a [`Plot`]; callers choose file names and formats.
 
 use super::plot::{BarGroup, Plot, PlotData, Series};
+use crate::analysis::orientation::AngleFrom;
 use crate::bed::Bed;
 use crate::math::Real;
 
@@ -150,12 +151,14 @@ pub fn chain_angles<const D: usize>(bed: &Bed<D>) -> Vec<Real> {
     out
 }
 
-/// Histogram of chain angles in 5° bins, as percentages of the chains.
-pub fn chain_angle_histogram(angles: &[Real], dim: usize) -> Plot {
-    let (lo, hi) = if dim == 2 { (-90.0, 90.0) } else { (0.0, 90.0) };
+/// Histogram of chain angles (from vertical, as [`chain_angles`] gives them)
+/// in 5° bins of the `from` convention, as percentages of the chains.
+pub fn chain_angle_histogram(angles: &[Real], dim: usize, from: AngleFrom) -> Plot {
+    let (lo, hi) = from.range(dim);
     let bins = ((hi - lo) / 5.0) as usize;
     let mut h = vec![0.0; bins];
     for &a in angles {
+        let a = from.convert(a);
         let k = (((a - lo) / 5.0).floor().max(0.0) as usize).min(bins - 1);
         h[k] += 100.0 / angles.len().max(1) as f64;
     }
@@ -169,20 +172,34 @@ pub fn chain_angle_histogram(angles: &[Real], dim: usize) -> Plot {
         points,
         lo,
         5.0,
+        dim,
+        from,
     )
 }
 
 /// A chain-angle histogram (`points`: bin centre, % of chains; bins `width`
-/// wide from `lo`, which is −90° in 2D and 0° in 3D) against the shares random
-/// orientations would give.
-pub fn chain_angle_plot(title: String, points: Vec<(Real, Real)>, lo: Real, width: Real) -> Plot {
-    let reference = isotropic_angles(lo, width, points.len());
+/// wide from `lo`, in the `from` convention for dimension `dim`) against the
+/// shares random orientations would give.
+pub fn chain_angle_plot(
+    title: String,
+    points: Vec<(Real, Real)>,
+    lo: Real,
+    width: Real,
+    dim: usize,
+    from: AngleFrom,
+) -> Plot {
+    let reference = isotropic_angles(lo, width, points.len(), dim, from);
     Plot {
         title,
-        x_label: if lo < 0.0 {
-            "angle from vertical (degrees, negative: leaning left)".into()
-        } else {
-            "polar angle from vertical (degrees)".into()
+        x_label: match (from, dim) {
+            (AngleFrom::Vertical, 2) => {
+                "angle from vertical (degrees, negative: leaning left)".into()
+            }
+            (AngleFrom::Vertical, _) => "polar angle from vertical (degrees)".into(),
+            (AngleFrom::Horizontal, 2) => {
+                "angle from horizontal (degrees, 0: lying right, 180: lying left)".into()
+            }
+            (AngleFrom::Horizontal, _) => "elevation angle from horizontal (degrees)".into(),
         },
         y_label: "chains (%)".into(),
         y_range: Some(angle_share_range(&points, &reference)),
@@ -202,17 +219,18 @@ pub fn chain_angle_plot(title: String, points: Vec<(Real, Real)>, lo: Real, widt
 }
 
 /// The share of chains per angle bin (%) if their axes pointed at random:
-/// uniform in the plane (2D, angles from −90°), `∝ sin θ` in space (3D, polar
-/// angles from 0°), so that a 3D histogram rising towards 90° is read against
-/// the rise that isotropy alone gives.
-pub fn isotropic_angles(lo: Real, width: Real, bins: usize) -> Series {
+/// uniform in the plane (2D), `∝ sin θ` of the polar angle θ in space (3D;
+/// `∝ cos` of the elevation from the horizontal), so that a 3D histogram
+/// rising towards flat is read against the rise that isotropy alone gives.
+pub fn isotropic_angles(lo: Real, width: Real, bins: usize, dim: usize, from: AngleFrom) -> Series {
+    let (range_lo, range_hi) = from.range(dim);
     let points = (0..bins)
         .map(|k| {
             let a = lo + width * k as Real;
-            let share = if lo < 0.0 {
-                width / 180.0
-            } else {
-                a.to_radians().cos() - (a + width).to_radians().cos()
+            let share = match (dim, from) {
+                (2, _) => width / (range_hi - range_lo),
+                (_, AngleFrom::Vertical) => a.to_radians().cos() - (a + width).to_radians().cos(),
+                (_, AngleFrom::Horizontal) => (a + width).to_radians().sin() - a.to_radians().sin(),
             };
             (a + 0.5 * width, 100.0 * share)
         })
