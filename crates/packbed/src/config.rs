@@ -3,7 +3,6 @@
 
 use crate::analysis::orientation::AngleFrom;
 use crate::container::Container;
-use crate::ensemble::sweep::{EnsembleConfig, SweepConfig};
 use crate::error::{Error, Result};
 use crate::math::{Real, Vector};
 use crate::species::{Orientation, Shape, SizeDist, Species};
@@ -220,6 +219,37 @@ impl Default for AnalysisConfig {
 
 fn default_bulk_min_bodies() -> u64 {
     crate::analysis::BULK_MIN_BODIES
+}
+
+/// `[sweep]`: the parameter to vary and its values.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SweepConfig {
+    /// One of [`crate::ensemble::sweep::PARAMETERS`].
+    pub parameter: String,
+    /// The values, in the order the sweep runs and reports them.
+    pub values: Vec<SweepValue>,
+    /// Names of the values in tables and directory names (default: from the values).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub labels: Option<Vec<String>>,
+}
+
+/// One value of a swept parameter: a number or a list of numbers.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum SweepValue {
+    /// A single number.
+    Number(f64),
+    /// A list of numbers.
+    List(Vec<f64>),
+}
+
+/// `[ensemble]`: defaults of `packbed ensemble` stored with the config.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EnsembleConfig {
+    /// Number of replicate beds (per sweep value) when `--runs` is not given.
+    pub runs: u64,
 }
 
 fn default_dim() -> u8 {

@@ -10,9 +10,10 @@
 //! labels = ["1:1", "1:1.5", "1:2"]          # optional
 //! ```
 
+// The `[sweep]` and `[ensemble]` tables are part of the config schema.
 use crate::config::{Config, SpeciesConfig};
+pub use crate::config::{EnsembleConfig, SweepConfig, SweepValue};
 use crate::error::{Error, Result};
-use serde::{Deserialize, Serialize};
 
 /// The parameters a sweep can vary, with the form of their values.
 pub const PARAMETERS: [(&str, &str); 9] = [
@@ -29,37 +30,6 @@ pub const PARAMETERS: [(&str, &str); 9] = [
     ("species[K].radius", "a radius for species K (0-based)"),
     ("species[K].ratio", "a number ratio for species K (0-based)"),
 ];
-
-/// `[sweep]`: the parameter to vary and its values.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SweepConfig {
-    /// One of [`PARAMETERS`].
-    pub parameter: String,
-    /// The values, in the order the sweep runs and reports them.
-    pub values: Vec<SweepValue>,
-    /// Names of the values in tables and directory names (default: from the values).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub labels: Option<Vec<String>>,
-}
-
-/// One value of a swept parameter: a number or a list of numbers.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(untagged)]
-pub enum SweepValue {
-    /// A single number.
-    Number(f64),
-    /// A list of numbers.
-    List(Vec<f64>),
-}
-
-/// `[ensemble]`: defaults of `packbed ensemble` stored with the config.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct EnsembleConfig {
-    /// Number of replicate beds (per sweep value) when `--runs` is not given.
-    pub runs: u64,
-}
 
 /// One value of a sweep, resolved: the config to run and how to name it.
 #[derive(Clone, Debug)]
