@@ -163,14 +163,14 @@ fn finish<const D: usize>(
     };
     let source = args.path.display().to_string();
     let summary = AnalyzeSummary::new(&source, bed, read, &overlaps, settings, &analysis, timing);
-    let extras = io::RunExtras {
+    let extras = packbed::output::RunExtras {
         pictures: !args.no_pictures,
         exports: match &args.export {
             Some(list) => io::export::Format::parse_list(list)?,
             None => Vec::new(),
         },
     };
-    let written = io::write_analysis(&args.out, bed, &contacts, &summary, &extras)
+    let written = packbed::output::write_analysis(&args.out, bed, &contacts, &summary, &extras)
         .with_context(|| format!("--out {}", args.out.display()))?;
     Ok((summary, written))
 }

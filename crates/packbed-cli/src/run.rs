@@ -35,7 +35,7 @@ pub struct RunArgs {
 pub fn run(args: RunArgs) -> Result<()> {
     let config = load(&args)?;
     check_out_dir(&args.out)?;
-    let extras = io::RunExtras {
+    let extras = packbed::output::RunExtras {
         pictures: !args.no_pictures,
         exports: match &args.export {
             Some(list) => io::export::Format::parse_list(list)?,

@@ -36,6 +36,7 @@ pub mod geometry;
 pub mod grid;
 pub mod io;
 pub mod math;
+pub mod output;
 pub mod pipeline;
 pub mod render;
 pub mod species;

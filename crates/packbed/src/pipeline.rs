@@ -7,7 +7,7 @@ use crate::bed::{AnyBed, Bed};
 use crate::config::Config;
 use crate::deposit::DepositReport;
 use crate::error::Result;
-use crate::io::{self, RunSummary, Timing};
+use crate::io::{RunSummary, Timing};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -64,19 +64,27 @@ fn analyse<const D: usize>(
 }
 
 impl FinishedBed {
-    /// Writes the run's files (`io::RUN_FILES`) into `dir`, atomically.
+    /// Writes the run's files (`output::RUN_FILES`) into `dir`, atomically.
     pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>> {
         match &self.bed {
-            AnyBed::D2(b) => io::write_run(dir, b, &self.contacts, &self.summary),
-            AnyBed::D3(b) => io::write_run(dir, b, &self.contacts, &self.summary),
+            AnyBed::D2(b) => crate::output::write_run(dir, b, &self.contacts, &self.summary),
+            AnyBed::D3(b) => crate::output::write_run(dir, b, &self.contacts, &self.summary),
         }
     }
 
     /// Writes the run's files plus pictures, plots and exports, atomically.
-    pub fn write_with(&self, dir: &Path, extras: &io::RunExtras) -> Result<Vec<PathBuf>> {
+    pub fn write_with(
+        &self,
+        dir: &Path,
+        extras: &crate::output::RunExtras,
+    ) -> Result<Vec<PathBuf>> {
         match &self.bed {
-            AnyBed::D2(b) => io::write_run_with(dir, b, &self.contacts, &self.summary, extras),
-            AnyBed::D3(b) => io::write_run_with(dir, b, &self.contacts, &self.summary, extras),
+            AnyBed::D2(b) => {
+                crate::output::write_run_with(dir, b, &self.contacts, &self.summary, extras)
+            }
+            AnyBed::D3(b) => {
+                crate::output::write_run_with(dir, b, &self.contacts, &self.summary, extras)
+            }
         }
     }
 }

@@ -535,7 +535,7 @@ fn packbed_csv_reads_with_the_box_from_summary_json() {
         &analysis,
         packbed::io::Timing::default(),
     );
-    packbed::io::write_run(&dir, &bed, &contacts, &summary).unwrap();
+    packbed::output::write_run(&dir, &bed, &contacts, &summary).unwrap();
     match read_bed(&dir.join("particles.csv"), None).unwrap() {
         AnyBed::D2(b) => same_particles(&bed, &b),
         _ => panic!("2D"),

@@ -1,5 +1,5 @@
-//! The pictures, plots and exports of one run, as named byte buffers for the
-//! run's atomic staging (see [`crate::io::write_run_with`]).
+//! The pictures and plots of one run, as named byte buffers for the run's
+//! atomic staging (see [`crate::output::write_run_with`]).
 
 use super::run_plots;
 use super::{render_png, render_svg, RenderOptions};
@@ -7,23 +7,22 @@ use crate::analysis::orientation::AngleFrom;
 use crate::analysis::{coordination, profile, Contacts};
 use crate::bed::{AnyBed, Bed};
 use crate::error::{Error, Result};
-use crate::io::RunExtras;
 use crate::math::Real;
 
 /// Size of plot images in pixels.
 pub const PLOT_SIZE: (u32, u32) = (1000, 700);
 
-/// `(file name, contents)` of every extra file of a run, in writing order.
-pub fn files<const D: usize>(
+/// `(file name, contents)` of the picture of the bed and the plots of a run,
+/// in writing order.
+pub fn pictures<const D: usize>(
     bed: &Bed<D>,
     contacts: &Contacts,
     contact_tol: Real,
     angle_from: AngleFrom,
-    extras: &RunExtras,
 ) -> Result<Vec<(String, Vec<u8>)>> {
     let mut out = Vec::new();
     let z = coordination(bed, contacts);
-    if extras.pictures {
+    {
         let any = to_any(bed)?;
         let opts = RenderOptions {
             contact_tol,
@@ -78,14 +77,6 @@ pub fn files<const D: usize>(
                 plot.to_svg(PLOT_SIZE.0, PLOT_SIZE.1)?.into_bytes(),
             ));
         }
-    }
-    for f in &extras.exports {
-        let mut buf = Vec::new();
-        f.write(&mut buf, bed, &z).map_err(|e| Error::Io {
-            path: f.file_name().into(),
-            source: e,
-        })?;
-        out.push((f.file_name().to_string(), buf));
     }
     Ok(out)
 }

@@ -1,0 +1,129 @@
+//! The output directory of one run or analysis: tables, `summary.json`,
+//! pictures, plots and exports, staged together so that either all appear or
+//! none does. Above [`crate::io`] (the files) and [`crate::render`] (the
+//! pictures), so that neither needs the other.
+
+use crate::analysis::{coordination, Contacts};
+use crate::bed::Bed;
+use crate::error::{Error, Result};
+use crate::io::summary::{AnalyzeSummary, RunSummary};
+use crate::io::{export, tables, Staging};
+use crate::render::run_files;
+use std::path::{Path, PathBuf};
+
+/// Names of the files [`write_run`] writes, in the order they appear.
+pub const RUN_FILES: [&str; 4] = [
+    "particles.csv",
+    "contacts.csv",
+    "wall_contacts.csv",
+    "summary.json",
+];
+
+/// What a run writes besides its tables and summary: pictures, plots, exports.
+#[derive(Clone, Debug, Default)]
+pub struct RunExtras {
+    /// Write `bed.png` (and `bed.svg` in 2D) and the plots.
+    pub pictures: bool,
+    /// Exports requested with `--export`.
+    pub exports: Vec<export::Format>,
+}
+
+/// Writes the files of one run into `dir` (created if needed). Either all files
+/// appear, or none does and a directory created for them is removed again.
+pub fn write_run<const D: usize>(
+    dir: &Path,
+    bed: &Bed<D>,
+    contacts: &Contacts,
+    summary: &RunSummary,
+) -> Result<Vec<PathBuf>> {
+    write_run_with(dir, bed, contacts, summary, &RunExtras::default())
+}
+
+/// [`write_run`] plus pictures, plots and exports, all in the same atomic
+/// staging: a failure in any of them leaves no file of the run.
+pub fn write_run_with<const D: usize>(
+    dir: &Path,
+    bed: &Bed<D>,
+    contacts: &Contacts,
+    summary: &RunSummary,
+    extras: &RunExtras,
+) -> Result<Vec<PathBuf>> {
+    // Rendered before touching the disk: a bad value must not leave a directory.
+    let json = summary.to_json()?;
+    let files = extra_files(
+        bed,
+        contacts,
+        summary.config.analysis.contact_tol,
+        summary.config.analysis.chain_angle_from,
+        extras,
+    )?;
+    let mut out = Staging::new(dir)?;
+    out.stage(RUN_FILES[0], |w| tables::write_particles(w, bed))?;
+    out.stage(RUN_FILES[1], |w| tables::write_contacts(w, contacts))?;
+    out.stage(RUN_FILES[2], |w| tables::write_wall_contacts(w, contacts))?;
+    for (name, bytes) in &files {
+        out.stage(name, |w| w.write_all(bytes))?;
+    }
+    // Last, so that a complete summary.json means a complete run.
+    out.stage(RUN_FILES[3], |w| w.write_all(json.as_bytes()))?;
+    out.commit()
+}
+
+/// Names of the files [`write_analysis`] writes: a run's files minus the bed.
+pub const ANALYZE_FILES: [&str; 3] = ["contacts.csv", "wall_contacts.csv", "summary.json"];
+
+/// Writes the files of `packbed analyze` into `dir`, atomically as [`write_run`],
+/// with the pictures, plots and exports `extras` asks for.
+pub fn write_analysis<const D: usize>(
+    dir: &Path,
+    bed: &Bed<D>,
+    contacts: &Contacts,
+    summary: &AnalyzeSummary,
+    extras: &RunExtras,
+) -> Result<Vec<PathBuf>> {
+    let json = summary.to_json()?;
+    let files = extra_files(
+        bed,
+        contacts,
+        summary.settings.contact_tol,
+        summary.settings.chain_angle_from,
+        extras,
+    )?;
+    let mut out = Staging::new(dir)?;
+    out.stage(ANALYZE_FILES[0], |w| tables::write_contacts(w, contacts))?;
+    out.stage(ANALYZE_FILES[1], |w| {
+        tables::write_wall_contacts(w, contacts)
+    })?;
+    for (name, bytes) in &files {
+        out.stage(name, |w| w.write_all(bytes))?;
+    }
+    out.stage(ANALYZE_FILES[2], |w| w.write_all(json.as_bytes()))?;
+    out.commit()
+}
+
+/// `(file name, contents)` of the pictures, plots and exports `extras` asks
+/// for, in writing order.
+fn extra_files<const D: usize>(
+    bed: &Bed<D>,
+    contacts: &Contacts,
+    contact_tol: crate::math::Real,
+    angle_from: crate::analysis::orientation::AngleFrom,
+    extras: &RunExtras,
+) -> Result<Vec<(String, Vec<u8>)>> {
+    let mut out = Vec::new();
+    if extras.pictures {
+        out = run_files::pictures(bed, contacts, contact_tol, angle_from)?;
+    }
+    if !extras.exports.is_empty() {
+        let z = coordination(bed, contacts);
+        for f in &extras.exports {
+            let mut buf = Vec::new();
+            f.write(&mut buf, bed, &z).map_err(|e| Error::Io {
+                path: f.file_name().into(),
+                source: e,
+            })?;
+            out.push((f.file_name().to_string(), buf));
+        }
+    }
+    Ok(out)
+}
