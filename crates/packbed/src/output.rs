@@ -57,16 +57,7 @@ pub fn write_run_with<const D: usize>(
         summary.config.analysis.chain_angle_from,
         extras,
     )?;
-    let mut out = Staging::new(dir)?;
-    out.stage(RUN_FILES[0], |w| tables::write_particles(w, bed))?;
-    out.stage(RUN_FILES[1], |w| tables::write_contacts(w, contacts))?;
-    out.stage(RUN_FILES[2], |w| tables::write_wall_contacts(w, contacts))?;
-    for (name, bytes) in &files {
-        out.stage(name, |w| w.write_all(bytes))?;
-    }
-    // Last, so that a complete summary.json means a complete run.
-    out.stage(RUN_FILES[3], |w| w.write_all(json.as_bytes()))?;
-    out.commit()
+    stage_dir(dir, Some(bed), contacts, &files, &json)
 }
 
 /// Names of the files [`write_analysis`] writes: a run's files minus the bed.
@@ -89,15 +80,29 @@ pub fn write_analysis<const D: usize>(
         summary.settings.chain_angle_from,
         extras,
     )?;
+    stage_dir::<D>(dir, None, contacts, &files, &json)
+}
+
+/// Stages the tables (`particles.csv` only with a bed), the extra files and,
+/// last, so that a complete `summary.json` means a complete directory, the
+/// summary; then commits them together.
+fn stage_dir<const D: usize>(
+    dir: &Path,
+    bed: Option<&Bed<D>>,
+    contacts: &Contacts,
+    files: &[(String, Vec<u8>)],
+    json: &str,
+) -> Result<Vec<PathBuf>> {
     let mut out = Staging::new(dir)?;
-    out.stage(ANALYZE_FILES[0], |w| tables::write_contacts(w, contacts))?;
-    out.stage(ANALYZE_FILES[1], |w| {
-        tables::write_wall_contacts(w, contacts)
-    })?;
-    for (name, bytes) in &files {
+    if let Some(bed) = bed {
+        out.stage(RUN_FILES[0], |w| tables::write_particles(w, bed))?;
+    }
+    out.stage(RUN_FILES[1], |w| tables::write_contacts(w, contacts))?;
+    out.stage(RUN_FILES[2], |w| tables::write_wall_contacts(w, contacts))?;
+    for (name, bytes) in files {
         out.stage(name, |w| w.write_all(bytes))?;
     }
-    out.stage(ANALYZE_FILES[2], |w| w.write_all(json.as_bytes()))?;
+    out.stage(RUN_FILES[3], |w| w.write_all(json.as_bytes()))?;
     out.commit()
 }
 

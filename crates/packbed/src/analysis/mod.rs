@@ -275,14 +275,6 @@ fn coordination_summary<const D: usize>(
     in_bulk: &[bool],
     bulk_ok: bool,
 ) -> CoordinationSummary {
-    let bulk_mean = |values: &mut dyn Iterator<Item = u32>| {
-        let (mut sum, mut n) = (0.0, 0usize);
-        for v in values {
-            sum += Real::from(v);
-            n += 1;
-        }
-        (bulk_ok && n > 0).then(|| sum / n as Real)
-    };
     // One entry per body, whatever its number of beads: (body, z, species).
     let mut per_body: Vec<(u32, u32, u32)> = (0..bed.len())
         .map(|i| (bed.bodies[i], z[i], bed.species[i]))
@@ -294,6 +286,9 @@ fn coordination_summary<const D: usize>(
             .filter(move |&i| in_bulk[i] && s.is_none_or(|s| bed.species[i] == s))
             .map(|i| z[i])
     };
+    // Null, not 0, when the bulk is too small or holds none of these particles.
+    let bulk_mean =
+        |s: Option<u32>| (bulk_ok && bulk(s).next().is_some()).then(|| mean_of(bulk(s)));
     let by_species = (0..profile::species_count(bed) as u32)
         .map(|s| {
             let mine = || per_body.iter().filter(move |e| e.2 == s).map(|e| e.1);
@@ -305,7 +300,7 @@ fn coordination_summary<const D: usize>(
                     .map_or_else(String::new, |i| i.name.clone()),
                 bodies: mine().count() as u64,
                 mean: mean_of(mine()),
-                mean_bulk: bulk_mean(&mut bulk(Some(s))),
+                mean_bulk: bulk_mean(Some(s)),
                 bulk_particles: bulk(Some(s)).count() as u64,
                 histogram: count_histogram(mine()),
             }
@@ -318,7 +313,7 @@ fn coordination_summary<const D: usize>(
         .count() as u64;
     CoordinationSummary {
         mean: mean_of(per_body.iter().map(|e| e.1)),
-        mean_bulk: bulk_mean(&mut bulk(None)),
+        mean_bulk: bulk_mean(None),
         bulk_particles: bulk(None).count() as u64,
         histogram: count_histogram(per_body.iter().map(|e| e.1)),
         histogram_bulk: count_histogram(bulk(None)),
