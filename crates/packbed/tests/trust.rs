@@ -269,16 +269,16 @@ fn a_bulk_of_a_few_bodies_is_null_with_its_reason() {
     assert!(p["bulk"].is_null(), "{p}");
     assert!(v["coordination"]["mean_bulk"].is_null());
     let n = p["bulk_bodies"].as_u64().unwrap();
-    assert!(n < 50, "{n}");
+    assert!(n > 0 && n < 50, "{n}");
     assert!(p["bulk_note"].as_str().unwrap().contains("minimum of 50"));
     // The minimum is a setting.
     let mut c = c;
     c.analysis.bulk_min_bodies = 0;
     let run = packbed::pipeline::run_bed(&c, &mut |_| {}).unwrap();
     let v = serde_json::to_value(&run.summary).unwrap();
-    if n > 0 {
-        assert!(v["packing"]["bulk"].as_f64().is_some());
-    }
+    let bulk = v["packing"]["bulk"].as_f64().expect("a bulk value");
+    assert!(bulk > 0.0 && bulk < 1.0, "{bulk}");
+    assert!(v["packing"].get("bulk_note").is_none());
 }
 
 // ---------------------------------------------------------------------------
