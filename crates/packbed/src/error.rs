@@ -40,4 +40,22 @@ impl Error {
     pub fn config(msg: impl Into<String>) -> Self {
         Error::Config(msg.into())
     }
+
+    /// The same error placed under a setting: `within("ratio")` turns the
+    /// config error "3 values …" into "ratio: 3 values …"; other errors, which
+    /// name their file, are kept as they are.
+    pub fn within(self, place: &str) -> Self {
+        match self {
+            Error::Config(m) => Error::Config(format!("{place}: {m}")),
+            other => other,
+        }
+    }
+
+    /// The message without the "config: " tag.
+    pub fn message(&self) -> String {
+        match self {
+            Error::Config(m) => m.clone(),
+            other => other.to_string(),
+        }
+    }
 }

@@ -11,25 +11,12 @@
 //! ```
 
 // The `[sweep]` and `[ensemble]` tables are part of the config schema.
-use crate::config::{Config, SpeciesConfig};
+use crate::config::{species_parameter, Config, Edit};
 pub use crate::config::{EnsembleConfig, SweepConfig, SweepValue};
 use crate::error::{Error, Result};
 
 /// The parameters a sweep can vary, with the form of their values.
-pub const PARAMETERS: [(&str, &str); 9] = [
-    ("ratio", "a list with one number ratio per species, e.g. [1, 2]"),
-    (
-        "radii",
-        "a list of radii, e.g. [10, 20] (one sphere species each unless the count matches the config's species)",
-    ),
-    ("box.diameters", "a number: a cube (square) of that many largest diameters"),
-    ("box.size", "a list [W, H] (2D) or [W, D, H] (3D)"),
-    ("fill.count", "a whole number of particles"),
-    ("fill.roof_misses", "a whole number"),
-    ("analysis.large_radius", "a radius"),
-    ("species[K].radius", "a radius for species K (0-based)"),
-    ("species[K].ratio", "a number ratio for species K (0-based)"),
-];
+pub use crate::config::SWEEP_PARAMETERS as PARAMETERS;
 
 /// One value of a sweep, resolved: the config to run and how to name it.
 #[derive(Clone, Debug)]
@@ -72,13 +59,6 @@ fn slug(text: &str) -> String {
     s.trim_matches(|c| c == '-' || c == '.').to_string()
 }
 
-/// `species[K].key` → (K, key).
-fn species_parameter(p: &str) -> Option<(usize, &str)> {
-    let rest = p.strip_prefix("species[")?;
-    let (k, key) = rest.split_once("].")?;
-    Some((k.parse().ok()?, key))
-}
-
 impl SweepConfig {
     /// Resolves every value into a config to run (validated), for a base config
     /// whose `sweep` is this one.
@@ -112,12 +92,13 @@ impl SweepConfig {
         for (i, value) in self.values.iter().enumerate() {
             let mut config = base.clone();
             config.sweep = None;
-            apply(p, value, &mut config)
+            let edit = Edit::from_sweep(p, value)
                 .map_err(|e| Error::config(format!("sweep.values[{i}]: {e}")))?;
-            config.validate().map_err(|e| match e {
-                Error::Config(m) => Error::config(format!("sweep.values[{i}]: {m}")),
-                other => other,
-            })?;
+            let place = format!("sweep.values[{i}]");
+            config
+                .apply(&edit)
+                .map_err(|e| e.within(p).within(&place))?;
+            config.validate().map_err(|e| e.within(&place))?;
             let nums = value.numbers();
             let text: Vec<String> = nums.iter().map(|&x| fmt_num(x)).collect();
             let label = match &self.labels {
@@ -145,129 +126,6 @@ impl SweepConfig {
         }
         Ok(points)
     }
-}
-
-fn one(value: &SweepValue) -> std::result::Result<f64, String> {
-    match value {
-        SweepValue::Number(x) => Ok(*x),
-        SweepValue::List(v) if v.len() == 1 => Ok(v[0]),
-        SweepValue::List(v) => Err(format!("expected one number, got a list of {}", v.len())),
-    }
-}
-
-fn list(value: &SweepValue) -> Vec<f64> {
-    value.numbers()
-}
-
-fn whole(x: f64) -> std::result::Result<u64, String> {
-    if x.is_finite() && x >= 0.0 && x.fract() == 0.0 && x < 2f64.powi(63) {
-        Ok(x as u64)
-    } else {
-        Err(format!("expected a whole number, got {x}"))
-    }
-}
-
-fn sphere_like(template: &SpeciesConfig, radius: f64) -> SpeciesConfig {
-    SpeciesConfig {
-        name: None,
-        radius: Some(radius),
-        size: None,
-        ratio: 1.0,
-        shape: template.shape.clone(),
-        beads: template.beads,
-        spacing: template.spacing,
-        orientation: template.orientation.clone(),
-    }
-}
-
-/// Sets parameter `p` of `c` to `value`.
-fn apply(p: &str, value: &SweepValue, c: &mut Config) -> std::result::Result<(), String> {
-    match p {
-        "ratio" => {
-            let v = list(value);
-            if v.len() != c.species.len() {
-                return Err(format!(
-                    "ratio has {} numbers but the config has {} species",
-                    v.len(),
-                    c.species.len()
-                ));
-            }
-            for (s, r) in c.species.iter_mut().zip(v) {
-                s.ratio = r;
-            }
-        }
-        "radii" => {
-            let v = list(value);
-            if v.is_empty() {
-                return Err("radii: give at least one radius".into());
-            }
-            if v.len() == c.species.len() {
-                for (s, r) in c.species.iter_mut().zip(v) {
-                    s.radius = Some(r);
-                    s.size = None;
-                }
-            } else {
-                let template = c.species[0].clone();
-                c.species = v.iter().map(|&r| sphere_like(&template, r)).collect();
-            }
-        }
-        "box.diameters" => {
-            let periodic = c.container.periodic;
-            c.container = Default::default();
-            c.container.periodic = periodic;
-            c.container.diameters = Some(one(value)?);
-        }
-        "box.size" => {
-            let v = list(value);
-            let periodic = c.container.periodic;
-            c.container = Default::default();
-            c.container.periodic = periodic;
-            match (v.as_slice(), c.dim) {
-                ([w, h], _) => {
-                    c.container.width = Some(*w);
-                    c.container.height = Some(*h);
-                }
-                ([w, d, h], 3) => {
-                    c.container.width = Some(*w);
-                    c.container.depth = Some(*d);
-                    c.container.height = Some(*h);
-                }
-                _ => {
-                    return Err(format!(
-                        "box.size: give [W, H] or, in 3D, [W, D, H]; got {v:?}"
-                    ))
-                }
-            }
-        }
-        "fill.count" => {
-            c.fill.count = Some(whole(one(value)?)?);
-            c.fill.until = None;
-        }
-        "fill.roof_misses" => c.fill.roof_misses = whole(one(value)?)?,
-        "analysis.large_radius" => c.analysis.large_radius = Some(one(value)?),
-        _ => {
-            let (k, key) =
-                species_parameter(p).ok_or_else(|| format!("unknown parameter `{p}`"))?;
-            let n = c.species.len();
-            let s = c
-                .species
-                .get_mut(k)
-                .ok_or_else(|| format!("{p}: the config has only {n} species"))?;
-            match key {
-                "radius" => {
-                    s.radius = Some(one(value)?);
-                    s.size = None;
-                }
-                "ratio" => s.ratio = one(value)?,
-                _ => {
-                    return Err(format!(
-                        "{p}: only species[K].radius and species[K].ratio can be swept"
-                    ))
-                }
-            }
-        }
-    }
-    Ok(())
 }
 
 #[cfg(test)]
@@ -308,7 +166,7 @@ mod tests {
             ("parameter = \"ratio\"\nvalues = []", "at least one value"),
             (
                 "parameter = \"ratio\"\nvalues = [[1, 2, 3]]",
-                "values[0]: ratio has 3",
+                "values[0]: ratio: 3 values",
             ),
             ("parameter = \"box.diameters\"\nvalues = [0.5]", "values[0]"),
             ("parameter = \"fill.count\"\nvalues = [2.5]", "whole number"),

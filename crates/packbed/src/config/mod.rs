@@ -1,6 +1,11 @@
 //! The run configuration: the TOML schema of `spec/interfaces.md` (strict: unknown
 //! keys are errors) and its validation into a [`Plan`] the engine can run.
 
+mod edit;
+
+pub(crate) use edit::species_parameter;
+pub use edit::{parse_numbers, BoxSpec, Edit, Overrides, SWEEP_PARAMETERS};
+
 use crate::analysis::orientation::AngleFrom;
 use crate::container::Container;
 use crate::error::{Error, Result};
@@ -566,10 +571,12 @@ impl Config {
 
     /// Validates the configuration for dimension `D` (which must equal `self.dim`).
     pub fn plan<const D: usize>(&self) -> Result<Plan<D>> {
-        assert_eq!(
-            D, self.dim as usize,
-            "plan::<D>() called for another dimension"
-        );
+        if D != self.dim as usize {
+            return Err(Error::config(format!(
+                "dim is {}, but a {D}D plan was asked for",
+                self.dim
+            )));
+        }
         if let Some(sw) = &self.sweep {
             return Err(Error::config(format!(
                 "this config has a [sweep] over `{}` ({} values), which needs `packbed ensemble`; `packbed run` builds one bed (remove the [sweep] table, or set the parameter, to run one value)",

@@ -1,0 +1,472 @@
+//! Editing a config: the one home of the changes that the command's options
+//! (`--radii 10,20`), a sweep's values (`parameter = "radii"`) and the Python
+//! keywords make to a [`Config`]. They all go through [`Config::apply`], so an
+//! option and a sweep of the same setting give the same config.
+
+use super::{Config, Mode, SweepValue};
+use crate::error::{Error, Result};
+use crate::math::Real;
+use std::str::FromStr;
+
+/// One change to a config. Edits are applied before validation, so every
+/// check of the config applies to them too.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Edit {
+    /// The dimension, 2 or 3.
+    Dim(u8),
+    /// The seed of the run's random generator.
+    Seed(u64),
+    /// Deposition or random sequential addition.
+    Mode(Mode),
+    /// One species per radius. With as many radii as species, each species
+    /// keeps its other settings; otherwise the species become copies of the
+    /// first one (its shape and beads kept, so a chain config stays chains)
+    /// with these radii and ratio 1.
+    Radii(Vec<Real>),
+    /// The number ratios, one per species.
+    Ratio(Vec<Real>),
+    /// Every species becomes a rigid chain of this many beads.
+    Beads(u32),
+    /// The box (its periodic setting is kept).
+    Box(BoxSpec),
+    /// Periodic side boundaries.
+    Periodic(bool),
+    /// Place exactly this many particles (the roof is ignored).
+    Count(u64),
+    /// Roof misses tolerated in total before the fill stops.
+    RoofMisses(u64),
+    /// Percolation threshold: particles with radius at least this are large.
+    LargeRadius(Real),
+    /// The radius of one species (0-based).
+    SpeciesRadius(usize, Real),
+    /// The number ratio of one species (0-based).
+    SpeciesRatio(usize, Real),
+}
+
+/// A box as the command and the sweeps give it: `thesis`, `diameters=N`, or
+/// the sizes `W,H` (2D) / `W,D,H` (3D).
+#[derive(Clone, Debug, PartialEq)]
+pub enum BoxSpec {
+    /// The source study's box for the species.
+    Thesis,
+    /// A cube (square) of this many largest diameters.
+    Diameters(Real),
+    /// Explicit sizes: `[W, H]` or `[W, D, H]`.
+    Size(Vec<Real>),
+}
+
+/// `10, 20,30` → numbers; the error names the part that is not a number.
+pub fn parse_numbers(text: &str) -> std::result::Result<Vec<Real>, String> {
+    text.split(',')
+        .map(|f| {
+            let f = f.trim();
+            f.parse::<Real>()
+                .map_err(|_| format!("`{f}` is not a number"))
+        })
+        .collect()
+}
+
+impl FromStr for BoxSpec {
+    type Err = String;
+
+    fn from_str(text: &str) -> std::result::Result<BoxSpec, String> {
+        let text = text.trim();
+        if text == "thesis" {
+            return Ok(BoxSpec::Thesis);
+        }
+        if let Some(n) = text.strip_prefix("diameters=") {
+            return match parse_numbers(n)?.as_slice() {
+                [d] => Ok(BoxSpec::Diameters(*d)),
+                _ => Err(format!("`{text}`: give one number after diameters=")),
+            };
+        }
+        match parse_numbers(text) {
+            Ok(v) if (2..=3).contains(&v.len()) => Ok(BoxSpec::Size(v)),
+            Ok(v) => Err(format!(
+                "`{text}` has {} numbers; give W,H (2D) or W,D,H (3D)",
+                v.len()
+            )),
+            Err(_) => Err(format!("`{text}` is not thesis, W,H, W,D,H or diameters=N")),
+        }
+    }
+}
+
+/// The parameters a sweep can vary, with the form of their values.
+pub const SWEEP_PARAMETERS: [(&str, &str); 9] = [
+    ("ratio", "a list with one number ratio per species, e.g. [1, 2]"),
+    (
+        "radii",
+        "a list of radii, e.g. [10, 20] (the species' other settings kept when the count matches, else copies of the first species)",
+    ),
+    ("box.diameters", "a number: a cube (square) of that many largest diameters"),
+    ("box.size", "a list [W, H] (2D) or [W, D, H] (3D)"),
+    ("fill.count", "a whole number of particles"),
+    ("fill.roof_misses", "a whole number"),
+    ("analysis.large_radius", "a radius"),
+    ("species[K].radius", "a radius for species K (0-based)"),
+    ("species[K].ratio", "a number ratio for species K (0-based)"),
+];
+
+/// `species[K].key` → (K, key).
+pub(crate) fn species_parameter(p: &str) -> Option<(usize, &str)> {
+    let rest = p.strip_prefix("species[")?;
+    let (k, key) = rest.split_once("].")?;
+    Some((k.parse().ok()?, key))
+}
+
+impl Edit {
+    /// The edit that sets a sweep `parameter` (one of [`SWEEP_PARAMETERS`]) to
+    /// `value`.
+    pub fn from_sweep(parameter: &str, value: &SweepValue) -> std::result::Result<Edit, String> {
+        let list = || match value {
+            SweepValue::Number(x) => vec![*x],
+            SweepValue::List(v) => v.clone(),
+        };
+        let one = || match value {
+            SweepValue::Number(x) => Ok(*x),
+            SweepValue::List(v) if v.len() == 1 => Ok(v[0]),
+            SweepValue::List(v) => Err(format!("expected one number, got a list of {}", v.len())),
+        };
+        Ok(match parameter {
+            "ratio" => Edit::Ratio(list()),
+            "radii" => Edit::Radii(list()),
+            "box.diameters" => Edit::Box(BoxSpec::Diameters(one()?)),
+            "box.size" => match list() {
+                v if (2..=3).contains(&v.len()) => Edit::Box(BoxSpec::Size(v)),
+                v => return Err(format!("give [W, H] or, in 3D, [W, D, H]; got {v:?}")),
+            },
+            "fill.count" => Edit::Count(whole(one()?)?),
+            "fill.roof_misses" => Edit::RoofMisses(whole(one()?)?),
+            "analysis.large_radius" => Edit::LargeRadius(one()?),
+            _ => match species_parameter(parameter) {
+                Some((k, "radius")) => Edit::SpeciesRadius(k, one()?),
+                Some((k, "ratio")) => Edit::SpeciesRatio(k, one()?),
+                Some(_) => {
+                    return Err(format!(
+                        "{parameter}: only species[K].radius and species[K].ratio can be swept"
+                    ))
+                }
+                None => return Err(format!("unknown parameter `{parameter}`")),
+            },
+        })
+    }
+}
+
+fn whole(x: Real) -> std::result::Result<u64, String> {
+    if x.is_finite() && x >= 0.0 && x.fract() == 0.0 && x < 2f64.powi(63) {
+        Ok(x as u64)
+    } else {
+        Err(format!("expected a whole number, got {x}"))
+    }
+}
+
+impl Config {
+    /// Applies one edit. The config is left unchanged when the edit cannot
+    /// apply (a ratio list of the wrong length, box sizes of another
+    /// dimension); the error names the setting, never a command-line option.
+    pub fn apply(&mut self, edit: &Edit) -> Result<()> {
+        match edit {
+            Edit::Dim(d) => self.dim = *d,
+            Edit::Seed(s) => self.seed = *s,
+            Edit::Mode(m) => self.mode = *m,
+            Edit::Radii(radii) => self.set_radii(radii)?,
+            Edit::Ratio(ratios) => {
+                if ratios.len() != self.species.len() {
+                    return Err(Error::config(format!(
+                        "{} values but there are {} species: give one ratio per species",
+                        ratios.len(),
+                        self.species.len()
+                    )));
+                }
+                for (s, &r) in self.species.iter_mut().zip(ratios) {
+                    s.ratio = r;
+                }
+            }
+            Edit::Beads(n) => {
+                for s in &mut self.species {
+                    s.shape = "chain".into();
+                    s.beads = Some(*n);
+                }
+            }
+            Edit::Box(spec) => self.set_box(spec)?,
+            Edit::Periodic(p) => self.container.periodic = *p,
+            Edit::Count(n) => {
+                self.fill.count = Some(*n);
+                self.fill.until = None;
+            }
+            Edit::RoofMisses(n) => self.fill.roof_misses = *n,
+            Edit::LargeRadius(r) => self.analysis.large_radius = Some(*r),
+            Edit::SpeciesRadius(k, r) => {
+                let s = self.species_mut(*k)?;
+                s.radius = Some(*r);
+                s.size = None;
+            }
+            Edit::SpeciesRatio(k, r) => self.species_mut(*k)?.ratio = *r,
+        }
+        Ok(())
+    }
+
+    fn species_mut(&mut self, k: usize) -> Result<&mut super::SpeciesConfig> {
+        let n = self.species.len();
+        self.species
+            .get_mut(k)
+            .ok_or_else(|| Error::config(format!("the config has only {n} species")))
+    }
+
+    fn set_radii(&mut self, radii: &[Real]) -> Result<()> {
+        if radii.is_empty() {
+            return Err(Error::config("give at least one radius"));
+        }
+        if radii.len() == self.species.len() {
+            for (s, &r) in self.species.iter_mut().zip(radii) {
+                s.radius = Some(r);
+                s.size = None;
+            }
+            return Ok(());
+        }
+        let template = self.species[0].clone();
+        self.species = radii
+            .iter()
+            .map(|&r| super::SpeciesConfig {
+                name: None,
+                radius: Some(r),
+                size: None,
+                ratio: 1.0,
+                ..template.clone()
+            })
+            .collect();
+        Ok(())
+    }
+
+    fn set_box(&mut self, spec: &BoxSpec) -> Result<()> {
+        let mut b = super::BoxConfig {
+            periodic: self.container.periodic,
+            ..Default::default()
+        };
+        match spec {
+            BoxSpec::Thesis => b.preset = Some("thesis".into()),
+            BoxSpec::Diameters(n) => b.diameters = Some(*n),
+            BoxSpec::Size(v) => match (v.as_slice(), self.dim) {
+                ([w, h], _) => (b.width, b.height) = (Some(*w), Some(*h)),
+                ([w, d, h], 3) => {
+                    (b.width, b.depth, b.height) = (Some(*w), Some(*d), Some(*h));
+                }
+                ([_, _, _], dim) => {
+                    return Err(Error::config(format!(
+                        "W,D,H is for dim 3, but dim is {dim}: give W,H"
+                    )))
+                }
+                _ => {
+                    return Err(Error::config(format!(
+                        "{} sizes; give W,H (2D) or W,D,H (3D)",
+                        v.len()
+                    )))
+                }
+            },
+        }
+        self.container = b;
+        Ok(())
+    }
+}
+
+/// The common settings a caller may override on top of a config file (the
+/// options of `packbed run`, the keywords of `packbed.deposit`), applied in a
+/// fixed order: dimension, seed, mode, radii, ratio, beads, box, periodic,
+/// count, large radius.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Overrides {
+    /// Dimension, 2 or 3.
+    pub dim: Option<u8>,
+    /// Radii, one species each (see [`Edit::Radii`]).
+    pub radii: Option<Vec<Real>>,
+    /// Number ratios, one per species.
+    pub ratio: Option<Vec<Real>>,
+    /// Every species a rigid chain of this many beads.
+    pub beads: Option<u32>,
+    /// The box.
+    pub container: Option<BoxSpec>,
+    /// Periodic side boundaries (only ever switched on).
+    pub periodic: bool,
+    /// Exactly this many particles.
+    pub count: Option<u64>,
+    /// Seed.
+    pub seed: Option<u64>,
+    /// Deposition or RSA.
+    pub mode: Option<Mode>,
+    /// Percolation threshold radius.
+    pub large: Option<Real>,
+}
+
+impl Overrides {
+    /// True when nothing is overridden.
+    pub fn is_empty(&self) -> bool {
+        self.edits().is_empty()
+    }
+
+    /// The edits, each with the name of its setting, in the order they apply.
+    pub fn edits(&self) -> Vec<(&'static str, Edit)> {
+        let mut e = Vec::new();
+        let mut push = |name, edit: Option<Edit>| {
+            if let Some(edit) = edit {
+                e.push((name, edit));
+            }
+        };
+        push("dim", self.dim.map(Edit::Dim));
+        push("seed", self.seed.map(Edit::Seed));
+        push("mode", self.mode.map(Edit::Mode));
+        push("radii", self.radii.clone().map(Edit::Radii));
+        push("ratio", self.ratio.clone().map(Edit::Ratio));
+        push("beads", self.beads.map(Edit::Beads));
+        push("box", self.container.clone().map(Edit::Box));
+        push("periodic", self.periodic.then_some(Edit::Periodic(true)));
+        push("count", self.count.map(Edit::Count));
+        push("large", self.large.map(Edit::LargeRadius));
+        e
+    }
+
+    /// Applies every override to `config`; an error names the setting.
+    pub fn apply(&self, config: &mut Config) -> Result<()> {
+        for (name, edit) in self.edits() {
+            config.apply(&edit).map_err(|e| e.within(name))?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn edited(edits: &[Edit]) -> Result<Config> {
+        let mut c = Config::default();
+        for e in edits {
+            c.apply(e)?;
+        }
+        Ok(c)
+    }
+
+    #[test]
+    fn radii_and_ratio() {
+        let c = edited(&[
+            Edit::Radii(vec![5.0, 7.0, 9.0]),
+            Edit::Ratio(vec![1.0, 2.0, 3.0]),
+        ])
+        .unwrap();
+        let r: Vec<_> = c.species.iter().map(|s| (s.radius, s.ratio)).collect();
+        assert_eq!(r, [(Some(5.0), 1.0), (Some(7.0), 2.0), (Some(9.0), 3.0)]);
+        c.plan::<3>().unwrap();
+    }
+
+    #[test]
+    fn a_ratio_list_of_the_wrong_length_is_refused_and_changes_nothing() {
+        let mut c = Config::default();
+        let e = c.apply(&Edit::Ratio(vec![1.0, 2.0, 3.0])).unwrap_err();
+        assert!(
+            e.to_string().contains("3 values but there are 2 species"),
+            "{e}"
+        );
+        assert_eq!(c.species[0].ratio, 1.0);
+    }
+
+    #[test]
+    fn radii_of_a_chain_config_stay_chains_from_options_and_sweeps_alike() {
+        let mut base = Config::default();
+        base.apply(&Edit::Beads(3)).unwrap();
+        let by_option = {
+            let mut c = base.clone();
+            Overrides {
+                radii: Some(vec![10.0, 20.0, 30.0]),
+                ..Default::default()
+            }
+            .apply(&mut c)
+            .unwrap();
+            c
+        };
+        let by_sweep = {
+            let mut c = base.clone();
+            let value = SweepValue::List(vec![10.0, 20.0, 30.0]);
+            c.apply(&Edit::from_sweep("radii", &value).unwrap())
+                .unwrap();
+            c
+        };
+        for c in [&by_option, &by_sweep] {
+            assert_eq!(c.species.len(), 3);
+            assert!(c
+                .species
+                .iter()
+                .all(|s| s.shape == "chain" && s.beads == Some(3)));
+        }
+        assert_eq!(
+            toml::to_string(&by_option).unwrap(),
+            toml::to_string(&by_sweep).unwrap()
+        );
+    }
+
+    #[test]
+    fn boxes() {
+        let c = edited(&[
+            Edit::Box("100,200,300".parse().unwrap()),
+            Edit::Periodic(true),
+        ])
+        .unwrap();
+        let b = &c.container;
+        assert_eq!(
+            (b.width, b.depth, b.height),
+            (Some(100.0), Some(200.0), Some(300.0))
+        );
+        assert!(b.periodic);
+        // A new box keeps the periodic setting.
+        let mut c = c;
+        c.apply(&Edit::Box("diameters=10".parse().unwrap()))
+            .unwrap();
+        assert_eq!(
+            (c.container.diameters, c.container.periodic),
+            (Some(10.0), true)
+        );
+        assert_eq!(c.container.width, None);
+        let e = edited(&[Edit::Dim(2), Edit::Box(BoxSpec::Size(vec![1.0, 2.0, 3.0]))]).unwrap_err();
+        assert!(e.to_string().contains("dim 3"), "{e}");
+        assert!("big".parse::<BoxSpec>().unwrap_err().contains("`big`"));
+        assert!("1,2,3,4"
+            .parse::<BoxSpec>()
+            .unwrap_err()
+            .contains("4 numbers"));
+    }
+
+    #[test]
+    fn count_replaces_roof() {
+        let mut c = Config::default();
+        c.fill.until = Some("roof".into());
+        c.apply(&Edit::Count(50)).unwrap();
+        assert_eq!((c.fill.until, c.fill.count), (None, Some(50)));
+    }
+
+    #[test]
+    fn override_errors_name_the_setting_not_an_option() {
+        let mut c = Config::default();
+        let e = Overrides {
+            ratio: Some(vec![1.0]),
+            ..Default::default()
+        }
+        .apply(&mut c)
+        .unwrap_err()
+        .message();
+        assert!(e.starts_with("ratio: "), "{e}");
+        assert!(!e.contains("--"), "{e}");
+    }
+
+    #[test]
+    fn sweep_parameters_map_to_edits() {
+        let n = SweepValue::Number(4.0);
+        assert_eq!(Edit::from_sweep("fill.count", &n), Ok(Edit::Count(4)));
+        assert_eq!(
+            Edit::from_sweep("species[1].radius", &n),
+            Ok(Edit::SpeciesRadius(1, 4.0))
+        );
+        assert!(Edit::from_sweep("fill.count", &SweepValue::Number(2.5)).is_err());
+        assert!(Edit::from_sweep("species[0].shape", &n).is_err());
+        let mut c = Config::default();
+        let e = c.apply(&Edit::SpeciesRatio(5, 1.0)).unwrap_err();
+        assert!(e.to_string().contains("only 2 species"), "{e}");
+    }
+}
