@@ -1,17 +1,15 @@
 //! `packbed analyze PATH`: analyse an existing bed file and write the run's
 //! outputs minus the bed files (summary.json, contacts.csv, wall_contacts.csv).
 
-use crate::report;
+use crate::overrides::{numbers, Numbers};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use packbed::analysis::orientation::AngleFrom;
-use packbed::analysis::{analyze_with, overlaps, AnalysisOptions};
-use packbed::bed::{AnyBed, Bed};
-use packbed::io::read::{read_bed_report, BoxHint, ReadReport};
-use packbed::io::summary::{AnalyzeSettings, AnalyzeTiming};
-use packbed::io::{self, AnalyzeSummary};
+use packbed::config::AnalysisConfig;
+use packbed::io::read::BoxHint;
+use packbed::output::text;
+use packbed::pipeline::check_box_hint;
 use std::path::PathBuf;
-use std::time::Instant;
 
 /// Arguments of `packbed analyze`.
 #[derive(Debug, Args)]
@@ -20,8 +18,8 @@ pub struct AnalyzeArgs {
     pub path: PathBuf,
     /// Box: W,H (2D) or W,D,H (3D); wins over a box in the file or in the
     /// summary.json beside it.
-    #[arg(long = "box", value_name = "W,[D,]H", allow_hyphen_values = true)]
-    pub container: Option<String>,
+    #[arg(long = "box", value_name = "W,[D,]H", allow_hyphen_values = true, value_parser = numbers)]
+    pub container: Option<Numbers>,
     /// Periodic side boundaries (with --box).
     #[arg(long)]
     pub periodic: bool,
@@ -44,18 +42,11 @@ pub struct AnalyzeArgs {
     /// (as the source study did).
     #[arg(long, value_enum, value_name = "FROM", default_value = "vertical")]
     pub chain_angle_from: AngleFromArg,
+    #[command(flatten)]
+    pub files: crate::run::FileArgs,
     /// Directory for the output files (created if needed).
     #[arg(long, value_name = "DIR", default_value = "packbed-analysis")]
     pub out: PathBuf,
-    /// Also write these exports: a comma-separated list of vtk, dump, xyz.
-    #[arg(long, value_name = "LIST")]
-    pub export: Option<String>,
-    /// No pictures or plots (bed.png, bed.svg, plot_*.png|svg).
-    #[arg(long)]
-    pub no_pictures: bool,
-    /// No summary on stdout.
-    #[arg(long, short)]
-    pub quiet: bool,
 }
 
 /// `--chain-angle-from`: the library's [`AngleFrom`] for clap.
@@ -67,110 +58,49 @@ pub enum AngleFromArg {
     Horizontal,
 }
 
-impl From<AngleFromArg> for AngleFrom {
-    fn from(a: AngleFromArg) -> AngleFrom {
-        match a {
-            AngleFromArg::Vertical => AngleFrom::Vertical,
-            AngleFromArg::Horizontal => AngleFrom::Horizontal,
-        }
-    }
-}
-
 /// Runs `packbed analyze`.
 pub fn analyze(args: AnalyzeArgs) -> Result<()> {
-    if !(args.contact_tol.is_finite() && args.contact_tol >= 0.0) {
-        bail!(
-            "--contact-tol must be a non-negative number, got {}",
-            args.contact_tol
-        );
-    }
-    if let Some(r) = args.large {
-        if !(r.is_finite() && r > 0.0) {
-            bail!("--large must be a positive radius, got {r}");
-        }
-    }
-    // Refuse a bad export list before any work.
-    if let Some(list) = &args.export {
-        io::export::Format::parse_list(list)?;
-    }
-    let hint = box_hint(&args)?;
-    crate::run::check_out_dir(&args.out)?;
-    let t = Instant::now();
-    let (bed, read) = read_bed_report(&args.path, (!hint.size.is_empty()).then_some(&hint))?;
-    let read_seconds = t.elapsed().as_secs_f64();
-    let (summary, written) = match &bed {
-        AnyBed::D2(b) => finish(&args, b, &read, read_seconds)?,
-        AnyBed::D3(b) => finish(&args, b, &read, read_seconds)?,
-    };
-    if let Some(w) = report::overlap_warning(&summary) {
-        eprintln!("{w}");
-    }
-    if !args.quiet {
-        print!("{}", report::analyze_text(&summary, &args.out, &written));
-    }
-    Ok(())
-}
-
-fn box_hint(args: &AnalyzeArgs) -> Result<BoxHint> {
-    let mut hint = BoxHint {
-        size: Vec::new(),
-        periodic: args.periodic,
-    };
-    if let Some(text) = &args.container {
-        for f in text.split(',') {
-            let v: f64 = f.trim().parse().map_err(|_| {
-                anyhow::anyhow!(
-                    "--box: `{}` is not a number (expected W,H or W,D,H)",
-                    f.trim()
-                )
-            })?;
-            if !(v.is_finite() && v > 0.0) {
-                bail!("--box: sizes must be positive, got {v}");
-            }
-            hint.size.push(v);
-        }
-        if !(2..=3).contains(&hint.size.len()) {
-            bail!("--box: give W,H (2D) or W,D,H (3D), got `{text}`");
-        }
-    } else if args.periodic {
-        bail!("--periodic needs --box W,H or W,D,H");
-    }
-    Ok(hint)
-}
-
-fn finish<const D: usize>(
-    args: &AnalyzeArgs,
-    bed: &Bed<D>,
-    read: &ReadReport,
-    read_seconds: f64,
-) -> Result<(AnalyzeSummary, Vec<PathBuf>)> {
-    let t = Instant::now();
-    let opts = AnalysisOptions {
-        angle_from: args.chain_angle_from.into(),
-        bulk_min_bodies: args.bulk_min_bodies,
-        ..AnalysisOptions::new(args.contact_tol, args.large)
-    };
-    let (contacts, analysis) = analyze_with(bed, &opts);
-    let overlaps = overlaps(bed, &contacts);
-    let timing = AnalyzeTiming {
-        read_seconds,
-        analysis_seconds: t.elapsed().as_secs_f64(),
-    };
-    let settings = AnalyzeSettings {
+    let settings = AnalysisConfig {
         contact_tol: args.contact_tol,
         large_radius: args.large,
-        chain_angle_from: args.chain_angle_from.into(),
-    };
-    let source = args.path.display().to_string();
-    let summary = AnalyzeSummary::new(&source, bed, read, &overlaps, settings, &analysis, timing);
-    let extras = packbed::output::RunExtras {
-        pictures: !args.no_pictures,
-        exports: match &args.export {
-            Some(list) => io::export::Format::parse_list(list)?,
-            None => Vec::new(),
+        bulk_min_bodies: args.bulk_min_bodies,
+        chain_angle_from: match args.chain_angle_from {
+            AngleFromArg::Vertical => AngleFrom::Vertical,
+            AngleFromArg::Horizontal => AngleFrom::Horizontal,
         },
     };
-    let written = packbed::output::write_analysis(&args.out, bed, &contacts, &summary, &extras)
+    if let Err(e) = settings.check() {
+        // The library names the settings; say the options that set them.
+        let m = e.message();
+        let m = m.replace("analysis.contact_tol", "--contact-tol");
+        bail!("{}", m.replace("analysis.large_radius", "--large"));
+    }
+    // Refuse a bad export list or output folder before any work.
+    let extras = args.files.extras()?;
+    let hint = match (&args.container, args.periodic) {
+        (Some(size), periodic) => Some(BoxHint {
+            size: size.clone(),
+            periodic,
+        }),
+        (None, true) => bail!("--periodic needs --box W,H or W,D,H"),
+        (None, false) => None,
+    };
+    if let Some(h) = &hint {
+        check_box_hint(h).map_err(|e| anyhow::anyhow!("{}", e.within("--box").message()))?;
+    }
+    crate::run::check_out_dir(&args.out)?;
+    let analyzed = packbed::pipeline::analyze_file(&args.path, hint.as_ref(), &settings)?;
+    let written = analyzed
+        .write_with(&args.out, &extras)
         .with_context(|| format!("--out {}", args.out.display()))?;
-    Ok((summary, written))
+    if let Some(w) = text::overlap_warning(&analyzed.summary) {
+        eprintln!("packbed: warning: {w}");
+    }
+    if !args.files.quiet {
+        print!(
+            "{}",
+            text::analyze_text(&analyzed.summary, &args.out, &written)
+        );
+    }
+    Ok(())
 }

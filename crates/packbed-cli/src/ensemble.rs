@@ -2,15 +2,12 @@
 //! The work is in `packbed::ensemble`; this file parses, shows progress and
 //! prints a short summary.
 
-use crate::overrides::Overrides;
+use crate::overrides::{at_least_one, Overrides};
 use crate::run::{check_out_dir, read_config, source_name};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use packbed::ensemble::stats::Kind;
-use packbed::ensemble::{self, tables, Options, Outcome, Shard, Tick};
-use std::fmt::Write;
-use std::io::IsTerminal;
+use indicatif::ProgressDrawTarget;
+use packbed::ensemble::{self, text, Options, Shard, Tick};
 use std::path::PathBuf;
 
 /// Arguments of `packbed ensemble`.
@@ -23,10 +20,10 @@ pub struct EnsembleArgs {
     #[command(flatten)]
     pub overrides: Overrides,
     /// Replicate beds (per sweep value); default: `[ensemble] runs` of the config.
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
-    pub runs: Option<u64>,
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = at_least_one)]
+    pub runs: Option<usize>,
     /// Worker threads (one bed per thread); default: all cores.
-    #[arg(long, short, value_name = "J", allow_negative_numbers = true)]
+    #[arg(long, short, value_name = "J", allow_negative_numbers = true, value_parser = at_least_one)]
     pub jobs: Option<usize>,
     /// Output directory; rerunning into it resumes an interrupted ensemble.
     #[arg(long, value_name = "DIR", default_value = "packbed-ensemble")]
@@ -68,16 +65,10 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
     let source = source_name(args.config.as_deref(), &args.overrides);
     ensemble::validate(&config).with_context(|| source.clone())?;
     let runs = match (args.runs, &config.ensemble) {
-        (Some(n), _) => n,
+        (Some(n), _) => n as u64,
         (None, Some(e)) => e.runs,
         (None, None) => bail!("--runs N is needed (the config has no `[ensemble] runs`)"),
     };
-    if runs == 0 {
-        bail!("--runs must be at least 1");
-    }
-    if args.jobs == Some(0) {
-        bail!("--jobs must be at least 1");
-    }
     let threads = ensemble::worker_threads(args.jobs);
     if let Some(j) = args.jobs.filter(|&j| j > threads) {
         eprintln!("packbed: note: --jobs {j} is more than the {threads} cores here; using {threads} threads");
@@ -94,17 +85,12 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
         keep_beds: args.keep_beds,
         pictures: !args.no_pictures,
     };
-    let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
-        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
-        bar.set_style(
-            ProgressStyle::with_template(
-                "{spinner} {pos}/{len} beds  {per_sec}  ETA {eta}  [{bar:30}]",
-            )
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> "),
-        );
-        bar
-    });
+    let bar = crate::progress::terminal_bar(
+        args.quiet,
+        None,
+        ProgressDrawTarget::stderr(),
+        "{spinner} {pos}/{len} beds  {per_sec}  ETA {eta}  [{bar:30}]",
+    );
     let tick = |t: Tick| {
         if let Some(b) = &bar {
             if b.length() != Some(t.total) {
@@ -127,7 +113,7 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
         );
     }
     if !args.quiet {
-        print!("{}", summary_text(&outcome, &args.out, Some(threads)));
+        print!("{}", text::summary(&outcome, &args.out, Some(threads)));
     }
     Ok(())
 }
@@ -146,79 +132,7 @@ pub fn merge(args: MergeArgs) -> Result<()> {
     check_out_dir(&args.out)?;
     let outcome = ensemble::merge_with(&args.dirs, &args.out, !args.no_pictures)?;
     if !args.quiet {
-        print!("{}", summary_text(&outcome, &args.out, None));
+        print!("{}", text::summary(&outcome, &args.out, None));
     }
     Ok(())
-}
-
-/// Measures printed on screen, when present (every yes/no measure is added).
-const ON_SCREEN: [&str; 4] = [
-    "packing.global",
-    "packing.bulk",
-    "coordination.mean",
-    "coordination.mean_bulk",
-];
-
-/// A few lines for a person: what ran, the headline numbers, where the files are.
-fn summary_text(o: &Outcome, out: &std::path::Path, threads: Option<usize>) -> String {
-    let mut t = String::new();
-    let beds: u64 = o.points.iter().map(|p| p.aggregate.replicates).sum();
-    let built: u64 = o.points.iter().map(|p| p.built).sum();
-    let resumed: u64 = o.points.iter().map(|p| p.resumed).sum();
-    let how = match threads {
-        Some(j) => format!(
-            "{built} built, {resumed} resumed, {}",
-            crate::report::count(j as u64, "thread", "threads")
-        ),
-        None => format!(
-            "merged from {}",
-            crate::report::count(resumed, "replicate summary", "replicate summaries")
-        ),
-    };
-    let _ = writeln!(
-        t,
-        "packbed: ensemble of {} ({how}) in {:.2} s",
-        crate::report::count(beds, "bed", "beds"),
-        o.wall_seconds
-    );
-    for p in &o.points {
-        if let Some(l) = &p.label {
-            let _ = writeln!(t, "  {l}  ({})", p.dir.display());
-        }
-        let a = &p.aggregate;
-        for m in &a.measures {
-            if ON_SCREEN.contains(&m.name.as_str())
-                || (m.kind == Kind::Percent && !m.name.ends_with("_empty"))
-            {
-                let [lo, mid, hi] = tables::cells(&m.stats, m.kind);
-                let _ = writeln!(
-                    t,
-                    "    {:<40} {mid}  (min {lo}, max {hi})",
-                    tables::label(m, a.replicates)
-                );
-            }
-        }
-    }
-    let names = crate::report::file_names;
-    match o.points.first().filter(|p| p.label.is_some()) {
-        // A sweep: its comparison on top, each value's statistics in its directory.
-        Some(p) => {
-            let _ = writeln!(t, "  files in {}: {}", out.display(), names(&o.files));
-            let _ = writeln!(
-                t,
-                "  in each of {} sweep/*/: {}, runs/",
-                o.points.len(),
-                names(&p.files)
-            );
-        }
-        None => {
-            let _ = writeln!(
-                t,
-                "  files in {}: {}, runs/",
-                out.display(),
-                names(&o.files)
-            );
-        }
-    }
-    t
 }

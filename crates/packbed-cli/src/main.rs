@@ -7,7 +7,6 @@ mod ensemble;
 mod overrides;
 mod progress;
 mod render;
-mod report;
 mod run;
 
 use clap::{Parser, Subcommand};
@@ -67,7 +66,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("packbed: error: {}", one_line(&message(&e)));
+            eprintln!("packbed: error: {}", packbed::error::one_line(e.as_ref()));
             ExitCode::from(EXIT_USER_ERROR)
         }
     }
@@ -116,48 +115,6 @@ fn clap_exit(e: clap::Error) -> ExitCode {
     }
 }
 
-/// The one line of an error: `FILE:LINE: what` when it has a place in a file,
-/// else `what` (which may start with the file, `FILE: what`). A place found
-/// under a context (the config that named a PSD table, say) still leads, the
-/// context following in parentheses, so that every error with a line has the
-/// same shape.
-fn message(e: &anyhow::Error) -> String {
-    let placed = e.chain().position(|c| {
-        matches!(
-            c.downcast_ref::<packbed::Error>(),
-            Some(packbed::Error::Data { .. })
-        )
-    });
-    match placed {
-        Some(k) if k > 0 => {
-            let outer: Vec<String> = e.chain().take(k).map(|c| c.to_string()).collect();
-            format!("{} (in {})", chain(e.chain().skip(k)), outer.join(": "))
-        }
-        _ => chain(e.chain()),
-    }
-}
-
-/// The errors of a chain as "what: why", leaving out a cause whose text the
-/// message already quotes (the library's I/O errors include their source).
-fn chain<'a>(causes: impl Iterator<Item = &'a (dyn std::error::Error + 'static)>) -> String {
-    let mut text = String::new();
-    for cause in causes {
-        let c = cause.to_string();
-        if !text.contains(&c) {
-            if !text.is_empty() {
-                text.push_str(": ");
-            }
-            text.push_str(&c);
-        }
-    }
-    text
-}
-
-/// Error messages from parsers may span lines; a script reading stderr wants one.
-fn one_line(s: &str) -> String {
-    s.split_whitespace().collect::<Vec<_>>().join(" ")
-}
-
 /// On SIGINT (Ctrl-C) or SIGTERM, removes the temporary files being written
 /// (they would otherwise pile up as hidden `.NAME.PID.tmp` files) and exits
 /// with the shell's code for the signal, 130 or 143. SIGKILL cannot be
@@ -202,7 +159,7 @@ fn install_panic_hook() {
             .unwrap_or_default();
         eprintln!(
             "packbed: internal error (a bug in packbed, please report it): {}{at}",
-            one_line(&msg)
+            msg.split_whitespace().collect::<Vec<_>>().join(" ")
         );
     }));
 }

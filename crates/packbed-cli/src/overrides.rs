@@ -20,6 +20,14 @@ pub fn numbers(text: &str) -> std::result::Result<Numbers, String> {
     parse_numbers(text)
 }
 
+/// A whole number of at least 1, for clap.
+pub fn at_least_one(text: &str) -> std::result::Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err(format!("`{text}`: must be a whole number, at least 1")),
+    }
+}
+
 /// A comma-separated list of numbers, one option value (an alias, so that clap
 /// takes it as one value and not as a repeated option).
 pub type Numbers = Vec<f64>;

@@ -2,23 +2,12 @@
 //! has lasted long enough for it to help.
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use packbed::config::{Config, Fill};
-use packbed::math::ball_volume;
-use packbed::species::Shape;
+use packbed::config::Config;
 use std::io::IsTerminal;
 use std::time::{Duration, Instant};
 
 /// Runs shorter than this never show a bar: it would only flicker.
 const SHOW_AFTER: Duration = Duration::from_millis(500);
-
-/// Packing fraction used to guess how many particles fill the box up to the roof.
-fn typical_packing(dim: u8) -> f64 {
-    if dim == 2 {
-        0.8
-    } else {
-        0.6
-    }
-}
 
 /// Counts placed particles against an estimated total.
 pub struct Progress {
@@ -32,20 +21,12 @@ pub struct Progress {
 impl Progress {
     /// A bar for `config`, or a silent one if `quiet` or stderr is not a terminal.
     pub fn new(config: &Config, quiet: bool) -> Progress {
-        let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
-            let bar = ProgressBar::with_draw_target(
-                Some(estimated_total(config)),
-                ProgressDrawTarget::hidden(),
-            );
-            bar.set_style(
-                ProgressStyle::with_template(
-                    "{spinner} {human_pos}/~{human_len} particles  {msg}  [{bar:30}]",
-                )
-                .unwrap_or_else(|_| ProgressStyle::default_bar())
-                .progress_chars("=> "),
-            );
-            bar
-        });
+        let bar = terminal_bar(
+            quiet,
+            Some(config.estimated_particles()),
+            ProgressDrawTarget::hidden(),
+            "{spinner} {human_pos}/~{human_len} particles  {msg}  [{bar:30}]",
+        );
         Progress {
             bar,
             start: Instant::now(),
@@ -87,40 +68,18 @@ impl Progress {
     }
 }
 
-/// How many particles the run will place: exact for `count`, a guess for the roof
-/// (box volume × typical packing ÷ mean particle volume).
-fn estimated_total(config: &Config) -> u64 {
-    let guess = match config.dim {
-        2 => config.plan::<2>().ok().map(|p| (p.fill, roof_guess(&p))),
-        _ => config.plan::<3>().ok().map(|p| (p.fill, roof_guess(&p))),
-    };
-    match guess {
-        Some((Fill::Count(n), _)) => n,
-        Some((Fill::Roof { .. }, n)) => n,
-        None => 0,
-    }
-}
-
-fn roof_guess<const D: usize>(plan: &packbed::config::Plan<D>) -> u64 {
-    // Mean volume per particle (bead), weighting each species by its ratio and
-    // its beads per body.
-    let (mut beads, mut volume) = (0.0, 0.0);
-    for s in &plan.species {
-        let n = match s.shape {
-            Shape::Sphere => 1.0,
-            Shape::Chain { beads, .. } => beads as f64,
-        };
-        beads += s.ratio * n;
-        volume += s.ratio * n * ball_volume::<D>(s.size.median());
-    }
-    if beads <= 0.0 || volume <= 0.0 {
-        return 0;
-    }
-    let mean = volume / beads;
-    let n = plan.container.volume() * typical_packing(D as u8) / mean;
-    if n.is_finite() {
-        n as u64
-    } else {
-        0
-    }
+/// A bar drawn with `template`, or none if `quiet` or stderr is not a terminal.
+pub fn terminal_bar(
+    quiet: bool,
+    len: Option<u64>,
+    target: ProgressDrawTarget,
+    template: &str,
+) -> Option<ProgressBar> {
+    (!quiet && std::io::stderr().is_terminal()).then(|| {
+        let bar = ProgressBar::with_draw_target(len, target);
+        let style =
+            ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar());
+        bar.set_style(style.progress_chars("=> "));
+        bar
+    })
 }

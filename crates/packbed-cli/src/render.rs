@@ -1,11 +1,11 @@
 //! `packbed render PATH`: draw a bed file.
 
+use crate::overrides::{numbers, Numbers};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use packbed::analysis::find_contacts;
 use packbed::bed::AnyBed;
 use packbed::io::read::{read_bed, BoxHint};
-use packbed::io::Staging;
 use packbed::render::{self, ColorBy, Cut, RenderOptions, View};
 use std::path::{Path, PathBuf};
 
@@ -49,10 +49,10 @@ pub struct RenderArgs {
     /// 3D view as AZIMUTH,ELEVATION in degrees (azimuth from the front towards +x);
     /// default -30,30.
     #[arg(long, value_name = "AZ,EL", allow_hyphen_values = true)]
-    pub view: Option<String>,
+    pub view: Option<View>,
     /// 3D cut-away: `half` (back half), or a slab `x:LO:HI`, `y:LO:HI`, `z:LO:HI`.
-    #[arg(long, value_name = "CUT")]
-    pub cut: Option<String>,
+    #[arg(long, value_name = "CUT", allow_hyphen_values = true)]
+    pub cut: Option<Cut>,
     /// No outlines around particles.
     #[arg(long)]
     pub no_outlines: bool,
@@ -60,8 +60,8 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 2)]
     pub supersample: u32,
     /// Box for files without one: W,H (2D) or W,D,H (3D).
-    #[arg(long = "box", value_name = "BOX")]
-    pub box_size: Option<String>,
+    #[arg(long = "box", value_name = "BOX", value_parser = numbers)]
+    pub box_size: Option<Numbers>,
     /// The box given with --box has periodic sides.
     #[arg(long)]
     pub periodic: bool,
@@ -97,67 +97,41 @@ pub fn render(args: RenderArgs) -> Result<()> {
     if out == args.path {
         bail!("--out {}: would overwrite the bed file", out.display());
     }
-    let out_dir = out
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    packbed::io::atomic::probe_dir(out_dir).with_context(|| format!("--out {}", out.display()))?;
-    let hint = match &args.box_size {
-        Some(b) => Some(BoxHint {
-            size: numbers(b, "--box")?,
-            periodic: args.periodic,
-        }),
-        None => None,
-    };
-    let view = match &args.view {
-        Some(text) => {
-            let v = numbers(text, "--view")?;
-            if v.len() != 2 {
-                bail!("--view {text}: give AZIMUTH,ELEVATION in degrees");
-            }
-            View {
-                azimuth: v[0],
-                elevation: v[1],
-            }
-        }
-        None => View::default(),
-    };
+    let out_dir = out.parent().filter(|p| !p.as_os_str().is_empty());
+    crate::run::check_out_dir(out_dir.unwrap_or(Path::new(".")))?;
+    let hint = args.box_size.as_ref().map(|size| BoxHint {
+        size: size.clone(),
+        periodic: args.periodic,
+    });
     let mut opts = RenderOptions {
         width: args.width,
         height: args.height,
         network: args.network || args.color == Color::Contacts,
         contact_tol: args.contact_tol,
         outlines: !args.no_outlines,
-        view,
-        cut: parse_cut(args.cut.as_deref())?,
+        view: args.view.unwrap_or_default(),
+        cut: args.cut.unwrap_or(Cut::None),
         supersample: args.supersample,
         title: args.title.clone(),
         ..RenderOptions::default()
     };
     opts.check()?;
     let bed = read_bed(&args.path, hint.as_ref())?;
-    if let AnyBed::D2(_) = &bed {
-        // A 2D picture has no viewing direction and nothing in front to cut
-        // away: taking the options silently would hide a mistaken file.
-        let given: Vec<&str> = [
-            ("--view", args.view.is_some()),
-            ("--cut", args.cut.is_some()),
-        ]
-        .iter()
-        .filter_map(|&(o, g)| g.then_some(o))
-        .collect();
-        if !given.is_empty() {
-            bail!(
-                "{} {}: {} is a 2D bed (views and cut-aways are for 3D beds)",
-                given.join(" and "),
-                if given.len() == 1 {
-                    "applies only in 3D"
-                } else {
-                    "apply only in 3D"
-                },
-                args.path.display()
-            );
-        }
+    // A 2D picture has no viewing direction and nothing in front to cut
+    // away: taking the options silently would hide a mistaken file.
+    let given: Vec<&str> = [
+        ("--view", args.view.is_some()),
+        ("--cut", args.cut.is_some()),
+    ]
+    .into_iter()
+    .filter_map(|(o, g)| g.then_some(o))
+    .collect();
+    if bed.dim() == 2 && !given.is_empty() {
+        let path = args.path.display();
+        bail!(
+            "{}: {path} is a 2D bed (views and cut-aways are for 3D beds)",
+            given.join(" and ")
+        );
     }
     opts.color = match args.color {
         Color::Species => ColorBy::Species,
@@ -176,7 +150,8 @@ pub fn render(args: RenderArgs) -> Result<()> {
     } else {
         render::render_png(&bed, &opts)?
     };
-    write_atomically(&out, &bytes)?;
+    packbed::output::write_file(&out, &bytes)
+        .with_context(|| format!("--out {}", out.display()))?;
     Ok(())
 }
 
@@ -190,61 +165,4 @@ fn chains<const D: usize>(
         packbed::analysis::percolation::default_large_radius(bed) * (1.0 - 1e-9)
     });
     Ok(render::spanning_clusters(bed, &contacts, large)?)
-}
-
-/// `1,2,3` → numbers, naming the option on failure.
-fn numbers(text: &str, option: &str) -> Result<Vec<f64>> {
-    text.split(',')
-        .map(|s| {
-            let v: f64 = s
-                .trim()
-                .parse()
-                .with_context(|| format!("{option} {text}: \"{}\" is not a number", s.trim()))?;
-            if !v.is_finite() {
-                bail!("{option} {text}: {v} is not a finite number");
-            }
-            Ok(v)
-        })
-        .collect()
-}
-
-/// `half`, `x:LO:HI`, `y:LO:HI`, `z:LO:HI`.
-fn parse_cut(text: Option<&str>) -> Result<Cut> {
-    let Some(t) = text else { return Ok(Cut::None) };
-    if t == "half" {
-        return Ok(Cut::Half);
-    }
-    let parts: Vec<&str> = t.split(':').collect();
-    let axis = match parts.first().copied() {
-        Some("x") => 0,
-        Some("y") => 1,
-        Some("z") => 2,
-        _ => bail!("--cut {t}: give half, or x:LO:HI, y:LO:HI, z:LO:HI"),
-    };
-    if parts.len() != 3 {
-        bail!("--cut {t}: give half, or x:LO:HI, y:LO:HI, z:LO:HI");
-    }
-    let lo = numbers(parts[1], "--cut")?[0];
-    let hi = numbers(parts[2], "--cut")?[0];
-    // `lo < hi` is false for NaN too, which is refused with the same message.
-    if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
-        bail!("--cut {t}: LO must be below HI");
-    }
-    Ok(Cut::Slab { axis, lo, hi })
-}
-
-/// Writes a single file through a temporary file and a rename.
-fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .and_then(|n| n.to_str())
-        .with_context(|| format!("--out {}: not a file name", path.display()))?;
-    let mut s = Staging::new(dir)?;
-    s.stage(name, |w| w.write_all(bytes))?;
-    s.commit()?;
-    Ok(())
 }

@@ -2,11 +2,11 @@
 
 use crate::overrides::Overrides;
 use crate::progress::Progress;
-use crate::report;
 use anyhow::{Context, Result};
 use clap::Args;
 use packbed::config::Config;
 use packbed::io;
+use packbed::output::{text, RunExtras};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `packbed run`.
@@ -17,9 +17,16 @@ pub struct RunArgs {
     pub config: Option<PathBuf>,
     #[command(flatten)]
     pub overrides: Overrides,
+    #[command(flatten)]
+    pub files: FileArgs,
     /// Directory for the output files (created if needed).
     #[arg(long, value_name = "DIR", default_value = "packbed-out")]
     pub out: PathBuf,
+}
+
+/// What `run` and `analyze` write besides their tables, and what they print.
+#[derive(Debug, Args)]
+pub struct FileArgs {
     /// Also write these exports: a comma-separated list of vtk, dump, xyz.
     #[arg(long, value_name = "LIST")]
     pub export: Option<String>,
@@ -31,27 +38,31 @@ pub struct RunArgs {
     pub quiet: bool,
 }
 
+impl FileArgs {
+    /// The pictures and exports to write.
+    pub fn extras(&self) -> Result<RunExtras> {
+        Ok(RunExtras {
+            pictures: !self.no_pictures,
+            exports: match &self.export {
+                Some(list) => io::export::Format::parse_list(list)?,
+                None => Vec::new(),
+            },
+        })
+    }
+}
+
 /// Runs `packbed run`.
 pub fn run(args: RunArgs) -> Result<()> {
     let config = load(&args)?;
+    let extras = args.files.extras()?;
     check_out_dir(&args.out)?;
-    let extras = packbed::output::RunExtras {
-        pictures: !args.no_pictures,
-        exports: match &args.export {
-            Some(list) => io::export::Format::parse_list(list)?,
-            None => Vec::new(),
-        },
-    };
-    let mut progress = Progress::new(&config, args.quiet);
+    let mut progress = Progress::new(&config, args.files.quiet);
     let finished = packbed::pipeline::run_bed(&config, &mut |n| progress.update(n));
     progress.finish();
     let finished = finished?;
     let written = finished.write_with(&args.out, &extras)?;
-    if !args.quiet {
-        print!(
-            "{}",
-            report::run_text(&finished.summary, &args.out, &written)
-        );
+    if !args.files.quiet {
+        print!("{}", text::run_text(&finished.summary, &args.out, &written));
     }
     Ok(())
 }
@@ -90,17 +101,5 @@ pub fn source_name(path: Option<&Path>, overrides: &Overrides) -> String {
 /// Refuses an output directory that cannot be created or written before the
 /// run, so that a long run does not fail at its very end.
 pub fn check_out_dir(out: &Path) -> Result<()> {
-    let existing = out
-        .ancestors()
-        .find(|a| a.as_os_str().is_empty() || a.exists());
-    if let Some(a) = existing {
-        if !a.as_os_str().is_empty() && !a.is_dir() {
-            anyhow::bail!(
-                "--out {}: {} exists and is not a directory",
-                out.display(),
-                a.display()
-            );
-        }
-    }
-    io::atomic::probe_dir(out).with_context(|| format!("--out {}", out.display()))
+    packbed::output::check_out_dir(out).with_context(|| format!("--out {}", out.display()))
 }

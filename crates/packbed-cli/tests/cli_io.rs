@@ -121,7 +121,7 @@ fn given_box_wins_over_the_summary_beside() {
         "b",
     ]);
     assert!(
-        o.stdout.contains("box from --box, periodic sides"),
+        o.stdout.contains("box from the options, periodic sides"),
         "{}",
         o.stdout
     );

@@ -106,3 +106,102 @@ impl<const D: usize> Bed<D> {
         self.radii.iter().map(|&r| ball_volume::<D>(r)).sum()
     }
 }
+
+impl<const D: usize> Bed<D> {
+    /// This bed as a 2D bed, when it is one. With [`Bed::as_3d`], the one
+    /// place generic code learns its dimension (2D-only measures such as the
+    /// voids, the 2D and 3D pictures), without copying the bed.
+    pub fn as_2d(&self) -> Option<&Bed<2>> {
+        (self as &dyn std::any::Any).downcast_ref()
+    }
+
+    /// This bed as a 3D bed, when it is one.
+    pub fn as_3d(&self) -> Option<&Bed<3>> {
+        (self as &dyn std::any::Any).downcast_ref()
+    }
+}
+
+/// Runs `$body` with `$b` bound to the bed inside an [`AnyBed`], whatever its
+/// dimension: the one match on the dimension of the bed's methods (here and
+/// in the measures, [`crate::analysis`]).
+macro_rules! each_dim {
+    ($bed:expr, $b:ident => $body:expr) => {
+        match $bed {
+            $crate::bed::AnyBed::D2($b) => $body,
+            $crate::bed::AnyBed::D3($b) => $body,
+        }
+    };
+}
+pub(crate) use each_dim;
+
+impl AnyBed {
+    /// Wraps a bed of dimension 2 or 3 (the only ones packbed builds or reads).
+    pub fn from_bed<const D: usize>(bed: Bed<D>) -> Option<AnyBed> {
+        let any: Box<dyn std::any::Any> = Box::new(bed);
+        match any.downcast::<Bed<2>>() {
+            Ok(b) => Some(AnyBed::D2(*b)),
+            Err(any) => any.downcast::<Bed<3>>().ok().map(|b| AnyBed::D3(*b)),
+        }
+    }
+
+    /// 2 or 3.
+    pub fn dim(&self) -> u8 {
+        each_dim!(self, b => b.container.size.0.len() as u8)
+    }
+
+    /// Number of particles (spheres, discs or beads).
+    pub fn len(&self) -> usize {
+        each_dim!(self, b => b.len())
+    }
+
+    /// True when the bed holds no particle.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Number of bodies (a chain is one body).
+    pub fn body_count(&self) -> usize {
+        each_dim!(self, b => b.body_count())
+    }
+
+    /// True when the side boundaries are periodic.
+    pub fn periodic(&self) -> bool {
+        each_dim!(self, b => b.container.periodic)
+    }
+
+    /// The box extents: `[W, H]` or `[W, D, H]` (the last is the height).
+    pub fn size(&self) -> Vec<Real> {
+        each_dim!(self, b => b.container.size.0.to_vec())
+    }
+
+    /// The particle centres as rows of `dim()` coordinates, one after another
+    /// (x, y[, z] of particle 0, then particle 1, …), as `particles.csv` has them.
+    pub fn positions(&self) -> Vec<Real> {
+        each_dim!(self, b => b.centres.iter().flat_map(|c| c.0).collect())
+    }
+
+    /// Radius of each particle.
+    pub fn radii(&self) -> &[Real] {
+        each_dim!(self, b => &b.radii)
+    }
+
+    /// Species index of each particle.
+    pub fn species(&self) -> &[u32] {
+        each_dim!(self, b => &b.species)
+    }
+
+    /// Body index of each particle (the beads of a chain share it).
+    pub fn bodies(&self) -> &[u32] {
+        each_dim!(self, b => &b.bodies)
+    }
+
+    /// The species of the bed (names and sizes).
+    pub fn species_info(&self) -> &[Species] {
+        each_dim!(self, b => &b.species_info)
+    }
+
+    /// Total solid volume (area in 2D).
+    pub fn solid_volume(&self) -> Real {
+        each_dim!(self, b => b.solid_volume())
+    }
+}

@@ -59,3 +59,42 @@ impl Error {
         }
     }
 }
+
+/// The one line a user sees for an error and its causes (the command prints
+/// it after `packbed: error: `; the Python package raises it): `FILE:LINE:
+/// what` when it has a place in a file, else the causes joined as "what: why".
+/// A place found under a context (the config that named a PSD table, say)
+/// still leads, the context following in parentheses, so that every error
+/// with a line has the same shape.
+pub fn one_line(e: &(dyn std::error::Error + 'static)) -> String {
+    let causes: Vec<&(dyn std::error::Error + 'static)> =
+        std::iter::successors(Some(e), |c| c.source()).collect();
+    let placed = causes
+        .iter()
+        .position(|c| matches!(c.downcast_ref::<Error>(), Some(Error::Data { .. })));
+    let text = match placed {
+        Some(k) if k > 0 => {
+            let outer: Vec<String> = causes[..k].iter().map(|c| c.to_string()).collect();
+            format!("{} (in {})", joined(&causes[k..]), outer.join(": "))
+        }
+        _ => joined(&causes),
+    };
+    // Parsers' messages may span lines; a script reading stderr wants one.
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// The causes as "what: why", leaving out a cause whose text the message
+/// already quotes (I/O errors include their source).
+fn joined(causes: &[&(dyn std::error::Error + 'static)]) -> String {
+    let mut text = String::new();
+    for cause in causes {
+        let c = cause.to_string();
+        if !text.contains(&c) {
+            if !text.is_empty() {
+                text.push_str(": ");
+            }
+            text.push_str(&c);
+        }
+    }
+    text
+}

@@ -27,6 +27,7 @@
 
 pub mod analysis;
 pub mod bed;
+pub mod bench;
 pub mod config;
 pub mod container;
 pub mod deposit;

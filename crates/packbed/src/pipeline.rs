@@ -1,13 +1,17 @@
-//! One bed from start to finish: config → deposition → analysis → run summary.
+//! One bed from start to finish: config → deposition → analysis → run summary
+//! ([`run_bed`]), or bed file → analysis → analysis summary ([`analyze_file`]).
 //! `packbed run` and every replicate of an ensemble go through [`run_bed`], so a
 //! replicate's `summary.json` is exactly what `run` would write for its seed.
 
 use crate::analysis::Contacts;
 use crate::bed::{AnyBed, Bed};
-use crate::config::Config;
+use crate::config::{AnalysisConfig, Config};
 use crate::deposit::DepositReport;
-use crate::error::Result;
-use crate::io::{RunSummary, Timing};
+use crate::error::{Error, Result};
+use crate::io::read::{read_bed_report, BoxHint, ReadReport};
+use crate::io::summary::{AnalyzeSettings, AnalyzeTiming};
+use crate::io::{AnalyzeSummary, RunSummary, Timing};
+use crate::output::RunExtras;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -45,15 +49,7 @@ fn analyse<const D: usize>(
     start: Instant,
 ) -> (Contacts, RunSummary) {
     let t = Instant::now();
-    let options = crate::analysis::AnalysisOptions {
-        bulk_min_bodies: config.analysis.bulk_min_bodies,
-        angle_from: config.analysis.chain_angle_from,
-        ..crate::analysis::AnalysisOptions::new(
-            config.analysis.contact_tol,
-            config.analysis.large_radius,
-        )
-    };
-    let (contacts, analysis) = crate::analysis::analyze_with(bed, &options);
+    let (contacts, analysis) = crate::analysis::analyze_with(bed, &config.analysis.options());
     let timing = Timing {
         deposit_seconds: deposit.deposit_seconds,
         analysis_seconds: t.elapsed().as_secs_f64(),
@@ -66,24 +62,107 @@ fn analyse<const D: usize>(
 impl FinishedBed {
     /// Writes the run's files (`output::RUN_FILES`) into `dir`, atomically.
     pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>> {
-        match &self.bed {
-            AnyBed::D2(b) => crate::output::write_run(dir, b, &self.contacts, &self.summary),
-            AnyBed::D3(b) => crate::output::write_run(dir, b, &self.contacts, &self.summary),
-        }
+        self.write_with(dir, &RunExtras::default())
     }
 
     /// Writes the run's files plus pictures, plots and exports, atomically.
-    pub fn write_with(
-        &self,
-        dir: &Path,
-        extras: &crate::output::RunExtras,
-    ) -> Result<Vec<PathBuf>> {
+    pub fn write_with(&self, dir: &Path, extras: &RunExtras) -> Result<Vec<PathBuf>> {
         match &self.bed {
             AnyBed::D2(b) => {
                 crate::output::write_run_with(dir, b, &self.contacts, &self.summary, extras)
             }
             AnyBed::D3(b) => {
                 crate::output::write_run_with(dir, b, &self.contacts, &self.summary, extras)
+            }
+        }
+    }
+}
+
+/// A bed read from a file and analysed, with its summary.
+#[derive(Clone, Debug)]
+pub struct AnalyzedBed {
+    /// The bed as read.
+    pub bed: AnyBed,
+    /// Particle and wall contacts found by the analysis.
+    pub contacts: Contacts,
+    /// Everything the analysis' `summary.json` holds.
+    pub summary: AnalyzeSummary,
+}
+
+/// Reads the bed file at `path` (any format [`read_bed_report`] knows; `hint`
+/// is the box for files without one, and wins over a box in the file) and
+/// analyses it with `settings`.
+pub fn analyze_file(
+    path: &Path,
+    hint: Option<&BoxHint>,
+    settings: &AnalysisConfig,
+) -> Result<AnalyzedBed> {
+    settings.check()?;
+    if let Some(h) = hint {
+        check_box_hint(h).map_err(|e| e.within("box"))?;
+    }
+    let t = Instant::now();
+    let (bed, read) = read_bed_report(path, hint)?;
+    let read_seconds = t.elapsed().as_secs_f64();
+    let source = path.display().to_string();
+    let (contacts, summary) = match &bed {
+        AnyBed::D2(b) => analyze_read(&source, b, &read, settings, read_seconds),
+        AnyBed::D3(b) => analyze_read(&source, b, &read, settings, read_seconds),
+    };
+    Ok(AnalyzedBed {
+        bed,
+        contacts,
+        summary,
+    })
+}
+
+/// Refuses a box given by the caller unless it has two or three positive sizes.
+pub fn check_box_hint(hint: &BoxHint) -> Result<()> {
+    if !(2..=3).contains(&hint.size.len()) {
+        return Err(Error::config(format!(
+            "give W,H (2D) or W,D,H (3D), got {} sizes",
+            hint.size.len()
+        )));
+    }
+    match hint.size.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+        Some(v) => Err(Error::config(format!("sizes must be positive, got {v}"))),
+        None => Ok(()),
+    }
+}
+
+fn analyze_read<const D: usize>(
+    source: &str,
+    bed: &Bed<D>,
+    read: &ReadReport,
+    settings: &AnalysisConfig,
+    read_seconds: f64,
+) -> (Contacts, AnalyzeSummary) {
+    let t = Instant::now();
+    let (contacts, analysis) = crate::analysis::analyze_with(bed, &settings.options());
+    let overlaps = crate::analysis::overlaps(bed, &contacts);
+    let timing = AnalyzeTiming {
+        read_seconds,
+        analysis_seconds: t.elapsed().as_secs_f64(),
+    };
+    let recorded = AnalyzeSettings {
+        contact_tol: settings.contact_tol,
+        large_radius: settings.large_radius,
+        chain_angle_from: settings.chain_angle_from,
+    };
+    let summary = AnalyzeSummary::new(source, bed, read, &overlaps, recorded, &analysis, timing);
+    (contacts, summary)
+}
+
+impl AnalyzedBed {
+    /// Writes the analysis files (`output::ANALYZE_FILES`) plus pictures,
+    /// plots and exports into `dir`, atomically.
+    pub fn write_with(&self, dir: &Path, extras: &RunExtras) -> Result<Vec<PathBuf>> {
+        match &self.bed {
+            AnyBed::D2(b) => {
+                crate::output::write_analysis(dir, b, &self.contacts, &self.summary, extras)
+            }
+            AnyBed::D3(b) => {
+                crate::output::write_analysis(dir, b, &self.contacts, &self.summary, extras)
             }
         }
     }

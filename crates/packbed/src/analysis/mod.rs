@@ -248,8 +248,7 @@ pub fn analyze_timed<const D: usize>(
     };
     let percolation = percolation::percolation_timed(bed, &contacts, &opts.percolation, times);
     let voids = times.time("voids", || {
-        (bed as &dyn std::any::Any)
-            .downcast_ref::<Bed<2>>()
+        bed.as_2d()
             .map(|b2| voids::void_summary(b2, &voids::voids(b2, &contacts)))
     });
     let summary = Summary {
@@ -265,6 +264,19 @@ pub fn analyze_timed<const D: usize>(
         }),
     };
     (contacts, summary)
+}
+
+impl crate::bed::AnyBed {
+    /// The contacts between particles and with the walls, at this tolerance
+    /// relative to the smaller radius of each pair.
+    pub fn contacts(&self, contact_tol: Real) -> Contacts {
+        crate::bed::each_dim!(self, b => find_contacts(b, contact_tol))
+    }
+
+    /// Every measure of the bed, with its contacts.
+    pub fn analyze(&self, options: &AnalysisOptions) -> (Contacts, Summary) {
+        crate::bed::each_dim!(self, b => analyze_with(b, options))
+    }
 }
 
 /// Coordination numbers: overall, in the bulk and per species.

@@ -222,6 +222,32 @@ impl Default for AnalysisConfig {
     }
 }
 
+impl AnalysisConfig {
+    /// Refuses a negative or non-finite contact tolerance and a threshold
+    /// radius that is not positive.
+    pub fn check(&self) -> Result<()> {
+        let tol = self.contact_tol;
+        if !(tol.is_finite() && tol >= 0.0) {
+            return Err(Error::config(format!(
+                "analysis.contact_tol must be a non-negative number, got {tol}"
+            )));
+        }
+        if let Some(r) = self.large_radius {
+            positive(r, "analysis.large_radius")?;
+        }
+        Ok(())
+    }
+
+    /// The options the analysis runs with.
+    pub fn options(&self) -> crate::analysis::AnalysisOptions {
+        crate::analysis::AnalysisOptions {
+            bulk_min_bodies: self.bulk_min_bodies,
+            angle_from: self.chain_angle_from,
+            ..crate::analysis::AnalysisOptions::new(self.contact_tol, self.large_radius)
+        }
+    }
+}
+
 fn default_bulk_min_bodies() -> u64 {
     crate::analysis::BULK_MIN_BODIES
 }
@@ -648,16 +674,9 @@ impl Config {
                 )));
             }
         }
+        self.analysis.check()?;
         let tol = self.analysis.contact_tol;
-        if !(tol.is_finite() && tol >= 0.0) {
-            return Err(Error::config(format!(
-                "analysis.contact_tol must be a non-negative number, got {tol}"
-            )));
-        }
-        let large_radius = match self.analysis.large_radius {
-            Some(r) => positive(r, "analysis.large_radius")?,
-            None => r_max,
-        };
+        let large_radius = self.analysis.large_radius.unwrap_or(r_max);
         Ok(Plan {
             seed: self.seed,
             mode: self.mode,
@@ -668,6 +687,49 @@ impl Config {
             contact_tol: tol,
             large_radius,
         })
+    }
+}
+
+impl Config {
+    /// How many particles the run will place: exact for `count`, a guess for
+    /// the roof (box volume × typical packing ÷ mean particle volume), 0 when
+    /// the config is invalid. For progress bars.
+    pub fn estimated_particles(&self) -> u64 {
+        match self.dim {
+            2 => self.plan::<2>().map_or(0, |p| p.estimated_particles()),
+            _ => self.plan::<3>().map_or(0, |p| p.estimated_particles()),
+        }
+    }
+}
+
+impl<const D: usize> Plan<D> {
+    /// See [`Config::estimated_particles`].
+    pub fn estimated_particles(&self) -> u64 {
+        if let Fill::Count(n) = self.fill {
+            return n;
+        }
+        // Mean volume per particle (bead), weighting each species by its ratio
+        // and its beads per body.
+        let (mut beads, mut volume) = (0.0, 0.0);
+        for s in &self.species {
+            let n = match s.shape {
+                Shape::Sphere => 1.0,
+                Shape::Chain { beads, .. } => beads as Real,
+            };
+            beads += s.ratio * n;
+            volume += s.ratio * n * crate::math::ball_volume::<D>(s.size.median());
+        }
+        if beads <= 0.0 || volume <= 0.0 {
+            return 0;
+        }
+        // Typical packing fractions of deposited beds, 2D and 3D.
+        let typical = if D == 2 { 0.8 } else { 0.6 };
+        let n = self.container.volume() * typical / (volume / beads);
+        if n.is_finite() {
+            n as u64
+        } else {
+            0
+        }
     }
 }
 

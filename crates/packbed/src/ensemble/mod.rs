@@ -25,6 +25,7 @@ pub mod seeds;
 pub mod stats;
 pub mod sweep;
 pub mod tables;
+pub mod text;
 
 use crate::config::Config;
 use crate::error::{Error, Result};

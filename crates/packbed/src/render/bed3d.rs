@@ -84,6 +84,49 @@ pub enum Cut {
     },
 }
 
+impl std::str::FromStr for View {
+    type Err = String;
+
+    /// `AZIMUTH,ELEVATION` in degrees, e.g. `-30,30`.
+    fn from_str(text: &str) -> std::result::Result<View, String> {
+        match crate::config::parse_numbers(text)?.as_slice() {
+            [a, e] if a.is_finite() && e.is_finite() => Ok(View {
+                azimuth: *a,
+                elevation: *e,
+            }),
+            _ => Err(format!("`{text}`: give AZIMUTH,ELEVATION in degrees")),
+        }
+    }
+}
+
+impl std::str::FromStr for Cut {
+    type Err = String;
+
+    /// `half`, or a slab `x:LO:HI`, `y:LO:HI`, `z:LO:HI`.
+    fn from_str(t: &str) -> std::result::Result<Cut, String> {
+        if t == "half" {
+            return Ok(Cut::Half);
+        }
+        let usage = || format!("`{t}`: give half, or x:LO:HI, y:LO:HI, z:LO:HI");
+        let parts: Vec<&str> = t.split(':').collect();
+        let axis = match parts.as_slice() {
+            ["x", _, _] => 0,
+            ["y", _, _] => 1,
+            ["z", _, _] => 2,
+            _ => return Err(usage()),
+        };
+        let bound = |p: &str| match p.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => Err(format!("`{t}`: \"{p}\" is not a finite number")),
+        };
+        let (lo, hi) = (bound(parts[1])?, bound(parts[2])?);
+        if lo >= hi {
+            return Err(format!("`{t}`: LO must be below HI"));
+        }
+        Ok(Cut::Slab { axis, lo, hi })
+    }
+}
+
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [
         a[1] * b[2] - a[2] * b[1],

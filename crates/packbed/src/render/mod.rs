@@ -129,20 +129,31 @@ impl RenderOptions {
 
 /// The PNG picture of a bed (2D: antialiased discs; 3D: shaded spheres).
 pub fn render_png(bed: &AnyBed, opts: &RenderOptions) -> Result<Vec<u8>> {
-    opts.check()?;
-    match bed {
-        AnyBed::D2(b) => bed2d::png(b, opts),
-        AnyBed::D3(b) => bed3d::png(b, opts),
-    }
+    crate::bed::each_dim!(bed, b => png_of(b, opts))
 }
 
 /// The SVG picture of a 2D bed (one `<circle class="particle">` per disc, in bed
 /// coordinates). 3D beds have no SVG picture (an error says so).
 pub fn render_svg(bed: &AnyBed, opts: &RenderOptions) -> Result<String> {
+    crate::bed::each_dim!(bed, b => svg_of(b, opts))
+}
+
+/// [`render_png`] for a bed of either dimension, without wrapping it.
+pub fn png_of<const D: usize>(bed: &Bed<D>, opts: &RenderOptions) -> Result<Vec<u8>> {
     opts.check()?;
-    match bed {
-        AnyBed::D2(b) => bed2d::svg(b, opts),
-        AnyBed::D3(_) => Err(Error::Impossible(
+    match (bed.as_2d(), bed.as_3d()) {
+        (Some(b), _) => bed2d::png(b, opts),
+        (_, Some(b)) => bed3d::png(b, opts),
+        _ => Err(Error::Impossible(format!("{D}D beds cannot be drawn"))),
+    }
+}
+
+/// [`render_svg`] for a bed of either dimension, without wrapping it.
+pub fn svg_of<const D: usize>(bed: &Bed<D>, opts: &RenderOptions) -> Result<String> {
+    opts.check()?;
+    match bed.as_2d() {
+        Some(b) => bed2d::svg(b, opts),
+        None => Err(Error::Impossible(
             "SVG pictures are for 2D beds; a 3D bed is drawn as PNG".into(),
         )),
     }

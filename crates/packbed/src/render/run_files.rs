@@ -2,11 +2,11 @@
 //! atomic staging (see [`crate::output::write_run_with`]).
 
 use super::run_plots;
-use super::{render_png, render_svg, RenderOptions};
+use super::{png_of, svg_of, RenderOptions};
 use crate::analysis::orientation::AngleFrom;
 use crate::analysis::{coordination, profile, Contacts};
-use crate::bed::{AnyBed, Bed};
-use crate::error::{Error, Result};
+use crate::bed::Bed;
+use crate::error::Result;
 use crate::math::Real;
 
 /// Size of plot images in pixels.
@@ -23,14 +23,13 @@ pub fn pictures<const D: usize>(
     let mut out = Vec::new();
     let z = coordination(bed, contacts);
     {
-        let any = to_any(bed)?;
         let opts = RenderOptions {
             contact_tol,
             ..RenderOptions::default()
         };
-        out.push(("bed.png".to_string(), render_png(&any, &opts)?));
+        out.push(("bed.png".to_string(), png_of(bed, &opts)?));
         if D == 2 {
-            out.push(("bed.svg".to_string(), render_svg(&any, &opts)?.into_bytes()));
+            out.push(("bed.svg".to_string(), svg_of(bed, &opts)?.into_bytes()));
         }
         let mut plots = vec![(
             "plot_coordination",
@@ -79,16 +78,4 @@ pub fn pictures<const D: usize>(
         }
     }
     Ok(out)
-}
-
-/// The bed as an [`AnyBed`] (a copy: the renderers dispatch on the dimension).
-fn to_any<const D: usize>(bed: &Bed<D>) -> Result<AnyBed> {
-    let any: &dyn std::any::Any = bed;
-    if let Some(b) = any.downcast_ref::<Bed<2>>() {
-        Ok(AnyBed::D2(b.clone()))
-    } else if let Some(b) = any.downcast_ref::<Bed<3>>() {
-        Ok(AnyBed::D3(b.clone()))
-    } else {
-        Err(Error::Impossible(format!("{D}D beds cannot be drawn")))
-    }
 }

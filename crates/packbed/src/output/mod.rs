@@ -3,6 +3,8 @@
 //! none does. Above [`crate::io`] (the files) and [`crate::render`] (the
 //! pictures), so that neither needs the other.
 
+pub mod text;
+
 use crate::analysis::{coordination, Contacts};
 use crate::bed::Bed;
 use crate::error::{Error, Result};
@@ -131,4 +133,37 @@ fn extra_files<const D: usize>(
         }
     }
     Ok(out)
+}
+
+/// Refuses an output directory that cannot be created or written, before the
+/// work, so that a long run does not fail at its very end.
+pub fn check_out_dir(out: &Path) -> Result<()> {
+    let existing = out
+        .ancestors()
+        .find(|a| a.as_os_str().is_empty() || a.exists());
+    if let Some(a) = existing {
+        if !a.as_os_str().is_empty() && !a.is_dir() {
+            return Err(Error::Impossible(format!(
+                "{} exists and is not a directory",
+                a.display()
+            )));
+        }
+    }
+    crate::io::atomic::probe_dir(out)
+}
+
+/// Writes one file (a picture, say) through a temporary file and a rename, so
+/// that it appears whole or not at all.
+pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .ok_or_else(|| Error::Impossible(format!("{}: not a file name", path.display())))?;
+    let mut s = Staging::new(dir)?;
+    s.stage(name, |w| w.write_all(bytes))?;
+    s.commit().map(drop)
 }

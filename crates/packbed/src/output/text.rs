@@ -1,9 +1,11 @@
-//! The short human summary `packbed run` prints on stdout.
+//! The short summaries for a person that `packbed run` and `packbed analyze`
+//! print (and a notebook may show): the headline numbers of `summary.json`,
+//! rounded for reading, and where the files are.
 
-use packbed::analysis::percolation::DirectionPercolation;
-use packbed::analysis::Summary;
-use packbed::io::summary::BoxSummary;
-use packbed::io::{AnalyzeSummary, RunSummary};
+use crate::analysis::percolation::DirectionPercolation;
+use crate::analysis::Summary;
+use crate::io::summary::BoxSummary;
+use crate::io::{AnalyzeSummary, RunSummary};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
@@ -82,7 +84,7 @@ pub fn run_text(s: &RunSummary, out: &Path, files: &[PathBuf]) -> String {
         );
     }
     let c = &s.counts;
-    if s.mode == packbed::config::Mode::Rsa {
+    if s.mode == crate::config::Mode::Rsa {
         let _ = writeln!(
             t,
             "  particles: {} (random sequential addition{})",
@@ -141,7 +143,7 @@ pub fn analyze_text(s: &AnalyzeSummary, out: &Path, files: &[PathBuf]) -> String
         "walls"
     };
     let from = match b.source {
-        Some("options") => " from --box".to_string(),
+        Some("options") => " from the options".to_string(),
         Some(f) => format!(" from the {f}"),
         None => String::new(),
     };
@@ -163,12 +165,13 @@ pub fn analyze_text(s: &AnalyzeSummary, out: &Path, files: &[PathBuf]) -> String
     t
 }
 
-/// The warning about overlapping particles in an analysed bed, if any.
+/// The warning about overlapping particles in an analysed bed, if any (the
+/// caller adds its own prefix, e.g. "packbed: warning: ").
 pub fn overlap_warning(s: &AnalyzeSummary) -> Option<String> {
     let c = &s.checks;
     (c.overlapping_pairs > 0).then(|| {
         format!(
-            "packbed: warning: overlap: {} pair{} of particles overlap, the worst by {} of the \
+            "overlap: {} pair{} of particles overlap, the worst by {} of the \
              smaller radius (analysed all the same; checks.* in summary.json)",
             c.overlapping_pairs,
             if c.overlapping_pairs == 1 { "" } else { "s" },

@@ -1,0 +1,169 @@
+//! The throughput benchmark of `packbed bench` (and of the Python package): a
+//! bed of equal spheres (discs in 2D) or rigid chains dropped onto a bare floor,
+//! and, on request, the time of every analysis stage on a bed.
+//!
+//! The bed: `n` bodies of radius 10 (`base_layer = "none"`, so that only drop
+//! and roll is timed), `fill.count = n`, in a box whose side is about n^(1/3)
+//! diameters in 3D (n^(1/2) in 2D), so that the bed ends up roughly as high as
+//! it is wide.
+
+use crate::analysis::{analyze_timed, AnalysisOptions, StageTimes};
+use crate::bed::{AnyBed, Bed};
+use crate::config::{BaseLayerKind, Config};
+use crate::error::Result;
+use serde::Serialize;
+use std::time::Instant;
+
+/// Radius of every bench particle.
+pub const RADIUS: f64 = 10.0;
+
+/// What to deposit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BenchBed {
+    /// 2 or 3.
+    pub dim: u8,
+    /// Bodies to deposit (chains, with `chains`).
+    pub n: u64,
+    /// Beads per rigid chain; `None` for spheres.
+    pub chains: Option<u32>,
+    /// Periodic side boundaries.
+    pub periodic: bool,
+}
+
+impl BenchBed {
+    /// The bench bed as a config (seed 1).
+    pub fn config(&self) -> Config {
+        let mut c = Config {
+            dim: self.dim,
+            seed: 1,
+            ..Config::default()
+        };
+        // One lateral side in diameters: a cube (square) of n particles at
+        // random close packing is about this wide; never narrower than 4
+        // diameters. A chain counts as its beads, and the box is at least two
+        // chains wide.
+        let beads = self.chains.unwrap_or(1);
+        let particles = self.n.saturating_mul(u64::from(beads));
+        let chain_length = (f64::from(beads) + 1.0) * RADIUS;
+        let side = ((particles as f64).powf(1.0 / self.dim as f64).max(4.0) * 2.0 * RADIUS)
+            .max(2.0 * chain_length);
+        c.container.width = Some(side);
+        c.container.depth = (self.dim == 3).then_some(side);
+        c.container.height = Some(side);
+        c.container.periodic = self.periodic;
+        c.fill.count = Some(particles);
+        c.fill.base_layer = BaseLayerKind::None;
+        c.species.truncate(1);
+        c.species[0].radius = Some(RADIUS);
+        if let Some(b) = self.chains {
+            c.species[0].shape = "chain".into();
+            c.species[0].beads = Some(b);
+        }
+        c
+    }
+}
+
+/// What `packbed bench --json` prints.
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchResult {
+    /// 2 or 3.
+    pub dim: u8,
+    /// Particles in the bed.
+    pub n: u64,
+    /// Periodic side boundaries.
+    pub periodic: bool,
+    /// Wall time of the deposition (0 for a bed read from a file).
+    pub seconds: f64,
+    /// Particles deposited per second.
+    pub particles_per_second: f64,
+    /// Bodies (chains, or particles) deposited.
+    pub bodies: u64,
+    /// Bodies deposited per second.
+    pub bodies_per_second: f64,
+    /// Particles re-dropped because they found no rest.
+    pub redrops: u64,
+    /// Peak resident memory of the process, where the system reports it (else 0).
+    pub peak_rss_bytes: u64,
+    /// Seconds per analysis stage, stages of the same name summed.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub analysis: Vec<(String, f64)>,
+}
+
+/// The stages the analysis speed target counts (`spec/performance.md`):
+/// contacts, packing and percolation without the capped chain enumeration.
+pub const TARGET_STAGES: [&str; 6] = [
+    "contacts",
+    "packing/",
+    "percolation/graph",
+    "percolation/clusters",
+    "percolation/shortest",
+    "percolation/disjoint",
+];
+
+/// Deposits the bench bed, timing it; `progress` is called with the particles
+/// placed so far.
+pub fn deposit(bench: &BenchBed, progress: &mut dyn FnMut(u64)) -> Result<(AnyBed, BenchResult)> {
+    let start = Instant::now();
+    let (bed, report) = crate::deposit::build(&bench.config(), progress)?;
+    let seconds = start.elapsed().as_secs_f64();
+    let mut result = measured(&bed, Some(seconds));
+    result.redrops = report.redrops;
+    Ok((bed, result))
+}
+
+/// The counts of `bed`, with the deposition rates when it took `seconds`.
+pub fn measured(bed: &AnyBed, seconds: Option<f64>) -> BenchResult {
+    let (n, bodies) = (bed.len(), bed.body_count());
+    BenchResult {
+        dim: bed.dim(),
+        n: n as u64,
+        periodic: bed.periodic(),
+        seconds: seconds.unwrap_or(0.0),
+        // A clock too coarse to see the run must not produce infinity.
+        particles_per_second: seconds.map_or(0.0, |s| n as f64 / s.max(1e-9)),
+        bodies: bodies as u64,
+        bodies_per_second: seconds.map_or(0.0, |s| bodies as f64 / s.max(1e-9)),
+        redrops: 0,
+        peak_rss_bytes: peak_rss_bytes().unwrap_or(0),
+        analysis: Vec::new(),
+    }
+}
+
+/// Seconds per analysis stage on `bed` with default settings, stages of the
+/// same name summed, in the order they first ran.
+pub fn time_analysis(bed: &AnyBed) -> Vec<(String, f64)> {
+    fn timed<const D: usize>(bed: &Bed<D>) -> StageTimes {
+        let mut times = StageTimes::default();
+        let _ = analyze_timed(bed, &AnalysisOptions::default(), &mut times);
+        times
+    }
+    let times = match bed {
+        AnyBed::D2(b) => timed(b),
+        AnyBed::D3(b) => timed(b),
+    };
+    let mut out: Vec<(String, f64)> = Vec::new();
+    for (name, t) in times.0 {
+        match out.iter_mut().find(|e| e.0 == name) {
+            Some(e) => e.1 += t,
+            None => out.push((name.to_string(), t)),
+        }
+    }
+    out
+}
+
+/// Seconds of the stages the speed target counts ([`TARGET_STAGES`]).
+pub fn target_seconds(stages: &[(String, f64)]) -> f64 {
+    stages
+        .iter()
+        .filter(|(name, _)| TARGET_STAGES.iter().any(|p| name.starts_with(p)))
+        .map(|e| e.1)
+        .sum()
+}
+
+/// Peak resident memory of this process (`VmHWM`), where Linux reports it.
+pub fn peak_rss_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
