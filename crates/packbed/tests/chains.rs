@@ -19,6 +19,16 @@ use packbed::deposit::chain::{ChainShape, Pose};
 use packbed::deposit::{deposit, drop_onto, DepositReport, Entry};
 use packbed::math::{Real, Vector};
 
+/// Drops one chain by hand; its bead centres at rest.
+fn drop_chain<const D: usize>(
+    bed: &Bed<D>,
+    shape: ChainShape,
+    start: Pose<D>,
+    seed: u64,
+) -> Option<Vec<Vector<D>>> {
+    drop_onto(bed, Entry::Chain { shape, start }, seed)
+}
+
 /// Gap tolerance of the model (`spec/model.md`: exact to 1e-9 r).
 const TOL: Real = 1e-9;
 
@@ -95,7 +105,7 @@ fn upright_two_bead_chain_on_the_floor_ends_lying_flat_2d() {
             com: Vector([20.0, 10.0]),
             axis: Vector([0.0, 1.0]),
         };
-        let beads = drop_onto(&bed, Entry::Chain { shape, start }, seed).expect("rests");
+        let beads = drop_chain(&bed, shape, start, seed).expect("rests");
         for b in &beads {
             assert!((b[1] - 1.0).abs() < 1e-10, "seed {seed}: {beads:?}");
         }
@@ -118,7 +128,7 @@ fn upright_chain_on_the_floor_ends_lying_flat_3d_and_tips_to_random_sides() {
             com: Vector([20.0, 20.0, 10.0]),
             axis: Vector([0.0, 0.0, 1.0]),
         };
-        let beads = drop_onto(&bed, Entry::Chain { shape, start }, seed).expect("rests");
+        let beads = drop_chain(&bed, shape, start, seed).expect("rests");
         for b in &beads {
             assert!((b[2] - 1.0).abs() < 1e-10, "seed {seed}: {beads:?}");
         }
@@ -144,7 +154,7 @@ fn long_upright_chain_lies_flat_in_3d() {
         com: Vector([30.0, 30.0, 30.0]),
         axis: Vector([0.0, 0.0, 1.0]),
     };
-    let beads = drop_onto(&bed, Entry::Chain { shape, start }, 3).expect("rests");
+    let beads = drop_chain(&bed, shape, start, 3).expect("rests");
     for b in &beads {
         assert!((b[2] - 1.0).abs() < 1e-10, "{beads:?}");
     }
@@ -167,7 +177,7 @@ fn chain_across_two_discs_rests_on_both_with_its_centre_of_mass_between() {
             com: Vector([x, 10.0]),
             axis: Vector([1.0, 0.0]),
         };
-        let beads = drop_onto(&bed, Entry::Chain { shape, start }, seed).expect("rests");
+        let beads = drop_chain(&bed, shape, start, seed).expect("rests");
         let all = with_chain(&bed, &beads, 1.0);
         assert_ok(&check_bed(&all, TOL), "across two discs");
         let com = beads.iter().fold(Vector::zero(), |a, b| a + *b) / 5.0;
@@ -201,15 +211,7 @@ fn chain_leaning_on_a_frictionless_wall_slides_down_flat() {
     let axis = Vector([-t.sin(), t.cos()]);
     // Top bead centre at x = 1 (touching the wall).
     let com = Vector([1.0, 10.0]) - axis * 2.0;
-    let beads = drop_onto(
-        &bed,
-        Entry::Chain {
-            shape,
-            start: Pose { com, axis },
-        },
-        1,
-    )
-    .expect("rests");
+    let beads = drop_chain(&bed, shape, Pose { com, axis }, 1).expect("rests");
     for b in &beads {
         assert!((b[1] - 1.0).abs() < 1e-10, "{beads:?}");
         assert!(b[0] >= 1.0 - 1e-12, "{beads:?}");
@@ -220,15 +222,7 @@ fn chain_leaning_on_a_frictionless_wall_slides_down_flat() {
     let bed = empty([40.0, 40.0, 40.0], false);
     let axis = Vector([-t.sin() * 0.6, -t.sin() * 0.8, t.cos()]);
     let com = Vector([1.0, 1.0, 10.0]) - axis * 2.0;
-    let beads = drop_onto(
-        &bed,
-        Entry::Chain {
-            shape,
-            start: Pose { com, axis },
-        },
-        1,
-    )
-    .expect("rests");
+    let beads = drop_chain(&bed, shape, Pose { com, axis }, 1).expect("rests");
     for b in &beads {
         assert!((b[2] - 1.0).abs() < 1e-10, "{beads:?}");
     }
@@ -253,7 +247,7 @@ fn chain_in_a_v_groove_rests_on_both_flanks() {
             com: Vector([30.0 + 0.1 * seed as Real, 30.0]),
             axis: Vector([0.0, 1.0]),
         };
-        let beads = drop_onto(&bed, Entry::Chain { shape, start }, seed).expect("rests");
+        let beads = drop_chain(&bed, shape, start, seed).expect("rests");
         assert_ok(&check_bed(&with_chain(&bed, &beads, 1.0), TOL), "groove");
     }
 }
