@@ -2,7 +2,9 @@
 //!
 //! Every geometric routine in packbed is generic over `const D: usize` (2 or 3) and
 //! works on [`Vector<D>`]. This module is the only place that names a concrete
-//! dimension; the last axis is always vertical ("up").
+//! dimension; the last axis is always vertical ("up"). The least-squares
+//! routines of the force balances live in `lsq.rs`, the rotations of turning
+//! bodies in `rotation.rs`.
 
 use std::ops::{Add, AddAssign, Div, Index, IndexMut, Mul, Neg, Sub, SubAssign};
 
