@@ -15,7 +15,8 @@ use crate::species::Orientation;
 const BASE_LAYER_PATIENCE: u64 = 10;
 
 impl<const D: usize> Engine<'_, D> {
-    /// Random particles resting on the floor until saturated, then the sweep.
+    /// Random particles resting on the floor until saturated, then the sweep
+    /// ([`Self::sweep`]).
     pub(super) fn base_layer(&mut self) {
         let target = self.target();
         let c = self.plan.container;
@@ -65,10 +66,16 @@ impl<const D: usize> Engine<'_, D> {
                 failures += 1;
             }
         }
-        // The sweep: along the floor in order of position, fill every gap where
-        // the smallest particle still fits, touching its neighbours. When the
-        // smallest particle is a chain the random phase alone saturates the floor
-        // (the sweep's vertices are for single spheres).
+        self.sweep();
+    }
+
+    /// The sweep: along the floor in order of position, fill every gap where
+    /// the smallest particle still fits, touching its neighbours. When the
+    /// smallest particle is a chain the random phase alone saturates the floor
+    /// (the sweep's vertices are for single spheres).
+    fn sweep(&mut self) {
+        let target = self.target();
+        let c = self.plan.container;
         let (s_min, r_fill) = self
             .plan
             .species
