@@ -44,6 +44,19 @@ impl<const D: usize> Bed<D> {
         }
     }
 
+    /// A bed of loose spheres of species 0, each a body of its own (hand-built
+    /// cases for tests and tools).
+    pub fn of_spheres(
+        container: Container<D>,
+        spheres: impl IntoIterator<Item = (Vector<D>, Real)>,
+    ) -> Self {
+        let mut bed = Bed::new(container, Vec::new());
+        for (c, r) in spheres {
+            bed.push(c, r, 0);
+        }
+        bed
+    }
+
     /// Number of particles (spheres or beads).
     pub fn len(&self) -> usize {
         self.centres.len()

@@ -100,6 +100,33 @@ impl<const D: usize> Container<D> {
         }
     }
 
+    /// Coordinate `x` along horizontal axis `k` of a periodic box brought into
+    /// `[0, w)`. The one wrap of the crate: beds are written with it, so every
+    /// reader of a bed sees the same coordinates (a tiny negative `x` whose image
+    /// rounds to `w` itself is put at 0).
+    #[inline]
+    pub fn wrap_coordinate(&self, k: usize, x: Real) -> Real {
+        let w = self.size[k];
+        let y = x - w * (x / w).floor();
+        if y >= w {
+            0.0
+        } else {
+            y
+        }
+    }
+
+    /// The point `p` with its horizontal coordinates brought into the box on
+    /// periodic sides (unchanged between walls).
+    #[inline]
+    pub fn wrap(&self, mut p: Vector<D>) -> Vector<D> {
+        if self.periodic {
+            for k in 0..D - 1 {
+                p[k] = self.wrap_coordinate(k, p[k]);
+            }
+        }
+        p
+    }
+
     /// Shortest displacement `b − a`, taking periodic sides into account.
     #[inline]
     pub fn displacement(&self, a: &Vector<D>, b: &Vector<D>) -> Vector<D> {

@@ -146,13 +146,7 @@ impl<const D: usize> Arc<D> {
         let p1 = self.point_at(end);
         let cos_half = (0.5 * (1.0 + end.cos)).max(0.0).sqrt();
         let sagitta = self.rho * (1.0 - cos_half);
-        let mut lo = p0;
-        let mut hi = p0;
-        for k in 0..D {
-            lo[k] = lo[k].min(p1[k]) - sagitta;
-            hi[k] = hi[k].max(p1[k]) + sagitta;
-        }
-        (lo, hi)
+        chord_box(&p0, &p1, sagitta)
     }
 
     /// Parameter of the lowest point of the circle, in `(0, 2π)`.
@@ -173,14 +167,25 @@ impl<const D: usize> Arc<D> {
         let p0 = self.point(0.0);
         let p1 = self.point(t_end);
         let sagitta = self.rho * (1.0 - (0.5 * t_end.min(std::f64::consts::PI)).cos());
-        let mut lo = p0;
-        let mut hi = p0;
-        for k in 0..D {
-            lo[k] = lo[k].min(p1[k]) - sagitta;
-            hi[k] = hi[k].max(p1[k]) + sagitta;
-        }
-        (lo, hi)
+        chord_box(&p0, &p1, sagitta)
     }
+}
+
+/// The box of a chord's end points widened by `sagitta` on every side: it holds
+/// the arc over the chord.
+#[inline]
+fn chord_box<const D: usize>(
+    p0: &Vector<D>,
+    p1: &Vector<D>,
+    sagitta: Real,
+) -> (Vector<D>, Vector<D>) {
+    let mut lo = *p0;
+    let mut hi = *p0;
+    for k in 0..D {
+        lo[k] = lo[k].min(p1[k]) - sagitta;
+        hi[k] = hi[k].max(p1[k]) + sagitta;
+    }
+    (lo, hi)
 }
 
 impl Trig {
@@ -388,16 +393,21 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
-    #[test]
-    fn downcrossing_of_a_ball_ahead() {
-        // Unit circle in the plane, start at (1, 0) going up (v = (0, 1));
-        // ball of radius 0.5 at (0, 1): entered at an angle found by hand.
-        let arc = Arc {
+    /// The unit circle in the plane, starting at (1, 0) going up.
+    fn unit_circle() -> Arc<2> {
+        Arc {
             m: Vector([0.0, 0.0]),
             rho: 1.0,
             u: Vector([1.0, 0.0]),
             v: Vector([0.0, 1.0]),
-        };
+        }
+    }
+
+    #[test]
+    fn downcrossing_of_a_ball_ahead() {
+        // Unit circle in the plane, start at (1, 0) going up (v = (0, 1));
+        // ball of radius 0.5 at (0, 1): entered at an angle found by hand.
+        let arc = unit_circle();
         let f = arc.ball_trig(&Vector([0.0, 1.0]), 0.5);
         let t = f.first_downcrossing(TAU, 1e-12).unwrap();
         // |p(t) − (0,1)|² = 2 − 2 sin t = 0.25 ⇒ sin t = 7/8.
@@ -408,12 +418,7 @@ mod tests {
     #[test]
     fn leaving_contact_is_not_an_event() {
         // Start exactly on the surface of a ball behind us, moving away.
-        let arc = Arc {
-            m: Vector([0.0, 0.0]),
-            rho: 1.0,
-            u: Vector([1.0, 0.0]),
-            v: Vector([0.0, 1.0]),
-        };
+        let arc = unit_circle();
         // Ball centred at (1, -1) with radius 1 touches the start (1, 0).
         let f = arc.ball_trig(&Vector([1.0, -1.0]), 1.0);
         assert!(f.at(0.0).abs() < 1e-15);

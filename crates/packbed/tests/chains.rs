@@ -16,8 +16,18 @@ use packbed::bed::Bed;
 use packbed::config::Config;
 use packbed::container::Container;
 use packbed::deposit::chain::{ChainShape, Pose};
-use packbed::deposit::{deposit, drop_chain, DepositReport};
+use packbed::deposit::{deposit, drop_onto, DepositReport, Entry};
 use packbed::math::{Real, Vector};
+
+/// Drops one chain by hand; its bead centres at rest.
+fn drop_chain<const D: usize>(
+    bed: &Bed<D>,
+    shape: ChainShape,
+    start: Pose<D>,
+    seed: u64,
+) -> Option<Vec<Vector<D>>> {
+    drop_onto(bed, Entry::Chain { shape, start }, seed)
+}
 
 /// Gap tolerance of the model (`spec/model.md`: exact to 1e-9 r).
 const TOL: Real = 1e-9;

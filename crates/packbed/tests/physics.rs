@@ -18,7 +18,7 @@ use packbed::analysis::validate::{check_bed, check_bed_with, Checks, Report};
 use packbed::bed::{AnyBed, Bed};
 use packbed::config::{BaseLayerKind, Config, Fill};
 use packbed::container::Container;
-use packbed::deposit::{build, deposit, drop_one, DepositReport};
+use packbed::deposit::{build, deposit, drop_onto, DepositReport, Entry};
 use packbed::math::{Real, Vector};
 
 /// Gap tolerance of the model (`spec/model.md`: exact to 1e-9 r).
@@ -75,17 +75,16 @@ fn run<const D: usize>(c: &Config) -> (Bed<D>, DepositReport) {
 }
 
 fn bed<const D: usize>(size: [Real; D], periodic: bool, spheres: &[([Real; D], Real)]) -> Bed<D> {
-    let mut b = Bed::new(
-        Container {
-            size: Vector(size),
-            periodic,
-        },
-        Vec::new(),
-    );
-    for (c, r) in spheres {
-        b.push(Vector(*c), *r, 0);
-    }
-    b
+    let container = Container {
+        size: Vector(size),
+        periodic,
+    };
+    Bed::of_spheres(container, spheres.iter().map(|(c, r)| (Vector(*c), *r)))
+}
+
+/// Where a sphere of radius `r` dropped at `start` comes to rest.
+fn drop_one<const D: usize>(b: &Bed<D>, r: Real, start: Vector<D>, seed: u64) -> Option<Vector<D>> {
+    drop_onto(b, Entry::Sphere { r, start }, seed).map(|beads| beads[0])
 }
 
 fn close<const D: usize>(p: Vector<D>, q: [Real; D], tol: Real) {
@@ -1084,4 +1083,73 @@ fn bad_inputs_are_refused_without_panic() {
             refused::<3>(&c, text);
         }
     }
+}
+
+// Hand-checked single drops onto a few fixed spheres.
+
+#[test]
+fn disc_onto_two_touching_discs() {
+    let b = bed([20.0, 20.0], false, &[([5.0, 1.0], 1.0), ([7.0, 1.0], 1.0)]);
+    let p = drop_one(&b, 1.0, Vector([6.3, 0.0]), 1).unwrap();
+    close(p, [6.0, 1.0 + 3f64.sqrt()], 1e-10);
+}
+
+#[test]
+fn sphere_onto_three_touching_spheres() {
+    let s3 = 3f64.sqrt();
+    let b = bed(
+        [20.0, 20.0, 20.0],
+        false,
+        &[
+            ([5.0, 5.0, 1.0], 1.0),
+            ([7.0, 5.0, 1.0], 1.0),
+            ([6.0, 5.0 + s3, 1.0], 1.0),
+        ],
+    );
+    let centroid = [6.0, 5.0 + s3 / 3.0];
+    let p = drop_one(&b, 1.0, Vector([6.2, 5.4, 0.0]), 1).unwrap();
+    close(
+        p,
+        [centroid[0], centroid[1], 1.0 + (8.0f64 / 3.0).sqrt()],
+        1e-10,
+    );
+}
+
+#[test]
+fn disc_against_wall_on_one_support() {
+    let b = bed([20.0, 20.0], false, &[([2.5, 1.0], 1.0)]);
+    let p = drop_one(&b, 1.0, Vector([1.6, 0.0]), 1).unwrap();
+    close(p, [1.0, 1.0 + 1.75f64.sqrt()], 1e-10);
+}
+
+#[test]
+fn sphere_rolls_off_an_edge_to_the_floor() {
+    let b = bed([20.0, 20.0, 20.0], false, &[([5.0, 5.0, 2.0], 2.0)]);
+    let p = drop_one(&b, 1.0, Vector([5.5, 5.0, 0.0]), 1).unwrap();
+    close(p, [8.0, 5.0, 1.0], 1e-10);
+}
+
+#[test]
+fn sphere_rolls_along_a_groove_then_onto_the_floor() {
+    // Two touching spheres of radius 2 on the floor; a small sphere lands in
+    // the groove between them, off-centre, and rolls along the groove circle
+    // (centre (10, 10, 2), radius √5 in the plane x = 10). With a horizontal
+    // axis both contact forces vanish at the circle's equator, z = 2, where it
+    // leaves the groove and falls straight to the floor.
+    let b = bed(
+        [20.0, 20.0, 20.0],
+        false,
+        &[([8.0, 10.0, 2.0], 2.0), ([12.0, 10.0, 2.0], 2.0)],
+    );
+    let p = drop_one(&b, 1.0, Vector([10.0, 10.3, 0.0]), 1).unwrap();
+    close(p, [10.0, 10.0 + 5f64.sqrt(), 1.0], 1e-10);
+}
+
+#[test]
+fn periodic_neighbour_across_the_boundary() {
+    // Two discs touching across x = 0 in a periodic box of width 10.
+    let b = bed([10.0, 20.0], true, &[([0.5, 1.0], 1.0), ([8.5, 1.0], 1.0)]);
+    // Their gap centre is at x = 9.5 (≡ −0.5), distance between them 2.
+    let p = drop_one(&b, 1.0, Vector([9.6, 0.0]), 1).unwrap();
+    close(p, [9.5, 1.0 + 3f64.sqrt()], 1e-10);
 }

@@ -2,10 +2,132 @@
 //! is saturated, then a sweep that fills every gap still wide enough for the
 //! smallest particle (as the source study seeded its beds).
 
+use super::body::{Chain, Dropper, Sphere};
 use super::roll::Terrain;
+use super::Engine;
 use crate::container::Wall;
 use crate::geometry::{intersection_points, Surface};
 use crate::math::{Real, Vector};
+use crate::species::Orientation;
+
+/// Consecutive failed random placements after which the floor counts as saturated
+/// (per particle that fits on the floor); the sweep then fills what is left.
+const BASE_LAYER_PATIENCE: u64 = 10;
+
+impl<const D: usize> Engine<'_, D> {
+    /// Random particles resting on the floor until saturated, then the sweep
+    /// ([`Self::sweep`]).
+    pub(super) fn base_layer(&mut self) {
+        let target = self.target();
+        let c = self.plan.container;
+        // How many of the smallest particles would tile the floor: a scale for
+        // how long to keep trying at random.
+        let r_min = self
+            .plan
+            .species
+            .iter()
+            .filter(|s| s.ratio > 0.0)
+            .map(|s| s.size.bounds().0)
+            .fold(Real::INFINITY, Real::min);
+        let floor_area: Real = (0..D - 1).map(|k| c.size[k]).product();
+        let footprint = (2.0 * r_min).powi(D as i32 - 1);
+        let patience = BASE_LAYER_PATIENCE * ((floor_area / footprint).ceil() as u64).max(1);
+        let mut failures = 0;
+        while failures < patience && (self.bed.len() as u64) < target {
+            let (s, r) = self.draw_particle();
+            if let Some((shape, _)) = self.chain_of(s, r) {
+                // A chain lies flat on the floor, at a random azimuth.
+                let chain = Chain {
+                    shape,
+                    orientation: Orientation::Horizontal,
+                };
+                let mut pose = chain.enter(&c, &mut self.rng);
+                pose.com[D - 1] = r;
+                let terrain = self.terrain();
+                // The entry falls back to upright when no azimuth tried fits
+                // between the walls; upright on the floor would stand through it.
+                let flat = pose.axis[D - 1].abs() < 0.5;
+                let lies =
+                    flat && (0..shape.beads).all(|k| fits(&terrain, &chain.bead(&pose, k), r, 0.0));
+                if lies {
+                    self.place_body(&chain, &pose, s);
+                    failures = 0;
+                } else {
+                    failures += 1;
+                }
+                continue;
+            }
+            let mut p = Sphere(r).enter(&c, &mut self.rng);
+            p[D - 1] = r;
+            if fits(&self.terrain(), &p, r, 0.0) {
+                self.place_body(&Sphere(r), &p, s);
+                failures = 0;
+            } else {
+                failures += 1;
+            }
+        }
+        self.sweep();
+    }
+
+    /// The sweep: along the floor in order of position, fill every gap where
+    /// the smallest particle still fits, touching its neighbours. When the
+    /// smallest particle is a chain the random phase alone saturates the floor
+    /// (the sweep's vertices are for single spheres).
+    fn sweep(&mut self) {
+        let target = self.target();
+        let c = self.plan.container;
+        let (s_min, r_fill) = self
+            .plan
+            .species
+            .iter()
+            .enumerate()
+            // A species of ratio 0 is never drawn, so it has no place in the layer.
+            .filter(|(_, s)| s.ratio > 0.0)
+            .map(|(i, s)| (i as u32, s.size.bounds().0))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("the ratios sum to more than zero");
+        if self.chain_of(s_min, r_fill).is_some() {
+            self.report.base_layer = self.bed.len() as u64;
+            return;
+        }
+        let slack = 1e-9 * r_fill;
+        let mut candidates = Vec::new();
+        let before = self.bed.len();
+        loop {
+            let mut order: Vec<u32> = (0..self.bed.len() as u32).collect();
+            order.sort_by(|&a, &b| {
+                let (pa, pb) = (self.bed.centres[a as usize], self.bed.centres[b as usize]);
+                pa.0.iter()
+                    .zip(pb.0.iter())
+                    .map(|(x, y)| x.total_cmp(y))
+                    .find(|o| o.is_ne())
+                    .unwrap_or(std::cmp::Ordering::Equal)
+            });
+            let placed_before = self.bed.len();
+            for j in std::iter::once(None).chain(order.into_iter().map(Some)) {
+                if (self.bed.len() as u64) >= target {
+                    break;
+                }
+                floor_vertices(&self.terrain(), j, r_fill, &mut candidates);
+                for &p in &candidates {
+                    if !p.is_finite() || (p[D - 1] - r_fill).abs() > slack {
+                        continue;
+                    }
+                    let q = c.wrap(p);
+                    if (self.bed.len() as u64) < target && fits(&self.terrain(), &q, r_fill, slack)
+                    {
+                        self.place_body(&Sphere(r_fill), &q, s_min);
+                    }
+                }
+            }
+            if self.bed.len() == placed_before {
+                break;
+            }
+        }
+        self.report.base_layer_sweep = (self.bed.len() - before) as u64;
+        self.report.base_layer = self.bed.len() as u64;
+    }
+}
 
 /// True if a sphere of radius `r` centred at `p` overlaps nothing by more than
 /// `slack` (walls and fixed particles; the floor is the caller's business).

@@ -7,6 +7,7 @@
 //! a new contact, or a contact force turning tensile (the contact is released).
 
 use super::obstacle::{is_floor, particle_key, wall_obstacle, Obstacle};
+use crate::bed::Bed;
 use crate::container::Container;
 use crate::geometry::{Arc, Crossing, Surface, Trig};
 use crate::grid::Grid;
@@ -38,6 +39,24 @@ pub(crate) struct Terrain<'a, const D: usize> {
     pub radii: &'a [Real],
     /// Largest radius of any fixed particle.
     pub r_fixed_max: Real,
+}
+
+impl<'a, const D: usize> Terrain<'a, D> {
+    /// The particles of `bed` as fixed obstacles, found through `grid`.
+    pub(crate) fn of(
+        container: &'a Container<D>,
+        grid: &'a Grid<D>,
+        bed: &'a Bed<D>,
+        r_fixed_max: Real,
+    ) -> Self {
+        Terrain {
+            container,
+            grid,
+            centres: &bed.centres,
+            radii: &bed.radii,
+            r_fixed_max,
+        }
+    }
 }
 
 /// A small set of contacts (cleared by resetting its length: no memset in the

@@ -193,18 +193,8 @@ impl<'p, const D: usize> Rsa<'p, D> {
     }
 
     /// Adds a particle (its centre wrapped into the box on periodic axes).
-    fn place(&mut self, mut p: Vector<D>, r: Real, species: u32, progress: &mut dyn FnMut(u64)) {
-        if self.container.periodic {
-            for k in 0..D - 1 {
-                let w = self.container.size[k];
-                if p[k] >= w || p[k] < 0.0 {
-                    p[k] -= w * (p[k] / w).floor();
-                    if p[k] >= w {
-                        p[k] = 0.0;
-                    }
-                }
-            }
-        }
+    fn place(&mut self, p: Vector<D>, r: Real, species: u32, progress: &mut dyn FnMut(u64)) {
+        let p = self.container.wrap(p);
         let id = self.bed.len() as u32;
         self.grid.insert(id, &p, r);
         self.bed.push(p, r, species);

@@ -280,13 +280,7 @@ mod tests {
         let n = lat.len();
         let mut out = vec![false; n];
         for (flat, o) in out.iter_mut().enumerate() {
-            let mut rest = flat;
-            let mut corner = lat.lo;
-            for k in 0..D {
-                let i = rest % lat.counts[k];
-                rest /= lat.counts[k];
-                corner[k] += i as Real * lat.side[k];
-            }
+            let corner = lat.corner(flat);
             // Every image of the ball along wrapping axes.
             let mut shifts = vec![Vector::<D>::zero()];
             for k in 0..D {

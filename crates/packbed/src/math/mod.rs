@@ -1,0 +1,206 @@
+//! Real type, fixed-size vectors and the dimension of space.
+//!
+//! Every geometric routine in packbed is generic over `const D: usize` (2 or 3) and
+//! works on [`Vector<D>`]. This module is the only place that names a concrete
+//! dimension; the last axis is always vertical ("up"). The least-squares
+//! routines of the force balances live in `lsq.rs`, the rotations of turning
+//! bodies in `rotation.rs`.
+
+use std::ops::{Add, AddAssign, Div, Index, IndexMut, Mul, Neg, Sub, SubAssign};
+
+/// The real number type of all geometry.
+pub type Real = f64;
+
+/// A point or direction in `D`-dimensional space; the last component is height.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Vector<const D: usize>(pub [Real; D]);
+
+/// A 2D vector `(x, y)`, `y` up.
+pub type Vector2 = Vector<2>;
+/// A 3D vector `(x, y, z)`, `z` up.
+pub type Vector3 = Vector<3>;
+
+impl<const D: usize> Default for Vector<D> {
+    fn default() -> Self {
+        Self::zero()
+    }
+}
+
+impl<const D: usize> Vector<D> {
+    /// Index of the vertical axis.
+    pub const UP: usize = D - 1;
+
+    /// The zero vector.
+    #[inline]
+    pub const fn zero() -> Self {
+        Vector([0.0; D])
+    }
+
+    /// The unit vector pointing up (against gravity).
+    #[inline]
+    pub fn up() -> Self {
+        Self::axis(D - 1)
+    }
+
+    /// The unit vector along axis `k`.
+    #[inline]
+    pub fn axis(k: usize) -> Self {
+        let mut v = Self::zero();
+        v.0[k] = 1.0;
+        v
+    }
+
+    /// Height (the vertical component).
+    #[inline]
+    pub fn height(&self) -> Real {
+        self.0[D - 1]
+    }
+
+    /// Scalar product.
+    #[inline]
+    pub fn dot(&self, o: &Self) -> Real {
+        let mut s = 0.0;
+        for k in 0..D {
+            s += self.0[k] * o.0[k];
+        }
+        s
+    }
+
+    /// Squared Euclidean length.
+    #[inline]
+    pub fn norm2(&self) -> Real {
+        self.dot(self)
+    }
+
+    /// Euclidean length.
+    #[inline]
+    pub fn norm(&self) -> Real {
+        self.norm2().sqrt()
+    }
+
+    /// This vector scaled to unit length, or `None` for a (near) zero vector.
+    #[inline]
+    pub fn normalized(&self) -> Option<Self> {
+        let n = self.norm();
+        if n > 0.0 && n.is_finite() {
+            Some(*self / n)
+        } else {
+            None
+        }
+    }
+
+    /// The horizontal part (vertical component set to zero).
+    #[inline]
+    pub fn horizontal(&self) -> Self {
+        let mut v = *self;
+        v.0[D - 1] = 0.0;
+        v
+    }
+
+    /// True when every component is finite.
+    pub fn is_finite(&self) -> bool {
+        self.0.iter().all(|c| c.is_finite())
+    }
+}
+
+impl<const D: usize> Index<usize> for Vector<D> {
+    type Output = Real;
+    #[inline]
+    fn index(&self, k: usize) -> &Real {
+        &self.0[k]
+    }
+}
+
+impl<const D: usize> IndexMut<usize> for Vector<D> {
+    #[inline]
+    fn index_mut(&mut self, k: usize) -> &mut Real {
+        &mut self.0[k]
+    }
+}
+
+impl<const D: usize> Add for Vector<D> {
+    type Output = Self;
+    #[inline]
+    fn add(mut self, o: Self) -> Self {
+        for k in 0..D {
+            self.0[k] += o.0[k];
+        }
+        self
+    }
+}
+
+impl<const D: usize> AddAssign for Vector<D> {
+    #[inline]
+    fn add_assign(&mut self, o: Self) {
+        for k in 0..D {
+            self.0[k] += o.0[k];
+        }
+    }
+}
+
+impl<const D: usize> Sub for Vector<D> {
+    type Output = Self;
+    #[inline]
+    fn sub(mut self, o: Self) -> Self {
+        for k in 0..D {
+            self.0[k] -= o.0[k];
+        }
+        self
+    }
+}
+
+impl<const D: usize> SubAssign for Vector<D> {
+    #[inline]
+    fn sub_assign(&mut self, o: Self) {
+        for k in 0..D {
+            self.0[k] -= o.0[k];
+        }
+    }
+}
+
+impl<const D: usize> Mul<Real> for Vector<D> {
+    type Output = Self;
+    #[inline]
+    fn mul(mut self, s: Real) -> Self {
+        for k in 0..D {
+            self.0[k] *= s;
+        }
+        self
+    }
+}
+
+impl<const D: usize> Div<Real> for Vector<D> {
+    type Output = Self;
+    #[inline]
+    fn div(self, s: Real) -> Self {
+        self * (1.0 / s)
+    }
+}
+
+impl<const D: usize> Neg for Vector<D> {
+    type Output = Self;
+    #[inline]
+    fn neg(self) -> Self {
+        self * -1.0
+    }
+}
+
+/// Volume of a `D`-ball of radius `r` (area of a disc in 2D).
+pub fn ball_volume<const D: usize>(r: Real) -> Real {
+    match D {
+        1 => 2.0 * r,
+        2 => std::f64::consts::PI * r * r,
+        3 => 4.0 / 3.0 * std::f64::consts::PI * r * r * r,
+        _ => unreachable!("packbed works in 2 or 3 dimensions"),
+    }
+}
+
+/// A generalised vector of a rigid body: translation in slots `0..D`, rotation
+/// (times a radius of gyration) in slot 2 (2D) or slots 3–5 (3D).
+pub type Gen = Vector<6>;
+
+mod lsq;
+mod rotation;
+
+pub use lsq::{least_squares_qr, nnls, nnls_gen, nnls_qr, solve_pivoted, MAX_GEN_COLUMNS};
+pub use rotation::{moment, rotate};
