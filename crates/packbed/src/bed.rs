@@ -44,6 +44,26 @@ impl<const D: usize> Bed<D> {
         }
     }
 
+    /// A bed of single spheres `(centre, radius, species)` in a box of `size`,
+    /// with no species described: hand-made beds for checks and examples.
+    pub fn of_spheres(
+        size: [Real; D],
+        periodic: bool,
+        spheres: impl IntoIterator<Item = ([Real; D], Real, u32)>,
+    ) -> Self {
+        let mut bed = Bed::new(
+            Container {
+                size: Vector(size),
+                periodic,
+            },
+            Vec::new(),
+        );
+        for (c, r, s) in spheres {
+            bed.push(Vector(c), r, s);
+        }
+        bed
+    }
+
     /// Number of particles (spheres or beads).
     pub fn len(&self) -> usize {
         self.centres.len()

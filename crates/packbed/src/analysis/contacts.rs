@@ -190,17 +190,11 @@ mod tests {
     use proptest::prelude::*;
 
     fn bed2(size: [Real; 2], periodic: bool, discs: &[(Real, Real, Real)]) -> Bed<2> {
-        let mut bed = Bed::new(
-            Container {
-                size: Vector(size),
-                periodic,
-            },
-            Vec::new(),
-        );
-        for &(x, y, r) in discs {
-            bed.push(Vector([x, y]), r, 0);
-        }
-        bed
+        Bed::of_spheres(
+            size,
+            periodic,
+            discs.iter().map(|&(x, y, r)| ([x, y], r, 0)),
+        )
     }
 
     #[test]
