@@ -501,8 +501,6 @@ pub fn void_summary(bed: &Bed<2>, voids: &[Void]) -> VoidSummary {
 mod tests {
     use super::*;
     use crate::analysis::find_contacts;
-    use crate::container::Container;
-    use crate::math::Vector;
 
     fn bed2(size: [Real; 2], periodic: bool, discs: &[(Real, Real, Real)]) -> Bed<2> {
         Bed::of_spheres(

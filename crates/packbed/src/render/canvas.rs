@@ -334,18 +334,12 @@ impl Canvas for SvgCanvas {
     }
 
     fn text(&mut self, x: f64, y: f64, text: &str, style: TextStyle) {
-        let TextStyle {
-            size,
-            anchor,
-            vertical,
-            color,
-        } = style;
-        let a = match anchor {
+        let a = match style.anchor {
             Anchor::Start => "start",
             Anchor::Middle => "middle",
             Anchor::End => "end",
         };
-        let rot = if vertical {
+        let rot = if style.vertical {
             format!(r#" transform="rotate(-90 {} {})""#, fmt_px(x), fmt_px(y))
         } else {
             String::new()
@@ -355,8 +349,8 @@ impl Canvas for SvgCanvas {
             r#"<text x="{}" y="{}" font-size="{}" text-anchor="{a}" fill="{}"{rot}>{}</text>"#,
             fmt_px(x),
             fmt_px(y),
-            fmt_px(size),
-            color.hex(),
+            fmt_px(style.size),
+            style.color.hex(),
             xml_escape(text)
         );
     }
@@ -516,17 +510,11 @@ impl Canvas for PngCanvas {
     }
 
     fn text(&mut self, x: f64, y: f64, text: &str, style: TextStyle) {
-        let TextStyle {
-            size,
-            anchor,
-            vertical,
-            color,
-        } = style;
         let f = font();
-        let scale = PxScale::from(size as f32);
+        let scale = PxScale::from(style.size as f32);
         let scaled = f.as_scaled(scale);
-        let width = text_width(text, size);
-        let start = match anchor {
+        let width = text_width(text, style.size);
+        let start = match style.anchor {
             Anchor::Start => 0.0,
             Anchor::Middle => -width / 2.0,
             Anchor::End => -width,
@@ -554,12 +542,12 @@ impl Canvas for PngCanvas {
                     // Layout coordinates: along the text, and below the baseline.
                     let u = b.min.x as i64 + gx as i64;
                     let v = b.min.y as i64 + gy as i64;
-                    let (px, py) = if vertical {
+                    let (px, py) = if style.vertical {
                         (ox + v, oy - u)
                     } else {
                         (ox + u, oy + v)
                     };
-                    self.blend(px, py, color, c);
+                    self.blend(px, py, style.color, c);
                 }
             }
         }

@@ -3,7 +3,6 @@
 use super::*;
 use crate::analysis::find_contacts;
 use crate::bed::Bed;
-use crate::container::Container;
 use crate::math::{Real, Vector};
 use proptest::prelude::*;
 
@@ -160,19 +159,15 @@ fn periodic_cluster_that_wraps() {
     assert!(p.spans);
 }
 
+/// Three touching spheres in a row along y, across a box 6 deep.
+fn row_along_y(periodic: bool) -> Bed<3> {
+    let row = (0..3).map(|k| ([5.0, 1.0 + 2.0 * k as Real, 1.0], 1.0, 0));
+    Bed::of_spheres([10.0, 6.0, 10.0], periodic, row)
+}
+
 #[test]
 fn periodic_3d_wraps_along_y_only() {
-    let mut bed = Bed::new(
-        Container {
-            size: Vector([10.0, 6.0, 10.0]),
-            periodic: true,
-        },
-        Vec::new(),
-    );
-    for k in 0..3 {
-        bed.push(Vector([5.0, 1.0 + 2.0 * k as Real, 1.0]), 1.0, 0);
-    }
-    let p = run(&bed);
+    let p = run(&row_along_y(true));
     assert!(p.spans);
     assert!(!p.directions[0].spans);
     assert!(p.directions[1].spans);
@@ -183,17 +178,7 @@ fn periodic_3d_wraps_along_y_only() {
 
 #[test]
 fn walled_3d_row_along_y() {
-    let mut bed = Bed::new(
-        Container {
-            size: Vector([10.0, 6.0, 10.0]),
-            periodic: false,
-        },
-        Vec::new(),
-    );
-    for k in 0..3 {
-        bed.push(Vector([5.0, 1.0 + 2.0 * k as Real, 1.0]), 1.0, 0);
-    }
-    let p = run(&bed);
+    let p = run(&row_along_y(false));
     assert!(!p.directions[0].spans && p.directions[1].spans);
     assert_eq!(p.unique_chains, 1);
     assert_eq!(p.disjoint_chains, 1);
