@@ -22,6 +22,18 @@ pub struct Bed<const D: usize> {
     pub species_info: Vec<Species>,
 }
 
+#[cfg(test)]
+impl Bed<2> {
+    /// Discs `(x, y, r)` of species 0: the hand-made beds of unit tests.
+    pub(crate) fn of_discs(size: [Real; 2], periodic: bool, discs: &[(Real, Real, Real)]) -> Self {
+        Bed::of_spheres(
+            size,
+            periodic,
+            discs.iter().map(|&(x, y, r)| ([x, y], r, 0)),
+        )
+    }
+}
+
 /// A bed of either dimension: the one place the dimension is chosen at run time.
 #[derive(Clone, Debug)]
 pub enum AnyBed {

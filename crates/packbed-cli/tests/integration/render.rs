@@ -161,64 +161,19 @@ fn render_3d_views_and_cuts() {
         png_size(&std::fs::read(d.join("s.png")).unwrap()),
         (1200, 1000)
     );
-    assert_user_error(
-        &s,
-        &["render", "r/particles.csv", "--out", "x.svg"],
-        &["SVG", "2D"],
-    );
-    assert_user_error(
-        &s,
-        &[
-            "render",
-            "r/particles.csv",
-            "--out",
-            "x.png",
-            "--cut",
-            "w:1:2",
-        ],
-        &["--cut"],
-    );
-    assert_user_error(
-        &s,
-        &[
-            "render",
-            "r/particles.csv",
-            "--out",
-            "x.png",
-            "--view",
-            "0,100",
-        ],
-        &["elevation"],
-    );
-    assert_user_error(
-        &s,
-        &[
-            "render",
-            "r/particles.csv",
-            "--out",
-            "x.png",
-            "--color",
-            "force",
-        ],
-        &["force"],
-    );
-    assert_user_error(
-        &s,
-        &["render", "r/particles.csv", "--out", "x.jpg"],
-        &[".png or .svg"],
-    );
-    assert_user_error(
-        &s,
-        &[
-            "render",
-            "r/particles.csv",
-            "--out",
-            "x.png",
-            "--width",
-            "5",
-        ],
-        &["width"],
-    );
+    // Bad views, cuts, colours and formats: the output file first, then options.
+    for (tail, needles) in [
+        (&["x.svg"][..], &["SVG", "2D"][..]),
+        (&["x.png", "--cut", "w:1:2"][..], &["--cut"][..]),
+        (&["x.png", "--view", "0,100"][..], &["elevation"][..]),
+        (&["x.png", "--color", "force"][..], &["force"][..]),
+        (&["x.jpg"][..], &[".png or .svg"][..]),
+        (&["x.png", "--width", "5"][..], &["width"][..]),
+    ] {
+        let mut args = vec!["render", "r/particles.csv", "--out"];
+        args.extend_from_slice(tail);
+        assert_user_error(&s, &args, needles);
+    }
     assert!(!d.join("x.png").exists() && !d.join("x.svg").exists());
 }
 
