@@ -160,9 +160,10 @@ fn chains<const D: usize>(
     args: &RenderArgs,
 ) -> Result<render::Classes> {
     let contacts = find_contacts(bed, args.contact_tol);
-    // The analysis' own default, so that the picture and summary.json agree.
-    let large = args.large.unwrap_or_else(|| {
-        packbed::analysis::percolation::default_large_radius(bed) * (1.0 - 1e-9)
-    });
-    Ok(render::spanning_clusters(bed, &contacts, large)?)
+    // The analysis' own rule, so that the picture and summary.json agree.
+    let large = args.large.map_or(
+        packbed::analysis::LargeRule::Median,
+        packbed::analysis::LargeRule::Radius,
+    );
+    Ok(render::chain_classes(bed, &contacts, large))
 }

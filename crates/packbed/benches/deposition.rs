@@ -46,5 +46,29 @@ fn deposition(cr: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, deposition);
+/// Five-bead chains of radius 10 in a periodic box, entering at random: 20,000
+/// in 2D (width 3000), 10,000 in 3D (400 × 400), the chains/s rows of
+/// BENCHMARKS.md.
+fn chains(cr: &mut Criterion) {
+    let mut group = cr.benchmark_group("deposition-chains");
+    group.sample_size(10);
+    for (dim, n, w) in [(2u8, 20_000u64, 3000.0), (3, 10_000, 400.0)] {
+        let text = format!(
+            "dim = {dim}\nseed = 1\n[box]\nwidth = {w}\nheight = 100000\nperiodic = true\n\
+             [fill]\ncount = {}\nbase_layer = \"none\"\n\
+             [[species]]\nradius = 10\nshape = \"chain\"\nbeads = 5\n",
+            5 * n
+        );
+        let c = Config::from_toml(&text, "bench").expect("valid config");
+        group.throughput(Throughput::Elements(n));
+        group.bench_with_input(
+            BenchmarkId::new(format!("{dim}d-5-beads"), n),
+            &c,
+            |b, c| b.iter(|| build(c, &mut |_| {}).expect("valid config")),
+        );
+    }
+    group.finish();
+}
+
+criterion_group!(benches, deposition, chains);
 criterion_main!(benches);

@@ -22,6 +22,18 @@ pub struct Bed<const D: usize> {
     pub species_info: Vec<Species>,
 }
 
+#[cfg(test)]
+impl Bed<2> {
+    /// Discs `(x, y, r)` of species 0: the hand-made beds of unit tests.
+    pub(crate) fn of_discs(size: [Real; 2], periodic: bool, discs: &[(Real, Real, Real)]) -> Self {
+        Bed::of_spheres(
+            size,
+            periodic,
+            discs.iter().map(|&(x, y, r)| ([x, y], r, 0)),
+        )
+    }
+}
+
 /// A bed of either dimension: the one place the dimension is chosen at run time.
 #[derive(Clone, Debug)]
 pub enum AnyBed {
@@ -44,15 +56,22 @@ impl<const D: usize> Bed<D> {
         }
     }
 
-    /// A bed of loose spheres of species 0, each a body of its own (hand-built
-    /// cases for tests and tools).
+    /// A bed of single spheres `(centre, radius, species)` in a box of `size`,
+    /// with no species described: hand-made beds for checks and examples.
     pub fn of_spheres(
-        container: Container<D>,
-        spheres: impl IntoIterator<Item = (Vector<D>, Real)>,
+        size: [Real; D],
+        periodic: bool,
+        spheres: impl IntoIterator<Item = ([Real; D], Real, u32)>,
     ) -> Self {
-        let mut bed = Bed::new(container, Vec::new());
-        for (c, r) in spheres {
-            bed.push(c, r, 0);
+        let mut bed = Bed::new(
+            Container {
+                size: Vector(size),
+                periodic,
+            },
+            Vec::new(),
+        );
+        for (c, r, s) in spheres {
+            bed.push(Vector(c), r, s);
         }
         bed
     }

@@ -189,23 +189,9 @@ mod tests {
     use crate::math::Vector;
     use proptest::prelude::*;
 
-    fn bed2(size: [Real; 2], periodic: bool, discs: &[(Real, Real, Real)]) -> Bed<2> {
-        let mut bed = Bed::new(
-            Container {
-                size: Vector(size),
-                periodic,
-            },
-            Vec::new(),
-        );
-        for &(x, y, r) in discs {
-            bed.push(Vector([x, y]), r, 0);
-        }
-        bed
-    }
-
     #[test]
     fn row_of_touching_discs_between_walls() {
-        let bed = bed2(
+        let bed = Bed::of_discs(
             [8.0, 10.0],
             false,
             &[
@@ -236,7 +222,7 @@ mod tests {
     #[test]
     fn gaps_within_tolerance_and_overlaps_are_contacts() {
         // Gaps 1e-7 (within 1e-6·r), 1e-5 (not), -0.1 (overlap, reported negative).
-        let bed = bed2(
+        let bed = Bed::of_discs(
             [20.0, 10.0],
             false,
             &[
@@ -259,7 +245,7 @@ mod tests {
     #[test]
     fn periodic_contact_across_the_boundary() {
         let discs = [(0.5, 1.0, 1.0), (8.5, 1.0, 1.0)];
-        let periodic = find_contacts(&bed2([10.0, 10.0], true, &discs), 1e-9);
+        let periodic = find_contacts(&Bed::of_discs([10.0, 10.0], true, &discs), 1e-9);
         assert_eq!(
             periodic.pairs,
             vec![Contact {
@@ -270,7 +256,7 @@ mod tests {
         );
         // Periodic: no side walls, only the floor.
         assert!(periodic.walls.iter().all(|w| w.wall == Wall::Floor));
-        let walled = find_contacts(&bed2([10.0, 10.0], false, &discs), 1e-9);
+        let walled = find_contacts(&Bed::of_discs([10.0, 10.0], false, &discs), 1e-9);
         assert!(walled.pairs.is_empty());
     }
 
@@ -278,7 +264,7 @@ mod tests {
     fn pair_touching_through_two_images_is_listed_once() {
         // Period 4 = two diameters: disc 1 touches disc 0 on both sides.
         let c = find_contacts(
-            &bed2([4.0, 10.0], true, &[(0.0, 1.0, 1.0), (2.0, 1.0, 1.0)]),
+            &Bed::of_discs([4.0, 10.0], true, &[(0.0, 1.0, 1.0), (2.0, 1.0, 1.0)]),
             1e-9,
         );
         assert_eq!(
@@ -291,7 +277,7 @@ mod tests {
         );
         // Period 3.9: one side overlaps by 0.1, the other touches; the smaller gap wins.
         let c = find_contacts(
-            &bed2([3.9, 10.0], true, &[(0.0, 1.0, 1.0), (2.0, 1.0, 1.0)]),
+            &Bed::of_discs([3.9, 10.0], true, &[(0.0, 1.0, 1.0), (2.0, 1.0, 1.0)]),
             1e-9,
         );
         assert_eq!(c.pairs.len(), 1);
@@ -300,7 +286,7 @@ mod tests {
 
     #[test]
     fn beads_of_one_body_are_not_contacts_and_bodies_count_once() {
-        let mut bed = bed2([20.0, 10.0], false, &[]);
+        let mut bed = Bed::of_discs([20.0, 10.0], false, &[]);
         // A horizontal chain of two touching beads and a disc resting on both.
         bed.push_bead(Vector([5.0, 1.0]), 1.0, 0, 0);
         bed.push_bead(Vector([7.0, 1.0]), 1.0, 0, 0);
@@ -345,7 +331,7 @@ mod tests {
 
     #[test]
     fn huge_or_nan_tolerance_does_not_break_the_cell_list() {
-        let bed = bed2([10.0, 10.0], true, &[(1.0, 1.0, 1.0), (9.0, 9.0, 0.5)]);
+        let bed = Bed::of_discs([10.0, 10.0], true, &[(1.0, 1.0, 1.0), (9.0, 9.0, 0.5)]);
         assert_eq!(find_contacts(&bed, 1e300).pairs.len(), 1);
         assert_eq!(find_contacts(&bed, Real::INFINITY).pairs.len(), 1);
         let none = find_contacts(&bed, Real::NAN);
@@ -354,10 +340,10 @@ mod tests {
 
     #[test]
     fn empty_and_single_beds() {
-        let empty = bed2([4.0, 4.0], false, &[]);
+        let empty = Bed::of_discs([4.0, 4.0], false, &[]);
         assert_eq!(find_contacts(&empty, 1e-6), Contacts::default());
         assert!(coordination(&empty, &Contacts::default()).is_empty());
-        let one = bed2([4.0, 4.0], true, &[(2.0, 1.0, 1.0)]);
+        let one = Bed::of_discs([4.0, 4.0], true, &[(2.0, 1.0, 1.0)]);
         assert_eq!(find_contacts(&one, 1e-6).pairs.len(), 0);
     }
 

@@ -501,22 +501,6 @@ pub fn void_summary(bed: &Bed<2>, voids: &[Void]) -> VoidSummary {
 mod tests {
     use super::*;
     use crate::analysis::find_contacts;
-    use crate::container::Container;
-    use crate::math::Vector;
-
-    fn bed2(size: [Real; 2], periodic: bool, discs: &[(Real, Real, Real)]) -> Bed<2> {
-        let mut bed = Bed::new(
-            Container {
-                size: Vector(size),
-                periodic,
-            },
-            Vec::new(),
-        );
-        for &(x, y, r) in discs {
-            bed.push(Vector([x, y]), r, 0);
-        }
-        bed
-    }
 
     fn found(bed: &Bed<2>) -> Vec<Void> {
         voids(bed, &find_contacts(bed, 1e-9))
@@ -540,7 +524,7 @@ mod tests {
             let polygon = k as Real / (PI / k as Real).tan();
             let want = polygon - 0.5 * (k as Real - 2.0) * PI;
             // Floating in a walled box: the ring is a hole in the open space.
-            let v = found(&bed2([20.0, 20.0], false, &ring(k, 10.0, 10.0)));
+            let v = found(&Bed::of_discs([20.0, 20.0], false, &ring(k, 10.0, 10.0)));
             assert_eq!(v.len(), 1, "k = {k}");
             assert!(
                 (v[0].area - want).abs() < 1e-12,
@@ -549,7 +533,7 @@ mod tests {
             );
             assert_eq!(v[0].sides, k as u32);
             // Across the seam of a periodic box: the same void.
-            let v = found(&bed2([20.0, 20.0], true, &ring(k, 0.3, 10.0)));
+            let v = found(&Bed::of_discs([20.0, 20.0], true, &ring(k, 0.3, 10.0)));
             let v: Vec<&Void> = v.iter().collect();
             assert_eq!(v.len(), 1, "periodic k = {k}");
             assert!((v[0].area - want).abs() < 1e-12);
@@ -560,7 +544,7 @@ mod tests {
     fn floor_row_between_walls_closes_voids_with_the_walls() {
         // Three unit discs on the floor of a box 6 wide: two corner voids
         // (1 − π/4, a disc and two walls) and two floor voids (2 − π/2).
-        let v = found(&bed2(
+        let v = found(&Bed::of_discs(
             [6.0, 10.0],
             false,
             &[(1.0, 1.0, 1.0), (3.0, 1.0, 1.0), (5.0, 1.0, 1.0)],
@@ -576,7 +560,7 @@ mod tests {
             assert!((a - (2.0 - PI / 2.0)).abs() < 1e-14);
             assert_eq!(*s, 3);
         }
-        let s = void_summary(&bed2([6.0, 10.0], false, &[(1.0, 1.0, 1.0)]), &v);
+        let s = void_summary(&Bed::of_discs([6.0, 10.0], false, &[(1.0, 1.0, 1.0)]), &v);
         assert_eq!(s.count, 4);
         assert!((s.total_area - (6.0 - 1.5 * PI)).abs() < 1e-13);
         assert!((s.mean_area_scaled - (6.0 - 1.5 * PI) / 4.0 / PI).abs() < 1e-13);
@@ -586,7 +570,7 @@ mod tests {
     #[test]
     fn periodic_floor_row_wraps_into_floor_voids() {
         // Three unit discs on the floor of a periodic box 6 wide: three floor voids.
-        let v = found(&bed2(
+        let v = found(&Bed::of_discs(
             [6.0, 10.0],
             true,
             &[(1.0, 1.0, 1.0), (3.0, 1.0, 1.0), (5.0, 1.0, 1.0)],
@@ -605,7 +589,7 @@ mod tests {
         let rho = 1.0 / (PI / 9.0).sin();
         discs.push((10.0 + rho - 2.0, 10.0, 1.0)); // touches ring disc 0 only
         discs.push((10.0 - 0.5, 10.0, 0.5)); // touches nothing
-        let v = found(&bed2([20.0, 20.0], false, &discs));
+        let v = found(&Bed::of_discs([20.0, 20.0], false, &discs));
         let polygon = 9.0 / (PI / 9.0).tan();
         let want = polygon - 3.5 * PI - PI - PI * 0.25;
         assert_eq!(v.len(), 1);

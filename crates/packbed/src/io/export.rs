@@ -67,12 +67,27 @@ impl Format {
         bed: &Bed<D>,
         coordination: &[u32],
     ) -> std::io::Result<()> {
+        check_lengths(bed, coordination)?;
+        let x = Export {
+            bed,
+            coordination,
+            box3: box3(bed),
+        };
         match self {
-            Format::Vtk => write_vtu(w, bed, coordination),
-            Format::Dump => write_dump(w, bed, coordination),
-            Format::Xyz => write_xyz(w, bed, coordination),
+            Format::Vtk => write_vtu(w, &x),
+            Format::Dump => write_dump(w, &x),
+            Format::Xyz => write_xyz(w, &x),
         }
     }
+}
+
+/// A bed checked for export (finite, one coordination number per particle),
+/// with its box as three extents.
+#[derive(Clone, Copy)]
+struct Export<'a, const D: usize> {
+    bed: &'a Bed<D>,
+    coordination: &'a [u32],
+    box3: [f64; 3],
 }
 
 fn check_lengths<const D: usize>(bed: &Bed<D>, coordination: &[u32]) -> std::io::Result<()> {
@@ -126,14 +141,13 @@ fn thin_z<const D: usize>(bed: &Bed<D>) -> f64 {
 
 /// VTK XML unstructured grid: one vertex cell per particle, point data `radius`,
 /// `species`, `body`, `coordination`, `id`; field data `box`, `periodic`, `dim`.
-pub fn write_vtu<const D: usize>(
-    w: &mut dyn Write,
-    bed: &Bed<D>,
-    coordination: &[u32],
-) -> std::io::Result<()> {
-    check_lengths(bed, coordination)?;
+fn write_vtu<const D: usize>(w: &mut dyn Write, x: &Export<D>) -> std::io::Result<()> {
+    let Export {
+        bed,
+        coordination,
+        box3: b,
+    } = *x;
     let n = bed.len();
-    let b = box3(bed);
     writeln!(w, r#"<?xml version="1.0"?>"#)?;
     writeln!(
         w,
@@ -213,13 +227,12 @@ pub fn boundary_flags<const D: usize>(periodic: bool) -> [&'static str; 3] {
 /// LAMMPS dump: `ITEM: ATOMS id type x y z radius mol c_coord`, ids and types
 /// 1-based as LAMMPS numbers them (`id = row + 1`, `type = species + 1`,
 /// `mol = body + 1`).
-pub fn write_dump<const D: usize>(
-    w: &mut dyn Write,
-    bed: &Bed<D>,
-    coordination: &[u32],
-) -> std::io::Result<()> {
-    check_lengths(bed, coordination)?;
-    let b = box3(bed);
+fn write_dump<const D: usize>(w: &mut dyn Write, x: &Export<D>) -> std::io::Result<()> {
+    let Export {
+        bed,
+        coordination,
+        box3: b,
+    } = *x;
     let flags = boundary_flags::<D>(bed.container.periodic);
     writeln!(w, "ITEM: TIMESTEP\n0")?;
     writeln!(w, "ITEM: NUMBER OF ATOMS\n{}", bed.len())?;
@@ -253,13 +266,12 @@ pub fn write_dump<const D: usize>(
 /// Extended XYZ: a count line, a comment line with `Lattice`, `Origin`,
 /// `Properties=species:I:1:pos:R:3:radius:R:1:body:I:1:coordination:I:1`, `pbc`
 /// and `dim`, then one line per particle.
-pub fn write_xyz<const D: usize>(
-    w: &mut dyn Write,
-    bed: &Bed<D>,
-    coordination: &[u32],
-) -> std::io::Result<()> {
-    check_lengths(bed, coordination)?;
-    let b = box3(bed);
+fn write_xyz<const D: usize>(w: &mut dyn Write, x: &Export<D>) -> std::io::Result<()> {
+    let Export {
+        bed,
+        coordination,
+        box3: b,
+    } = *x;
     let p = bed.container.periodic;
     let tf = |x: bool| if x { "T" } else { "F" };
     let (pbc, oz) = if D == 2 {

@@ -14,6 +14,41 @@ use crate::math::Real;
 use crate::species::Shape;
 use serde::Serialize;
 
+/// JSON pointers every run's `summary.json` holds: the keys scripts rely on
+/// (`spec/interfaces.md`), checked on the library's summary and the command's.
+pub const SUMMARY_KEYS: &[&str] = &[
+    "/dim",
+    "/seed",
+    "/box/width",
+    "/box/depth",
+    "/box/height",
+    "/box/periodic",
+    "/counts/particles",
+    "/counts/bodies",
+    "/counts/redrops",
+    "/counts/base_layer",
+    "/counts/dropped",
+    "/counts/roof_overflows",
+    "/packing/global",
+    "/packing/bulk",
+    "/coordination/mean",
+    "/coordination/mean_bulk",
+    "/timing/deposit_seconds",
+    "/timing/analysis_seconds",
+    "/timing/total_seconds",
+    "/species/0/name",
+    "/species/0/size",
+    "/species/0/ratio",
+    "/species/0/placed",
+    "/config/dim",
+    "/config/seed",
+    "/config/box/periodic",
+    "/config/species/1/radius",
+    "/config/box/preset",
+    "/config/fill/until",
+    "/config/analysis/contact_tol",
+];
+
 /// The whole of `summary.json`.
 #[derive(Clone, Debug, Serialize)]
 pub struct RunSummary {
@@ -372,24 +407,7 @@ mod tests {
             Timing::default(),
         );
         let v: serde_json::Value = serde_json::from_str(&s.to_json().unwrap()).unwrap();
-        for key in [
-            "/dim",
-            "/seed",
-            "/box/width",
-            "/box/depth",
-            "/box/height",
-            "/box/periodic",
-            "/counts/particles",
-            "/counts/bodies",
-            "/counts/redrops",
-            "/packing/global",
-            "/packing/bulk",
-            "/coordination/mean",
-            "/coordination/mean_bulk",
-            "/timing/deposit_seconds",
-            "/config/box/preset",
-            "/config/fill/until",
-        ] {
+        for key in SUMMARY_KEYS {
             assert!(v.pointer(key).is_some(), "missing {key}");
         }
         assert_eq!(v["counts"]["particles"], 3);

@@ -87,6 +87,39 @@ pub enum Anchor {
     End,
 }
 
+/// How a line of text is set: its size, its anchor, its direction and colour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextStyle {
+    /// Font size in pixels.
+    pub size: f64,
+    /// Where the anchor point lies along the text.
+    pub anchor: Anchor,
+    /// Reads bottom to top (a y-axis label).
+    pub vertical: bool,
+    /// Colour of the glyphs.
+    pub color: Rgb,
+}
+
+impl TextStyle {
+    /// Black horizontal text of `size` pixels anchored at `anchor`.
+    pub fn new(size: f64, anchor: Anchor) -> TextStyle {
+        TextStyle {
+            size,
+            anchor,
+            vertical: false,
+            color: Rgb::BLACK,
+        }
+    }
+
+    /// The same, reading bottom to top.
+    pub fn vertical(self) -> TextStyle {
+        TextStyle {
+            vertical: true,
+            ..self
+        }
+    }
+}
+
 /// Maps bed ("world") coordinates to pixels: `px = tx + s·x`, `py = ty − s·y`
 /// (the bed's vertical axis points up, the image's down).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -120,19 +153,8 @@ pub trait Canvas {
     fn circle(&mut self, cx: f64, cy: f64, r: f64, style: Style, class: &str);
     /// An open polyline.
     fn polyline(&mut self, points: &[(f64, f64)], color: Rgb, width: f64);
-    /// One line of text; `(x, y)` is the anchor on the baseline. Vertical text
-    /// reads bottom to top (a y-axis label).
-    #[allow(clippy::too_many_arguments)]
-    fn text(
-        &mut self,
-        x: f64,
-        y: f64,
-        text: &str,
-        size: f64,
-        anchor: Anchor,
-        vertical: bool,
-        color: Rgb,
-    );
+    /// One line of text; `(x, y)` is the anchor on the baseline.
+    fn text(&mut self, x: f64, y: f64, text: &str, style: TextStyle);
 
     /// A straight segment.
     fn line(&mut self, x0: f64, y0: f64, x1: f64, y1: f64, color: Rgb, width: f64) {
@@ -311,22 +333,13 @@ impl Canvas for SvgCanvas {
         );
     }
 
-    fn text(
-        &mut self,
-        x: f64,
-        y: f64,
-        text: &str,
-        size: f64,
-        anchor: Anchor,
-        vertical: bool,
-        color: Rgb,
-    ) {
-        let a = match anchor {
+    fn text(&mut self, x: f64, y: f64, text: &str, style: TextStyle) {
+        let a = match style.anchor {
             Anchor::Start => "start",
             Anchor::Middle => "middle",
             Anchor::End => "end",
         };
-        let rot = if vertical {
+        let rot = if style.vertical {
             format!(r#" transform="rotate(-90 {} {})""#, fmt_px(x), fmt_px(y))
         } else {
             String::new()
@@ -336,8 +349,8 @@ impl Canvas for SvgCanvas {
             r#"<text x="{}" y="{}" font-size="{}" text-anchor="{a}" fill="{}"{rot}>{}</text>"#,
             fmt_px(x),
             fmt_px(y),
-            fmt_px(size),
-            color.hex(),
+            fmt_px(style.size),
+            style.color.hex(),
             xml_escape(text)
         );
     }
@@ -496,21 +509,12 @@ impl Canvas for PngCanvas {
         }
     }
 
-    fn text(
-        &mut self,
-        x: f64,
-        y: f64,
-        text: &str,
-        size: f64,
-        anchor: Anchor,
-        vertical: bool,
-        color: Rgb,
-    ) {
+    fn text(&mut self, x: f64, y: f64, text: &str, style: TextStyle) {
         let f = font();
-        let scale = PxScale::from(size as f32);
+        let scale = PxScale::from(style.size as f32);
         let scaled = f.as_scaled(scale);
-        let width = text_width(text, size);
-        let start = match anchor {
+        let width = text_width(text, style.size);
+        let start = match style.anchor {
             Anchor::Start => 0.0,
             Anchor::Middle => -width / 2.0,
             Anchor::End => -width,
@@ -538,12 +542,12 @@ impl Canvas for PngCanvas {
                     // Layout coordinates: along the text, and below the baseline.
                     let u = b.min.x as i64 + gx as i64;
                     let v = b.min.y as i64 + gy as i64;
-                    let (px, py) = if vertical {
+                    let (px, py) = if style.vertical {
                         (ox + v, oy - u)
                     } else {
                         (ox + u, oy + v)
                     };
-                    self.blend(px, py, color, c);
+                    self.blend(px, py, style.color, c);
                 }
             }
         }

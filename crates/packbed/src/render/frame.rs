@@ -1,7 +1,7 @@
 //! The frame around a bed picture: a title on top, a legend on the right, a scale
 //! bar below. Sizes come from the embedded font's metrics, so nothing is clipped.
 
-use super::canvas::{cap_height, text_width, Anchor, Canvas, Rgb, Style};
+use super::canvas::{cap_height, text_width, Anchor, Canvas, Rgb, Style, TextStyle};
 use super::plot::{format_number, nice_floor};
 use super::Palette;
 
@@ -70,10 +70,7 @@ pub fn draw(
         w / 2.0,
         f + cap_height(tsize),
         title,
-        tsize,
-        Anchor::Middle,
-        false,
-        Rgb::BLACK,
+        TextStyle::new(tsize, Anchor::Middle),
     );
 
     // Legend: heading, then a swatch and a label per entry.
@@ -95,10 +92,7 @@ pub fn draw(
             frame.legend_x,
             y,
             &palette.heading,
-            lsize,
-            Anchor::Start,
-            false,
-            Rgb::BLACK,
+            TextStyle::new(lsize, Anchor::Start),
         );
         y += row_h;
     }
@@ -115,10 +109,7 @@ pub fn draw(
             frame.legend_x + 2.0 * r + 0.5 * lsize,
             y,
             label,
-            lsize,
-            Anchor::Start,
-            false,
-            Rgb::BLACK,
+            TextStyle::new(lsize, Anchor::Start),
         );
         y += row_h;
     }
@@ -142,10 +133,7 @@ pub fn draw(
                 x0 + px + 0.6 * f,
                 yb + cap_height(size) / 2.0,
                 &label,
-                size,
-                Anchor::Start,
-                false,
-                Rgb::BLACK,
+                TextStyle::new(size, Anchor::Start),
             );
         }
     }

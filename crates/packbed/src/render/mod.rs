@@ -20,6 +20,7 @@ pub mod plot;
 pub mod run_files;
 pub mod run_plots;
 
+use crate::analysis::percolation::{membership, LargeRule, Membership};
 use crate::analysis::{coordination, find_contacts, Contacts};
 use crate::bed::{AnyBed, Bed};
 use crate::error::{Error, Result};
@@ -342,85 +343,36 @@ pub(crate) fn default_title<const D: usize>(bed: &Bed<D>, opts: &RenderOptions) 
     t
 }
 
-/// Classes for `--color chains`: large particles (radius `>= large_radius`) in a
-/// cluster of touching large particles that reaches from one side wall to the
-/// opposite one (x in 2D; x or y in 3D), other large particles, and the rest.
-///
-/// This is the spanning-cluster part of the percolation measure, enough to see
-/// the chains; beds with periodic sides (where a chain is a cluster that wraps
-/// around) need the full percolation analysis and are refused here.
-pub fn spanning_clusters<const D: usize>(
+/// Classes for `--color chains`: the particles of the percolation analysis'
+/// spanning clusters (wall to wall, or wrapping round a periodic box), the
+/// other large particles, and the rest, from
+/// [`crate::analysis::percolation::membership`], so that the picture shows the
+/// chains `summary.json` counts.
+pub fn chain_classes<const D: usize>(
     bed: &Bed<D>,
     contacts: &Contacts,
-    large_radius: f64,
-) -> Result<Classes> {
-    use crate::container::Wall;
-    if bed.container.periodic {
-        return Err(Error::Impossible(
-            "chains colouring of a bed with periodic sides needs the percolation measure (clusters that wrap around); draw it with --color species or coordination".into(),
-        ));
-    }
-    let n = bed.len();
-    let large: Vec<bool> = bed.radii.iter().map(|&r| r >= large_radius).collect();
-    // Union–find over large particles linked by contacts (and by their bodies).
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn root(p: &mut [u32], mut i: u32) -> u32 {
-        while p[i as usize] != i {
-            p[i as usize] = p[p[i as usize] as usize];
-            i = p[i as usize];
-        }
-        i
-    }
-    let join = |p: &mut Vec<u32>, a: u32, b: u32| {
-        let (ra, rb) = (root(p, a), root(p, b));
-        if ra != rb {
-            p[ra.max(rb) as usize] = ra.min(rb);
-        }
-    };
-    for c in &contacts.pairs {
-        if large[c.i as usize] && large[c.j as usize] {
-            join(&mut parent, c.i, c.j);
-        }
-    }
-    for i in 1..n {
-        if bed.bodies[i] == bed.bodies[i - 1] && large[i] && large[i - 1] {
-            join(&mut parent, i as u32 - 1, i as u32);
-        }
-    }
-    // Walls touched by each cluster: bit 2k for the low wall of axis k, 2k+1 high.
-    let mut touched = vec![0u8; n];
-    for w in &contacts.walls {
-        let i = w.i as usize;
-        if !large[i] {
-            continue;
-        }
-        let bit = match w.wall {
-            Wall::Low(k) => 1u8 << (2 * k),
-            Wall::High(k) => 1u8 << (2 * k + 1),
-            Wall::Floor => 0,
-        };
-        let r = root(&mut parent, w.i) as usize;
-        touched[r] |= bit;
-    }
-    let spans = |m: u8| (0..D - 1).any(|k| m >> (2 * k) & 3 == 3);
-    let class = (0..n)
-        .map(|i| {
-            if !large[i] {
-                2
-            } else if spans(touched[root(&mut parent, i as u32) as usize]) {
-                0
-            } else {
-                1
-            }
+    large: LargeRule,
+) -> Classes {
+    let class = membership(bed, contacts, large)
+        .into_iter()
+        .map(|m| match m {
+            Membership::Spanning => 0,
+            Membership::Large => 1,
+            Membership::Small => 2,
         })
         .collect();
-    Ok(Classes {
+    let spanning = if bed.container.periodic {
+        "large, in a cluster wrapping round the box"
+    } else {
+        "large, in a wall-to-wall chain"
+    };
+    Classes {
         labels: vec![
-            "large, in a wall-to-wall chain".into(),
+            spanning.into(),
             "large, not spanning".into(),
             "smaller particles".into(),
         ],
         class,
         backdrop: Some(2),
-    })
+    }
 }

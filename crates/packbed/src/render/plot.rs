@@ -7,7 +7,9 @@
 // `!(x > y)` keeps NaN on the safe branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::canvas::{cap_height, text_width, Anchor, Canvas, PngCanvas, Rgb, Style, SvgCanvas};
+use super::canvas::{
+    cap_height, text_width, Anchor, Canvas, PngCanvas, Rgb, Style, SvgCanvas, TextStyle,
+};
 use super::colour;
 use crate::error::{Error, Result};
 
@@ -172,30 +174,21 @@ impl Plot {
             w / 2.0,
             f + cap_height(tsize),
             &self.title,
-            tsize,
-            Anchor::Middle,
-            false,
-            Rgb::BLACK,
+            TextStyle::new(tsize, Anchor::Middle),
         );
         let xl = f.min(f * (right - left) / text_width(&self.x_label, f).max(1.0));
         canvas.text(
             (left + right) / 2.0,
             h - f,
             &self.x_label,
-            xl,
-            Anchor::Middle,
-            false,
-            Rgb::BLACK,
+            TextStyle::new(xl, Anchor::Middle),
         );
         let yl = f.min(f * (bottom - top) / text_width(&self.y_label, f).max(1.0));
         canvas.text(
             f + cap_height(yl),
             (top + bottom) / 2.0,
             &self.y_label,
-            yl,
-            Anchor::Middle,
-            true,
-            Rgb::BLACK,
+            TextStyle::new(yl, Anchor::Middle).vertical(),
         );
 
         // Horizontal grid and y ticks.
@@ -207,10 +200,7 @@ impl Plot {
                 left - 0.5 * f,
                 y + cap_height(small) / 2.0,
                 &format_tick(t, step),
-                small,
-                Anchor::End,
-                false,
-                Rgb::BLACK,
+                TextStyle::new(small, Anchor::End),
             );
         }
         let xtick_y = bottom + 0.6 * f + cap_height(small);
@@ -229,7 +219,7 @@ impl Plot {
                 for (k, cat) in categories.iter().enumerate() {
                     let cx = left + (k as f64 + 0.5) * slot;
                     if k % every == 0 {
-                        canvas.text(cx, xtick_y, cat, small, Anchor::Middle, false, Rgb::BLACK);
+                        canvas.text(cx, xtick_y, cat, TextStyle::new(small, Anchor::Middle));
                     }
                 }
                 for (g, group) in groups.iter().enumerate() {
@@ -259,10 +249,7 @@ impl Plot {
                         x,
                         xtick_y,
                         &format_tick(t, xstep),
-                        small,
-                        Anchor::Middle,
-                        false,
-                        Rgb::BLACK,
+                        TextStyle::new(small, Anchor::Middle),
                     );
                 }
                 for (g, s) in series.iter().enumerate() {
@@ -316,10 +303,7 @@ impl Plot {
                     x + sw + 0.4 * small,
                     y,
                     name,
-                    small,
-                    Anchor::Start,
-                    false,
-                    Rgb::BLACK,
+                    TextStyle::new(small, Anchor::Start),
                 );
                 y += 1.6 * small;
             }

@@ -5,21 +5,18 @@
 
 use packbed::analysis::validate::check_bed;
 use packbed::config::{Config, LENGTH_RANGE};
-use packbed::deposit::deposit;
 use packbed::error::Error;
 
 fn config(dim: u8, small: f64, large: f64) -> Config {
     let text = format!(
         "dim = {dim}\nseed = 3\n[[species]]\nradius = {small:e}\n[[species]]\nradius = {large:e}\n"
     );
-    Config::from_toml(&text, "test").unwrap()
+    crate::common::config(&text)
 }
 
 /// Deposits the bed of `c` and checks it from positions alone.
 fn deposit_and_check<const D: usize>(c: &Config, what: &str) {
-    let bed = deposit::<D>(&c.plan::<D>().unwrap(), &mut |_| {})
-        .unwrap()
-        .0;
+    let bed = crate::common::run::<D>(c).0;
     let report = check_bed(&bed, 1e-9);
     assert!(report.is_ok() && bed.len() > 100, "{what}: {report}");
 }

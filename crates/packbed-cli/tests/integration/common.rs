@@ -1,8 +1,5 @@
-//! The harness the CLI test binaries share: run the built `packbed` in a scratch
+//! The harness of the command's tests: run the built `packbed` in a scratch
 //! directory and look at what it printed and wrote.
-
-// Each test binary compiles this module on its own and uses only part of it.
-#![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -23,6 +20,11 @@ pub fn packbed(dir: &Path, args: &[&str]) -> Outcome {
         .stdin(Stdio::null())
         .output()
         .unwrap();
+    outcome(out)
+}
+
+/// Exit code and printed text of a finished `packbed`.
+fn outcome(out: std::process::Output) -> Outcome {
     Outcome {
         code: out.status.code().unwrap_or(-1),
         stdout: String::from_utf8(out.stdout).unwrap(),
@@ -83,6 +85,34 @@ impl Scratch {
         std::fs::read_to_string(self.path(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"))
     }
 
+    /// Runs `packbed` in `work/`, killing it and failing if it still runs after
+    /// `secs` seconds: a guard against a command that would never end.
+    pub fn within(&self, args: &[&str], secs: u64) -> Outcome {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_packbed"))
+            .args(args)
+            .current_dir(&self.work)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let start = std::time::Instant::now();
+        while child.try_wait().unwrap().is_none() {
+            if start.elapsed().as_secs() >= secs {
+                let _ = child.kill();
+                let _ = child.wait();
+                panic!("{args:?} still running after {secs} s");
+            }
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        outcome(child.wait_with_output().unwrap())
+    }
+
+    /// The `summary.json` of the output directory `work/<out>`.
+    pub fn summary(&self, out: &str) -> serde_json::Value {
+        serde_json::from_str(&self.read(&format!("{out}/summary.json"))).unwrap()
+    }
+
     /// Any file under `work/`.
     pub fn bytes(&self, rel: &str) -> Vec<u8> {
         std::fs::read(self.path(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"))
@@ -119,6 +149,13 @@ pub fn assert_user_error(s: &Scratch, args: &[&str], needles: &[&str]) {
     assert!(!o.stderr.contains("panicked"), "{}", o.stderr);
     assert!(o.stdout.is_empty(), "{args:?}: stdout: {}", o.stdout);
     assert_eq!(s.entries(), before, "{args:?} left files");
+}
+
+/// Writes the config `name` into `inputs/` and insists that `packbed run`
+/// refuses it as a user error naming every needle.
+pub fn assert_config_refused(s: &Scratch, name: &str, text: &str, needles: &[&str]) {
+    let c = s.input(name, text);
+    assert_user_error(s, &["run", c.to_str().unwrap()], needles);
 }
 
 /// Width and height of a PNG, checking its signature.

@@ -13,16 +13,13 @@
 //! narrower than a diameter by 1e-12..1e-7 r; fine particles percolating through
 //! a coarse skeleton past the move budget); they are fixed and stay as guards.
 
+use crate::common::{assert_checked, run, TOL};
 use packbed::analysis::analyze;
 use packbed::analysis::validate::{check_bed, check_bed_with, Checks, Report};
 use packbed::bed::{AnyBed, Bed};
 use packbed::config::{BaseLayerKind, Config, Fill};
-use packbed::container::Container;
 use packbed::deposit::{build, deposit, drop_onto, DepositReport, Entry};
 use packbed::math::{Real, Vector};
-
-/// Gap tolerance of the model (`spec/model.md`: exact to 1e-9 r).
-const TOL: Real = 1e-9;
 
 // ---------------------------------------------------------------------------
 // Helpers
@@ -66,20 +63,11 @@ fn config(dim: u8, seed: u64, boxed: &str, fill: &str, sizes: Sizes) -> Config {
         "dim = {dim}\nseed = {seed}\n\n[box]\n{boxed}\n\n[fill]\n{fill}\n\n{}",
         sizes.toml()
     );
-    Config::from_toml(&text, "test").unwrap_or_else(|e| panic!("{e}\n{text}"))
-}
-
-fn run<const D: usize>(c: &Config) -> (Bed<D>, DepositReport) {
-    let plan = c.plan::<D>().unwrap_or_else(|e| panic!("plan: {e}"));
-    deposit::<D>(&plan, &mut |_| {}).unwrap_or_else(|e| panic!("deposit: {e}"))
+    crate::common::config(&text)
 }
 
 fn bed<const D: usize>(size: [Real; D], periodic: bool, spheres: &[([Real; D], Real)]) -> Bed<D> {
-    let container = Container {
-        size: Vector(size),
-        periodic,
-    };
-    Bed::of_spheres(container, spheres.iter().map(|(c, r)| (Vector(*c), *r)))
+    Bed::of_spheres(size, periodic, spheres.iter().map(|&(c, r)| (c, r, 0)))
 }
 
 /// Where a sphere of radius `r` dropped at `start` comes to rest.
@@ -101,10 +89,7 @@ fn assert_valid<const D: usize>(b: &Bed<D>, roof: bool, what: &str) -> Report {
         roof,
         ..Checks::new(TOL)
     };
-    let rep = check_bed_with(b, &checks);
-    assert!(rep.is_ok(), "{what}: {rep}");
-    assert_eq!(rep.particles, b.len());
-    rep
+    assert_checked(b, &checks, what)
 }
 
 /// A copy of the first `n` particles of a bed.

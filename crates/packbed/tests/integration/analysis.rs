@@ -2,31 +2,21 @@
 //! force (a raster of the pore space for the voids) and identities between the
 //! measures.
 
+use crate::common::{config, run};
 use packbed::analysis::{analyze_with, find_contacts, voids, AnalysisOptions};
-use packbed::bed::{AnyBed, Bed};
-use packbed::config::{Config, SpeciesConfig};
+use packbed::bed::Bed;
 use std::f64::consts::PI;
 
+/// `count` discs of the given radii (equal ratios) in the default box.
 fn bed2(count: u64, radii: &[f64], periodic: bool, seed: u64) -> Bed<2> {
-    let mut c = Config {
-        dim: 2,
-        seed,
-        ..Config::default()
-    };
-    let template = c.species[0].clone();
-    c.species = radii
+    let species: String = radii
         .iter()
-        .map(|&r| SpeciesConfig {
-            radius: Some(r),
-            ..template.clone()
-        })
+        .map(|r| format!("[[species]]\nradius = {r:?}\n"))
         .collect();
-    c.container.periodic = periodic;
-    c.fill.count = Some(count);
-    match packbed::deposit::build(&c, &mut |_| {}).unwrap().0 {
-        AnyBed::D2(b) => b,
-        AnyBed::D3(_) => unreachable!(),
-    }
+    let c = config(&format!(
+        "dim = 2\nseed = {seed}\n[box]\nperiodic = {periodic}\n[fill]\ncount = {count}\n{species}"
+    ));
+    run::<2>(&c).0
 }
 
 /// Areas of the connected pieces of pore space on a pixel grid, leaving out the

@@ -1,11 +1,9 @@
 //! Integration tests of the `packbed` command: each runs the built binary in a
 //! fresh temporary directory and checks exit code, messages and files.
 
+use crate::common::{assert_config_refused, assert_user_error, Outcome, Scratch};
 use packbed::config::Config;
 use serde_json::Value;
-mod common;
-
-use common::{assert_user_error, Outcome, Scratch};
 use std::path::Path;
 
 /// A small, fast bed: 2D thesis box of equal discs of radius 10 (~600 discs).
@@ -22,8 +20,12 @@ fn negative_radius_is_refused() {
         &["species[0].radius", "-10"],
     );
     assert_user_error(&s, &["run", "--radii", "-10"], &["species[0].radius"]);
-    let c = s.input("neg.toml", "[[species]]\nradius = -5\n");
-    assert_user_error(&s, &["run", c.to_str().unwrap()], &["neg.toml", "radius"]);
+    assert_config_refused(
+        &s,
+        "neg.toml",
+        "[[species]]\nradius = -5\n",
+        &["neg.toml", "radius"],
+    );
 }
 
 #[test]
@@ -34,19 +36,30 @@ fn nan_radius_is_refused() {
         &["run", "--radii", "nan,10"],
         &["species[0].radius", "NaN"],
     );
-    let c = s.input("nan.toml", "dim = 2\n[[species]]\nradius = nan\n");
-    assert_user_error(&s, &["run", c.to_str().unwrap()], &["radius", "NaN"]);
-    let c = s.input("inf.toml", "[[species]]\nradius = 10\nratio = inf\n");
-    assert_user_error(&s, &["run", c.to_str().unwrap()], &["ratio"]);
+    assert_config_refused(
+        &s,
+        "nan.toml",
+        "dim = 2\n[[species]]\nradius = nan\n",
+        &["radius", "NaN"],
+    );
+    assert_config_refused(
+        &s,
+        "inf.toml",
+        "[[species]]\nradius = 10\nratio = inf\n",
+        &["ratio"],
+    );
 }
 
 #[test]
 fn unknown_key_is_named_with_its_line() {
     let s = Scratch::new();
-    let c = s.input("typo.toml", "dim = 3\n\n[box]\nwidht = 300\n");
-    assert_user_error(&s, &["run", c.to_str().unwrap()], &["widht", "typo.toml:4"]);
-    let c = s.input("top.toml", "seeed = 3\n");
-    assert_user_error(&s, &["run", c.to_str().unwrap()], &["seeed", "top.toml:1"]);
+    assert_config_refused(
+        &s,
+        "typo.toml",
+        "dim = 3\n\n[box]\nwidht = 300\n",
+        &["widht", "typo.toml:4"],
+    );
+    assert_config_refused(&s, "top.toml", "seeed = 3\n", &["seeed", "top.toml:1"]);
 }
 
 #[test]
@@ -57,21 +70,25 @@ fn box_smaller_than_particle_is_refused() {
         &["run", "--dim", "2", "--radii", "20", "--box", "30,100"],
         &["smaller than the largest particle"],
     );
-    let c = s.input("box.toml", "[box]\ndiameters = 0.5\n");
-    assert_user_error(&s, &["run", c.to_str().unwrap()], &["smaller"]);
+    assert_config_refused(&s, "box.toml", "[box]\ndiameters = 0.5\n", &["smaller"]);
 }
 
 #[test]
 fn unreadable_psd_table_is_refused() {
     let s = Scratch::new();
-    let c = s.input(
+    assert_config_refused(
+        &s,
         "psd.toml",
         "[[species]]\nsize = { table = \"missing-psd.csv\" }\n",
+        &["missing-psd.csv"],
     );
-    assert_user_error(&s, &["run", c.to_str().unwrap()], &["missing-psd.csv"]);
     s.input("bad.csv", "radius,weight\n10,1\n12,abc\n");
-    let c = s.input("bad.toml", "[[species]]\nsize = { table = \"bad.csv\" }\n");
-    assert_user_error(&s, &["run", c.to_str().unwrap()], &["bad.csv:3"]);
+    assert_config_refused(
+        &s,
+        "bad.toml",
+        "[[species]]\nsize = { table = \"bad.csv\" }\n",
+        &["bad.csv:3"],
+    );
 }
 
 #[test]
@@ -187,10 +204,6 @@ fn small_run(s: &Scratch, out: &str, extra: &[&str]) -> Outcome {
     o
 }
 
-fn summary(s: &Scratch, out: &str) -> Value {
-    serde_json::from_str(&s.read(&format!("{out}/summary.json"))).unwrap()
-}
-
 #[test]
 fn run_writes_the_files_of_the_contract() {
     let s = Scratch::new();
@@ -242,7 +255,7 @@ fn run_writes_the_files_of_the_contract() {
         assert!(["floor", "x0", "x1"].contains(&wall), "{l}");
     }
 
-    let v = summary(&s, "out");
+    let v = s.summary("out");
     assert_eq!(v["counts"]["particles"], rows.len() as u64);
     assert_eq!(v["dim"], 2);
     assert_eq!(v["seed"], 5);
@@ -255,38 +268,8 @@ fn summary_has_every_key_scripts_rely_on() {
     let o = s.packbed(&["run", "--radii", "10,20", "--out", "out3", "--quiet"]);
     assert_eq!(o.code, 0, "{}", o.stderr);
     assert!(o.stdout.is_empty(), "--quiet: {}", o.stdout);
-    let v = summary(&s, "out3");
-    for key in [
-        "/dim",
-        "/seed",
-        "/box/width",
-        "/box/depth",
-        "/box/height",
-        "/box/periodic",
-        "/counts/particles",
-        "/counts/bodies",
-        "/counts/redrops",
-        "/counts/base_layer",
-        "/counts/dropped",
-        "/counts/roof_overflows",
-        "/packing/global",
-        "/packing/bulk",
-        "/coordination/mean",
-        "/coordination/mean_bulk",
-        "/timing/deposit_seconds",
-        "/timing/analysis_seconds",
-        "/timing/total_seconds",
-        "/species/0/name",
-        "/species/0/size",
-        "/species/0/ratio",
-        "/species/0/placed",
-        "/config/dim",
-        "/config/seed",
-        "/config/box/periodic",
-        "/config/species/1/radius",
-        "/config/fill/until",
-        "/config/analysis/contact_tol",
-    ] {
+    let v = s.summary("out3");
+    for key in packbed::io::summary::SUMMARY_KEYS {
         assert!(v.pointer(key).is_some(), "summary.json lacks {key}");
     }
     assert_eq!(v["dim"], 3);
@@ -343,8 +326,8 @@ fn same_seed_gives_identical_files() {
     }
     small_run(&s, "c", &["--quiet", "--seed", "6"]);
     assert_ne!(s.read("a/particles.csv"), s.read("c/particles.csv"));
-    let a = summary(&s, "a");
-    let c = summary(&s, "c");
+    let a = s.summary("a");
+    let c = s.summary("c");
     assert_eq!(a["seed"], 5);
     assert_eq!(c["seed"], 6);
 }
@@ -355,7 +338,7 @@ fn default_run_needs_no_arguments() {
     let o = s.packbed(&["run"]);
     assert_eq!(o.code, 0, "{}", o.stderr);
     assert!(o.stdout.contains("3D"), "{}", o.stdout);
-    let v = summary(&s, "packbed-out");
+    let v = s.summary("packbed-out");
     assert_eq!(v["dim"], 3);
     assert_eq!(v["seed"], 1);
     assert_eq!(v["config"]["box"]["preset"], "thesis");
@@ -383,7 +366,7 @@ fn overrides_reach_the_bed() {
         "--quiet",
     ]);
     assert_eq!(o.code, 0, "{}", o.stderr);
-    let v = summary(&s, "o");
+    let v = s.summary("o");
     assert_eq!(v["counts"]["particles"], 120);
     assert_eq!(v["box"]["width"], 200.0);
     assert_eq!(v["box"]["height"], 150.0);
@@ -465,7 +448,7 @@ fn bench_times_every_analysis_stage_of_a_bed_file() {
         .unwrap()
         .iter()
         .all(|e| e[1].as_f64().unwrap() >= 0.0));
-    assert_eq!(v["n"], summary(&s, "b")["counts"]["particles"]);
+    assert_eq!(v["n"], s.summary("b")["counts"]["particles"]);
     let missing = s.packbed(&["bench", "--bed", "none.csv"]);
     assert_eq!(missing.code, 2, "{}", missing.stderr);
 }
@@ -593,7 +576,7 @@ fn rsa_mode_runs_the_thesis_box_to_saturation() {
         "{}",
         o.stdout
     );
-    let v = summary(&s, "rsa");
+    let v = s.summary("rsa");
     assert_eq!(v["mode"], "rsa");
     assert_eq!(v["box"]["width"], 300.0);
     let n = v["counts"]["particles"].as_u64().unwrap();
@@ -681,7 +664,7 @@ fn absurd_roof_misses_are_refused_with_the_bound() {
             &format!("dim = 2\n[box]\nwidth = 100\nheight = 40\n[fill]\nroof_misses = {misses}\n[[species]]\nradius = 10\n"),
         );
         let args = ["run", c.to_str().unwrap(), "--out", "m"];
-        let o = within(&s, &args, 60);
+        let o = s.within(&args, 60);
         assert_eq!(o.code, 2, "{}", o.stderr);
         assert_user_error(
             &s,
@@ -695,49 +678,6 @@ fn absurd_roof_misses_are_refused_with_the_bound() {
         "dim = 2\n[box]\nwidth = 100\nheight = 40\n[fill]\nroof_misses = 1000\n[[species]]\nradius = 10\n",
     );
     s.ok(&["run", c.to_str().unwrap(), "--out", "m", "--quiet"]);
-}
-
-/// Runs `packbed` but gives up (killing it) after `secs` seconds.
-fn within(s: &Scratch, args: &[&str], secs: u64) -> Outcome {
-    use std::io::Read;
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_packbed"))
-        .args(args)
-        .current_dir(&s.work)
-        .stdin(std::process::Stdio::null())
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = std::time::Instant::now();
-    let status = loop {
-        if let Some(st) = child.try_wait().unwrap() {
-            break st;
-        }
-        if start.elapsed().as_secs() >= secs {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("{args:?} still running after {secs} s");
-        }
-        std::thread::sleep(std::time::Duration::from_millis(50));
-    };
-    let (mut stdout, mut stderr) = (String::new(), String::new());
-    child
-        .stdout
-        .take()
-        .unwrap()
-        .read_to_string(&mut stdout)
-        .unwrap();
-    child
-        .stderr
-        .take()
-        .unwrap()
-        .read_to_string(&mut stderr)
-        .unwrap();
-    Outcome {
-        code: status.code().unwrap_or(-1),
-        stdout,
-        stderr,
-    }
 }
 
 /// `[analysis] chain_angle_from = "horizontal"` (and `analyze
@@ -759,7 +699,7 @@ fn chain_angles_from_the_horizontal_on_request() {
     );
     let v = s.input("v.toml", bed);
     s.ok(&["run", v.to_str().unwrap(), "--out", "v", "--quiet"]);
-    let (h, v) = (summary(&s, "h"), summary(&s, "v"));
+    let (h, v) = (s.summary("h"), s.summary("v"));
     assert_eq!(h["orientation"]["angle_from"], "horizontal");
     assert_eq!(v["orientation"]["angle_from"], "vertical");
     let mean = |j: &Value| j["orientation"]["mean_angle"].as_f64().unwrap();
@@ -772,12 +712,12 @@ fn chain_angles_from_the_horizontal_on_request() {
     assert_eq!(h["orientation"]["histogram"]["lo"], 0.0);
     assert_eq!(v["orientation"]["histogram"]["lo"], -90.0);
     assert_eq!(h["config"]["analysis"]["chain_angle_from"], "horizontal");
-    let texts = common::svg_texts(&s.read("h/plot_chain_angles.svg"));
+    let texts = crate::common::svg_texts(&s.read("h/plot_chain_angles.svg"));
     assert!(
         texts.iter().any(|t| t.contains("from horizontal")),
         "{texts:?}"
     );
-    let texts = common::svg_texts(&s.read("v/plot_chain_angles.svg"));
+    let texts = crate::common::svg_texts(&s.read("v/plot_chain_angles.svg"));
     assert!(
         texts.iter().any(|t| t.contains("from vertical")),
         "{texts:?}"
@@ -792,7 +732,7 @@ fn chain_angles_from_the_horizontal_on_request() {
         "a",
         "--quiet",
     ]);
-    let a = summary(&s, "a");
+    let a = s.summary("a");
     assert_eq!(a["orientation"]["angle_from"], "horizontal");
     assert_eq!(a["settings"]["chain_angle_from"], "horizontal");
     assert_eq!(a["orientation"]["histogram"], h["orientation"]["histogram"]);
@@ -924,7 +864,7 @@ fn screen_summary_counts_in_the_singular_and_by_name() {
     }
     // Box sizes without float noise on screen; summary.json keeps every digit.
     assert!(o.stdout.contains("66.6667 × 66.6667 box"), "{}", o.stdout);
-    assert_eq!(summary(&s, "one")["box"]["width"], 66.666666);
+    assert_eq!(s.summary("one")["box"]["width"], 66.666666);
 
     // Segregation by species name; the base layer of chains in bodies.
     let c = s.input(
@@ -941,7 +881,7 @@ fn screen_summary_counts_in_the_singular_and_by_name() {
         .unwrap();
     assert!(seg.contains("coarse ") && seg.contains("fine "), "{seg}");
     assert!(!seg.contains("species 0"), "{seg}");
-    let j = summary(&s, "named");
+    let j = s.summary("named");
     let bodies = j["counts"]["bodies"].as_u64().unwrap();
     let dropped = j["counts"]["dropped"].as_u64().unwrap();
     let line = o

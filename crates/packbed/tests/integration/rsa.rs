@@ -9,23 +9,18 @@
 //! 3. no overlap, every particle inside the box (the independent checker with
 //!    the rest test off), `count = N`, determinism.
 
+use crate::common::{assert_checked, run};
 use packbed::analysis::analyze;
-use packbed::analysis::validate::{check_bed_with, Checks};
+use packbed::analysis::validate::Checks;
 use packbed::bed::Bed;
 use packbed::config::Config;
-use packbed::deposit::{deposit, DepositReport};
 use packbed::math::{Real, Vector};
 
 fn config(dim: u8, seed: u64, boxed: &str, fill: &str, species: &str) -> Config {
     let text = format!(
         "dim = {dim}\nseed = {seed}\nmode = \"rsa\"\n\n[box]\n{boxed}\n\n[fill]\n{fill}\n\n{species}"
     );
-    Config::from_toml(&text, "test").unwrap_or_else(|e| panic!("{e}\n{text}"))
-}
-
-fn run<const D: usize>(c: &Config) -> (Bed<D>, DepositReport) {
-    let plan = c.plan::<D>().unwrap_or_else(|e| panic!("plan: {e}"));
-    deposit::<D>(&plan, &mut |_| {}).unwrap_or_else(|e| panic!("deposit: {e}"))
+    crate::common::config(&text)
 }
 
 const ONE: &str = "[[species]]\nradius = 10\n";
@@ -43,9 +38,7 @@ fn assert_valid<const D: usize>(b: &Bed<D>, what: &str) {
         rest: false,
         ..Checks::new(1e-12)
     };
-    let rep = check_bed_with(b, &checks);
-    assert!(rep.is_ok(), "{what}: {rep}");
-    assert_eq!(rep.particles, b.len());
+    assert_checked(b, &checks, what);
 }
 
 /// The largest radius that fits centred at `p`, by brute force over every

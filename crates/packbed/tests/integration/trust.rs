@@ -2,30 +2,18 @@
 //! that must never be written, and measures whose definitions were wrong.
 //! Each test failed on the code before its fix.
 
+use crate::common::{assert_checked, config, run, TOL};
 use packbed::analysis::analyze;
 use packbed::analysis::validate::{check_bed_with, Checks};
 use packbed::bed::Bed;
 use packbed::config::{Config, Fill};
-use packbed::deposit::{deposit, DepositReport};
-
-fn config(text: &str) -> Config {
-    Config::from_toml(text, "test").unwrap_or_else(|e| panic!("{e}\n{text}"))
-}
-
-fn run<const D: usize>(c: &Config) -> (Bed<D>, DepositReport) {
-    let plan = c.plan::<D>().unwrap_or_else(|e| panic!("plan: {e}"));
-    deposit::<D>(&plan, &mut |_| {}).unwrap_or_else(|e| panic!("deposit: {e}"))
-}
 
 fn assert_valid<const D: usize>(b: &Bed<D>, what: &str) {
-    let rep = check_bed_with(
-        b,
-        &Checks {
-            roof: true,
-            ..Checks::new(1e-9)
-        },
-    );
-    assert!(rep.is_ok(), "{what}: {rep}");
+    let checks = Checks {
+        roof: true,
+        ..Checks::new(TOL)
+    };
+    assert_checked(b, &checks, what);
 }
 
 // ---------------------------------------------------------------------------

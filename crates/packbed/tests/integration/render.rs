@@ -187,21 +187,34 @@ fn coordination_colours_follow_the_contacts() {
 }
 
 #[test]
-fn spanning_clusters_highlight_wall_to_wall_chains() {
+fn chain_colours_mark_the_spanning_clusters_of_the_percolation() {
+    use packbed::analysis::percolation::{percolation, PercolationOptions};
+    use packbed::analysis::LargeRule;
     let bed = bed2();
     let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
-    let c = render::spanning_clusters(&bed, &contacts, 20.0).unwrap();
+    let c = render::chain_classes(&bed, &contacts, LargeRule::Median);
     // The floor row of large discs spans x0 to x1; the smalls are backdrop.
     assert_eq!(c.class, vec![0, 0, 0, 0, 0, 2, 2, 2, 2]);
-    // Without the middle disc the row no longer spans.
+    assert!(c.labels[0].contains("wall-to-wall"));
+    let p = percolation(&bed, &contacts, &PercolationOptions::default());
+    assert_eq!((p.large_bodies, p.spanning_clusters), (5, 1));
+    // Without the middle disc the row no longer spans, here or in the analysis.
     let mut broken = bed.clone();
     broken.radii[2] = 19.0;
     let contacts = packbed::analysis::find_contacts(&broken, 1e-6);
-    let c = render::spanning_clusters(&broken, &contacts, 20.0).unwrap();
+    let c = render::chain_classes(&broken, &contacts, LargeRule::Radius(20.0));
     assert_eq!(&c.class[..5], &[1, 1, 2, 1, 1]);
+    let p = percolation(&broken, &contacts, &PercolationOptions::default());
+    assert_eq!(p.spanning_clusters, 0);
+    // Periodic sides: the row closes round the seam, a cluster that wraps.
     let mut periodic = bed;
     periodic.container.periodic = true;
-    assert!(render::spanning_clusters(&periodic, &contacts, 20.0).is_err());
+    let contacts = packbed::analysis::find_contacts(&periodic, 1e-6);
+    let c = render::chain_classes(&periodic, &contacts, LargeRule::Median);
+    assert_eq!(c.class, vec![0, 0, 0, 0, 0, 2, 2, 2, 2]);
+    assert!(c.labels[0].contains("wrapping"));
+    let p = percolation(&periodic, &contacts, &PercolationOptions::default());
+    assert_eq!((p.criterion.as_str(), p.spanning_clusters), ("wraps", 1));
 }
 
 fn one_sphere() -> Bed<3> {

@@ -4,28 +4,12 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-mod common;
-
-use common::{ok, packbed, png_size};
-
-/// Exit code 2 and one line naming every needle.
-fn refused(dir: &Path, args: &[&str], needles: &[&str]) {
-    let o = packbed(dir, args);
-    assert_eq!(o.code, 2, "{args:?} should fail: {}", o.stdout);
-    assert_eq!(o.stderr.lines().count(), 1, "{}", o.stderr);
-    for n in needles {
-        assert!(o.stderr.contains(n), "{args:?}: `{}` lacks `{n}`", o.stderr);
-    }
-}
-
-fn tmp() -> tempfile::TempDir {
-    tempfile::tempdir().unwrap()
-}
+use crate::common::{assert_user_error, ok, png_size, Scratch};
 
 #[test]
 fn run_writes_pictures_plots_and_exports_that_render_reads() {
-    let t = tmp();
-    let d = t.path();
+    let s = Scratch::new();
+    let d = s.work.as_path();
     ok(
         d,
         &[
@@ -127,8 +111,8 @@ fn run_writes_pictures_plots_and_exports_that_render_reads() {
 
 #[test]
 fn same_seed_gives_identical_pictures() {
-    let t = tmp();
-    let d = t.path();
+    let s = Scratch::new();
+    let d = s.work.as_path();
     for out in ["a", "b"] {
         ok(d, &["run", "--quiet", "--seed", "3", "--out", out]);
     }
@@ -141,8 +125,8 @@ fn same_seed_gives_identical_pictures() {
 
 #[test]
 fn render_3d_views_and_cuts() {
-    let t = tmp();
-    let d = t.path();
+    let s = Scratch::new();
+    let d = s.work.as_path();
     ok(d, &["run", "--quiet", "--out", "r", "--no-pictures"]);
     assert!(!d.join("r/bed.png").exists());
     ok(
@@ -177,84 +161,39 @@ fn render_3d_views_and_cuts() {
         png_size(&std::fs::read(d.join("s.png")).unwrap()),
         (1200, 1000)
     );
-    refused(
-        d,
-        &["render", "r/particles.csv", "--out", "x.svg"],
-        &["SVG", "2D"],
-    );
-    refused(
-        d,
-        &[
-            "render",
-            "r/particles.csv",
-            "--out",
-            "x.png",
-            "--cut",
-            "w:1:2",
-        ],
-        &["--cut"],
-    );
-    refused(
-        d,
-        &[
-            "render",
-            "r/particles.csv",
-            "--out",
-            "x.png",
-            "--view",
-            "0,100",
-        ],
-        &["elevation"],
-    );
-    refused(
-        d,
-        &[
-            "render",
-            "r/particles.csv",
-            "--out",
-            "x.png",
-            "--color",
-            "force",
-        ],
-        &["force"],
-    );
-    refused(
-        d,
-        &["render", "r/particles.csv", "--out", "x.jpg"],
-        &[".png or .svg"],
-    );
-    refused(
-        d,
-        &[
-            "render",
-            "r/particles.csv",
-            "--out",
-            "x.png",
-            "--width",
-            "5",
-        ],
-        &["width"],
-    );
+    // Bad views, cuts, colours and formats: the output file first, then options.
+    for (tail, needles) in [
+        (&["x.svg"][..], &["SVG", "2D"][..]),
+        (&["x.png", "--cut", "w:1:2"][..], &["--cut"][..]),
+        (&["x.png", "--view", "0,100"][..], &["elevation"][..]),
+        (&["x.png", "--color", "force"][..], &["force"][..]),
+        (&["x.jpg"][..], &[".png or .svg"][..]),
+        (&["x.png", "--width", "5"][..], &["width"][..]),
+    ] {
+        let mut args = vec!["render", "r/particles.csv", "--out"];
+        args.extend_from_slice(tail);
+        assert_user_error(&s, &args, needles);
+    }
     assert!(!d.join("x.png").exists() && !d.join("x.svg").exists());
 }
 
 #[test]
 fn bad_bed_files_and_exports_are_refused() {
-    let t = tmp();
-    let d = t.path();
+    let s = Scratch::new();
+    let d = s.work.as_path();
     std::fs::write(d.join("p.txt"), "1 2 3 1\n4 5 nan 1\n").unwrap();
-    refused(
-        d,
+    assert_user_error(
+        &s,
         &["render", "p.txt", "--box", "10,10,10"],
         &["p.txt:2", "not a finite number"],
     );
     std::fs::write(d.join("q.txt"), "1 2 3 1\n").unwrap();
-    refused(d, &["render", "q.txt"], &["q.txt:1", "--box W,D,H"]);
+    assert_user_error(&s, &["render", "q.txt"], &["q.txt:1", "--box W,D,H"]);
     ok(
         d,
         &["render", "q.txt", "--box", "10,10,10", "--out", "q.png"],
     );
-    refused(d, &["run", "--export", "pdb"], &["pdb", "vtk, dump, xyz"]);
+    assert_user_error(&s, &["run", "--export", "pdb"], &["pdb", "vtk, dump, xyz"]);
     assert!(!d.join("packbed-out").exists());
 }
 
@@ -278,8 +217,8 @@ fn ovito_reads_the_exports_and_agrees_on_coordination() {
         return;
     }
     let script: PathBuf = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/ovito_check.py");
-    let t = tmp();
-    let d = t.path();
+    let s = Scratch::new();
+    let d = s.work.as_path();
     for (out, periodic) in [("walls", false), ("periodic", true)] {
         let mut args = vec![
             "run",
@@ -337,8 +276,8 @@ fn ovito_missing(python: &str) -> Option<String> {
 
 #[test]
 fn render_help_names_the_options() {
-    let t = tmp();
-    let o = ok(t.path(), &["render", "--help"]);
+    let s = Scratch::new();
+    let o = s.ok(&["render", "--help"]);
     for opt in [
         "--out",
         "--color",
@@ -355,8 +294,8 @@ fn render_help_names_the_options() {
 /// A 2D picture has no view or cut-away: asking for one is refused, not ignored.
 #[test]
 fn view_and_cut_on_a_2d_bed_are_refused() {
-    let t = tmp();
-    let d = t.path();
+    let s = Scratch::new();
+    let d = s.work.as_path();
     std::fs::write(d.join("discs.txt"), "10 10 5\n20 10 5\n").unwrap();
     let bed = ["render", "discs.txt", "--box", "40,40", "--out", "p.png"];
     for (extra, needles) in [
@@ -368,7 +307,7 @@ fn view_and_cut_on_a_2d_bed_are_refused() {
         ),
     ] {
         let args: Vec<&str> = bed.iter().chain(extra).copied().collect();
-        refused(d, &args, needles);
+        assert_user_error(&s, &args, needles);
         assert!(!d.join("p.png").exists(), "{args:?} wrote the picture");
     }
     ok(d, &bed);

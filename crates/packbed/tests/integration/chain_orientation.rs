@@ -5,8 +5,6 @@
 
 use packbed::analysis::orientation::{body_axes, orientation, AngleFrom};
 use packbed::bed::Bed;
-use packbed::config::Config;
-use packbed::deposit::deposit;
 
 fn bed_2d(seed: u64) -> Bed<2> {
     let text = format!(
@@ -14,11 +12,7 @@ fn bed_2d(seed: u64) -> Bed<2> {
          [fill]\ncount = 4000\nbase_layer = \"random\"\n\
          [[species]]\nradius = 10\nshape = \"chain\"\nbeads = 5\n"
     );
-    let plan = Config::from_toml(&text, "test")
-        .unwrap()
-        .plan::<2>()
-        .unwrap();
-    deposit::<2>(&plan, &mut |_| {}).unwrap().0
+    crate::common::run::<2>(&crate::common::config(&text)).0
 }
 
 /// `|a − b|` within four standard deviations of a fair split of `a + b`.

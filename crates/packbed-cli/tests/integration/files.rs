@@ -2,14 +2,8 @@
 //! refusals of inconsistent input, checks reported on input beds, CSV quoting,
 //! temporary files after interruptions, unwritable output directories.
 
-mod common;
-
-use common::{assert_user_error, Scratch};
+use crate::common::{assert_user_error, Scratch};
 use serde_json::Value;
-
-fn summary(s: &Scratch, out: &str) -> Value {
-    serde_json::from_str(&s.read(&format!("{out}/summary.json"))).unwrap()
-}
 
 // ---- counts ---------------------------------------------------------------
 
@@ -31,7 +25,7 @@ fn bodies_are_counted_not_numbered() {
         "a",
         "-q",
     ]);
-    let v = summary(&s, "a");
+    let v = s.summary("a");
     assert_eq!(v["counts"]["particles"], 4);
     assert_eq!(v["counts"]["bodies"], 3);
 }
@@ -58,7 +52,7 @@ fn atom_count_below_the_rows_is_refused() {
     );
     let whole = s.input("whole.dump", &dump(3));
     s.ok(&["analyze", whole.to_str().unwrap(), "--out", "a", "-q"]);
-    assert_eq!(summary(&s, "a")["counts"]["particles"], 3);
+    assert_eq!(s.summary("a")["counts"]["particles"], 3);
 
     let xyz = |n: usize| {
         format!(
@@ -74,11 +68,11 @@ fn atom_count_below_the_rows_is_refused() {
     );
     let whole = s.input("whole.xyz", &xyz(3));
     s.ok(&["analyze", whole.to_str().unwrap(), "--out", "b", "-q"]);
-    assert_eq!(summary(&s, "b")["counts"]["particles"], 3);
+    assert_eq!(s.summary("b")["counts"]["particles"], 3);
     // A second frame after a complete first one is not extra rows.
     let frames = s.input("frames.xyz", &format!("{}{}", xyz(3), xyz(3)));
     s.ok(&["analyze", frames.to_str().unwrap(), "--out", "c", "-q"]);
-    assert_eq!(summary(&s, "c")["counts"]["particles"], 3);
+    assert_eq!(s.summary("c")["counts"]["particles"], 3);
 }
 
 // ---- the box ----------------------------------------------------------------
@@ -89,7 +83,7 @@ fn atom_count_below_the_rows_is_refused() {
 fn given_box_wins_over_the_summary_beside() {
     let s = Scratch::new();
     s.ok(&["run", "--dim", "2", "--count", "60", "--out", "r", "-q"]);
-    let run = summary(&s, "r");
+    let run = s.summary("r");
     let (w, h) = (
         run["box"]["width"].as_f64().unwrap(),
         run["box"]["height"].as_f64().unwrap(),
@@ -103,7 +97,7 @@ fn given_box_wins_over_the_summary_beside() {
         "{}",
         o.stdout
     );
-    let a = summary(&s, "a");
+    let a = s.summary("a");
     assert_eq!(a["box"], {
         let mut b = run["box"].clone();
         b["source"] = "summary.json".into();
@@ -125,7 +119,7 @@ fn given_box_wins_over_the_summary_beside() {
         "{}",
         o.stdout
     );
-    let b = summary(&s, "b");
+    let b = s.summary("b");
     assert_eq!(b["box"]["width"].as_f64(), Some(w));
     assert_eq!(b["box"]["height"].as_f64(), Some(2.0 * h));
     assert_eq!(b["box"]["periodic"], true);
@@ -258,7 +252,7 @@ fn overlaps_are_reported_not_refused() {
         warning[0]
     );
     assert!(warning[0].contains("2.000"), "{}", warning[0]);
-    let v = summary(&s, "a");
+    let v = s.summary("a");
     assert_eq!(v["checks"]["overlapping_pairs"], 2);
     assert_eq!(v["checks"]["max_overlap"].as_f64(), Some(2.0));
     assert_eq!(v["counts"]["particles"], 8);
@@ -276,7 +270,7 @@ fn overlaps_are_reported_not_refused() {
         let back = format!("{out}-a");
         let o = s.ok(&["analyze", &csv, "--out", &back, "-q", "--no-pictures"]);
         assert!(o.stderr.is_empty(), "{out}: {}", o.stderr);
-        let v = summary(&s, &back);
+        let v = s.summary(&back);
         assert_eq!(v["checks"]["overlapping_pairs"], 0, "{out}");
         assert_eq!(v["checks"]["max_overlap"].as_f64(), Some(0.0), "{out}");
     }
@@ -367,38 +361,21 @@ fn unwritable(s: &Scratch) -> Vec<String> {
     v
 }
 
-/// Runs `args` and insists that it is refused as a user error within `secs`
-/// seconds (a long build must not run first), leaving nothing in `work/`.
-fn refused_quickly(s: &Scratch, args: &[&str], secs: u64) {
-    use std::process::{Command, Stdio};
-    use std::time::{Duration, Instant};
+/// Runs `args` and insists that it is refused as a user error about `--out`,
+/// leaving nothing in `work/`. The work these commands are given takes minutes:
+/// a command still running after `secs` seconds has started it before checking
+/// its output (the guard stops it; it is not a speed criterion).
+fn refused_before_the_work(s: &Scratch, args: &[&str], secs: u64) {
     let before = s.entries();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_packbed"))
-        .args(args)
-        .current_dir(&s.work)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let t = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if t.elapsed() > Duration::from_secs(secs) {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("{args:?}: still running after {secs} s: the output was not checked first");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    let out = child.wait_with_output().unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-    assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
+    let o = s.within(args, secs);
+    assert_eq!(o.code, 2, "{args:?}: {}", o.stderr);
+    assert_eq!(o.stderr.lines().count(), 1, "{args:?}: {}", o.stderr);
     assert!(
-        stderr.starts_with("packbed: error: --out "),
-        "{args:?}: {stderr}"
+        o.stderr.starts_with("packbed: error: --out "),
+        "{args:?}: {}",
+        o.stderr
     );
-    assert!(out.stdout.is_empty(), "{args:?}");
+    assert!(o.stdout.is_empty(), "{args:?}");
     assert_eq!(s.entries(), before, "{args:?} left files");
 }
 
@@ -429,19 +406,19 @@ fn unwritable_out_is_refused_before_the_work() {
     for out in unwritable(&s) {
         let o = out.as_str();
         let picture = format!("{out}/bed.png");
-        refused_quickly(
+        refused_before_the_work(
             &s,
             &["run", "--count", "5000000", "--periodic", "-q", "--out", o],
             20,
         );
-        refused_quickly(
+        refused_before_the_work(
             &s,
             &["ensemble", config, "--runs", "4000", "-q", "--out", o],
             20,
         );
-        refused_quickly(&s, &["analyze", bed, "-q", "--out", o], 20);
-        refused_quickly(&s, &["render", bed, "--out", &picture], 20);
-        refused_quickly(&s, &["merge", "r", "--out", o], 20);
+        refused_before_the_work(&s, &["analyze", bed, "-q", "--out", o], 20);
+        refused_before_the_work(&s, &["render", bed, "--out", &picture], 20);
+        refused_before_the_work(&s, &["merge", "r", "--out", o], 20);
     }
 }
 
@@ -500,12 +477,15 @@ fn signals_remove_the_temporary_files() {
         {
             assert!(
                 child.try_wait().unwrap().is_none(),
-                "finished before it was stopped"
+                "finished before a temporary file of particles.csv was seen"
             );
-            assert!(
-                t.elapsed() < Duration::from_secs(120),
-                "no temporary file seen"
-            );
+            // Only stops a hung process, not a speed criterion: the run ends
+            // (and the assertion above fails) long before this.
+            if t.elapsed() > Duration::from_secs(1800) {
+                let _ = child.kill();
+                let _ = child.wait();
+                panic!("packbed hung: no temporary file and no exit after 30 minutes");
+            }
             std::thread::sleep(Duration::from_millis(2));
         }
         let killed = Command::new("kill")

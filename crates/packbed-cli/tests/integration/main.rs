@@ -1,0 +1,10 @@
+//! The command's integration tests, one binary: each test runs the built
+//! `packbed` in a scratch directory and checks exit code, messages and files.
+//! The harness (scratch directory, run, compare) is [`common`].
+
+mod common;
+
+mod commands;
+mod ensemble;
+mod files;
+mod render;

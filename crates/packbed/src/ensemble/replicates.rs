@@ -1,0 +1,166 @@
+//! Running an ensemble: its replicates in parallel, each written as it
+//! finishes, those already done reused (resume).
+
+use super::manifest::{check_out, config_key, io_err, write_manifest, Manifest, MANIFEST};
+use super::write::{write_point, write_sweep};
+use super::{
+    points, run_dir, seeds, worker_threads, Options, Outcome, PointResult, Tick, MAX_RUNS,
+};
+use crate::config::Config;
+use crate::error::{Error, Result};
+use crate::io::Staging;
+use rayon::prelude::*;
+use serde_json::Value;
+use std::fs;
+use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+/// A replicate's summary if it is already done: present, valid JSON, and of
+/// the expected seed.
+pub(super) fn done_summary(dir: &Path, seed: u64) -> Option<(Value, String)> {
+    let text = fs::read_to_string(dir.join("summary.json")).ok()?;
+    let v: Value = serde_json::from_str(&text).ok()?;
+    (v.get("seed").and_then(Value::as_u64) == Some(seed)).then_some((v, text))
+}
+
+/// Removes temporary files an interrupted replicate left behind.
+fn clear_leftovers(dir: &Path) {
+    if let Ok(entries) = fs::read_dir(dir) {
+        for e in entries.flatten() {
+            let name = e.file_name();
+            let name = name.to_string_lossy();
+            if name.starts_with('.') && name.ends_with(".tmp") {
+                let _ = fs::remove_file(e.path());
+            }
+        }
+    }
+}
+
+/// Builds replicate `i` (or finds it done) and returns its summary.
+fn replicate(config: &Config, dir: &Path, i: u64, keep_beds: bool) -> Result<(Value, bool)> {
+    let seed = seeds::replicate_seed(config.seed, i);
+    let rd = run_dir(dir, i);
+    if let Some((v, _)) = done_summary(&rd, seed) {
+        return Ok((v, false));
+    }
+    clear_leftovers(&rd);
+    let mut c = config.clone();
+    c.seed = seed;
+    let finished = crate::pipeline::run_bed(&c, &mut |_| {})
+        .map_err(|e| Error::Impossible(format!("replicate {i} (seed {seed}): {e}")))?;
+    let text = finished.summary.to_json()?;
+    if keep_beds {
+        finished.write(&rd)?;
+    } else {
+        let mut s = Staging::new(&rd)?.without_sync();
+        s.stage("summary.json", |w| w.write_all(text.as_bytes()))?;
+        s.commit()?;
+    }
+    // Statistics always come from the JSON text, as a resumed replicate's do,
+    // so a resumed ensemble equals an uninterrupted one bit for bit.
+    let v = serde_json::from_str(&text).map_err(|e| Error::Impossible(format!("summary: {e}")))?;
+    Ok((v, true))
+}
+
+/// Runs an ensemble of `config` into `out`; `progress` is called from the
+/// worker threads as replicates finish.
+pub fn run(
+    config: &Config,
+    opts: &Options,
+    out: &Path,
+    progress: &(dyn Fn(Tick) + Sync),
+) -> Result<Outcome> {
+    let start = Instant::now();
+    if opts.runs == 0 {
+        return Err(Error::config("--runs must be at least 1"));
+    }
+    if opts.runs > MAX_RUNS {
+        return Err(Error::Impossible(format!(
+            "--runs {}: at most {MAX_RUNS} replicates per ensemble (their summaries are held in memory for the statistics)",
+            opts.runs
+        )));
+    }
+    if opts.jobs == Some(0) {
+        return Err(Error::config("--jobs must be at least 1"));
+    }
+    if opts.shard.count == 0 || opts.shard.index >= opts.shard.count {
+        return Err(Error::config("--shard: K must be smaller than M"));
+    }
+    let pts = points(config)?;
+    let manifest = Manifest {
+        packbed_version: env!("CARGO_PKG_VERSION").into(),
+        runs: opts.runs,
+        shard: opts.shard,
+        config: config_key(config),
+    };
+    let earlier = check_out(out, &manifest)?;
+    write_manifest(out, &manifest)?;
+    let mine: Vec<u64> = (0..opts.runs).filter(|&i| opts.shard.has(i)).collect();
+    let total = mine.len() as u64 * pts.len() as u64;
+    let done = AtomicU64::new(0);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(worker_threads(opts.jobs))
+        .build()
+        .map_err(|e| Error::Impossible(format!("cannot start worker threads: {e}")))?;
+    let mut results = Vec::with_capacity(pts.len());
+    for p in &pts {
+        let dir = out.join(&p.dir);
+        // Made here, once, rather than by the first replicates racing for it.
+        let runs_dir = dir.join("runs");
+        fs::create_dir_all(&runs_dir).map_err(|e| io_err(&runs_dir, e))?;
+        let summaries: Vec<Result<(Value, bool)>> = pool.install(|| {
+            mine.par_iter()
+                .map(|&i| {
+                    let r = replicate(&p.config, &dir, i, opts.keep_beds);
+                    let d = done.fetch_add(1, Ordering::Relaxed) + 1;
+                    progress(Tick { done: d, total });
+                    r
+                })
+                .collect()
+        });
+        // The first failure in replicate order is the one reported; the
+        // replicates done are on disk and a rerun resumes from them.
+        let mut values = Vec::with_capacity(summaries.len());
+        let mut built = 0;
+        for s in summaries {
+            let (v, b) = s?;
+            built += u64::from(b);
+            values.push(v);
+        }
+        results.push((p, dir, values, built));
+    }
+    let wall = start.elapsed().as_secs_f64();
+    let mut outcome = Outcome {
+        points: Vec::new(),
+        wall_seconds: wall,
+        files: Vec::new(),
+        reduced_from: earlier.map(|m| m.runs).filter(|&r| r > opts.runs),
+    };
+    for (p, dir, values, built) in results {
+        let resumed = values.len() as u64 - built;
+        let (aggregate, files) = write_point(
+            p,
+            &dir,
+            opts.runs,
+            opts.shard,
+            &values,
+            (built, resumed),
+            wall,
+            opts.pictures,
+        )?;
+        outcome.points.push(PointResult {
+            label: p.label.clone(),
+            dir,
+            aggregate,
+            built,
+            resumed,
+            files,
+        });
+    }
+    outcome.files = vec![out.join(MANIFEST)];
+    outcome
+        .files
+        .extend(write_sweep(config, out, &outcome.points, opts.pictures)?);
+    Ok(outcome)
+}

@@ -1,0 +1,134 @@
+//! The statistics files and plots of one point, and a sweep's comparison.
+
+use super::stats::{self, Aggregate};
+use super::{plots, tables, Point, PointResult, Shard, ENSEMBLE_FILES, SWEEP_FILES};
+use crate::config::Config;
+use crate::error::Result;
+use crate::io::Staging;
+use rayon::prelude::*;
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+
+/// Stages every plot as `stem.png` and `stem.svg`.
+fn stage_plots(s: &mut Staging, plots: &[(String, crate::render::plot::Plot)]) -> Result<()> {
+    use crate::render::run_files::PLOT_SIZE;
+    // Rasterising is most of the cost; the files are written in order after.
+    let files: Vec<(String, Vec<u8>)> = plots
+        .par_iter()
+        .flat_map_iter(|(stem, plot)| {
+            [
+                plot.to_png(PLOT_SIZE.0, PLOT_SIZE.1)
+                    .map(|b| (format!("{stem}.png"), b)),
+                plot.to_svg(PLOT_SIZE.0, PLOT_SIZE.1)
+                    .map(|t| (format!("{stem}.svg"), t.into_bytes())),
+            ]
+        })
+        .collect::<Result<_>>()?;
+    for (name, bytes) in &files {
+        s.stage(name, |w| w.write_all(bytes))?;
+    }
+    Ok(())
+}
+
+/// Writes the statistics files of one point; returns its aggregate and the
+/// files written.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn write_point(
+    p: &Point,
+    dir: &Path,
+    runs: u64,
+    shard: Shard,
+    values: &[Value],
+    (built, resumed): (u64, u64),
+    wall: f64,
+    pictures: bool,
+) -> Result<(Aggregate, Vec<PathBuf>)> {
+    let aggregate = stats::measures_of(values)?;
+    let timing = stats::timings_of(values)?;
+    let header = tables::Header {
+        config: &p.config,
+        runs,
+        shard: shard.as_pair(),
+        sweep: p
+            .sweep
+            .as_ref()
+            .map(|(a, b, c)| (a.as_str(), b.as_str(), c.clone())),
+    };
+    let mut timing_json = json!({
+        "note": "wall times: they depend on the machine and its load, so they are kept out of the ensemble statistics",
+        "invocation_wall_seconds": wall,
+        "replicates_built": built,
+        "replicates_resumed": resumed,
+    });
+    let t = &mut timing_json;
+    for m in &timing.measures {
+        t[m.name.as_str()] = json!({
+            "n": m.stats.n, "mean": m.stats.mean, "sd": m.stats.sd,
+            "min": m.stats.min, "max": m.stats.max,
+        });
+    }
+    let texts = [
+        tables::ensemble_json(&header, &aggregate),
+        tables::ensemble_csv(&aggregate),
+        tables::histograms_csv(&aggregate),
+        tables::ensemble_md(&header, &aggregate),
+        format!(
+            "{}\n",
+            serde_json::to_string_pretty(&timing_json).unwrap_or_default()
+        ),
+    ];
+    let mut s = Staging::new(dir)?;
+    for (name, text) in ENSEMBLE_FILES.iter().zip(&texts) {
+        s.stage(name, |w| w.write_all(text.as_bytes()))?;
+    }
+    if pictures {
+        stage_plots(
+            &mut s,
+            &plots::ensemble_plots(
+                &aggregate,
+                p.config.dim as usize,
+                p.config.analysis.chain_angle_from,
+            ),
+        )?;
+    }
+    let files = s.commit()?;
+    Ok((aggregate, files))
+}
+
+/// Writes a sweep's comparison into `out` (or, without a sweep, lists the files
+/// of the one point); returns the files.
+pub(super) fn write_sweep(
+    config: &Config,
+    out: &Path,
+    points: &[PointResult],
+    pictures: bool,
+) -> Result<Vec<PathBuf>> {
+    let Some(sw) = &config.sweep else {
+        return Ok(points.iter().flat_map(|p| p.files.clone()).collect());
+    };
+    let rows: Vec<tables::SweepRow> = points
+        .iter()
+        .map(|p| tables::SweepRow {
+            label: p.label.as_deref().unwrap_or(""),
+            aggregate: &p.aggregate,
+        })
+        .collect();
+    let mut base = config.clone();
+    base.sweep = None;
+    let texts = [
+        tables::sweep_csv(&rows),
+        tables::sweep_md(&sw.parameter, &base, &rows),
+    ];
+    let mut s = Staging::new(out)?;
+    for (name, text) in SWEEP_FILES.iter().zip(&texts) {
+        s.stage(name, |w| w.write_all(text.as_bytes()))?;
+    }
+    if pictures {
+        let labelled: Vec<(&str, &Aggregate)> = points
+            .iter()
+            .map(|p| (p.label.as_deref().unwrap_or(""), &p.aggregate))
+            .collect();
+        stage_plots(&mut s, &plots::sweep_plots(sw, &labelled))?;
+    }
+    s.commit()
+}

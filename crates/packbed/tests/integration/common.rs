@@ -1,0 +1,31 @@
+//! Helpers every test module shares: configs from TOML, deposition of a plan,
+//! and the checker's verdict.
+
+use packbed::analysis::validate::{check_bed_with, Checks, Report};
+use packbed::bed::Bed;
+use packbed::config::Config;
+use packbed::deposit::{deposit, DepositReport};
+use packbed::math::Real;
+
+/// Gap tolerance of the model (`spec/model.md`: exact to 1e-9 r).
+pub const TOL: Real = 1e-9;
+
+/// A config from TOML text, as a user writes it; panics with the text.
+pub fn config(text: &str) -> Config {
+    Config::from_toml(text, "test").unwrap_or_else(|e| panic!("{e}\n{text}"))
+}
+
+/// The bed of `c`, deposited in dimension `D`, and its report.
+pub fn run<const D: usize>(c: &Config) -> (Bed<D>, DepositReport) {
+    let plan = c.plan::<D>().unwrap_or_else(|e| panic!("plan: {e}"));
+    deposit::<D>(&plan, &mut |_| {}).unwrap_or_else(|e| panic!("deposit: {e}"))
+}
+
+/// The checker's report on `b` under `checks`; panics naming `what` unless
+/// the bed passes, every particle counted.
+pub fn assert_checked<const D: usize>(b: &Bed<D>, checks: &Checks, what: &str) -> Report {
+    let rep = check_bed_with(b, checks);
+    assert!(rep.is_ok(), "{what}: {rep}");
+    assert_eq!(rep.particles, b.len());
+    rep
+}

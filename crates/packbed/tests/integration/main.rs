@@ -1,0 +1,15 @@
+//! The library's integration tests, one binary (one link, one run): physics
+//! and invariants of deposition, the analysis, ensembles, pictures and files.
+//! Shared helpers live in [`common`].
+
+mod common;
+
+mod analysis;
+mod chain_orientation;
+mod chains;
+mod ensemble;
+mod length_scale;
+mod physics;
+mod render;
+mod rsa;
+mod trust;
