@@ -128,10 +128,7 @@ pub struct AnalysisOptions {
     pub angle_from: orientation::AngleFrom,
 }
 
-/// Default minimum of bodies in the bulk region for bulk measures: the source
-/// study's small boxes hold about 4, whose packing fraction (up to 0.765, above
-/// the densest packing) is noise, not a bulk value.
-pub const BULK_MIN_BODIES: u64 = 50;
+pub use crate::config::BULK_MIN_BODIES;
 
 impl Default for AnalysisOptions {
     fn default() -> Self {
@@ -264,6 +261,17 @@ pub fn analyze_timed<const D: usize>(
         }),
     };
     (contacts, summary)
+}
+
+impl crate::config::AnalysisConfig {
+    /// The options the analysis runs with for this `[analysis]` table.
+    pub fn options(&self) -> AnalysisOptions {
+        AnalysisOptions {
+            bulk_min_bodies: self.bulk_min_bodies,
+            angle_from: self.chain_angle_from,
+            ..AnalysisOptions::new(self.contact_tol, self.large_radius)
+        }
+    }
 }
 
 impl crate::bed::AnyBed {

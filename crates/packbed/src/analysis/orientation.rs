@@ -24,7 +24,7 @@ use super::histogram::BinnedHistogram;
 use super::profile::species_count;
 use crate::bed::Bed;
 use crate::math::{Real, Vector};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 /// Width of the angle bins, degrees.
 pub const BIN_DEGREES: Real = 5.0;
@@ -34,51 +34,8 @@ pub const BIN_DEGREES: Real = 5.0;
 /// (~10⁻¹² of a radius) and far below any tilt a bed can resolve.
 pub const FLAT_TILT: Real = 1e-9;
 
-/// The direction chain angles are measured from (`analysis.chain_angle_from`,
-/// `packbed analyze --chain-angle-from`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum AngleFrom {
-    /// From the vertical: signed −90°–90° in 2D, polar 0°–90° in 3D (default).
-    #[default]
-    Vertical,
-    /// From the horizontal, as the source study: 0°–180° in 2D, 0°–90° in 3D.
-    Horizontal,
-}
-
-impl AngleFrom {
-    /// True for the default, so that configs which do not choose keep their
-    /// serialised form (and ensemble fingerprints) unchanged.
-    pub fn is_vertical(&self) -> bool {
-        *self == AngleFrom::Vertical
-    }
-
-    /// The name used in configs and in `summary.json`.
-    pub fn name(self) -> &'static str {
-        match self {
-            AngleFrom::Vertical => "vertical",
-            AngleFrom::Horizontal => "horizontal",
-        }
-    }
-
-    /// This convention's angle of an axis whose angle from vertical is `a`
-    /// (signed in 2D, polar in 3D), degrees.
-    pub fn convert(self, a: Real) -> Real {
-        match self {
-            AngleFrom::Vertical => a,
-            AngleFrom::Horizontal => 90.0 - a,
-        }
-    }
-
-    /// The range of the angles in dimension `d`, degrees.
-    pub fn range(self, d: usize) -> (Real, Real) {
-        match (self, d) {
-            (AngleFrom::Vertical, 2) => (-90.0, 90.0),
-            (AngleFrom::Horizontal, 2) => (0.0, 180.0),
-            _ => (0.0, 90.0),
-        }
-    }
-}
+// The convention is a setting of the config schema, where it is defined.
+pub use crate::config::AngleFrom;
 
 /// One body's axis.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -6,7 +6,6 @@ mod edit;
 pub(crate) use edit::species_parameter;
 pub use edit::{parse_numbers, BoxSpec, Edit, Overrides, SWEEP_PARAMETERS};
 
-use crate::analysis::orientation::AngleFrom;
 use crate::container::Container;
 use crate::error::{Error, Result};
 use crate::math::{Real, Vector};
@@ -237,19 +236,61 @@ impl AnalysisConfig {
         }
         Ok(())
     }
-
-    /// The options the analysis runs with.
-    pub fn options(&self) -> crate::analysis::AnalysisOptions {
-        crate::analysis::AnalysisOptions {
-            bulk_min_bodies: self.bulk_min_bodies,
-            angle_from: self.chain_angle_from,
-            ..crate::analysis::AnalysisOptions::new(self.contact_tol, self.large_radius)
-        }
-    }
 }
 
 fn default_bulk_min_bodies() -> u64 {
-    crate::analysis::BULK_MIN_BODIES
+    BULK_MIN_BODIES
+}
+
+/// Default minimum of bodies in the bulk region for bulk measures: the source
+/// study's small boxes hold about 4, whose packing fraction (up to 0.765, above
+/// the densest packing) is noise, not a bulk value.
+pub const BULK_MIN_BODIES: u64 = 50;
+
+/// The direction chain angles are measured from (`analysis.chain_angle_from`,
+/// `packbed analyze --chain-angle-from`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AngleFrom {
+    /// From the vertical: signed −90°–90° in 2D, polar 0°–90° in 3D (default).
+    #[default]
+    Vertical,
+    /// From the horizontal, as the source study: 0°–180° in 2D, 0°–90° in 3D.
+    Horizontal,
+}
+
+impl AngleFrom {
+    /// True for the default, so that configs which do not choose keep their
+    /// serialised form (and ensemble fingerprints) unchanged.
+    pub fn is_vertical(&self) -> bool {
+        *self == AngleFrom::Vertical
+    }
+
+    /// The name used in configs and in `summary.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            AngleFrom::Vertical => "vertical",
+            AngleFrom::Horizontal => "horizontal",
+        }
+    }
+
+    /// This convention's angle of an axis whose angle from vertical is `a`
+    /// (signed in 2D, polar in 3D), degrees.
+    pub fn convert(self, a: Real) -> Real {
+        match self {
+            AngleFrom::Vertical => a,
+            AngleFrom::Horizontal => 90.0 - a,
+        }
+    }
+
+    /// The range of the angles in dimension `d`, degrees.
+    pub fn range(self, d: usize) -> (Real, Real) {
+        match (self, d) {
+            (AngleFrom::Vertical, 2) => (-90.0, 90.0),
+            (AngleFrom::Horizontal, 2) => (0.0, 180.0),
+            _ => (0.0, 90.0),
+        }
+    }
 }
 
 /// `[sweep]`: the parameter to vary and its values.
