@@ -43,6 +43,8 @@ pub struct AnalyzeArgs {
     #[arg(long, value_enum, value_name = "FROM", default_value = "vertical")]
     pub chain_angle_from: AngleFromArg,
     #[command(flatten)]
+    pub measures: crate::overrides::MeasuresArg,
+    #[command(flatten)]
     pub files: crate::run::FileArgs,
     /// Directory for the output files (created if needed).
     #[arg(long, value_name = "DIR", default_value = "packbed-analysis")]
@@ -68,6 +70,7 @@ pub fn analyze(args: AnalyzeArgs) -> Result<()> {
             AngleFromArg::Vertical => AngleFrom::Vertical,
             AngleFromArg::Horizontal => AngleFrom::Horizontal,
         },
+        measures: args.measures.list.clone(),
     };
     if let Err(e) = settings.check() {
         // The library names the settings; say the options that set them.

@@ -4,7 +4,7 @@
 
 use anyhow::Result;
 use clap::{Args, ValueEnum};
-use packbed::config::{parse_numbers, BoxSpec, Config, Mode};
+use packbed::config::{parse_numbers, BoxSpec, Config, Measure, Mode};
 
 /// `--mode` values.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -65,6 +65,24 @@ pub struct Overrides {
     /// Percolation threshold: particles with radius >= R count as large.
     #[arg(long, value_name = "R", allow_hyphen_values = true)]
     pub large: Option<f64>,
+    #[command(flatten)]
+    pub measures: MeasuresArg,
+}
+
+/// `--measures`, shared with `packbed analyze`.
+#[derive(Debug, Default, Args)]
+pub struct MeasuresArg {
+    /// Measures to compute, e.g. packing,coordination (default all: packing,
+    /// coordination, percolation, voids, orientation, segregation).
+    #[arg(long = "measures", value_name = "LIST", value_parser = measure_list)]
+    pub list: Option<MeasureList>,
+}
+
+/// A comma-separated list of measures, one option value (an alias, as [`Numbers`]).
+pub type MeasureList = Vec<Measure>;
+
+fn measure_list(text: &str) -> std::result::Result<MeasureList, String> {
+    Measure::parse_list(text)
 }
 
 impl Overrides {
@@ -84,6 +102,7 @@ impl Overrides {
                 ModeArg::Rsa => Mode::Rsa,
             }),
             large: self.large,
+            measures: self.measures.list.clone(),
         }
     }
 

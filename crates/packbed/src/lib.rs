@@ -19,9 +19,9 @@
 //! // The fill stops at the 101st particle that would stick out above the roof.
 //! assert_eq!(report.roof_overflows, 101);
 //! let (_contacts, summary) = packbed::analysis::analyze(&bed, 1e-9);
-//! assert!(summary.packing.global > 0.7 && summary.packing.global < 0.85);
+//! assert!(summary.packing.as_ref().unwrap().global > 0.7 && summary.packing.as_ref().unwrap().global < 0.85);
 //! // Large means a radius of at least 20 here, whatever the species.
-//! assert_eq!(summary.percolation.large_radius, 20.0);
+//! assert_eq!(summary.percolation.as_ref().unwrap().large_radius, 20.0);
 //! # Ok::<(), packbed::Error>(())
 //! ```
 

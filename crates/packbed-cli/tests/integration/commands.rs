@@ -949,3 +949,92 @@ fn errors_with_a_line_lead_with_file_and_line() {
         );
     }
 }
+
+// ---- measures chosen by the user -----------------------------------------
+
+/// `--measures` computes only the measures named; the summary leaves the
+/// others out and says so, the same on `run`, `analyze` and `ensemble`, and the
+/// measures kept are equal to those of a full run.
+#[test]
+fn chosen_measures_leave_the_others_out_and_say_so() {
+    let s = Scratch::new();
+    let dem = [
+        "run",
+        "--dim",
+        "2",
+        "--radii",
+        "10",
+        "--seed",
+        "3",
+        "--no-pictures",
+    ];
+    let full: Vec<&str> = dem.iter().copied().chain(["--out", "full"]).collect();
+    s.ok(&full);
+    let args: Vec<&str> = dem
+        .iter()
+        .copied()
+        .chain(["--measures", "packing,coordination", "--out", "some"])
+        .collect();
+    let o = s.ok(&args);
+    assert!(
+        o.stdout
+            .contains("left out: percolation, voids, orientation, segregation"),
+        "{}",
+        o.stdout
+    );
+    let (all, some) = (s.summary("full"), s.summary("some"));
+    for gone in ["percolation", "voids", "segregation"] {
+        assert!(
+            all.get(gone).is_some() && some.get(gone).is_none(),
+            "{gone}"
+        );
+    }
+    assert_eq!(all["packing"], some["packing"]);
+    assert_eq!(all["coordination"], some["coordination"]);
+    assert!(all.get("measures_left_out").is_none());
+    assert_eq!(
+        some["measures_left_out"],
+        serde_json::json!(["percolation", "voids", "orientation", "segregation"])
+    );
+    // The contacts are always found and written.
+    assert_eq!(s.read("full/contacts.csv"), s.read("some/contacts.csv"));
+
+    let o = s.ok(&[
+        "analyze",
+        "full/particles.csv",
+        "--measures",
+        "percolation",
+        "--out",
+        "a",
+        "--no-pictures",
+    ]);
+    assert!(o.stdout.contains("percolation (r >="), "{}", o.stdout);
+    let a = s.summary("a");
+    assert_eq!(a["percolation"], all["percolation"]);
+    assert!(a.get("packing").is_none() && a.get("coordination").is_none());
+
+    s.ok(&[
+        "ensemble",
+        "--dim",
+        "2",
+        "--radii",
+        "10",
+        "--runs",
+        "2",
+        "--measures",
+        "packing",
+        "--no-pictures",
+        "--out",
+        "e",
+    ]);
+    let table = s.read("e/ensemble.csv");
+    assert!(table.contains("packing.global"), "{table}");
+    assert!(!table.contains("coordination.mean"), "{table}");
+    assert!(!table.contains("percolation."), "{table}");
+
+    assert_user_error(
+        &s,
+        &["run", "--measures", "packing,pores"],
+        &["--measures", "pores"],
+    );
+}

@@ -16,6 +16,7 @@ pub mod validate;
 pub mod voids;
 
 use crate::bed::Bed;
+pub use crate::config::{Measure, Measures};
 use crate::math::Real;
 use serde::Serialize;
 
@@ -34,20 +35,27 @@ pub use voids::{Void, VoidSummary};
 /// Every measure of a bed, laid out as in `summary.json`.
 #[derive(Clone, Debug, Default, Serialize, PartialEq)]
 pub struct Summary {
-    /// Packing fractions.
-    pub packing: PackingSummary,
-    /// Coordination numbers.
-    pub coordination: CoordinationSummary,
-    /// Percolation chains of large particles.
-    pub percolation: Percolation,
+    /// Measures the caller left out (`[analysis] measures`); absent when none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub measures_left_out: Vec<&'static str>,
+    /// Packing fractions (absent when left out).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub packing: Option<PackingSummary>,
+    /// Coordination numbers (absent when left out).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub coordination: Option<CoordinationSummary>,
+    /// Percolation chains of large particles (absent when left out).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub percolation: Option<Percolation>,
     /// Voids of the contact network (2D beds only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub voids: Option<VoidSummary>,
     /// Orientation of bodies of several beads (beds with chains only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub orientation: Option<Orientation>,
-    /// Size segregation.
-    pub segregation: Segregation,
+    /// Size segregation (absent when left out).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub segregation: Option<Segregation>,
 }
 
 /// `packing.*` keys of `summary.json`.
@@ -126,6 +134,8 @@ pub struct AnalysisOptions {
     pub bulk_min_bodies: u64,
     /// The direction chain angles are measured from.
     pub angle_from: orientation::AngleFrom,
+    /// The measures to compute.
+    pub measures: Measures,
 }
 
 pub use crate::config::BULK_MIN_BODIES;
@@ -137,6 +147,7 @@ impl Default for AnalysisOptions {
             percolation: PercolationOptions::default(),
             bulk_min_bodies: BULK_MIN_BODIES,
             angle_from: orientation::AngleFrom::Vertical,
+            measures: Measures::all(),
         }
     }
 }
@@ -219,11 +230,14 @@ pub fn analyze_timed<const D: usize>(
         None
     };
     let bulk_ok = bulk_note.is_none();
-    let coordination = times.time("coordination/summary", || {
-        coordination_summary(bed, &contacts, &z, &in_bulk, bulk_ok)
+    let want = |m| opts.measures.has(m);
+    let coordination = want(Measure::Coordination).then(|| {
+        times.time("coordination/summary", || {
+            coordination_summary(bed, &contacts, &z, &in_bulk, bulk_ok)
+        })
     });
     let d_max = 2.0 * bed.r_max();
-    let packing = PackingSummary {
+    let packing = want(Measure::Packing).then(|| PackingSummary {
         global: times.time("packing/global", || {
             packing::global_fraction_of(bed, &volumes)
         }),
@@ -242,22 +256,31 @@ pub fn analyze_timed<const D: usize>(
         profile: times.time("packing/profile", || {
             profile::profile_of(bed, 0.25 * d_max, &volumes)
         }),
-    };
-    let percolation = percolation::percolation_timed(bed, &contacts, &opts.percolation, times);
-    let voids = times.time("voids", || {
-        bed.as_2d()
-            .map(|b2| voids::void_summary(b2, &voids::voids(b2, &contacts)))
+    });
+    let percolation = want(Measure::Percolation)
+        .then(|| percolation::percolation_timed(bed, &contacts, &opts.percolation, times));
+    let voids = want(Measure::Voids).then(|| {
+        times.time("voids", || {
+            bed.as_2d()
+                .map(|b2| voids::void_summary(b2, &voids::voids(b2, &contacts)))
+        })
+    });
+    let orientation = want(Measure::Orientation).then(|| {
+        times.time("orientation", || {
+            orientation::orientation(bed, opts.angle_from)
+        })
     });
     let summary = Summary {
+        measures_left_out: opts.measures.left_out(),
         packing,
         coordination,
         percolation,
-        voids,
-        orientation: times.time("orientation", || {
-            orientation::orientation(bed, opts.angle_from)
-        }),
-        segregation: times.time("segregation", || {
-            segregation::segregation(bed, d_max, &volumes)
+        voids: voids.flatten(),
+        orientation: orientation.flatten(),
+        segregation: want(Measure::Segregation).then(|| {
+            times.time("segregation", || {
+                segregation::segregation(bed, d_max, &volumes)
+            })
         }),
     };
     (contacts, summary)
@@ -269,6 +292,10 @@ impl crate::config::AnalysisConfig {
         AnalysisOptions {
             bulk_min_bodies: self.bulk_min_bodies,
             angle_from: self.chain_angle_from,
+            measures: self
+                .measures
+                .as_deref()
+                .map_or_else(Measures::all, Measures::of),
             ..AnalysisOptions::new(self.contact_tol, self.large_radius)
         }
     }
@@ -400,31 +427,31 @@ mod tests {
         };
         let (contacts, s) = analyze_with(&square_lattice(false), &all);
         assert_eq!(contacts.pairs.len(), 2 * 10 * 9);
-        assert!((s.packing.global - PI / 4.0).abs() < 1e-14);
+        assert!((s.packing.as_ref().unwrap().global - PI / 4.0).abs() < 1e-14);
         // Bulk: [2, 8] × [2, 7]: centres 2.5..7.5 by 2.5..6.5, all with 4 neighbours.
-        assert!((s.packing.bulk.unwrap() - PI / 4.0).abs() < 1e-14);
-        assert!(!s.packing.bulk_region_empty);
-        assert_eq!(s.coordination.bulk_particles, 30);
-        assert_eq!(s.packing.bulk_bodies, 30);
-        assert_eq!(s.coordination.mean_bulk, Some(4.0));
+        assert!((s.packing.as_ref().unwrap().bulk.unwrap() - PI / 4.0).abs() < 1e-14);
+        assert!(!s.packing.as_ref().unwrap().bulk_region_empty);
+        assert_eq!(s.coordination.as_ref().unwrap().bulk_particles, 30);
+        assert_eq!(s.packing.as_ref().unwrap().bulk_bodies, 30);
+        assert_eq!(s.coordination.as_ref().unwrap().mean_bulk, Some(4.0));
         // Corners 2, edges 3, inside 4: 2 × 180 contacts / 100 discs.
-        assert!((s.coordination.mean - 3.6).abs() < 1e-14);
+        assert!((s.coordination.as_ref().unwrap().mean - 3.6).abs() < 1e-14);
         // Periodic: every disc has four neighbours.
         let (contacts, s) = analyze_with(&square_lattice(true), &all);
         assert_eq!(contacts.pairs.len(), 2 * 10 * 9 + 10);
-        assert_eq!(s.coordination.bulk_particles, 50);
-        assert_eq!(s.coordination.mean_bulk, Some(4.0));
+        assert_eq!(s.coordination.as_ref().unwrap().bulk_particles, 50);
+        assert_eq!(s.coordination.as_ref().unwrap().mean_bulk, Some(4.0));
         // 30 bodies is below the default minimum of 50: null, with the reason.
         let (_, s) = analyze(&square_lattice(false), 1e-6);
-        assert_eq!(s.packing.bulk, None);
-        assert_eq!(s.coordination.mean_bulk, None);
-        assert_eq!(s.packing.bulk_bodies, 30);
-        let why = s.packing.bulk_note.unwrap();
+        assert_eq!(s.packing.as_ref().unwrap().bulk, None);
+        assert_eq!(s.coordination.as_ref().unwrap().mean_bulk, None);
+        assert_eq!(s.packing.as_ref().unwrap().bulk_bodies, 30);
+        let why = s.packing.as_ref().unwrap().bulk_note.clone().unwrap();
         assert!(why.contains("30 bodies") && why.contains("50"), "{why}");
         let (_, s) = analyze(&square_lattice(true), 1e-6);
-        assert_eq!(s.packing.bulk_bodies, 50);
-        assert_eq!(s.coordination.mean_bulk, Some(4.0));
-        assert_eq!(s.packing.bulk_note, None);
+        assert_eq!(s.packing.as_ref().unwrap().bulk_bodies, 50);
+        assert_eq!(s.coordination.as_ref().unwrap().mean_bulk, Some(4.0));
+        assert_eq!(s.packing.as_ref().unwrap().bulk_note, None);
     }
 
     #[test]
@@ -448,10 +475,10 @@ mod tests {
         assert_eq!(contacts.pairs.len(), 5);
         // Bodies: the chain touches 2 bodies, each disc touches the chain and the
         // other disc.
-        assert!((s.coordination.mean - 2.0).abs() < 1e-15);
-        assert!(s.packing.bulk_region_empty);
-        assert_eq!(s.packing.bulk, None);
-        assert!(s.packing.bulk_note.is_some());
+        assert!((s.coordination.as_ref().unwrap().mean - 2.0).abs() < 1e-15);
+        assert!(s.packing.as_ref().unwrap().bulk_region_empty);
+        assert_eq!(s.packing.as_ref().unwrap().bulk, None);
+        assert!(s.packing.as_ref().unwrap().bulk_note.is_some());
     }
 
     #[test]
@@ -465,11 +492,43 @@ mod tests {
         );
         let (contacts, s) = analyze(&bed, 1e-6);
         assert_eq!(contacts, Contacts::default());
-        assert_eq!(s.packing.global, 0.0);
-        assert_eq!(s.packing.bulk, None);
-        assert!(s.packing.bulk_region_empty);
-        assert_eq!(s.coordination.mean, 0.0);
-        assert_eq!(s.coordination.mean_bulk, None);
-        assert_eq!(s.coordination.bulk_particles, 0);
+        assert_eq!(s.packing.as_ref().unwrap().global, 0.0);
+        assert_eq!(s.packing.as_ref().unwrap().bulk, None);
+        assert!(s.packing.as_ref().unwrap().bulk_region_empty);
+        assert_eq!(s.coordination.as_ref().unwrap().mean, 0.0);
+        assert_eq!(s.coordination.as_ref().unwrap().mean_bulk, None);
+        assert_eq!(s.coordination.as_ref().unwrap().bulk_particles, 0);
+    }
+
+    #[test]
+    fn measures_left_out_are_absent_and_named() {
+        let bed = square_lattice(false);
+        let all = AnalysisOptions::default();
+        let some = AnalysisOptions {
+            measures: Measures::of(&[Measure::Coordination, Measure::Segregation]),
+            ..AnalysisOptions::default()
+        };
+        let (c_all, s_all) = analyze_with(&bed, &all);
+        let (c_some, s_some) = analyze_with(&bed, &some);
+        assert_eq!(c_all, c_some);
+        assert!(s_all.measures_left_out.is_empty());
+        assert_eq!(
+            s_some.measures_left_out,
+            ["packing", "percolation", "voids", "orientation"]
+        );
+        assert_eq!(s_some.coordination, s_all.coordination);
+        assert_eq!(s_some.segregation, s_all.segregation);
+        assert!(s_some.packing.is_none() && s_some.percolation.is_none());
+        assert!(s_some.voids.is_none() && s_all.voids.is_some());
+        let json = serde_json::to_value(&s_some).unwrap();
+        assert!(json.get("packing").is_none() && json.get("coordination").is_some());
+        // Nothing chosen: the contacts only.
+        let none = AnalysisOptions {
+            measures: Measures::of(&[]),
+            ..AnalysisOptions::default()
+        };
+        let (c_none, s_none) = analyze_with(&bed, &none);
+        assert_eq!(c_none, c_all);
+        assert_eq!(s_none.measures_left_out.len(), Measure::ALL.len());
     }
 }

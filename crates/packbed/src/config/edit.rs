@@ -3,7 +3,7 @@
 //! keywords make to a [`Config`]. They all go through [`Config::apply`], so an
 //! option and a sweep of the same setting give the same config.
 
-use super::{Config, Mode, SweepValue};
+use super::{Config, Measure, Mode, SweepValue};
 use crate::error::{Error, Result};
 use crate::math::Real;
 use std::str::FromStr;
@@ -41,6 +41,8 @@ pub enum Edit {
     SpeciesRadius(usize, Real),
     /// The number ratio of one species (0-based).
     SpeciesRatio(usize, Real),
+    /// The measures to compute (the others are left out of the summary).
+    Measures(Vec<Measure>),
 }
 
 /// A box as the command and the sweeps give it: `thesis`, `diameters=N`, or
@@ -202,6 +204,7 @@ impl Config {
                 s.size = None;
             }
             Edit::SpeciesRatio(k, r) => self.species_mut(*k)?.ratio = *r,
+            Edit::Measures(m) => self.analysis.measures = Some(m.clone()),
         }
         Ok(())
     }
@@ -272,7 +275,7 @@ impl Config {
 /// The common settings a caller may override on top of a config file (the
 /// options of `packbed run`, the keywords of `packbed.deposit`), applied in a
 /// fixed order: dimension, seed, mode, radii, ratio, beads, box, periodic,
-/// count, large radius.
+/// count, large radius, measures.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Overrides {
     /// Dimension, 2 or 3.
@@ -295,6 +298,8 @@ pub struct Overrides {
     pub mode: Option<Mode>,
     /// Percolation threshold radius.
     pub large: Option<Real>,
+    /// The measures to compute.
+    pub measures: Option<Vec<Measure>>,
 }
 
 impl Overrides {
@@ -321,6 +326,7 @@ impl Overrides {
         push("periodic", self.periodic.then_some(Edit::Periodic(true)));
         push("count", self.count.map(Edit::Count));
         push("large", self.large.map(Edit::LargeRadius));
+        push("measures", self.measures.clone().map(Edit::Measures));
         e
     }
 

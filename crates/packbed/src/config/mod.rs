@@ -208,6 +208,116 @@ pub struct AnalysisConfig {
     /// Chain angles from the `vertical` (default) or the `horizontal`.
     #[serde(default, skip_serializing_if = "AngleFrom::is_vertical")]
     pub chain_angle_from: AngleFrom,
+    /// The measures to compute (default: all of [`Measure::ALL`]); the
+    /// contacts are always found.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measures: Option<Vec<Measure>>,
+}
+
+/// A set of measures (a copyable value for the analysis options).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Measures(u8);
+
+impl Measures {
+    /// Every measure.
+    pub fn all() -> Measures {
+        Measures::of(&Measure::ALL)
+    }
+
+    /// These measures.
+    pub fn of(list: &[Measure]) -> Measures {
+        Measures(list.iter().fold(0, |bits, m| bits | m.bit()))
+    }
+
+    /// True when `m` is in the set.
+    pub fn has(self, m: Measure) -> bool {
+        self.0 & m.bit() != 0
+    }
+
+    /// The names of the measures not in the set, in summary order.
+    pub fn left_out(self) -> Vec<&'static str> {
+        Measure::ALL
+            .into_iter()
+            .filter(|&m| !self.has(m))
+            .map(Measure::name)
+            .collect()
+    }
+}
+
+impl Default for Measures {
+    fn default() -> Self {
+        Measures::all()
+    }
+}
+
+/// One measure of a bed that the user may choose (`[analysis] measures`,
+/// `--measures`): e.g. a bed meant as the start of a DEM run needs no
+/// percolation, the slowest measure of a large bed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Measure {
+    /// `packing.*`: global, bulk, regional packing fractions and the profile.
+    Packing,
+    /// `coordination.*`: coordination numbers.
+    Coordination,
+    /// `percolation.*`: chains of large particles from wall to wall.
+    Percolation,
+    /// `voids.*`: the voids of the contact network (2D beds).
+    Voids,
+    /// `orientation.*`: chain orientation (beds with chains).
+    Orientation,
+    /// `segregation.*`: size segregation.
+    Segregation,
+}
+
+impl Measure {
+    /// Every measure, in the order of `summary.json`.
+    pub const ALL: [Measure; 6] = [
+        Measure::Packing,
+        Measure::Coordination,
+        Measure::Percolation,
+        Measure::Voids,
+        Measure::Orientation,
+        Measure::Segregation,
+    ];
+
+    /// The name in configs, options and `summary.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Measure::Packing => "packing",
+            Measure::Coordination => "coordination",
+            Measure::Percolation => "percolation",
+            Measure::Voids => "voids",
+            Measure::Orientation => "orientation",
+            Measure::Segregation => "segregation",
+        }
+    }
+
+    fn bit(self) -> u8 {
+        1 << Measure::ALL.iter().position(|&m| m == self).unwrap_or(0)
+    }
+
+    /// `packing,coordination` → measures; `all` → every measure.
+    pub fn parse_list(text: &str) -> std::result::Result<Vec<Measure>, String> {
+        if text.trim() == "all" {
+            return Ok(Measure::ALL.to_vec());
+        }
+        text.split(',')
+            .map(|name| {
+                let name = name.trim();
+                Measure::ALL
+                    .into_iter()
+                    .find(|m| m.name() == name)
+                    .ok_or_else(|| {
+                        let known: Vec<&str> = Measure::ALL.iter().map(|m| m.name()).collect();
+                        format!(
+                            "unknown measure `{name}` (choose from {}, or all)",
+                            known.join(", ")
+                        )
+                    })
+            })
+            .collect()
+    }
 }
 
 impl Default for AnalysisConfig {
@@ -217,6 +327,7 @@ impl Default for AnalysisConfig {
             large_radius: None,
             bulk_min_bodies: default_bulk_min_bodies(),
             chain_angle_from: AngleFrom::Vertical,
+            measures: None,
         }
     }
 }

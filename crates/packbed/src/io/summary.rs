@@ -403,7 +403,7 @@ mod tests {
             &config,
             &bed,
             &DepositReport::default(),
-            &Summary::default(),
+            &crate::analysis::analyze(&bed, 1e-6).1,
             Timing::default(),
         );
         let v: serde_json::Value = serde_json::from_str(&s.to_json().unwrap()).unwrap();
@@ -418,8 +418,8 @@ mod tests {
     #[test]
     fn nan_is_refused_with_its_key() {
         let (config, bed) = small_run();
-        let mut analysis = Summary::default();
-        analysis.coordination.mean_bulk = Some(f64::NAN);
+        let mut analysis = crate::analysis::analyze(&bed, 1e-6).1;
+        analysis.coordination.as_mut().unwrap().mean_bulk = Some(f64::NAN);
         let s = RunSummary::new(
             &config,
             &bed,

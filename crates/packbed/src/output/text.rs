@@ -3,7 +3,7 @@
 //! rounded for reading, and where the files are.
 
 use crate::analysis::percolation::DirectionPercolation;
-use crate::analysis::Summary;
+use crate::analysis::{Percolation, Summary};
 use crate::io::summary::BoxSummary;
 use crate::io::{AnalyzeSummary, RunSummary};
 use std::fmt::Write;
@@ -203,41 +203,43 @@ pub fn measures_text(a: &Summary, names: &[String]) -> String {
             .cloned()
             .or_else(|| {
                 a.coordination
-                    .by_species
                     .iter()
+                    .flat_map(|k| &k.by_species)
                     .find(|s| s.species as usize == i && !s.name.is_empty())
                     .map(|s| s.name.clone())
             })
             .unwrap_or_else(|| format!("species {i}"))
     };
     let mut t = String::new();
-    let p = &a.packing;
-    let r = &p.regions;
-    let _ = writeln!(
-        t,
-        "  packing fraction: global {:.4}, bulk {} ({}); floor {}, roof {}, wall {}, centre {}",
-        p.global,
-        opt(p.bulk),
-        count(p.bulk_bodies, "body", "bodies"),
-        opt(r.floor),
-        opt(r.roof),
-        opt(r.wall),
-        opt(r.centre)
-    );
-    let k = &a.coordination;
-    let _ = writeln!(
-        t,
-        "  coordination: bulk {} ({} in the bulk), overall {:.3}; {} and {}",
-        opt3(k.mean_bulk),
-        count(k.bulk_particles, "particle", "particles"),
-        k.mean,
-        count(k.floor_contacts, "floor contact", "floor contacts"),
-        count(k.wall_contacts, "wall contact", "wall contacts")
-    );
-    if let Some(why) = &p.bulk_note {
+    if let Some(p) = &a.packing {
+        let r = &p.regions;
+        let _ = writeln!(
+            t,
+            "  packing fraction: global {:.4}, bulk {} ({}); floor {}, roof {}, wall {}, centre {}",
+            p.global,
+            opt(p.bulk),
+            count(p.bulk_bodies, "body", "bodies"),
+            opt(r.floor),
+            opt(r.roof),
+            opt(r.wall),
+            opt(r.centre)
+        );
+    }
+    if let Some(k) = &a.coordination {
+        let _ = writeln!(
+            t,
+            "  coordination: bulk {} ({} in the bulk), overall {:.3}; {} and {}",
+            opt3(k.mean_bulk),
+            count(k.bulk_particles, "particle", "particles"),
+            k.mean,
+            count(k.floor_contacts, "floor contact", "floor contacts"),
+            count(k.wall_contacts, "wall contact", "wall contacts")
+        );
+    }
+    if let Some(why) = a.packing.as_ref().and_then(|p| p.bulk_note.as_ref()) {
         let _ = writeln!(t, "  bulk measures: none ({why})");
     }
-    if k.by_species.len() > 1 {
+    if let Some(k) = a.coordination.as_ref().filter(|k| k.by_species.len() > 1) {
         let per: Vec<String> = k
             .by_species
             .iter()
@@ -252,7 +254,53 @@ pub fn measures_text(a: &Summary, names: &[String]) -> String {
             .collect();
         let _ = writeln!(t, "    by species: {}", per.join(", "));
     }
-    let c = &a.percolation;
+    if let Some(c) = &a.percolation {
+        t.push_str(&percolation_text(c));
+    }
+    if let Some(v) = &a.voids {
+        let _ = writeln!(
+            t,
+            "  voids: {}, area min {:.4} / mean {:.4} / max {:.4} (mean = {:.4} × largest disc), {:.2} sides on average",
+            v.count, v.min_area, v.mean_area, v.max_area, v.mean_area_scaled, v.mean_sides
+        );
+    }
+    if let Some(o) = &a.orientation {
+        let _ = writeln!(
+            t,
+            "  orientation: {}, order parameter S = {:.3}, mean angle from {} {:.1}°",
+            count(o.bodies, "chain", "chains"),
+            o.order_parameter,
+            o.angle_from.name(),
+            o.mean_angle
+        );
+    }
+    if let Some(g) = a
+        .segregation
+        .as_ref()
+        .filter(|g| g.bottom_fraction.len() > 1)
+    {
+        let per: Vec<String> = g
+            .bottom_fraction
+            .iter()
+            .enumerate()
+            .map(|(i, f)| format!("{} {:.1}%", species_name(i), 100.0 * f))
+            .collect();
+        let _ = writeln!(
+            t,
+            "  segregation: in the bottom 10% of the bed: {} (all {:.1}%)",
+            per.join(", "),
+            100.0 * g.bottom_fraction_all
+        );
+    }
+    if !a.measures_left_out.is_empty() {
+        let _ = writeln!(t, "  left out: {}", a.measures_left_out.join(", "));
+    }
+    t
+}
+
+/// The percolation line.
+fn percolation_text(c: &Percolation) -> String {
+    let mut t = String::new();
     let chain = if c.spans {
         let lengths = c
             .chain_length
@@ -313,38 +361,6 @@ pub fn measures_text(a: &Summary, names: &[String]) -> String {
         count(c.large_bodies, "large body", "large bodies"),
         count(c.clusters, "cluster", "clusters")
     );
-    if let Some(v) = &a.voids {
-        let _ = writeln!(
-            t,
-            "  voids: {}, area min {:.4} / mean {:.4} / max {:.4} (mean = {:.4} × largest disc), {:.2} sides on average",
-            v.count, v.min_area, v.mean_area, v.max_area, v.mean_area_scaled, v.mean_sides
-        );
-    }
-    if let Some(o) = &a.orientation {
-        let _ = writeln!(
-            t,
-            "  orientation: {}, order parameter S = {:.3}, mean angle from {} {:.1}°",
-            count(o.bodies, "chain", "chains"),
-            o.order_parameter,
-            o.angle_from.name(),
-            o.mean_angle
-        );
-    }
-    let g = &a.segregation;
-    if g.bottom_fraction.len() > 1 {
-        let per: Vec<String> = g
-            .bottom_fraction
-            .iter()
-            .enumerate()
-            .map(|(i, f)| format!("{} {:.1}%", species_name(i), 100.0 * f))
-            .collect();
-        let _ = writeln!(
-            t,
-            "  segregation: in the bottom 10% of the bed: {} (all {:.1}%)",
-            per.join(", "),
-            100.0 * g.bottom_fraction_all
-        );
-    }
     t
 }
 

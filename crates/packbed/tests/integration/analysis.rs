@@ -138,7 +138,7 @@ fn measures_fit_together_on_deposited_beds() {
         let bed = bed2(600, &[10.0, 20.0], periodic, 7);
         let (contacts, s) = analyze_with(&bed, &AnalysisOptions::default());
         // Histograms count every body once; the mean is their mean.
-        let k = &s.coordination;
+        let k = s.coordination.as_ref().unwrap();
         let bodies: u64 = k.histogram.iter().sum();
         assert_eq!(bodies as usize, bed.body_count());
         let mean = k
@@ -160,7 +160,7 @@ fn measures_fit_together_on_deposited_beds() {
                 .sum::<u64>()
         );
         // The profile averages to the global packing fraction (slabs tile the box).
-        let p = &s.packing.profile;
+        let p = &s.packing.as_ref().unwrap().profile;
         let h = bed.container.size[1].max(bed.top());
         let avg: f64 = p
             .fraction
@@ -173,13 +173,20 @@ fn measures_fit_together_on_deposited_beds() {
             .sum::<f64>()
             / h;
         assert!(
-            (avg - s.packing.global).abs() < 1e-12,
+            (avg - s.packing.as_ref().unwrap().global).abs() < 1e-12,
             "{avg} vs {}",
-            s.packing.global
+            s.packing.as_ref().unwrap().global
         );
         // Segregation shares add up to one in every slab with solid.
-        for k in 0..s.segregation.z.len() {
-            let t: f64 = s.segregation.composition.iter().map(|c| c[k]).sum();
+        for k in 0..s.segregation.as_ref().unwrap().z.len() {
+            let t: f64 = s
+                .segregation
+                .as_ref()
+                .unwrap()
+                .composition
+                .iter()
+                .map(|c| c[k])
+                .sum();
             assert!(t == 0.0 || (t - 1.0).abs() < 1e-12);
         }
         // Voids: total pore area below the surface is bounded by the box minus the
@@ -190,7 +197,7 @@ fn measures_fit_together_on_deposited_beds() {
         assert!(v.total_area > 0.0 && v.total_area < box_area - discs);
         assert!(v.sides.iter().all(|&n| n >= 3), "{:?}", v.sides_histogram);
         // Percolation numbers are consistent with each other.
-        let c = &s.percolation;
+        let c = s.percolation.as_ref().unwrap();
         assert_eq!(c.spans, c.shortest_chain.is_some());
         assert_eq!(c.spans, c.disjoint_chains > 0);
         if let (Some(l), Some(sh)) = (c.chain_length, c.shortest_chain) {

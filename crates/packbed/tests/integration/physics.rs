@@ -406,13 +406,13 @@ fn large<const D: usize>(diameters: Real) -> (Bed<D>, DepositReport, Real, Real,
     let (b, rep) = run::<D>(&c);
     assert_eq!(b.len(), 100_000);
     let (_, s) = analyze(&b, c.analysis.contact_tol);
-    assert!(!s.packing.bulk_region_empty);
+    assert!(!s.packing.as_ref().unwrap().bulk_region_empty);
     (
         b,
         rep,
-        s.packing.bulk.expect("bulk"),
-        s.coordination.mean_bulk.expect("bulk"),
-        s.coordination.bulk_particles,
+        s.packing.as_ref().unwrap().bulk.expect("bulk"),
+        s.coordination.as_ref().unwrap().mean_bulk.expect("bulk"),
+        s.coordination.as_ref().unwrap().bulk_particles,
     )
 }
 

@@ -291,14 +291,14 @@ fn mean_bulk<const D: usize>(boxed: &str, seeds: std::ops::Range<u64>) -> (Real,
         let (b, _) = run::<D>(&c);
         assert_valid(&b, boxed);
         let (_, summary) = analyze(&b, 1e-6);
-        assert!(!summary.packing.bulk_region_empty);
+        assert!(!summary.packing.as_ref().unwrap().bulk_region_empty);
         eprintln!(
             "RSA {D}D seed {seed}: {} particles, global {:.4}, bulk {:.4}",
             b.len(),
-            summary.packing.global,
-            summary.packing.bulk.expect("bulk")
+            summary.packing.as_ref().unwrap().global,
+            summary.packing.as_ref().unwrap().bulk.expect("bulk")
         );
-        sum += summary.packing.bulk.expect("bulk");
+        sum += summary.packing.as_ref().unwrap().bulk.expect("bulk");
         n += 1;
         particles = particles.min(b.len());
     }

@@ -40,13 +40,13 @@ fn fill_rule<const D: usize>(species: &str) {
         // The 101st miss stops the fill: 100 are tolerated in total.
         assert_eq!(rep.roof_overflows, 101, "{D}D seed {seed}");
         assert_valid(&b, "default fill");
-        global[0] += analyze(&b, 1e-9).1.packing.global;
+        global[0] += analyze(&b, 1e-9).1.packing.as_ref().unwrap().global;
 
         let c = thesis_box(D as u8, seed, "roof_misses = 0", species);
         let (b, rep) = run::<D>(&c);
         assert_eq!(rep.roof_overflows, 1, "{D}D seed {seed}");
         assert_valid(&b, "roof_misses = 0");
-        global[1] += analyze(&b, 1e-9).1.packing.global;
+        global[1] += analyze(&b, 1e-9).1.packing.as_ref().unwrap().global;
     }
     // Going on after misses fills the hollows below the roof.
     assert!(
@@ -139,7 +139,7 @@ fn equal_radii_in_two_species_are_all_large() {
     );
     let (b, _) = run::<2>(&c);
     assert!(b.species.contains(&0) && b.species.contains(&1));
-    let p = analyze(&b, 1e-9).1.percolation;
+    let p = analyze(&b, 1e-9).1.percolation.unwrap();
     assert_eq!(p.large_bodies, b.len() as u64);
     assert_eq!(p.large_radius, 10.0);
 }
@@ -156,7 +156,7 @@ fn large_threshold_of_a_size_distribution_is_its_median() {
     assert_eq!(plan.species[0].name, "large");
     assert_eq!(plan.species[1].name, "small");
     let (b, _) = run::<2>(&c);
-    let p = analyze(&b, 1e-9).1.percolation;
+    let p = analyze(&b, 1e-9).1.percolation.unwrap();
     assert_eq!(p.large_radius, 20.0);
     let by_radius = b.radii.iter().filter(|&&r| r >= 20.0).count() as u64;
     assert_eq!(p.large_bodies, by_radius);
@@ -240,7 +240,7 @@ fn a_spike_does_not_lower_the_bulk_region() {
     // The highest top would have put the region's top at 27.5, above the bed.
     assert!(reg.hi[2] < 7.1);
     let (_, s) = analyze(&bed, 1e-6);
-    let bulk = s.packing.bulk.unwrap();
+    let bulk = s.packing.as_ref().unwrap().bulk.unwrap();
     // The region cuts the top layer off the lattice planes: within 0.3 %.
     assert!((bulk - std::f64::consts::PI / 6.0).abs() < 3e-3, "{bulk}");
 }
@@ -290,7 +290,7 @@ fn disjoint_chains_are_reported_per_direction_and_summed() {
             bed.push(Vector([i as f64 + 0.5, j as f64 + 0.5, 0.5]), 0.5, 0);
         }
     }
-    let p = analyze(&bed, 1e-9).1.percolation;
+    let p = analyze(&bed, 1e-9).1.percolation.unwrap();
     let per: Vec<(String, u64)> = p
         .directions
         .iter()
