@@ -5,10 +5,10 @@ use crate::overrides::{numbers, Numbers};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use packbed::analysis::orientation::AngleFrom;
+use packbed::check_box_hint;
 use packbed::config::AnalysisConfig;
 use packbed::io::read::BoxHint;
 use packbed::output::text;
-use packbed::pipeline::check_box_hint;
 use std::path::PathBuf;
 
 /// Arguments of `packbed analyze`.
@@ -92,7 +92,7 @@ pub fn analyze(args: AnalyzeArgs) -> Result<()> {
         check_box_hint(h).map_err(|e| anyhow::anyhow!("{}", e.within("--box").message()))?;
     }
     crate::run::check_out_dir(&args.out)?;
-    let analyzed = packbed::pipeline::analyze_file(&args.path, hint.as_ref(), &settings)?;
+    let analyzed = packbed::analyze_file(&args.path, hint.as_ref(), &settings)?;
     let written = analyzed
         .write_with(&args.out, &extras)
         .with_context(|| format!("--out {}", args.out.display()))?;

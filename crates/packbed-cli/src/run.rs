@@ -57,7 +57,7 @@ pub fn run(args: RunArgs) -> Result<()> {
     let extras = args.files.extras()?;
     check_out_dir(&args.out)?;
     let mut progress = Progress::new(&config, args.files.quiet);
-    let finished = packbed::pipeline::run_bed(&config, &mut |n| progress.update(n));
+    let finished = packbed::run_bed(&config, &mut |n| progress.update(n));
     progress.finish();
     let finished = finished?;
     let written = finished.write_with(&args.out, &extras)?;

@@ -3,6 +3,7 @@
 //! meet. All closed form: no stepping.
 
 use crate::math::{Real, Vector};
+#[cfg(test)]
 use std::f64::consts::TAU;
 
 /// A surface the moving centre must stay outside of: a fixed sphere inflated by
@@ -76,13 +77,6 @@ pub struct Trig {
 }
 
 impl<const D: usize> Arc<D> {
-    /// The point at parameter `t`.
-    #[inline]
-    pub fn point(&self, t: Real) -> Vector<D> {
-        let (s, c) = t.sin_cos();
-        self.m + (self.u * c + self.v * s) * self.rho
-    }
-
     /// `|p(t) − c|² − R²`: negative inside the ball.
     #[inline]
     pub fn ball_trig(&self, centre: &Vector<D>, radius: Real) -> Trig {
@@ -150,6 +144,7 @@ impl<const D: usize> Arc<D> {
     }
 
     /// Parameter of the lowest point of the circle, in `(0, 2π)`.
+    #[cfg(test)]
     pub fn lowest(&self) -> Real {
         let phi = self.v.height().atan2(self.u.height());
         let t = (phi + std::f64::consts::PI).rem_euclid(TAU);
@@ -158,16 +153,6 @@ impl<const D: usize> Arc<D> {
         } else {
             t
         }
-    }
-
-    /// An axis-aligned box holding the arc for `t ∈ [0, t_end]` (`t_end ≤ π`):
-    /// the box of its end points, widened by the sagitta (no arc point is farther
-    /// than that from the chord).
-    pub fn bounds(&self, t_end: Real) -> (Vector<D>, Vector<D>) {
-        let p0 = self.point(0.0);
-        let p1 = self.point(t_end);
-        let sagitta = self.rho * (1.0 - (0.5 * t_end.min(std::f64::consts::PI)).cos());
-        chord_box(&p0, &p1, sagitta)
     }
 }
 
@@ -191,6 +176,7 @@ fn chord_box<const D: usize>(
 impl Trig {
     /// Value at `t`.
     #[inline]
+    #[cfg(test)]
     pub fn at(&self, t: Real) -> Real {
         let (s, c) = t.sin_cos();
         self.a * c + self.b * s + self.c
@@ -199,6 +185,7 @@ impl Trig {
     /// The first `t ∈ [0, t_max]` where the function goes from non-negative to
     /// negative (the moving centre enters an obstacle, or a contact force turns
     /// tensile). `tol` is the size of a value that counts as zero.
+    #[cfg(test)]
     pub fn first_downcrossing(&self, t_max: Real, tol: Real) -> Option<Real> {
         let limit = Crossing::at(t_max.min(TAU));
         self.downcrossing(tol)
@@ -253,6 +240,7 @@ pub struct Crossing {
 impl Crossing {
     /// The point at angle `t`.
     #[inline]
+    #[cfg(test)]
     pub fn at(t: Real) -> Self {
         let (sin, cos) = t.sin_cos();
         Crossing { cos, sin }
@@ -278,6 +266,7 @@ impl Crossing {
 
     /// The angle in `[0, 2π)`.
     #[inline]
+    #[cfg(test)]
     pub fn angle(&self) -> Real {
         let t = self.sin.atan2(self.cos);
         if t < 0.0 {
@@ -378,14 +367,6 @@ pub fn intersection_points<const D: usize>(surfaces: &[Surface<D>]) -> ([Vector<
 #[inline]
 fn q0_component<const D: usize>(q0: &Vector<D>, b: &Vector<D>) -> Real {
     q0.dot(b)
-}
-
-/// Unit vector of `p − c` and the distance, or `None` if they coincide.
-#[inline]
-pub fn direction<const D: usize>(p: &Vector<D>, c: &Vector<D>) -> Option<(Vector<D>, Real)> {
-    let w = *p - *c;
-    let n = w.norm();
-    (n > 0.0).then(|| (w / n, n))
 }
 
 #[cfg(test)]

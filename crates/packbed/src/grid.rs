@@ -262,11 +262,6 @@ impl<const D: usize> Grid<D> {
             });
         }
     }
-
-    /// Bytes held by the grid.
-    pub fn memory_bytes(&self) -> usize {
-        self.head.capacity() * 4 + self.next.capacity() * 4 + self.column_top.capacity() * 8
-    }
 }
 
 /// Code of the periodic image `period` along horizontal axis `k` (8 bits per axis,

@@ -1,27 +1,94 @@
-//! packbed: exact sequential deposition ("drop and roll") of packed beds of spheres
-//! (3D) and discs (2D), and the measures of their structure.
+//! packbed: exact sequential deposition ("drop and roll") of packed beds of
+//! spheres (3D) and discs (2D), rigid chains included, and the measures of
+//! their structure: packing, coordination, percolation, voids, orientation,
+//! segregation.
 //!
-//! The flow: [`config::Config`] → [`config::Plan`] → [`deposit`] → [`bed::Bed`] →
-//! [`analysis`]. Everything is generic over the dimension `D` (2 or 3).
+//! The flow: [`Config`] (the TOML schema, or a dict in Python) → deposition →
+//! [`Bed`] → analysis ([`Summary`]) → files. A bed of either dimension travels
+//! as an [`AnyBed`], whose methods spare callers a match on the dimension.
+//! The front door is this page: the types and functions re-exported here are
+//! the API the command and the Python package are built on.
 //!
-//! One bed from a config written as TOML, deposited and analysed:
+//! # A bed from a config
 //!
 //! ```
-//! use packbed::config::Config;
+//! use packbed::{run_bed, Config};
 //!
 //! let config = Config::from_toml(
 //!     "dim = 2\nseed = 5\n[box]\npreset = \"thesis\"\n\
 //!      [[species]]\nradius = 10\n[[species]]\nradius = 20\n",
 //!     "example",
 //! )?;
-//! let plan = config.plan::<2>()?;
-//! let (bed, report) = packbed::deposit::deposit(&plan, &mut |_| {})?;
+//! let run = run_bed(&config, &mut |_placed| {})?;
 //! // The fill stops at the 101st particle that would stick out above the roof.
-//! assert_eq!(report.roof_overflows, 101);
-//! let (_contacts, summary) = packbed::analysis::analyze(&bed, 1e-9);
-//! assert!(summary.packing.as_ref().unwrap().global > 0.7 && summary.packing.as_ref().unwrap().global < 0.85);
+//! assert_eq!(run.summary.counts.roof_overflows, 101);
+//! let measures = &run.summary.analysis;
+//! let packing = measures.packing.as_ref().expect("all measures by default");
+//! assert!(packing.global > 0.7 && packing.global < 0.85);
 //! // Large means a radius of at least 20 here, whatever the species.
-//! assert_eq!(summary.percolation.as_ref().unwrap().large_radius, 20.0);
+//! assert_eq!(measures.percolation.as_ref().unwrap().large_radius, 20.0);
+//! assert_eq!((run.bed.dim(), run.bed.len()), (2, run.summary.counts.particles as usize));
+//! # Ok::<(), packbed::Error>(())
+//! ```
+//!
+//! # Reading a bed file and analysing it
+//!
+//! Any file `packbed analyze` reads (packbed's `particles.csv`, a plain
+//! `x y [z] r` table, a LAMMPS dump, XYZ, VTU); a file without a box takes it
+//! from a [`BoxHint`].
+//!
+//! ```
+//! use packbed::{analyze_file, AnalysisConfig, BoxHint, Measure};
+//!
+//! let dir = std::env::temp_dir().join(format!("packbed-doc-{}", std::process::id()));
+//! std::fs::create_dir_all(&dir).unwrap();
+//! let file = dir.join("three.txt");
+//! // Three discs of radius 1 in a row on the floor of a 6 × 4 box.
+//! std::fs::write(&file, "1 1 1\n3 1 1\n5 1 1\n").unwrap();
+//! let hint = BoxHint { size: vec![6.0, 4.0], periodic: false };
+//! let settings = AnalysisConfig {
+//!     measures: Some(vec![Measure::Coordination]),
+//!     ..AnalysisConfig::default()
+//! };
+//! let analyzed = analyze_file(&file, Some(&hint), &settings)?;
+//! let coordination = analyzed.summary.analysis.coordination.as_ref().unwrap();
+//! // The middle disc touches two, the end discs one each: 4 / 3 on average.
+//! assert!((coordination.mean - 4.0 / 3.0).abs() < 1e-12);
+//! assert_eq!(coordination.floor_contacts, 3);
+//! // Measures not asked for are left out, and the summary says so.
+//! assert!(analyzed.summary.analysis.packing.is_none());
+//! assert!(analyzed.summary.analysis.measures_left_out.contains(&"packing"));
+//! assert_eq!(analyzed.contacts.pairs.len(), 2);
+//! std::fs::remove_dir_all(&dir).unwrap();
+//! # Ok::<(), packbed::Error>(())
+//! ```
+//!
+//! # An ensemble of replicate beds
+//!
+//! Replicate `i` is seeded from the master seed alone, so the statistics do
+//! not depend on the number of threads.
+//!
+//! ```
+//! use packbed::{run_ensemble, Config, EnsembleOptions, Overrides};
+//!
+//! let mut config = Config::default();
+//! Overrides {
+//!     dim: Some(2),
+//!     radii: Some(vec![10.0]),
+//!     count: Some(40),
+//!     ..Overrides::default()
+//! }
+//! .apply(&mut config)?;
+//! let out = std::env::temp_dir().join(format!("packbed-doc-ens-{}", std::process::id()));
+//! let options = EnsembleOptions { runs: 3, pictures: false, ..EnsembleOptions::default() };
+//! let outcome = run_ensemble(&config, &options, &out, &|_tick| {})?;
+//! let stats = &outcome.points[0].aggregate;
+//! assert_eq!(stats.replicates, 3);
+//! let global = stats.measures.iter().find(|m| m.name == "packing.global").unwrap();
+//! assert_eq!(global.stats.n, 3);
+//! assert!(global.stats.min <= global.stats.mean && global.stats.mean <= global.stats.max);
+//! assert!(out.join("ensemble.csv").exists());
+//! std::fs::remove_dir_all(&out).unwrap();
 //! # Ok::<(), packbed::Error>(())
 //! ```
 
@@ -33,13 +100,22 @@ pub mod container;
 pub mod deposit;
 pub mod ensemble;
 pub mod error;
-pub mod geometry;
-pub mod grid;
+pub(crate) mod geometry;
+pub(crate) mod grid;
 pub mod io;
 pub mod math;
 pub mod output;
-pub mod pipeline;
+mod pipeline;
+#[cfg(feature = "render")]
 pub mod render;
 pub mod species;
 
+pub use analysis::{AnalysisOptions, Contacts, Summary};
+pub use bed::{AnyBed, Bed};
+pub use config::{AnalysisConfig, BoxSpec, Config, Edit, Measure, Overrides};
+pub use ensemble::{run as run_ensemble, Options as EnsembleOptions, Outcome};
 pub use error::{Error, Result};
+pub use io::read::{read_bed, read_bed_report, BoxHint};
+pub use io::{AnalyzeSummary, RunSummary};
+pub use output::RunExtras;
+pub use pipeline::{analyze_file, check_box_hint, run_bed, AnalyzedBed, FinishedBed};

@@ -25,10 +25,11 @@
 //! [`write`] (the statistics files and plots), and [`stats`], [`tables`],
 //! [`plots`], [`seeds`], [`sweep`].
 
-pub mod manifest;
-pub mod merge;
-pub mod plots;
-pub mod replicates;
+pub(crate) mod manifest;
+pub(crate) mod merge;
+#[cfg(feature = "render")]
+pub(crate) mod plots;
+pub(crate) mod replicates;
 pub mod seeds;
 pub mod stats;
 pub mod sweep;
@@ -73,6 +74,19 @@ pub struct Options {
     pub keep_beds: bool,
     /// Write the plots (PNG and SVG) of the statistics.
     pub pictures: bool,
+}
+
+impl Default for Options {
+    /// One replicate, all cores, the whole ensemble, summaries only, with plots.
+    fn default() -> Self {
+        Options {
+            runs: 1,
+            jobs: None,
+            shard: Shard::ALL,
+            keep_beds: false,
+            pictures: true,
+        }
+    }
 }
 
 /// Progress of an ensemble: replicates finished (resumed ones included) of all.

@@ -1,15 +1,19 @@
 //! The statistics files and plots of one point, and a sweep's comparison.
 
+#[cfg(feature = "render")]
+use super::plots;
 use super::stats::{self, Aggregate};
-use super::{plots, tables, Point, PointResult, Shard, ENSEMBLE_FILES, SWEEP_FILES};
+use super::{tables, Point, PointResult, Shard, ENSEMBLE_FILES, SWEEP_FILES};
 use crate::config::Config;
 use crate::error::Result;
 use crate::io::Staging;
+#[cfg(feature = "render")]
 use rayon::prelude::*;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
 /// Stages every plot as `stem.png` and `stem.svg`.
+#[cfg(feature = "render")]
 fn stage_plots(s: &mut Staging, plots: &[(String, crate::render::plot::Plot)]) -> Result<()> {
     use crate::render::run_files::PLOT_SIZE;
     // Rasterising is most of the cost; the files are written in order after.
@@ -82,6 +86,7 @@ pub(super) fn write_point(
         s.stage(name, |w| w.write_all(text.as_bytes()))?;
     }
     if pictures {
+        #[cfg(feature = "render")]
         stage_plots(
             &mut s,
             &plots::ensemble_plots(
@@ -90,6 +95,8 @@ pub(super) fn write_point(
                 p.config.analysis.chain_angle_from,
             ),
         )?;
+        #[cfg(not(feature = "render"))]
+        return Err(crate::output::no_pictures());
     }
     let files = s.commit()?;
     Ok((aggregate, files))
@@ -124,11 +131,16 @@ pub(super) fn write_sweep(
         s.stage(name, |w| w.write_all(text.as_bytes()))?;
     }
     if pictures {
-        let labelled: Vec<(&str, &Aggregate)> = points
-            .iter()
-            .map(|p| (p.label.as_deref().unwrap_or(""), &p.aggregate))
-            .collect();
-        stage_plots(&mut s, &plots::sweep_plots(sw, &labelled))?;
+        #[cfg(feature = "render")]
+        {
+            let labelled: Vec<(&str, &Aggregate)> = points
+                .iter()
+                .map(|p| (p.label.as_deref().unwrap_or(""), &p.aggregate))
+                .collect();
+            stage_plots(&mut s, &plots::sweep_plots(sw, &labelled))?;
+        }
+        #[cfg(not(feature = "render"))]
+        return Err(crate::output::no_pictures());
     }
     s.commit()
 }

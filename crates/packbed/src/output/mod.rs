@@ -10,7 +10,8 @@ use crate::bed::Bed;
 use crate::error::{Error, Result};
 use crate::io::summary::{AnalyzeSummary, RunSummary};
 use crate::io::{export, tables, Staging};
-use crate::render::run_files;
+#[cfg(feature = "render")]
+use crate::render::run_files::pictures;
 use std::path::{Path, PathBuf};
 
 /// Names of the files [`write_run`] writes, in the order they appear.
@@ -119,7 +120,7 @@ fn extra_files<const D: usize>(
 ) -> Result<Vec<(String, Vec<u8>)>> {
     let mut out = Vec::new();
     if extras.pictures {
-        out = run_files::pictures(bed, contacts, contact_tol, angle_from)?;
+        out = pictures(bed, contacts, contact_tol, angle_from)?;
     }
     if !extras.exports.is_empty() {
         let z = coordination(bed, contacts);
@@ -166,4 +167,25 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
     let mut s = Staging::new(dir)?;
     s.stage(name, |w| w.write_all(bytes))?;
     s.commit().map(drop)
+}
+
+/// Without the `render` feature a build has no pictures: asking for them is
+/// an error, not a silent omission.
+#[cfg(not(feature = "render"))]
+pub(crate) fn pictures<const D: usize>(
+    _: &Bed<D>,
+    _: &Contacts,
+    _: crate::math::Real,
+    _: crate::analysis::orientation::AngleFrom,
+) -> Result<Vec<(String, Vec<u8>)>> {
+    Err(no_pictures())
+}
+
+/// The error of a build without the `render` feature asked for pictures.
+#[cfg(not(feature = "render"))]
+pub(crate) fn no_pictures() -> Error {
+    Error::Impossible(
+        "this packbed was built without pictures (the `render` feature); ask for no pictures"
+            .into(),
+    )
 }

@@ -15,9 +15,9 @@ pub mod bed2d;
 pub mod bed3d;
 pub mod canvas;
 pub mod colour;
-pub mod frame;
-pub mod plot;
-pub mod run_files;
+pub(crate) mod frame;
+pub(crate) mod plot;
+pub(crate) mod run_files;
 pub mod run_plots;
 
 use crate::analysis::percolation::{membership, LargeRule, Membership};

@@ -173,7 +173,7 @@ fn a_replicate_is_the_single_run_of_its_seed() {
         let mut from_ensemble: Value = serde_json::from_str(&text).unwrap();
         let mut single = c.clone();
         single.seed = seeds::replicate_seed(c.seed, i);
-        let finished = packbed::pipeline::run_bed(&single, &mut |_| {}).unwrap();
+        let finished = packbed::run_bed(&single, &mut |_| {}).unwrap();
         let mut direct: Value = serde_json::from_str(&finished.summary.to_json().unwrap()).unwrap();
         assert_eq!(from_ensemble["seed"], single.seed);
         from_ensemble.as_object_mut().unwrap().remove("timing");

@@ -251,7 +251,7 @@ fn a_bulk_of_a_few_bodies_is_null_with_its_reason() {
     let c = config(
         "dim = 3\nseed = 1\n[box]\npreset = \"thesis\"\n[[species]]\nradius = 10\n[[species]]\nradius = 50\n",
     );
-    let run = packbed::pipeline::run_bed(&c, &mut |_| {}).unwrap();
+    let run = packbed::run_bed(&c, &mut |_| {}).unwrap();
     let v = serde_json::to_value(&run.summary).unwrap();
     let p = &v["packing"];
     assert!(p["bulk"].is_null(), "{p}");
@@ -262,7 +262,7 @@ fn a_bulk_of_a_few_bodies_is_null_with_its_reason() {
     // The minimum is a setting.
     let mut c = c;
     c.analysis.bulk_min_bodies = 0;
-    let run = packbed::pipeline::run_bed(&c, &mut |_| {}).unwrap();
+    let run = packbed::run_bed(&c, &mut |_| {}).unwrap();
     let v = serde_json::to_value(&run.summary).unwrap();
     let bulk = v["packing"]["bulk"].as_f64().expect("a bulk value");
     assert!(bulk > 0.0 && bulk < 1.0, "{bulk}");

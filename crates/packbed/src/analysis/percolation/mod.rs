@@ -24,14 +24,14 @@
 //! count of disjoint chains), [`unique`] (the enumeration of unique chains) and
 //! [`report`] (the figures written to `summary.json`).
 
-pub mod clusters;
-pub mod disjoint;
-pub mod graph;
-pub mod large_graph;
+mod clusters;
+mod disjoint;
+mod graph;
+mod large_graph;
 pub mod options;
 pub mod report;
-pub mod shortest;
-pub mod unique;
+mod shortest;
+mod unique;
 
 #[cfg(test)]
 mod tests;
