@@ -66,7 +66,10 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("packbed: error: {}", packbed::error::one_line(e.as_ref()));
+            eprintln!(
+                "packbed: error: {}",
+                packbed::error::one_line_naming(e.as_ref(), &|s| format!("--{s}"))
+            );
             ExitCode::from(EXIT_USER_ERROR)
         }
     }

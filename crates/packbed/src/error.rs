@@ -30,6 +30,16 @@ pub enum Error {
     /// The request cannot be carried out (e.g. would need too much memory).
     #[error("{0}")]
     Impossible(String),
+    /// A setting given with the request (not in the config file) is wrong:
+    /// `runs`, `jobs`, `shard`, `out`, `export`. The command names it as its
+    /// option (`--runs`), the Python package as its keyword.
+    #[error("{setting}: {message}")]
+    Setting {
+        /// The setting's name.
+        setting: &'static str,
+        /// What is wrong with it.
+        message: String,
+    },
 }
 
 /// Result with packbed's [`Error`].
@@ -39,6 +49,14 @@ impl Error {
     /// A configuration error.
     pub fn config(msg: impl Into<String>) -> Self {
         Error::Config(msg.into())
+    }
+
+    /// An error in the setting `setting` of the request.
+    pub fn setting(setting: &'static str, msg: impl Into<String>) -> Self {
+        Error::Setting {
+            setting,
+            message: msg.into(),
+        }
     }
 
     /// The same error placed under a setting: `within("ratio")` turns the
@@ -67,6 +85,15 @@ impl Error {
 /// still leads, the context following in parentheses, so that every error
 /// with a line has the same shape.
 pub fn one_line(e: &(dyn std::error::Error + 'static)) -> String {
+    one_line_naming(e, &|setting| setting.to_string())
+}
+
+/// [`one_line`], with the settings of [`Error::Setting`] named by `name`
+/// (the command: `--runs`).
+pub fn one_line_naming(
+    e: &(dyn std::error::Error + 'static),
+    name: &dyn Fn(&str) -> String,
+) -> String {
     let causes: Vec<&(dyn std::error::Error + 'static)> =
         std::iter::successors(Some(e), |c| c.source()).collect();
     let placed = causes
@@ -74,10 +101,10 @@ pub fn one_line(e: &(dyn std::error::Error + 'static)) -> String {
         .position(|c| matches!(c.downcast_ref::<Error>(), Some(Error::Data { .. })));
     let text = match placed {
         Some(k) if k > 0 => {
-            let outer: Vec<String> = causes[..k].iter().map(|c| c.to_string()).collect();
-            format!("{} (in {})", joined(&causes[k..]), outer.join(": "))
+            let outer: Vec<String> = causes[..k].iter().map(|c| text_of(*c, name)).collect();
+            format!("{} (in {})", joined(&causes[k..], name), outer.join(": "))
         }
-        _ => joined(&causes),
+        _ => joined(&causes, name),
     };
     // Parsers' messages may span lines; a script reading stderr wants one.
     text.split_whitespace().collect::<Vec<_>>().join(" ")
@@ -85,10 +112,10 @@ pub fn one_line(e: &(dyn std::error::Error + 'static)) -> String {
 
 /// The causes as "what: why", leaving out a cause whose text the message
 /// already quotes (I/O errors include their source).
-fn joined(causes: &[&(dyn std::error::Error + 'static)]) -> String {
+fn joined(causes: &[&(dyn std::error::Error + 'static)], name: &dyn Fn(&str) -> String) -> String {
     let mut text = String::new();
     for cause in causes {
-        let c = cause.to_string();
+        let c = text_of(*cause, name);
         if !text.contains(&c) {
             if !text.is_empty() {
                 text.push_str(": ");
@@ -97,4 +124,12 @@ fn joined(causes: &[&(dyn std::error::Error + 'static)]) -> String {
         }
     }
     text
+}
+
+/// One cause as text, a setting named by `name`.
+fn text_of(cause: &(dyn std::error::Error + 'static), name: &dyn Fn(&str) -> String) -> String {
+    match cause.downcast_ref::<Error>() {
+        Some(Error::Setting { setting, message }) => format!("{}: {message}", name(setting)),
+        _ => cause.to_string(),
+    }
 }

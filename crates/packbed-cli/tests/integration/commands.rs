@@ -535,7 +535,7 @@ fn analyze_refuses_bad_input() {
         &["bad.csv:3", "oops"],
     );
     let plain = s.input("plain.csv", "1 1 1\n3 1 1\n");
-    assert_user_error(&s, &["analyze", plain.to_str().unwrap()], &["--box"]);
+    assert_user_error(&s, &["analyze", plain.to_str().unwrap()], &["give the box"]);
     assert_user_error(
         &s,
         &[

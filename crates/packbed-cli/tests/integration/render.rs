@@ -188,7 +188,11 @@ fn bad_bed_files_and_exports_are_refused() {
         &["p.txt:2", "not a finite number"],
     );
     std::fs::write(d.join("q.txt"), "1 2 3 1\n").unwrap();
-    assert_user_error(&s, &["render", "q.txt"], &["q.txt:1", "--box W,D,H"]);
+    assert_user_error(
+        &s,
+        &["render", "q.txt"],
+        &["q.txt:1", "give the box (W,D,H)"],
+    );
     ok(
         d,
         &["render", "q.txt", "--box", "10,10,10", "--out", "q.png"],

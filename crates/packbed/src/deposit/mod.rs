@@ -212,6 +212,8 @@ pub fn build(config: &Config, progress: &mut dyn FnMut(u64)) -> Result<(AnyBed, 
     match config.dim {
         2 => deposit(&config.plan::<2>()?, progress).map(|(b, r)| (AnyBed::D2(b), r)),
         3 => deposit(&config.plan::<3>()?, progress).map(|(b, r)| (AnyBed::D3(b), r)),
-        d => Err(crate::Error::config(format!("dim must be 2 or 3, got {d}"))),
+        d => Err(crate::error::Error::config(format!(
+            "dim must be 2 or 3, got {d}"
+        ))),
     }
 }

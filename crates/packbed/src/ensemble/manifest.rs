@@ -28,9 +28,12 @@ impl Shard {
     /// Parses `K/M` with `0 <= K < M`.
     pub fn parse(text: &str) -> Result<Shard> {
         let bad = || {
-            Error::config(format!(
-                "--shard: `{text}` is not K/M with 0 <= K < M (e.g. 0/4 for the first of four shards)"
-            ))
+            Error::setting(
+                "shard",
+                format!(
+                    "`{text}` is not K/M with 0 <= K < M (e.g. 0/4 for the first of four shards)"
+                ),
+            )
         };
         let (k, m) = text.split_once('/').ok_or_else(bad)?;
         let k: u64 = k.trim().parse().map_err(|_| bad())?;
@@ -212,10 +215,10 @@ pub(super) fn check_out(out: &Path, wanted: &Manifest) -> Result<Option<Manifest
         return Ok(None);
     }
     if !out.is_dir() {
-        return Err(Error::Impossible(format!(
-            "--out {}: exists and is not a directory",
-            out.display()
-        )));
+        return Err(Error::setting(
+            "out",
+            format!("{}: exists and is not a directory", out.display()),
+        ));
     }
     if !out.join(MANIFEST).exists() {
         let empty = fs::read_dir(out)
@@ -225,41 +228,53 @@ pub(super) fn check_out(out: &Path, wanted: &Manifest) -> Result<Option<Manifest
         return if empty {
             Ok(None)
         } else {
-            Err(Error::Impossible(format!(
-                "--out {}: the directory is not empty and holds no ensemble ({MANIFEST}); choose a new or empty directory",
-                out.display()
-            )))
+            Err(Error::setting(
+                "out",
+                format!(
+                    "{}: the directory is not empty and holds no ensemble ({MANIFEST}); choose a new or empty directory",
+                    out.display()
+                ),
+            ))
         };
     }
     let have = Manifest::read(out)?;
     if have.config != wanted.config {
         let key = first_difference(&have.config, &wanted.config, "").unwrap_or_default();
-        return Err(Error::Impossible(format!(
-            "--out {} holds an ensemble of a different config (fingerprint {} there, {} here; first difference at `{key}`): use another --out, or delete it to start over",
-            out.display(),
-            fingerprint(&serde_json::to_string(&have.config).unwrap_or_default()),
-            fingerprint(&serde_json::to_string(&wanted.config).unwrap_or_default()),
-        )));
+        return Err(Error::setting(
+            "out",
+            format!(
+                "{} holds an ensemble of a different config (fingerprint {} there, {} here; first difference at `{key}`): use another output directory, or delete it to start over",
+                out.display(),
+                fingerprint(&serde_json::to_string(&have.config).unwrap_or_default()),
+                fingerprint(&serde_json::to_string(&wanted.config).unwrap_or_default()),
+            ),
+        ));
     }
     if have.shard != wanted.shard {
         let show = |s: Shard| match s.as_pair() {
             Some((k, m)) => format!("shard {k}/{m}"),
             None => "the whole ensemble".to_string(),
         };
-        return Err(Error::Impossible(format!(
-            "--out {} holds {}, but this run is {}: use another --out",
-            out.display(),
-            show(have.shard),
-            show(wanted.shard)
-        )));
+        return Err(Error::setting(
+            "out",
+            format!(
+                "{} holds {}, but this run is {}: use another output directory",
+                out.display(),
+                show(have.shard),
+                show(wanted.shard)
+            ),
+        ));
     }
     if have.packbed_version != wanted.packbed_version {
-        return Err(Error::Impossible(format!(
-            "--out {} was made by packbed {}, this is {}: replicates could differ; use another --out",
-            out.display(),
-            have.packbed_version,
-            wanted.packbed_version
-        )));
+        return Err(Error::setting(
+            "out",
+            format!(
+                "{} was made by packbed {}, this is {}: replicates could differ; use another output directory",
+                out.display(),
+                have.packbed_version,
+                wanted.packbed_version
+            ),
+        ));
     }
     Ok(Some(have))
 }

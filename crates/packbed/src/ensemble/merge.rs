@@ -41,7 +41,7 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
         }
         if m.runs != first.runs {
             return Err(Error::Impossible(format!(
-                "merge: {} have different --runs ({} and {})",
+                "merge: {} have different replicate counts ({} and {})",
                 other(),
                 first.runs,
                 m.runs
@@ -74,10 +74,13 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
         }
         *slot = Some(k);
         if out.exists() && same_dir(out, d) {
-            return Err(Error::Impossible(format!(
-                "merge: --out {} is one of the shard directories; choose another",
-                out.display()
-            )));
+            return Err(Error::setting(
+                "out",
+                format!(
+                    "{} is one of the shard directories; choose another",
+                    out.display()
+                ),
+            ));
         }
     }
     let missing: Vec<String> = owner
@@ -113,7 +116,7 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
             let src = run_dir(&dirs[k].join(&p.dir), i);
             let Some(found) = done_summary(&src, seed) else {
                 return Err(Error::Impossible(format!(
-                    "merge: {} is incomplete: replicate {i} has no summary ({}); rerun its `packbed ensemble … --shard {}/{count} --out {}` to finish it",
+                    "merge: {} is incomplete: replicate {i} has no summary ({}); rerun shard {}/{count} of the ensemble into {} to finish it",
                     dirs[k].display(),
                     src.join("summary.json").display(),
                     i % count,

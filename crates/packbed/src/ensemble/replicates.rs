@@ -73,19 +73,22 @@ pub fn run(
 ) -> Result<Outcome> {
     let start = Instant::now();
     if opts.runs == 0 {
-        return Err(Error::config("--runs must be at least 1"));
+        return Err(Error::setting("runs", "must be at least 1"));
     }
     if opts.runs > MAX_RUNS {
-        return Err(Error::Impossible(format!(
-            "--runs {}: at most {MAX_RUNS} replicates per ensemble (their summaries are held in memory for the statistics)",
-            opts.runs
-        )));
+        return Err(Error::setting(
+            "runs",
+            format!(
+                "at most {MAX_RUNS} replicates per ensemble, got {} (their summaries are held in memory for the statistics)",
+                opts.runs
+            ),
+        ));
     }
     if opts.jobs == Some(0) {
-        return Err(Error::config("--jobs must be at least 1"));
+        return Err(Error::setting("jobs", "must be at least 1"));
     }
     if opts.shard.count == 0 || opts.shard.index >= opts.shard.count {
-        return Err(Error::config("--shard: K must be smaller than M"));
+        return Err(Error::setting("shard", "K must be smaller than M"));
     }
     let pts = points(config)?;
     let manifest = Manifest {

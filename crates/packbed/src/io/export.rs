@@ -43,9 +43,10 @@ impl Format {
                 "dump" | "lammps" => Format::Dump,
                 "xyz" | "extxyz" => Format::Xyz,
                 other => {
-                    return Err(Error::config(format!(
-                        "--export: unknown format \"{other}\" (choose from vtk, dump, xyz)"
-                    )))
+                    return Err(Error::setting(
+                        "export",
+                        format!("unknown format \"{other}\" (choose from vtk, dump, xyz)"),
+                    ))
                 }
             };
             if !out.contains(&f) {
@@ -53,8 +54,9 @@ impl Format {
             }
         }
         if out.is_empty() {
-            return Err(Error::config(
-                "--export: no format given (choose from vtk, dump, xyz)",
+            return Err(Error::setting(
+                "export",
+                "no format given (choose from vtk, dump, xyz)",
             ));
         }
         Ok(out)

@@ -556,7 +556,7 @@ fn packbed_csv_reads_with_the_box_from_summary_json() {
     // Without summary.json the box must be given.
     std::fs::remove_file(dir.join("summary.json")).unwrap();
     let e = read_bed(&dir.join("particles.csv"), None).unwrap_err();
-    assert!(e.to_string().contains("--box W,H"), "{e}");
+    assert!(e.to_string().contains("give the box (W,H)"), "{e}");
     let hint = BoxHint {
         size: vec![200.0, 150.0],
         periodic: false,

@@ -45,12 +45,8 @@ impl Reader<'_> {
                 return Err(self.err(
                     1,
                     format!(
-                        "the file has no box; give one ({})",
-                        if raw.dim == 2 {
-                            "--box W,H"
-                        } else {
-                            "--box W,D,H"
-                        }
+                        "the file has no box; give the box ({})",
+                        if raw.dim == 2 { "W,H" } else { "W,D,H" }
                     ),
                 ))
             }
