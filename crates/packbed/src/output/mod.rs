@@ -56,6 +56,7 @@ pub fn write_run_with<const D: usize>(
     let files = extra_files(
         bed,
         contacts,
+        &summary.analysis,
         summary.config.analysis.contact_tol,
         summary.config.analysis.chain_angle_from,
         extras,
@@ -79,6 +80,7 @@ pub fn write_analysis<const D: usize>(
     let files = extra_files(
         bed,
         contacts,
+        &summary.analysis,
         summary.settings.contact_tol,
         summary.settings.chain_angle_from,
         extras,
@@ -114,13 +116,14 @@ fn stage_dir<const D: usize>(
 fn extra_files<const D: usize>(
     bed: &Bed<D>,
     contacts: &Contacts,
+    measures: &crate::analysis::Summary,
     contact_tol: crate::math::Real,
     angle_from: crate::analysis::orientation::AngleFrom,
     extras: &RunExtras,
 ) -> Result<Vec<(String, Vec<u8>)>> {
     let mut out = Vec::new();
     if extras.pictures {
-        out = pictures(bed, contacts, contact_tol, angle_from)?;
+        out = pictures(bed, contacts, measures, contact_tol, angle_from)?;
     }
     if !extras.exports.is_empty() {
         let z = coordination(bed, contacts);
@@ -175,6 +178,7 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
 pub(crate) fn pictures<const D: usize>(
     _: &Bed<D>,
     _: &Contacts,
+    _: &crate::analysis::Summary,
     _: crate::math::Real,
     _: crate::analysis::orientation::AngleFrom,
 ) -> Result<Vec<(String, Vec<u8>)>> {

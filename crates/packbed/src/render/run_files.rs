@@ -4,7 +4,7 @@
 use super::run_plots;
 use super::{png_of, svg_of, RenderOptions};
 use crate::analysis::orientation::AngleFrom;
-use crate::analysis::{coordination, profile, Contacts};
+use crate::analysis::{coordination, Contacts, Summary};
 use crate::bed::Bed;
 use crate::error::Result;
 use crate::math::Real;
@@ -13,10 +13,13 @@ use crate::math::Real;
 pub const PLOT_SIZE: (u32, u32) = (1000, 700);
 
 /// `(file name, contents)` of the picture of the bed and the plots of a run,
-/// in writing order.
+/// in writing order. The packing profile and the regional packing are drawn
+/// from the analysis' own results (`measures`; no plot when packing was left
+/// out).
 pub fn pictures<const D: usize>(
     bed: &Bed<D>,
     contacts: &Contacts,
+    measures: &Summary,
     contact_tol: Real,
     angle_from: AngleFrom,
 ) -> Result<Vec<(String, Vec<u8>)>> {
@@ -35,29 +38,35 @@ pub fn pictures<const D: usize>(
             "plot_coordination",
             run_plots::coordination_histogram(bed, &z),
         )];
-        // The spec's slabs: a quarter of the largest diameter.
-        let slab = bed.r_max() / 2.0;
-        let slabs = profile::profile(bed, slab);
-        if !slabs.is_empty() {
-            plots.push((
-                "plot_profile",
-                run_plots::packing_profile(&slabs, slab, None),
-            ));
-        }
-        // Regional packing (floor, roof, wall, centre) as bars; regions the box
-        // does not have (walls with periodic sides) are left out.
-        let regional = crate::analysis::regions::regional_packing(bed);
-        let bars: Vec<(String, Real, Option<Real>)> = [
-            ("floor", regional.floor),
-            ("roof", regional.roof),
-            ("wall", regional.wall),
-            ("centre", regional.centre),
-        ]
-        .into_iter()
-        .filter_map(|(name, v)| v.map(|v| (name.to_string(), v, None)))
-        .collect();
-        if !bars.is_empty() {
-            plots.push(("plot_regions", run_plots::regional_packing(&bars)));
+        if let Some(packing) = &measures.packing {
+            // The summary's slabs: a quarter of the largest diameter.
+            let p = &packing.profile;
+            let slabs: Vec<(Real, Real)> =
+                p.z.iter()
+                    .copied()
+                    .zip(p.fraction.iter().copied())
+                    .collect();
+            if !slabs.is_empty() {
+                plots.push((
+                    "plot_profile",
+                    run_plots::packing_profile(&slabs, p.slab, None),
+                ));
+            }
+            // Regional packing (floor, roof, wall, centre) as bars; regions the
+            // box does not have (walls with periodic sides) are left out.
+            let r = &packing.regions;
+            let bars: Vec<(String, Real, Option<Real>)> = [
+                ("floor", r.floor),
+                ("roof", r.roof),
+                ("wall", r.wall),
+                ("centre", r.centre),
+            ]
+            .into_iter()
+            .filter_map(|(name, v)| v.map(|v| (name.to_string(), v, None)))
+            .collect();
+            if !bars.is_empty() {
+                plots.push(("plot_regions", run_plots::regional_packing(&bars)));
+            }
         }
         let angles = run_plots::chain_angles(bed);
         if !angles.is_empty() {
