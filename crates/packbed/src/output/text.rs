@@ -38,6 +38,15 @@ pub fn length(x: f64) -> String {
     trim(format!("{x:.decimals$}"))
 }
 
+/// What bounds the box at its sides.
+fn sides(b: &BoxSummary) -> &'static str {
+    if b.periodic {
+        "periodic sides"
+    } else {
+        "walls"
+    }
+}
+
 /// `W × H` or `W × D × H`.
 fn box_size(b: &BoxSummary) -> String {
     match b.depth {
@@ -60,11 +69,7 @@ pub fn run_text(s: &RunSummary, out: &Path, files: &[PathBuf]) -> String {
     let mut t = String::new();
     let b = &s.container;
     let size = box_size(b);
-    let sides = if b.periodic {
-        "periodic sides"
-    } else {
-        "walls"
-    };
+    let sides = sides(b);
     let kind = if s.dim == 2 { "discs" } else { "spheres" };
     let _ = writeln!(
         t,
@@ -137,11 +142,7 @@ pub fn analyze_text(s: &AnalyzeSummary, out: &Path, files: &[PathBuf]) -> String
     let mut t = String::new();
     let b = &s.container;
     let size = box_size(b);
-    let sides = if b.periodic {
-        "periodic sides"
-    } else {
-        "walls"
-    };
+    let sides = sides(b);
     let from = match b.source {
         Some("options") => " from the options".to_string(),
         Some(f) => format!(" from the {f}"),
