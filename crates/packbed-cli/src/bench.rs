@@ -1,12 +1,12 @@
-//! `packbed bench`: deposition throughput on equal spheres (discs in 2D) or
-//! chains, and with `--analysis` the time of each analysis stage on that bed
+//! `packbed bench`: deposition throughput on equal spheres (discs in 2D),
+//! lognormal radii (`--gsd`), given radii (`--radii`) or chains, and with `--analysis` the time of each analysis stage on that bed
 //! (or on a bed read from a file). The bed and the timing are the library's
 //! ([`packbed::bench`]); this file parses and prints.
 
 use crate::progress::Progress;
 use anyhow::{Context, Result};
 use clap::Args;
-use packbed::bench::{self, BenchBed};
+use packbed::bench::{self, BenchBed, BenchSizes};
 
 /// Arguments of `packbed bench`.
 #[derive(Debug, Args)]
@@ -24,6 +24,17 @@ pub struct BenchArgs {
     /// Periodic side boundaries (no side walls).
     #[arg(long)]
     pub periodic: bool,
+    /// Lognormal radii of median 10 and this geometric standard deviation
+    /// (truncated as a config's are by default) instead of equal spheres.
+    #[arg(long, value_name = "G", conflicts_with = "radii", value_parser = parse_gsd)]
+    pub gsd: Option<f64>,
+    /// One species per radius, in equal numbers (e.g. `10,50`), instead of
+    /// equal spheres of radius 10.
+    #[arg(long, value_name = "R,R,...", value_delimiter = ',', value_parser = parse_radius)]
+    pub radii: Option<Vec<f64>>,
+    /// Seed the floor with the random base layer first (timed with the rest).
+    #[arg(long)]
+    pub base_layer: bool,
     /// Print one JSON object instead of a line of text.
     #[arg(long)]
     pub json: bool,
@@ -46,11 +57,18 @@ pub fn bench(args: BenchArgs) -> Result<()> {
             (bed, r)
         }
         None => {
+            let sizes = match (args.gsd, &args.radii) {
+                (Some(g), _) => BenchSizes::Lognormal(g),
+                (None, Some(r)) => BenchSizes::Radii(r.clone()),
+                (None, None) => BenchSizes::Equal,
+            };
             let spec = BenchBed {
                 dim: args.dim,
                 n: args.n,
                 chains: args.chains,
                 periodic: args.periodic,
+                sizes,
+                base_layer: args.base_layer,
             };
             let mut progress = Progress::new(&spec.config(), args.json);
             let built = bench::deposit(&spec, &mut |n| progress.update(n));
@@ -74,9 +92,24 @@ pub fn bench(args: BenchArgs) -> Result<()> {
             r.dim, r.bodies, r.seconds, r.bodies_per_second, r.redrops
         ),
         (false, None) => println!(
-            "packbed bench: {}D, {} particles, {walls}: {:.3} s, {:.0} particles/s, peak RSS {rss:.1} MiB",
-            r.dim, r.n, r.seconds, r.particles_per_second
+            "packbed bench: {}D, {} particles{}, {walls}: {:.3} s, {:.0} particles/s, peak RSS {rss:.1} MiB",
+            r.dim,
+            r.n,
+            sizes_note(&args),
+            r.seconds,
+            r.particles_per_second
         ),
+    }
+    if args.bed.is_none() {
+        let dropped = r.bodies.saturating_sub(r.base_layer).max(1);
+        println!(
+            "  {} moves ({:.1} per dropped body), {:.3} µs per move; {} re-drops; {} base-layer particles",
+            r.moves,
+            r.moves as f64 / dropped as f64,
+            1e6 * r.seconds / r.moves.max(1) as f64,
+            r.redrops,
+            r.base_layer
+        );
     }
     if !r.analysis.is_empty() {
         for (name, t) in &r.analysis {
@@ -89,4 +122,32 @@ pub fn bench(args: BenchArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// How the radii were chosen, for the summary line.
+fn sizes_note(args: &BenchArgs) -> String {
+    match (args.gsd, &args.radii) {
+        (Some(g), _) => format!(" (lognormal radii, median 10, gsd {g})"),
+        (None, Some(r)) => {
+            let list: Vec<String> = r.iter().map(|x| x.to_string()).collect();
+            format!(" (radii {}, equal numbers)", list.join(", "))
+        }
+        (None, None) => String::new(),
+    }
+}
+
+fn parse_gsd(s: &str) -> std::result::Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(g) if g.is_finite() && g >= 1.0 => Ok(g),
+        _ => Err(format!(
+            "`{s}` is not a geometric standard deviation (a number >= 1)"
+        )),
+    }
+}
+
+fn parse_radius(s: &str) -> std::result::Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(r) if r.is_finite() && r > 0.0 => Ok(r),
+        _ => Err(format!("`{s}` is not a radius (a positive number)")),
+    }
 }

@@ -3,13 +3,15 @@
 //! and, on request, the time of every analysis stage on a bed.
 //!
 //! The bed: `n` bodies of radius 10 (`base_layer = "none"`, so that only drop
-//! and roll is timed), `fill.count = n`, in a box whose side is about n^(1/3)
-//! diameters in 3D (n^(1/2) in 2D), so that the bed ends up roughly as high as
-//! it is wide.
+//! and roll is timed, unless asked for), `fill.count = n`, in a box whose side
+//! is about n^(1/3) diameters of radius 10 in 3D (n^(1/2) in 2D), so that a bed
+//! of equal spheres ends up roughly as high as it is wide. Instead of equal
+//! spheres: lognormal radii of median 10 (default truncation), or given radii
+//! in equal numbers; the box stays the same, and broad beds grow taller.
 
 use crate::analysis::{analyze_timed, AnalysisOptions, StageTimes};
 use crate::bed::{AnyBed, Bed};
-use crate::config::{BaseLayerKind, Config};
+use crate::config::{BaseLayerKind, Config, SizeConfig};
 use crate::error::Result;
 use serde::Serialize;
 use std::time::Instant;
@@ -17,8 +19,21 @@ use std::time::Instant;
 /// Radius of every bench particle.
 pub const RADIUS: f64 = 10.0;
 
+/// The radii of the bench particles.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub enum BenchSizes {
+    /// Every particle of radius [`RADIUS`].
+    #[default]
+    Equal,
+    /// Lognormal radii of median [`RADIUS`] and this geometric standard
+    /// deviation, truncated as a config's are by default.
+    Lognormal(f64),
+    /// One species per radius, in equal numbers.
+    Radii(Vec<f64>),
+}
+
 /// What to deposit.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct BenchBed {
     /// 2 or 3.
     pub dim: u8,
@@ -28,6 +43,10 @@ pub struct BenchBed {
     pub chains: Option<u32>,
     /// Periodic side boundaries.
     pub periodic: bool,
+    /// The radii.
+    pub sizes: BenchSizes,
+    /// Seed the floor with the random base layer first (and time it).
+    pub base_layer: bool,
 }
 
 impl BenchBed {
@@ -47,17 +66,53 @@ impl BenchBed {
         let chain_length = (f64::from(beads) + 1.0) * RADIUS;
         let side = ((particles as f64).powf(1.0 / self.dim as f64).max(4.0) * 2.0 * RADIUS)
             .max(2.0 * chain_length);
+        // Never narrower than four of the largest diameters.
+        let r_max = match &self.sizes {
+            BenchSizes::Equal => RADIUS,
+            BenchSizes::Lognormal(gsd) => RADIUS * gsd.powf(crate::species::TRUNCATION_SIGMAS),
+            BenchSizes::Radii(r) => r.iter().copied().fold(RADIUS, f64::max),
+        };
+        let side = side.max(8.0 * r_max);
         c.container.width = Some(side);
         c.container.depth = (self.dim == 3).then_some(side);
         c.container.height = Some(side);
         c.container.periodic = self.periodic;
         c.fill.count = Some(particles);
-        c.fill.base_layer = BaseLayerKind::None;
+        c.fill.base_layer = if self.base_layer {
+            BaseLayerKind::Random
+        } else {
+            BaseLayerKind::None
+        };
         c.species.truncate(1);
         c.species[0].radius = Some(RADIUS);
+        c.species[0].ratio = 1.0;
+        match &self.sizes {
+            BenchSizes::Equal => {}
+            BenchSizes::Lognormal(gsd) => {
+                c.species[0].radius = None;
+                c.species[0].size = Some(SizeConfig {
+                    dist: Some("lognormal".into()),
+                    median: Some(RADIUS),
+                    gsd: Some(*gsd),
+                    ..SizeConfig::default()
+                });
+            }
+            BenchSizes::Radii(radii) => {
+                let template = c.species[0].clone();
+                c.species = radii
+                    .iter()
+                    .map(|&r| crate::config::SpeciesConfig {
+                        radius: Some(r),
+                        ..template.clone()
+                    })
+                    .collect();
+            }
+        }
         if let Some(b) = self.chains {
-            c.species[0].shape = "chain".into();
-            c.species[0].beads = Some(b);
+            for s in &mut c.species {
+                s.shape = "chain".into();
+                s.beads = Some(b);
+            }
         }
         c
     }
@@ -82,6 +137,12 @@ pub struct BenchResult {
     pub bodies_per_second: f64,
     /// Particles re-dropped because they found no rest.
     pub redrops: u64,
+    /// Moves of every body, re-drops included (falls and rolls along an arc
+    /// for spheres, descent steps for chains): `seconds / moves` is the cost
+    /// of a move, `moves / bodies` the moves per body.
+    pub moves: u64,
+    /// Particles placed by the base layer (included in `n`).
+    pub base_layer: u64,
     /// Peak resident memory of the process, where the system reports it (else 0).
     pub peak_rss_bytes: u64,
     /// Seconds per analysis stage, stages of the same name summed.
@@ -108,6 +169,8 @@ pub fn deposit(bench: &BenchBed, progress: &mut dyn FnMut(u64)) -> Result<(AnyBe
     let seconds = start.elapsed().as_secs_f64();
     let mut result = measured(&bed, Some(seconds));
     result.redrops = report.redrops;
+    result.moves = report.moves;
+    result.base_layer = report.base_layer;
     Ok((bed, result))
 }
 
@@ -124,6 +187,8 @@ pub fn measured(bed: &AnyBed, seconds: Option<f64>) -> BenchResult {
         bodies: bodies as u64,
         bodies_per_second: seconds.map_or(0.0, |s| bodies as f64 / s.max(1e-9)),
         redrops: 0,
+        moves: 0,
+        base_layer: 0,
         peak_rss_bytes: peak_rss_bytes().unwrap_or(0),
         analysis: Vec::new(),
     }

@@ -1,36 +1,151 @@
-//! Uniform cell grid for neighbour queries, growing upwards as the bed grows.
+//! Multilevel cell grid for neighbour queries, growing upwards as the bed grows.
 //!
-//! Cells are at least as wide as the largest interaction distance, so a query box
-//! touches only a few cells. Each cell keeps a singly linked list of particle ids
-//! (`head` per cell, `next` per particle): 4 bytes per particle and per cell, no
-//! allocation per particle. A height map keeps the highest particle top of each
-//! column of cells, so a falling particle can start just above the bed.
+//! Particles are sorted by radius into levels (Ogarko & Luding 2012, "A fast
+//! multilevel algorithm for contact detection of arbitrarily polydisperse
+//! objects"): each level is a uniform grid whose cells suit its own particles,
+//! so a fine particle's query never scans cells sized for the coarsest one.
+//! A query names the box the querying body's centre may sweep and its own reach
+//! (`margin`); each level widens the box by `margin` plus the largest radius it
+//! holds, so the cost of a query follows the sizes near it, not the size range
+//! of the bed. One level of cells `2 r_max` wide is the uniform grid of equal
+//! spheres, visited in the same order.
+//!
+//! Each cell keeps a singly linked list of particle ids (`head` per cell, `next`
+//! per particle): 4 bytes per particle and per cell, no allocation per particle.
+//! A height map per level keeps the highest particle top of each column of
+//! cells, so a falling particle can start just above the bed.
 
 use crate::container::Container;
-use crate::math::{Real, Vector};
+use crate::math::{ball_volume, Real, Vector};
 
 const EMPTY: u32 = u32::MAX;
 
-/// The neighbour grid over a container.
+/// Most levels a grid has: a size range of 2^16 between the coarsest and the
+/// finest class; finer particles share the last level (still exact, slower).
+const MAX_LEVELS: usize = 16;
+
+/// How particles are sorted into levels, and the cell size of each.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Levels {
+    /// Level `l` holds radii `>= lower[l]` not held by a coarser level; the last
+    /// bound is 0 (every radius has a level).
+    lower: Vec<Real>,
+    /// Smallest cell width of each level.
+    cell: Vec<Real>,
+}
+
+impl Levels {
+    /// One level of cells at least `cell` wide: a uniform grid.
+    pub fn uniform(cell: Real) -> Self {
+        Levels {
+            lower: vec![0.0],
+            cell: vec![cell],
+        }
+    }
+
+    /// Levels for particles whose radii are at most `r_max` and distributed as
+    /// `sample` (radius, weight) in a bed of dimension `D`.
+    ///
+    /// Size classes halve from `r_max` down (class 0 holds `[r_max/2, r_max]`);
+    /// empty classes are skipped. A class's cells are as wide as its largest
+    /// diameter, or wider when it is sparse: at least the side of the volume its
+    /// share of the particles would fill alone if the bed were solid, so that no
+    /// level has more cells than particles (memory linear in the bed). A class so
+    /// sparse that its cells come out as wide as the coarser level's joins it:
+    /// a level of its own would only cost an extra pass per query.
+    pub fn for_sizes<const D: usize>(r_max: Real, sample: &[(Real, Real)]) -> Self {
+        if !(r_max.is_finite() && r_max > 0.0) {
+            return Levels::uniform(1.0);
+        }
+        let class_of = |r: Real| -> usize {
+            let mut bound = 0.5 * r_max;
+            for k in 0..MAX_LEVELS - 1 {
+                if r >= bound {
+                    return k;
+                }
+                bound *= 0.5;
+            }
+            MAX_LEVELS - 1
+        };
+        let mut weight = [0.0; MAX_LEVELS];
+        let mut largest = [0.0 as Real; MAX_LEVELS];
+        let (mut total, mut volume) = (0.0, 0.0);
+        for &(r, w) in sample {
+            if !(w > 0.0 && r.is_finite() && r >= 0.0) {
+                continue;
+            }
+            let k = class_of(r.min(r_max));
+            weight[k] += w;
+            largest[k] = largest[k].max(r.min(r_max));
+            total += w;
+            volume += w * ball_volume::<D>(r.min(r_max));
+        }
+        if !(total > 0.0 && volume > 0.0) {
+            return Levels::uniform(2.0 * r_max);
+        }
+        // Mean particle volume: a class holding share `f` of the particles has
+        // one particle per `mean / f` of a solid bed.
+        let mean = volume / total;
+        let mut levels = Levels {
+            lower: Vec::new(),
+            cell: Vec::new(),
+        };
+        let mut bound = 0.5 * r_max;
+        for k in 0..MAX_LEVELS {
+            let lower = if k + 1 == MAX_LEVELS { 0.0 } else { bound };
+            bound *= 0.5;
+            if k > 0 && weight[k] == 0.0 {
+                continue;
+            }
+            let diameter = 2.0 * if k == 0 { r_max } else { largest[k] };
+            let sparse = (mean * total / weight[k].max(Real::MIN_POSITIVE)).powf(1.0 / D as Real);
+            let cell = diameter.max(if sparse.is_finite() { sparse } else { diameter });
+            match levels.cell.last() {
+                Some(&coarser) if cell >= coarser => {
+                    *levels.lower.last_mut().expect("one level") = lower;
+                }
+                _ => {
+                    levels.lower.push(lower);
+                    levels.cell.push(cell);
+                }
+            }
+        }
+        // Radii below the smallest sampled class still need a level.
+        *levels.lower.last_mut().expect("class 0 is always a level") = 0.0;
+        levels
+    }
+
+    /// The level of a particle of radius `r`.
+    #[inline]
+    fn of(&self, r: Real) -> usize {
+        let last = self.lower.len() - 1;
+        for (l, &b) in self.lower[..last].iter().enumerate() {
+            if r >= b {
+                return l;
+            }
+        }
+        last
+    }
+}
+
+/// One level: a uniform grid, layers added upwards as particles arrive.
 #[derive(Clone, Debug)]
-pub struct Grid<const D: usize> {
+struct Level<const D: usize> {
     cell: [Real; D],
     inv_cell: [Real; D],
     counts: [usize; D],
-    extent: [Real; D],
-    periodic: bool,
     head: Vec<u32>,
-    next: Vec<u32>,
     column_top: Vec<Real>,
     columns: usize,
+    /// Largest radius inserted (0 while empty).
+    r_max: Real,
+    population: usize,
 }
 
-impl<const D: usize> Grid<D> {
-    /// A grid whose cells are at least `reach` wide on every axis.
-    pub fn new(container: &Container<D>, reach: Real) -> Self {
+impl<const D: usize> Level<D> {
+    fn new(container: &Container<D>, reach: Real) -> Self {
         let mut cell = [0.0; D];
         let mut counts = [1usize; D];
-        let mut extent = [0.0; D];
         let mut columns = 1;
         for k in 0..D - 1 {
             let w = container.extent(k);
@@ -39,7 +154,6 @@ impl<const D: usize> Grid<D> {
             let n = ((w / reach).floor() as usize).clamp(1, 1 << 14);
             counts[k] = n;
             cell[k] = w / n as Real;
-            extent[k] = w;
             columns *= n;
         }
         cell[D - 1] = reach;
@@ -48,22 +162,16 @@ impl<const D: usize> Grid<D> {
         for k in 0..D {
             inv_cell[k] = 1.0 / cell[k];
         }
-        Grid {
+        Level {
             cell,
             inv_cell,
             counts,
-            extent,
-            periodic: container.periodic,
             head: Vec::new(),
-            next: Vec::new(),
             column_top: vec![0.0; columns],
             columns,
+            r_max: 0.0,
+            population: 0,
         }
-    }
-
-    /// Reserves room for `n` particles.
-    pub fn reserve(&mut self, n: usize) {
-        self.next.reserve(n);
     }
 
     #[inline]
@@ -82,58 +190,277 @@ impl<const D: usize> Grid<D> {
         idx
     }
 
+    /// The layers holding centres in `[z_lo, z_hi]`, if any.
+    #[inline]
+    fn layers(&self, z_lo: Real, z_hi: Real) -> Option<(usize, usize)> {
+        let layers = self.counts[D - 1];
+        if layers == 0 || z_hi < 0.0 {
+            return None;
+        }
+        let z0 = self.layer_of(z_lo);
+        let z1 = self.layer_of(z_hi).min(layers - 1);
+        (z0 <= z1).then_some((z0, z1))
+    }
+}
+
+/// The neighbour grid over a container.
+#[derive(Clone, Debug)]
+pub struct Grid<const D: usize> {
+    levels: Vec<Level<D>>,
+    plan: Levels,
+    extent: [Real; D],
+    periodic: bool,
+    next: Vec<u32>,
+}
+
+impl<const D: usize> Grid<D> {
+    /// A grid over `container` with the given levels.
+    pub fn new(container: &Container<D>, plan: &Levels) -> Self {
+        let mut extent = [0.0; D];
+        for k in 0..D - 1 {
+            extent[k] = container.extent(k);
+        }
+        Grid {
+            levels: plan
+                .cell
+                .iter()
+                .map(|&c| Level::new(container, c))
+                .collect(),
+            plan: plan.clone(),
+            extent,
+            periodic: container.periodic,
+            next: Vec::new(),
+        }
+    }
+
+    /// A grid holding the particles `centres` with `radii` (ids in order), its
+    /// levels fitted to them and to a further radius `r_extra` that will query it.
+    pub fn of_particles(
+        container: &Container<D>,
+        centres: &[Vector<D>],
+        radii: &[Real],
+        r_extra: Real,
+    ) -> Self {
+        let r_max = radii.iter().copied().fold(r_extra, Real::max);
+        let sample: Vec<(Real, Real)> = radii.iter().map(|&r| (r, 1.0)).collect();
+        let mut grid = Grid::new(container, &Levels::for_sizes::<D>(r_max, &sample));
+        grid.reserve(centres.len());
+        for (i, (c, &r)) in centres.iter().zip(radii).enumerate() {
+            grid.insert(i as u32, c, r);
+        }
+        grid
+    }
+
+    /// Reserves room for `n` particles.
+    pub fn reserve(&mut self, n: usize) {
+        self.next.reserve(n);
+    }
+
     /// Adds particle `id` (ids must be added in order 0, 1, 2, …) with centre `p`
     /// (inside the box laterally) and radius `r`.
     pub fn insert(&mut self, id: u32, p: &Vector<D>, r: Real) {
         debug_assert_eq!(id as usize, self.next.len());
-        let layer = self.layer_of(p[D - 1]);
-        if layer >= self.counts[D - 1] {
+        let level = &mut self.levels[self.plan.of(r)];
+        let layer = level.layer_of(p[D - 1]);
+        if layer >= level.counts[D - 1] {
             let layers = layer + 1;
-            self.head.resize(layers * self.columns, EMPTY);
-            self.counts[D - 1] = layers;
+            level.head.resize(layers * level.columns, EMPTY);
+            level.counts[D - 1] = layers;
         }
-        let col = self.column_of(p);
-        let cell = layer * self.columns + col;
-        self.next.push(self.head[cell]);
-        self.head[cell] = id;
+        let col = level.column_of(p);
+        let cell = layer * level.columns + col;
+        self.next.push(level.head[cell]);
+        level.head[cell] = id;
         let top = p[D - 1] + r;
-        if top > self.column_top[col] {
-            self.column_top[col] = top;
+        if top > level.column_top[col] {
+            level.column_top[col] = top;
         }
+        if r > level.r_max {
+            level.r_max = r;
+        }
+        level.population += 1;
     }
 
-    /// Highest particle top over the columns that overlap the horizontal box
-    /// `[lo, hi]` (vertical components ignored); 0 when they are empty.
-    pub fn max_top(&self, lo: &Vector<D>, hi: &Vector<D>) -> Real {
+    /// Highest particle top over the columns of particles that could overlap the
+    /// horizontal box `[lo, hi]` widened by `margin` (vertical components
+    /// ignored); 0 when they are empty.
+    pub fn max_top(&self, lo: &Vector<D>, hi: &Vector<D>, margin: Real) -> Real {
         let mut best: Real = 0.0;
-        self.for_each_column(lo, hi, |col, _, _| {
-            best = best.max(self.column_top[col]);
-            true
-        });
+        for level in self.occupied() {
+            let (lo, hi) = widen(lo, hi, margin + level.r_max, D - 1);
+            self.for_each_column(level, &lo, &hi, |col, _, _| {
+                best = best.max(level.column_top[col]);
+                true
+            });
+        }
         best
     }
 
-    /// Calls `f(column, shift)` for every column (as an image with its periodic
-    /// shift) overlapping the horizontal box `[lo, hi]`, until `f` returns false;
-    /// returns false if it stopped early.
+    /// Calls `f(id, shift, image)` for every particle in the cells that could
+    /// hold a particle overlapping the box `[lo, hi]` widened by `margin`;
+    /// `shift` is the periodic image offset to add to its centre and `image` a
+    /// code naming that image (0 for the particle itself).
+    #[inline]
+    pub fn for_each_in_box(
+        &self,
+        lo: &Vector<D>,
+        hi: &Vector<D>,
+        margin: Real,
+        mut f: impl FnMut(u32, Vector<D>, u16),
+    ) {
+        self.search(lo, hi, margin, self.levels.iter(), |id, shift, image| {
+            f(id, shift, image);
+            false
+        });
+    }
+
+    /// True if `f` holds for some particle visited by
+    /// [`Grid::for_each_in_box`] with the same box; stops at the first.
+    /// Overlap tests, where most queries of a saturating floor end at their
+    /// first neighbour: the finest level, with the smallest cells and the most
+    /// particles near any point, is searched first.
+    pub fn any_in_box(
+        &self,
+        lo: &Vector<D>,
+        hi: &Vector<D>,
+        margin: Real,
+        f: impl FnMut(u32, Vector<D>, u16) -> bool,
+    ) -> bool {
+        self.search(lo, hi, margin, self.levels.iter().rev(), f)
+    }
+
+    /// [`Grid::any_in_box`] over `levels` in the order given.
+    #[inline]
+    fn search<'g>(
+        &'g self,
+        lo: &Vector<D>,
+        hi: &Vector<D>,
+        margin: Real,
+        levels: impl Iterator<Item = &'g Level<D>>,
+        mut f: impl FnMut(u32, Vector<D>, u16) -> bool,
+    ) -> bool {
+        for level in levels.filter(|l| l.population > 0) {
+            let (lo, hi) = widen(lo, hi, margin + level.r_max, D);
+            let Some((z0, z1)) = level.layers(lo[D - 1], hi[D - 1]) else {
+                continue;
+            };
+            let stopped = !self.for_each_column(level, &lo, &hi, |col, shift, image| {
+                for layer in z0..=z1 {
+                    let mut id = level.head[layer * level.columns + col];
+                    while id != EMPTY {
+                        if f(id, shift, image) {
+                            return false;
+                        }
+                        id = self.next[id as usize];
+                    }
+                }
+                true
+            });
+            if stopped {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// The particles a body falling from above could meet: centres at heights in
+    /// `[lo, hi]` (vertical components, not widened) whose balls reach the
+    /// horizontal box `[lo, hi]` widened by `margin`, one layer at a time from the
+    /// top down across the levels, for as long as it matters. `f` returns the
+    /// lowest height the querying body's centre can still reach; layers whose
+    /// particles all lie more than `margin` plus their radius below it are
+    /// skipped.
+    pub fn scan_down(
+        &self,
+        lo: &Vector<D>,
+        hi: &Vector<D>,
+        margin: Real,
+        mut f: impl FnMut(u32, Vector<D>, u16) -> Real,
+    ) {
+        // Per level: the horizontal box, the reach, the lowest layer and the
+        // next layer to scan (a merge of the levels by the top of their layers).
+        let mut boxes = [(
+            Vector::<D>::zero(),
+            Vector::<D>::zero(),
+            0.0,
+            0usize,
+            0usize,
+        ); MAX_LEVELS];
+        let mut live = 0usize;
+        for (l, level) in self.levels.iter().enumerate() {
+            if level.population == 0 {
+                continue;
+            }
+            let reach = margin + level.r_max;
+            let (wlo, whi) = widen(lo, hi, reach, D - 1);
+            if let Some((z0, z1)) = level.layers(lo[D - 1], hi[D - 1]) {
+                boxes[l] = (wlo, whi, reach, z0, z1 + 1);
+                live |= 1 << l;
+            }
+        }
+        let mut floor_height: Real = Real::NEG_INFINITY;
+        while live != 0 {
+            // The level whose next layer reaches highest.
+            let mut pick = usize::MAX;
+            let mut pick_top = Real::NEG_INFINITY;
+            let mut rest = live;
+            while rest != 0 {
+                let l = rest.trailing_zeros() as usize;
+                rest &= rest - 1;
+                let (_, _, reach, _, next) = boxes[l];
+                let top = next as Real * self.levels[l].cell[D - 1] + reach;
+                if top > pick_top {
+                    pick_top = top;
+                    pick = l;
+                }
+            }
+            let (wlo, whi, reach, z0, next) = boxes[pick];
+            let level = &self.levels[pick];
+            let layer = next - 1;
+            // The old single-level test, `layer_top < lowest - reach`, kept in
+            // that form so equal spheres scan exactly as before.
+            if (next as Real * level.cell[D - 1]) < floor_height - reach {
+                live &= !(1 << pick);
+                continue;
+            }
+            self.for_each_column(level, &wlo, &whi, |col, shift, image| {
+                let mut id = level.head[layer * level.columns + col];
+                while id != EMPTY {
+                    floor_height = floor_height.max(f(id, shift, image));
+                    id = self.next[id as usize];
+                }
+                true
+            });
+            if layer == z0 {
+                live &= !(1 << pick);
+            } else {
+                boxes[pick].4 = layer;
+            }
+        }
+    }
+
+    fn occupied(&self) -> impl Iterator<Item = &Level<D>> {
+        self.levels.iter().filter(|l| l.population > 0)
+    }
+
+    /// Calls `f(column, shift, image)` for every column (as an image with its
+    /// periodic shift) of `level` overlapping the horizontal box `[lo, hi]`,
+    /// until `f` returns false; returns false if it stopped early. A box wider
+    /// than the period visits a column once per image it covers.
     #[inline]
     fn for_each_column(
         &self,
+        level: &Level<D>,
         lo: &Vector<D>,
         hi: &Vector<D>,
         mut f: impl FnMut(usize, Vector<D>, u16) -> bool,
     ) -> bool {
-        // Per axis, the wrapped cell indices and image shifts of the range, worked
-        // out once per query (no division in the loop below).
-        const MAX_SPAN: usize = 16;
-        let mut index = [[0usize; MAX_SPAN]; 2];
-        let mut shift = [[0.0; MAX_SPAN]; 2];
-        let mut image = [[0u16; MAX_SPAN]; 2];
-        let mut span = [1usize; 2];
+        let mut first = [0isize; 2];
+        let mut last = [0isize; 2];
         for k in 0..D - 1 {
-            let n = self.counts[k] as isize;
-            let mut a = floor_index(lo[k] * self.inv_cell[k]);
-            let mut b = floor_index(hi[k] * self.inv_cell[k]);
+            let n = level.counts[k] as isize;
+            let mut a = floor_index(lo[k] * level.inv_cell[k]);
+            let mut b = floor_index(hi[k] * level.inv_cell[k]);
             if !self.periodic {
                 a = a.max(0);
                 b = b.min(n - 1);
@@ -141,127 +468,73 @@ impl<const D: usize> Grid<D> {
             if a > b {
                 return true;
             }
-            // A query wider than the table cannot occur with cells at least as wide
-            // as the reach; clamp defensively.
-            b = b.min(a + MAX_SPAN as isize - 1);
-            let mut i = a.rem_euclid(n);
-            let mut period = a.div_euclid(n);
-            for j in 0..=(b - a) as usize {
-                index[k][j] = i as usize;
-                shift[k][j] = period as Real * self.extent[k];
-                image[k][j] = image_code(period, k);
+            first[k] = a;
+            last[k] = b;
+        }
+        let mut offset = Vector::<D>::zero();
+        let nx = level.counts[0] as isize;
+        let row_of = |k: usize, a: isize| {
+            let n = level.counts[k] as isize;
+            (a.rem_euclid(n), a.div_euclid(n))
+        };
+        if D == 2 {
+            let (mut i, mut period) = row_of(0, first[0]);
+            for _ in first[0]..=last[0] {
+                offset[0] = period as Real * self.extent[0];
+                if !f(i as usize, offset, image_code(period, 0)) {
+                    return false;
+                }
                 i += 1;
-                if i == n {
+                if i == nx {
                     i = 0;
                     period += 1;
                 }
             }
-            span[k] = (b - a + 1) as usize;
-        }
-        let mut offset = Vector::<D>::zero();
-        if D == 2 {
-            for j in 0..span[0] {
-                offset[0] = shift[0][j];
-                if !f(index[0][j], offset, image[0][j]) {
-                    return false;
-                }
-            }
         } else {
-            let nx = self.counts[0];
-            for jy in 0..span[1] {
-                offset[1] = shift[1][jy];
-                let row = index[1][jy] * nx;
-                for jx in 0..span[0] {
-                    offset[0] = shift[0][jx];
-                    if !f(row + index[0][jx], offset, image[0][jx] | image[1][jy]) {
+            let ny = level.counts[1] as isize;
+            let (mut iy, mut py) = row_of(1, first[1]);
+            let (ix0, px0) = row_of(0, first[0]);
+            for _ in first[1]..=last[1] {
+                offset[1] = py as Real * self.extent[1];
+                let row = iy as usize * nx as usize;
+                let image_y = image_code(py, 1);
+                let (mut ix, mut px) = (ix0, px0);
+                for _ in first[0]..=last[0] {
+                    offset[0] = px as Real * self.extent[0];
+                    if !f(row + ix as usize, offset, image_code(px, 0) | image_y) {
                         return false;
                     }
+                    ix += 1;
+                    if ix == nx {
+                        ix = 0;
+                        px += 1;
+                    }
+                }
+                iy += 1;
+                if iy == ny {
+                    iy = 0;
+                    py += 1;
                 }
             }
         }
         true
     }
+}
 
-    /// Calls `f(id, shift, image)` for every particle in the cells overlapping the
-    /// box `[lo, hi]`; `shift` is the periodic image offset to add to its centre
-    /// and `image` a code naming that image (0 for the particle itself).
-    #[inline]
-    pub fn for_each_in_box(
-        &self,
-        lo: &Vector<D>,
-        hi: &Vector<D>,
-        mut f: impl FnMut(u32, Vector<D>, u16),
-    ) {
-        self.any_in_box(lo, hi, |id, shift, image| {
-            f(id, shift, image);
-            false
-        });
+/// The box `[lo, hi]` widened by `by` along the first `axes` axes.
+#[inline]
+fn widen<const D: usize>(
+    lo: &Vector<D>,
+    hi: &Vector<D>,
+    by: Real,
+    axes: usize,
+) -> (Vector<D>, Vector<D>) {
+    let (mut lo, mut hi) = (*lo, *hi);
+    for k in 0..axes {
+        lo[k] -= by;
+        hi[k] += by;
     }
-
-    /// True if `f` holds for some particle in the cells overlapping the box `[lo,
-    /// hi]` (arguments as for [`Grid::for_each_in_box`]); stops at the first.
-    /// Overlap tests, where most queries of a saturating floor end at their
-    /// first neighbour.
-    pub fn any_in_box(
-        &self,
-        lo: &Vector<D>,
-        hi: &Vector<D>,
-        mut f: impl FnMut(u32, Vector<D>, u16) -> bool,
-    ) -> bool {
-        let layers = self.counts[D - 1];
-        if layers == 0 || hi[D - 1] < 0.0 {
-            return false;
-        }
-        let z0 = self.layer_of(lo[D - 1]);
-        let z1 = self.layer_of(hi[D - 1]).min(layers - 1);
-        if z0 > z1 {
-            return false;
-        }
-        !self.for_each_column(lo, hi, |col, shift, image| {
-            for layer in z0..=z1 {
-                let mut id = self.head[layer * self.columns + col];
-                while id != EMPTY {
-                    if f(id, shift, image) {
-                        return false;
-                    }
-                    id = self.next[id as usize];
-                }
-            }
-            true
-        })
-    }
-
-    /// Like [`Grid::for_each_in_box`], one layer at a time from the top down, for
-    /// as long as `f` returns the lowest height still worth scanning: layers whose
-    /// top lies below it are skipped.
-    pub fn scan_down(
-        &self,
-        lo: &Vector<D>,
-        hi: &Vector<D>,
-        mut f: impl FnMut(u32, Vector<D>, u16) -> Real,
-    ) {
-        let layers = self.counts[D - 1];
-        if layers == 0 || hi[D - 1] < 0.0 {
-            return;
-        }
-        let z0 = self.layer_of(lo[D - 1]);
-        let z1 = self.layer_of(hi[D - 1]).min(layers - 1);
-        let mut floor_height: Real = Real::NEG_INFINITY;
-        for layer in (z0..=z1).rev() {
-            let layer_top = (layer + 1) as Real * self.cell[D - 1];
-            if layer_top < floor_height {
-                break;
-            }
-            self.for_each_column(lo, hi, |col, shift, image| {
-                let mut id = self.head[layer * self.columns + col];
-                while id != EMPTY {
-                    floor_height = floor_height.max(f(id, shift, image));
-                    id = self.next[id as usize];
-                }
-                true
-            });
-        }
-    }
+    (lo, hi)
 }
 
 /// Code of the periodic image `period` along horizontal axis `k` (8 bits per axis,
@@ -280,5 +553,253 @@ fn floor_index(x: Real) -> isize {
         i - 1
     } else {
         i
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+    use std::collections::HashSet;
+
+    /// The particles whose balls meet the box `[lo, hi]` widened by `margin`,
+    /// as (id, shift) over every periodic image near the box: the set a query
+    /// must visit, found by brute force.
+    fn required<const D: usize>(
+        c: &Container<D>,
+        parts: &[(Vector<D>, Real)],
+        lo: &Vector<D>,
+        hi: &Vector<D>,
+        margin: Real,
+        axes: usize,
+    ) -> HashSet<(u32, [i64; 2])> {
+        let mut out = HashSet::new();
+        let range = if c.periodic { -3..=3 } else { 0..=0 };
+        for (i, (p, r)) in parts.iter().enumerate() {
+            for a in range.clone() {
+                for b in if D == 3 { range.clone() } else { 0..=0 } {
+                    let mut q = *p;
+                    q[0] += a as Real * c.size[0];
+                    if D == 3 {
+                        q[1] += b as Real * c.size[1];
+                    }
+                    // Distance from the centre to the widened box.
+                    let mut d2 = 0.0;
+                    for k in 0..axes {
+                        let (l, h) = (lo[k] - margin, hi[k] + margin);
+                        let e = if q[k] < l {
+                            l - q[k]
+                        } else if q[k] > h {
+                            q[k] - h
+                        } else {
+                            0.0
+                        };
+                        d2 += e * e;
+                    }
+                    if d2 < r * r * (1.0 - 1e-12) {
+                        out.insert((i as u32, [a, b]));
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    fn shift_of<const D: usize>(c: &Container<D>, shift: &Vector<D>) -> [i64; 2] {
+        let mut s = [0i64; 2];
+        for k in 0..D - 1 {
+            s[k] = (shift[k] / c.size[k]).round() as i64;
+        }
+        s
+    }
+
+    /// Random beds of radii spread over three decades, in levels planned from
+    /// the radii themselves.
+    fn check_queries<const D: usize>(
+        periodic: bool,
+        parts: Vec<([Real; 3], Real)>,
+        query: ([Real; 3], [Real; 3], Real),
+    ) -> Result<(), TestCaseError> {
+        let mut size = Vector::<D>::zero();
+        for k in 0..D - 1 {
+            size[k] = 400.0;
+        }
+        size[D - 1] = 1000.0;
+        let c = Container { size, periodic };
+        let parts: Vec<(Vector<D>, Real)> = parts
+            .into_iter()
+            .map(|(x, r)| {
+                let mut p = Vector::<D>::zero();
+                for k in 0..D {
+                    p[k] = x[3 - D + k] * size[k];
+                }
+                (p, r)
+            })
+            .collect();
+        let centres: Vec<Vector<D>> = parts.iter().map(|p| p.0).collect();
+        let radii: Vec<Real> = parts.iter().map(|p| p.1).collect();
+        let grid = Grid::of_particles(&c, &centres, &radii, 0.0);
+        let (mut lo, mut hi) = (Vector::<D>::zero(), Vector::<D>::zero());
+        for k in 0..D {
+            let (a, b) = (query.0[3 - D + k] * size[k], query.1[3 - D + k] * 200.0);
+            lo[k] = a;
+            hi[k] = a + b;
+        }
+        let margin = query.2;
+        let need = required(&c, &parts, &lo, &hi, margin, D);
+        let mut seen = HashSet::new();
+        grid.for_each_in_box(&lo, &hi, margin, |id, shift, image| {
+            let s = shift_of(&c, &shift);
+            assert_eq!(image, {
+                let mut code = 0;
+                for k in 0..D - 1 {
+                    code |= image_code(s[k] as isize, k);
+                }
+                code
+            });
+            assert!(seen.insert((id, s)), "{id} {s:?} visited twice");
+        });
+        for n in &need {
+            prop_assert!(seen.contains(n), "missed {n:?}");
+        }
+        // The stopping variant agrees, and stops at the first hit.
+        let mut count = 0;
+        let any = grid.any_in_box(&lo, &hi, margin, |id, shift, _| {
+            count += 1;
+            need.contains(&(id, shift_of(&c, &shift)))
+        });
+        prop_assert_eq!(any, !need.is_empty());
+        // The scan from the top visits every centre below the box's top, each
+        // image once, when nothing is pruned.
+        let mut down = HashSet::new();
+        grid.scan_down(&lo, &hi, margin, |id, shift, _| {
+            assert!(down.insert((id, shift_of(&c, &shift))));
+            Real::NEG_INFINITY
+        });
+        let below: HashSet<_> = required(&c, &parts, &lo, &hi, margin, D - 1)
+            .into_iter()
+            .filter(|(id, _)| {
+                let z = parts[*id as usize].0[D - 1];
+                z >= lo[D - 1] && z <= hi[D - 1]
+            })
+            .collect();
+        for n in &below {
+            prop_assert!(down.contains(n), "scan_down missed {n:?}");
+        }
+        // The height map: no ball reaching the footprint is higher.
+        let top = grid.max_top(&lo, &hi, margin);
+        let highest = required(&c, &parts, &lo, &hi, margin, D - 1)
+            .iter()
+            .map(|(id, _)| parts[*id as usize].0[D - 1] + parts[*id as usize].1)
+            .fold(0.0, Real::max);
+        prop_assert!(top >= highest, "max_top {top} below {highest}");
+        Ok(())
+    }
+
+    fn particle() -> impl Strategy<Value = ([Real; 3], Real)> {
+        ([0.0..1.0, 0.0..1.0, 0.0..1.0], -1.0..2.0 as Real)
+            .prop_map(|(x, e): ([Real; 3], Real)| (x, 10.0 as Real * (10.0 as Real).powf(e)))
+    }
+
+    fn query() -> impl Strategy<Value = ([Real; 3], [Real; 3], Real)> {
+        (
+            [-0.2..1.2, -0.2..1.2, -0.1..1.1],
+            [0.0..1.0, 0.0..1.0, 0.0..1.0],
+            0.0..60.0,
+        )
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+        #[test]
+        fn queries_find_every_particle_in_reach_2d(
+            periodic in any::<bool>(),
+            parts in prop::collection::vec(particle(), 1..300),
+            q in query(),
+        ) {
+            check_queries::<2>(periodic, parts, q)?;
+        }
+
+        #[test]
+        fn queries_find_every_particle_in_reach_3d(
+            periodic in any::<bool>(),
+            parts in prop::collection::vec(particle(), 1..300),
+            q in query(),
+        ) {
+            check_queries::<3>(periodic, parts, q)?;
+        }
+    }
+
+    #[test]
+    fn equal_and_narrow_sizes_keep_one_level_of_largest_diameter() {
+        let equal = Levels::for_sizes::<3>(10.0, &[(10.0, 1.0)]);
+        assert_eq!(equal, Levels::uniform(20.0));
+        let pair = Levels::for_sizes::<3>(20.0, &[(10.0, 1.0), (20.0, 1.0)]);
+        assert_eq!(pair, Levels::uniform(40.0));
+        let pair_2d = Levels::for_sizes::<2>(20.0, &[(10.0, 1.0), (20.0, 2.0)]);
+        assert_eq!(pair_2d, Levels::uniform(40.0));
+    }
+
+    #[test]
+    fn wide_pairs_get_a_level_each() {
+        // One fine per coarse sphere: the coarse ones hold most of the volume,
+        // and the fines' cells are the side of the solid volume per fine,
+        // (4/3 π (10³ + 50³))^⅓ ≈ 80.9, wider than their diameter.
+        let l = Levels::for_sizes::<3>(50.0, &[(10.0, 1.0), (50.0, 1.0)]);
+        assert_eq!(l.lower, vec![25.0, 0.0]);
+        assert_eq!(l.cell[0], 100.0);
+        let per_fine = (4.0 / 3.0 * std::f64::consts::PI * (1e3 + 125e3)).powf(1.0 / 3.0);
+        assert!((l.cell[1] - per_fine).abs() < 1e-9, "{l:?}");
+        assert_eq!(l.of(50.0), 0);
+        assert_eq!(l.of(10.0), 1);
+        assert_eq!(l.of(0.0), 1);
+        // A hundred fines per coarse sphere: cells near the fines' diameter,
+        // (4/3 π (100 · 10³ + 50³) / 100)^⅓ ≈ 21.1.
+        let dense = Levels::for_sizes::<3>(50.0, &[(10.0, 100.0), (50.0, 1.0)]);
+        let per_fine = (4.0 / 3.0 * std::f64::consts::PI * (1e5 + 125e3) / 100.0).powf(1.0 / 3.0);
+        assert_eq!(dense.cell[0], 100.0);
+        assert!((dense.cell[1] - per_fine).abs() < 1e-9, "{dense:?}");
+        // Fines so rare that their cells would be wider than the coarse
+        // level's join it.
+        let rare = Levels::for_sizes::<3>(50.0, &[(10.0, 1.0), (50.0, 1000.0)]);
+        assert_eq!(rare, Levels::uniform(100.0));
+    }
+
+    #[test]
+    fn broad_lognormal_levels_keep_cells_fewer_than_particles() {
+        use rand::SeedableRng;
+        use rand_distr::{Distribution, LogNormal};
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(3);
+        let ln = LogNormal::new((10.0 as Real).ln(), (2.0 as Real).ln()).unwrap();
+        let radii: Vec<Real> = (0..20_000)
+            .map(|_| ln.sample(&mut rng))
+            .filter(|&r| (1.25..=80.0).contains(&r))
+            .collect();
+        let sample: Vec<(Real, Real)> = radii.iter().map(|&r| (r, 1.0)).collect();
+        let levels = Levels::for_sizes::<3>(80.0, &sample);
+        assert!(levels.cell.len() >= 3, "{levels:?}");
+        // Finer levels have narrower cells, and every cell is at least as wide
+        // as the diameters of its level.
+        for w in levels.cell.windows(2) {
+            assert!(w[1] < w[0], "{levels:?}");
+        }
+        for (r, _) in &sample {
+            let l = levels.of(*r);
+            assert!(levels.cell[l] >= 2.0 * r, "{r} in {levels:?}");
+        }
+        // A bed of these spheres at random close packing: the cells of all
+        // levels together number at most the particles over the packing
+        // fraction (each level's cells hold a solid volume per particle).
+        let volume: Real = radii
+            .iter()
+            .map(|&r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
+            .sum::<Real>()
+            / 0.64;
+        let cells: Real = levels.cell.iter().map(|c| volume / c.powi(3)).sum();
+        assert!(
+            cells < radii.len() as Real / 0.64,
+            "{cells} cells for {}",
+            radii.len()
+        );
     }
 }

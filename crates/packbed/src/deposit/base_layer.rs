@@ -145,23 +145,14 @@ pub(crate) fn fits<const D: usize>(
             }
         }
     }
-    let overlaps = |reach: Real| {
-        let (mut lo, mut hi) = (*p, *p);
-        for k in 0..D {
-            lo[k] -= reach;
-            hi[k] += reach;
-        }
-        terrain.grid.any_in_box(&lo, &hi, |id, shift, _| {
-            let q = terrain.centres[id as usize] + shift;
-            let need = r + terrain.radii[id as usize] - slack;
-            (*p - q).norm2() < need * need
-        })
-    };
-    // On a nearly saturated floor almost every trial fails, mostly on a close
-    // neighbour: the few cells within reach of a particle of the same size are
-    // looked at first, the whole reach of the largest only if they are free.
-    let reach = r + terrain.r_fixed_max;
-    !((2.0 * r < reach && overlaps(2.0 * r)) || overlaps(reach))
+    // On a nearly saturated floor almost every trial fails on a close
+    // neighbour; each level of the grid is searched only as far as its own
+    // particles reach.
+    !terrain.grid.any_in_box(p, p, r, |id, shift, _| {
+        let q = terrain.centres[id as usize] + shift;
+        let need = r + terrain.radii[id as usize] - slack;
+        (*p - q).norm2() < need * need
+    })
 }
 
 /// Candidate resting places on the floor for a particle of radius `r` that
@@ -228,24 +219,26 @@ pub(crate) fn floor_vertices<const D: usize>(
         s[D - 1] = *w;
         push_points(&s, out);
     }
-    let reach = 2.0 * (r + terrain.r_fixed_max);
+    // Neighbours on the floor that a particle of radius `r` touching `j` could
+    // also touch: centres within `2 r + r_j` of `j`'s, widened by their own radius.
     let (mut lo, mut hi) = (cj, cj);
-    for k in 0..D - 1 {
-        lo[k] -= reach;
-        hi[k] += reach;
-    }
     lo[D - 1] = 0.0;
-    hi[D - 1] = 2.0 * terrain.r_fixed_max;
+    hi[D - 1] = 0.0;
     let mut others = Vec::new();
-    terrain.grid.for_each_in_box(&lo, &hi, |id, shift, _| {
-        if id != j || shift != Vector::zero() {
-            let q = terrain.centres[id as usize] + shift;
-            others.push(Surface::Ball {
-                centre: q,
-                radius: r + terrain.radii[id as usize],
-            });
-        }
-    });
+    terrain.grid.for_each_in_box(
+        &lo,
+        &hi,
+        2.0 * r + terrain.radii[j as usize],
+        |id, shift, _| {
+            if id != j || shift != Vector::zero() {
+                let q = terrain.centres[id as usize] + shift;
+                others.push(Surface::Ball {
+                    centre: q,
+                    radius: r + terrain.radii[id as usize],
+                });
+            }
+        },
+    );
     for o in others {
         let mut s = [floor; D];
         s[1] = ball_j;

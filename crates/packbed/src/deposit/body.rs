@@ -28,6 +28,7 @@ pub(crate) trait Dropper<const D: usize> {
         terrain: &Terrain<'_, D>,
         start: Self::Pose,
         rng: &mut RunRng,
+        moves: &mut u64,
     ) -> Option<Self::Pose>;
 
     /// Number of beads.
@@ -59,8 +60,9 @@ impl<const D: usize> Dropper<D> for Sphere {
         terrain: &Terrain<'_, D>,
         start: Vector<D>,
         rng: &mut RunRng,
+        moves: &mut u64,
     ) -> Option<Vector<D>> {
-        roll::settle(terrain, self.0, start, rng)
+        roll::settle(terrain, self.0, start, rng, moves)
     }
 
     fn beads(&self) -> u32 {
@@ -124,8 +126,9 @@ impl<const D: usize> Dropper<D> for Chain {
         terrain: &Terrain<'_, D>,
         start: Pose<D>,
         rng: &mut RunRng,
+        moves: &mut u64,
     ) -> Option<Pose<D>> {
-        chain::settle_chain(terrain, self.shape, start, rng)
+        chain::settle_chain(terrain, self.shape, start, rng, moves)
     }
 
     fn beads(&self) -> u32 {
@@ -257,14 +260,10 @@ fn drop_alone<const D: usize, B: Dropper<D>>(
     start: B::Pose,
     seed: u64,
 ) -> Option<Vec<Vector<D>>> {
-    let r_max = bed.r_max().max(body.radius());
-    let mut grid = Grid::new(&bed.container, 2.0 * r_max);
-    for (i, (c, &ri)) in bed.centres.iter().zip(&bed.radii).enumerate() {
-        grid.insert(i as u32, c, ri);
-    }
-    let terrain = Terrain::of(&bed.container, &grid, bed, r_max);
+    let grid = Grid::of_particles(&bed.container, &bed.centres, &bed.radii, body.radius());
+    let terrain = Terrain::of(&bed.container, &grid, bed);
     let mut rng = RunRng::seed_from_u64(seed);
-    let pose = body.settle(&terrain, start, &mut rng)?;
+    let pose = body.settle(&terrain, start, &mut rng, &mut 0)?;
     let beads = (0..body.beads()).map(|k| bed.container.wrap(body.bead(&pose, k)));
     Some(beads.collect())
 }

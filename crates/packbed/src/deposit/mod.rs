@@ -11,9 +11,9 @@ pub mod rsa;
 use crate::bed::{AnyBed, Bed};
 use crate::config::{BaseLayerKind, Config, Fill, Mode, Plan};
 use crate::error::{Error, Result};
-use crate::grid::Grid;
+use crate::grid::{Grid, Levels};
 use crate::math::{Real, Vector};
-use crate::species::{Orientation, Shape, SpeciesPicker};
+use crate::species::{Orientation, Shape, Species, SpeciesPicker};
 use body::{Chain, Dropper, Sphere};
 use chain::ChainShape;
 use rand::SeedableRng;
@@ -36,6 +36,10 @@ pub struct DepositReport {
     pub redrops: u64,
     /// Particles discarded because they would stick out above the roof.
     pub roof_overflows: u64,
+    /// Moves of every dropped body, re-drops included: straight falls and
+    /// rolls along an arc (spheres), steps of the descent (chains). The cost of
+    /// a bed is about its moves times the cost of one move.
+    pub moves: u64,
     /// Wall time of deposition in seconds.
     pub deposit_seconds: f64,
 }
@@ -51,7 +55,6 @@ struct Engine<'p, const D: usize> {
     plan: &'p Plan<D>,
     bed: Bed<D>,
     grid: Grid<D>,
-    r_max: Real,
     picker: SpeciesPicker,
     rng: RunRng,
     report: DepositReport,
@@ -59,17 +62,11 @@ struct Engine<'p, const D: usize> {
 
 impl<'p, const D: usize> Engine<'p, D> {
     fn new(plan: &'p Plan<D>) -> Result<Self> {
-        let r_max = plan
-            .species
-            .iter()
-            .map(|s| s.size.bounds().1)
-            .fold(0.0, Real::max);
-        let grid = Grid::new(&plan.container, 2.0 * r_max);
+        let grid = Grid::new(&plan.container, &grid_levels::<D>(&plan.species));
         Ok(Engine {
             plan,
             bed: Bed::new(plan.container, plan.species.clone()),
             grid,
-            r_max,
             picker: SpeciesPicker::new(&plan.species),
             rng: RunRng::seed_from_u64(plan.seed),
             report: DepositReport::default(),
@@ -77,7 +74,7 @@ impl<'p, const D: usize> Engine<'p, D> {
     }
 
     fn terrain(&self) -> Terrain<'_, D> {
-        Terrain::of(&self.plan.container, &self.grid, &self.bed, self.r_max)
+        Terrain::of(&self.plan.container, &self.grid, &self.bed)
     }
 
     /// Draws the species and radius of the next particle.
@@ -165,8 +162,9 @@ impl<'p, const D: usize> Engine<'p, D> {
         let mut tries = 0;
         let pose = loop {
             let start = body.enter(&self.plan.container, &mut self.rng);
-            let terrain = Terrain::of(&self.plan.container, &self.grid, &self.bed, self.r_max);
-            if let Some(p) = body.settle(&terrain, start, &mut self.rng) {
+            let terrain = Terrain::of(&self.plan.container, &self.grid, &self.bed);
+            let settled = body.settle(&terrain, start, &mut self.rng, &mut self.report.moves);
+            if let Some(p) = settled {
                 break p;
             }
             self.report.redrops += 1;
@@ -193,6 +191,35 @@ impl<'p, const D: usize> Engine<'p, D> {
         }
         Ok(true)
     }
+}
+
+/// The levels of the neighbour grid for the particles `species` produce: fitted
+/// to a sample of the mix drawn with a generator of its own (the run's draws are
+/// untouched), chains weighted by their beads.
+pub(crate) fn grid_levels<const D: usize>(species: &[Species]) -> Levels {
+    const SAMPLE: usize = 4096;
+    let r_max = species
+        .iter()
+        .filter(|s| s.ratio > 0.0)
+        .map(|s| s.size.bounds().1)
+        .fold(0.0, Real::max);
+    if species.iter().all(|s| s.ratio <= 0.0) {
+        return Levels::uniform(2.0 * r_max.max(Real::MIN_POSITIVE));
+    }
+    let picker = SpeciesPicker::new(species);
+    let mut rng = RunRng::seed_from_u64(0x9e1d_5a3e);
+    let sample: Vec<(Real, Real)> = (0..SAMPLE)
+        .map(|_| {
+            let s = &species[picker.pick(&mut rng)];
+            let r = s.size.sample(&mut rng);
+            let beads = match s.shape {
+                Shape::Sphere => 1.0,
+                Shape::Chain { beads, .. } => Real::from(beads),
+            };
+            (r, beads)
+        })
+        .collect();
+    Levels::for_sizes::<D>(r_max, &sample)
 }
 
 /// Builds a bed for a validated plan. `progress` is called now and then with the

@@ -37,24 +37,16 @@ pub(crate) struct Terrain<'a, const D: usize> {
     pub grid: &'a Grid<D>,
     pub centres: &'a [Vector<D>],
     pub radii: &'a [Real],
-    /// Largest radius of any fixed particle.
-    pub r_fixed_max: Real,
 }
 
 impl<'a, const D: usize> Terrain<'a, D> {
     /// The particles of `bed` as fixed obstacles, found through `grid`.
-    pub(crate) fn of(
-        container: &'a Container<D>,
-        grid: &'a Grid<D>,
-        bed: &'a Bed<D>,
-        r_fixed_max: Real,
-    ) -> Self {
+    pub(crate) fn of(container: &'a Container<D>, grid: &'a Grid<D>, bed: &'a Bed<D>) -> Self {
         Terrain {
             container,
             grid,
             centres: &bed.centres,
             radii: &bed.radii,
-            r_fixed_max,
         }
     }
 }
@@ -116,25 +108,19 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
     r: Real,
     start: Vector<D>,
     rng: &mut R,
+    moves: &mut u64,
 ) -> Option<Vector<D>> {
-    let reach = r + terrain.r_fixed_max;
     let tol = GAP_TOL * r;
     let mut p = start;
-    {
-        let (mut lo, mut hi) = (p, p);
-        for k in 0..D - 1 {
-            lo[k] -= reach;
-            hi[k] += reach;
-        }
-        // Just above everything the particle could touch on its way down.
-        p[D - 1] = terrain.grid.max_top(&lo, &hi) + r;
-    }
+    // Just above everything the particle could touch on its way down.
+    p[D - 1] = terrain.grid.max_top(&p, &p, r) + r;
     let mut active = ContactSet::<D>::new();
     let mut normals = [Vector::<D>::zero(); MAX_ACTIVE];
     let mut lambda = [0.0; MAX_ACTIVE];
     let mut keep = ContactSet::<D>::new();
     let mut hits = ContactSet::<D>::new();
     for _ in 0..MAX_MOVES {
+        *moves += 1;
         if active.len == 0 {
             p[D - 1] -= fall(terrain, &p, r, tol, &mut active);
             continue;
@@ -194,9 +180,8 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
                 }
             }
         }
-        let (hit, hit_rank) = first_contact_on_arc(
-            terrain, &arc, &keep, r, reach, &end, end_rank, tol, &mut hits,
-        );
+        let (hit, hit_rank) =
+            first_contact_on_arc(terrain, &arc, &keep, r, &end, end_rank, tol, &mut hits);
         p = arc.point_at(if hit_rank <= end_rank { &hit } else { &end });
         std::mem::swap(&mut active, &mut keep);
         if hit_rank <= end_rank {
@@ -253,14 +238,8 @@ fn snap<const D: usize>(
             return p;
         }
     }
-    let reach = r + terrain.r_fixed_max;
-    let (mut lo, mut hi) = (q, q);
-    for k in 0..D {
-        lo[k] -= reach;
-        hi[k] += reach;
-    }
     let mut clear = true;
-    terrain.grid.for_each_in_box(&lo, &hi, |id, shift, _| {
+    terrain.grid.for_each_in_box(&q, &q, r, |id, shift, _| {
         let centre = terrain.centres[id as usize] + shift;
         let need = r + terrain.radii[id as usize] - tol;
         if (q - centre).norm2() < need * need {
@@ -342,17 +321,12 @@ fn fall<const D: usize>(
         crate::container::Wall::Floor,
         r,
     ));
-    let reach = r + terrain.r_fixed_max;
-    let (mut lo, mut hi) = (*p, *p);
-    for k in 0..D - 1 {
-        lo[k] -= reach;
-        hi[k] += reach;
-    }
+    let (mut lo, hi) = (*p, *p);
     lo[D - 1] = 0.0;
     // Best hits as (id, image shift); their identities are worked out at the end.
     let mut best: [(u32, Vector<D>, u16); MAX_ACTIVE] = [(0, Vector::zero(), 0); MAX_ACTIVE];
     let mut n_best = 0;
-    terrain.grid.scan_down(&lo, &hi, |id, shift, image| {
+    terrain.grid.scan_down(&lo, &hi, r, |id, shift, image| {
         let c = terrain.centres[id as usize] + shift;
         let big_r = r + terrain.radii[id as usize];
         let w = *p - c;
@@ -372,7 +346,7 @@ fn fall<const D: usize>(
                 n_best += 1;
             }
         }
-        p[D - 1] - best_t - reach
+        p[D - 1] - best_t
     });
     let floor_t = p[D - 1] - r;
     if best_t < floor_t - tol {
@@ -508,7 +482,6 @@ fn first_contact_on_arc<const D: usize>(
     arc: &Arc<D>,
     keep: &ContactSet<D>,
     r: Real,
-    reach: Real,
     end: &Crossing,
     end_rank: Real,
     tol: Real,
@@ -545,40 +518,36 @@ fn first_contact_on_arc<const D: usize>(
             }
         }
     }
-    let (mut lo, mut hi) = arc.bounds_to(end);
-    for k in 0..D {
-        lo[k] -= reach;
-        hi[k] += reach;
-    }
-    let (arc_lo, arc_hi) = (lo, hi);
-    terrain.grid.for_each_in_box(&lo, &hi, |id, shift, image| {
-        let centre = terrain.centres[id as usize] + shift;
-        let big_r = r + terrain.radii[id as usize];
-        // Cheap rejection: the obstacle's ball misses the arc's bounding box.
-        let slack = reach - big_r;
-        for k in 0..D {
-            if centre[k] < arc_lo[k] + slack || centre[k] > arc_hi[k] - slack {
-                return;
+    let (arc_lo, arc_hi) = arc.bounds_to(end);
+    terrain
+        .grid
+        .for_each_in_box(&arc_lo, &arc_hi, r, |id, shift, image| {
+            let centre = terrain.centres[id as usize] + shift;
+            let big_r = r + terrain.radii[id as usize];
+            // Cheap rejection: the obstacle's ball misses the arc's bounding box.
+            for k in 0..D {
+                if centre[k] < arc_lo[k] - big_r || centre[k] > arc_hi[k] + big_r {
+                    return;
+                }
             }
-        }
-        let Some(x) = arc
-            .ball_trig(&centre, big_r)
-            .downcrossing(2.0 * big_r * tol)
-        else {
-            return;
-        };
-        consider(
-            x,
-            Obstacle {
-                surface: Surface::Ball {
-                    centre,
-                    radius: big_r,
+            let Some(x) = arc
+                .ball_trig(&centre, big_r)
+                .downcrossing(2.0 * big_r * tol)
+            else {
+                return;
+            };
+            consider(
+                x,
+                Obstacle {
+                    surface: Surface::Ball {
+                        centre,
+                        radius: big_r,
+                    },
+                    // The identity is worked out only for obstacles actually met.
+                    key: particle_key(id, image),
                 },
-                // The identity is worked out only for obstacles actually met.
-                key: particle_key(id, image),
-            },
-            hits,
-        );
-    });
+                hits,
+            );
+        });
     (best, if found { best_rank } else { Real::INFINITY })
 }

@@ -26,30 +26,26 @@ impl<const D: usize> Settler<'_, '_, D> {
         out.clear();
         let t = self.terrain;
         let r = self.shape.r;
-        let reach = r + t.r_fixed_max + margin;
         let mut first = 0;
         while first < self.shape.beads {
             let last = (first + self.chunk).min(self.shape.beads);
-            let (mut lo, mut hi) = self.bead_box(pose, first, last);
-            for i in 0..D {
-                lo[i] -= reach;
-                hi[i] += reach;
-            }
-            t.grid.for_each_in_box(&lo, &hi, |id, shift, image| {
-                let centre = t.centres[id as usize] + shift;
-                let radius = r + t.radii[id as usize];
-                let obstacle = Obstacle {
-                    surface: Surface::Ball { centre, radius },
-                    key: particle_key(id, image),
-                };
-                for k in first..last {
-                    let d2 = (self.bead(pose, k) - centre).norm2();
-                    let m = radius + margin;
-                    if d2 < m * m {
-                        out.push(self.evaluate(pose, k, obstacle));
+            let (lo, hi) = self.bead_box(pose, first, last);
+            t.grid
+                .for_each_in_box(&lo, &hi, r + margin, |id, shift, image| {
+                    let centre = t.centres[id as usize] + shift;
+                    let radius = r + t.radii[id as usize];
+                    let obstacle = Obstacle {
+                        surface: Surface::Ball { centre, radius },
+                        key: particle_key(id, image),
+                    };
+                    for k in first..last {
+                        let d2 = (self.bead(pose, k) - centre).norm2();
+                        let m = radius + margin;
+                        if d2 < m * m {
+                            out.push(self.evaluate(pose, k, obstacle));
+                        }
                     }
-                }
-            });
+                });
             first = last;
         }
         let (walls, nw) = t.container.wall_array();
@@ -74,18 +70,13 @@ impl<const D: usize> Settler<'_, '_, D> {
         for k in 0..self.shape.beads {
             best = best.min(self.bead(pose, k)[D - 1] - r);
         }
-        let reach = r + t.r_fixed_max;
         let mut first = 0;
         while first < self.shape.beads {
             let last = (first + self.chunk).min(self.shape.beads);
-            let (mut lo, mut hi) = self.bead_box(pose, first, last);
+            let (mut lo, hi) = self.bead_box(pose, first, last);
             let low = lo[D - 1];
-            for i in 0..D - 1 {
-                lo[i] -= reach;
-                hi[i] += reach;
-            }
             lo[D - 1] = 0.0;
-            t.grid.scan_down(&lo, &hi, |id, shift, _| {
+            t.grid.scan_down(&lo, &hi, r, |id, shift, _| {
                 let c = t.centres[id as usize] + shift;
                 let big_r = r + t.radii[id as usize];
                 let r2 = big_r * big_r;
@@ -98,7 +89,7 @@ impl<const D: usize> Settler<'_, '_, D> {
                         best = best.min(d);
                     }
                 }
-                low - best - reach
+                low - best
             });
             first = last;
         }

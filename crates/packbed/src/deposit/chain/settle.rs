@@ -33,6 +33,7 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
     shape: ChainShape,
     start: Pose<D>,
     rng: &mut R,
+    moves: &mut u64,
 ) -> Option<Pose<D>> {
     let settler = Settler {
         terrain,
@@ -41,7 +42,7 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
         chunk: ((4.0 / shape.spacing).floor() as u32).max(1),
     };
     let pose = settler.lift(start);
-    Descent::new(&settler, pose).run(rng)
+    Descent::new(&settler, pose).run(rng, moves)
 }
 
 impl<const D: usize> Settler<'_, '_, D> {
@@ -55,13 +56,9 @@ impl<const D: usize> Settler<'_, '_, D> {
         } else {
             pose.axis = Vector::up();
         }
-        let (mut lo, mut hi) = self.bead_box(&pose, 0, self.shape.beads);
+        let (lo, hi) = self.bead_box(&pose, 0, self.shape.beads);
         let low = lo[D - 1];
-        for i in 0..D - 1 {
-            lo[i] -= r + self.terrain.r_fixed_max;
-            hi[i] += r + self.terrain.r_fixed_max;
-        }
-        let top = self.terrain.grid.max_top(&lo, &hi);
+        let top = self.terrain.grid.max_top(&lo, &hi, r);
         pose.com[D - 1] += top + r * (1.0 + 1e-6) - low;
         pose
     }
@@ -137,8 +134,9 @@ impl<'s, 't, 'a, const D: usize> Descent<'s, 't, 'a, D> {
         }
     }
 
-    fn run<R: rand::Rng + ?Sized>(mut self, rng: &mut R) -> Option<Pose<D>> {
+    fn run<R: rand::Rng + ?Sized>(mut self, rng: &mut R, moves: &mut u64) -> Option<Pose<D>> {
         for it in 0..MAX_ITERATIONS {
+            *moves += 1;
             match self.iterate(it, rng) {
                 Flow::Rest => return Some(self.pose),
                 Flow::Stuck => return None,

@@ -127,7 +127,7 @@ impl<'p, const D: usize> Rsa<'p, D> {
             Fill::Roof { .. } => u64::MAX,
         };
         let mut bed = Bed::new(container, plan.species.clone());
-        let mut grid = Grid::new(&container, 2.0 * r_max);
+        let mut grid = Grid::new(&container, &super::grid_levels::<D>(&plan.species));
         if let Fill::Count(n) = plan.fill {
             let n = n as usize;
             bed.centres.reserve_exact(n);
@@ -165,9 +165,7 @@ impl<'p, const D: usize> Rsa<'p, D> {
                 return false;
             }
         }
-        let reach = r + self.r_max;
-        let (qlo, qhi) = (*p - splat(reach), *p + splat(reach));
-        !self.grid.any_in_box(&qlo, &qhi, |j, shift, _| {
+        !self.grid.any_in_box(p, p, r, |j, shift, _| {
             let d = *p - (self.bed.centres[j as usize] + shift);
             let s = r + self.bed.radii[j as usize];
             d.norm2() < s * s
@@ -183,9 +181,7 @@ impl<'p, const D: usize> Rsa<'p, D> {
                 room = room.min(p[k]).min(c.size[k] - p[k]);
             }
         }
-        let reach = cap + self.r_max;
-        let (qlo, qhi) = (*p - splat(reach), *p + splat(reach));
-        self.grid.for_each_in_box(&qlo, &qhi, |j, shift, _| {
+        self.grid.for_each_in_box(p, p, cap, |j, shift, _| {
             let d = *p - (self.bed.centres[j as usize] + shift);
             room = room.min(d.norm() - self.bed.radii[j as usize]);
         });
@@ -387,23 +383,24 @@ impl<'p, const D: usize> Rsa<'p, D> {
     fn refine(&self, voxels: &Voxels<D>, balls: &mut Vec<Ball<D>>) -> Voxels<D> {
         let side = voxels.side * 0.5;
         let mut corners = Vec::with_capacity(voxels.corners.len() * 2);
-        let reach = self.r_max + self.r_min;
         for corner in &voxels.corners {
             // The balls that meet this voxel: only they can hold a child.
             balls.clear();
             // A ball holding a child holds its far corners: its centre lies
-            // within `reach` of both ends of the voxel along every axis.
-            let (qlo, qhi) = (*corner + voxels.side - splat(reach), *corner + splat(reach));
-            self.grid.for_each_in_box(&qlo, &qhi, |j, shift, _| {
-                let centre = self.bed.centres[j as usize] + shift;
-                let rr = self.bed.radii[j as usize] + self.r_min;
-                if nearest2(corner, &voxels.side, &centre) < rr * rr {
-                    balls.push(Ball {
-                        centre,
-                        radius2: rr * rr,
-                    });
-                }
-            });
+            // within its radius plus `r_min` of both ends of the voxel along
+            // every axis (the grid widens the box by each level's radius).
+            let (qlo, qhi) = (*corner + voxels.side, *corner);
+            self.grid
+                .for_each_in_box(&qlo, &qhi, self.r_min, |j, shift, _| {
+                    let centre = self.bed.centres[j as usize] + shift;
+                    let rr = self.bed.radii[j as usize] + self.r_min;
+                    if nearest2(corner, &voxels.side, &centre) < rr * rr {
+                        balls.push(Ball {
+                            centre,
+                            radius2: rr * rr,
+                        });
+                    }
+                });
             if covered(corner, &voxels.side, balls) {
                 continue;
             }
@@ -421,12 +418,6 @@ impl<'p, const D: usize> Rsa<'p, D> {
         }
         Voxels { side, corners }
     }
-}
-
-/// The vector with every component `v`.
-#[inline]
-fn splat<const D: usize>(v: Real) -> Vector<D> {
-    Vector([v; D])
 }
 
 /// A radius from `size` conditioned to be at most `room` (which is at least the
