@@ -34,6 +34,8 @@ enum Sizes {
     Two(Real),
     /// Lognormal, median 10, geometric sd 1.3.
     Lognormal,
+    /// Lognormal, median 10, this geometric sd (a broad, real powder).
+    Broad(Real),
 }
 
 impl Sizes {
@@ -45,6 +47,11 @@ impl Sizes {
             }
             Sizes::Lognormal => {
                 "[[species]]\nsize = { dist = \"lognormal\", median = 10.0, gsd = 1.3 }\n".into()
+            }
+            Sizes::Broad(gsd) => {
+                format!(
+                    "[[species]]\nsize = {{ dist = \"lognormal\", median = 10.0, gsd = {gsd} }}\n"
+                )
             }
         }
     }
@@ -310,6 +317,40 @@ fn invariants_2d_count() {
 #[test]
 fn invariants_3d_count() {
     invariants_count::<3>(3000, 5.0);
+}
+
+/// Broad lognormal powders (geometric sd 2 and 2.5: sizes over two decades and
+/// more), where the grid has several levels and fines percolate through a
+/// coarse skeleton: every invariant, in a box of a few largest diameters.
+fn invariants_broad<const D: usize>(count: u64) {
+    let mut tally = Tally::default();
+    for gsd in [2.0, 2.5] {
+        for periodic in [false, true] {
+            for base in BASES {
+                for seed in SEEDS {
+                    let c = config(
+                        D as u8,
+                        seed,
+                        &format!("diameters = 4\nperiodic = {periodic}"),
+                        &format!("count = {count}\nbase_layer = \"{base}\""),
+                        Sizes::Broad(gsd),
+                    );
+                    invariants_one::<D>(&c, false, &mut tally);
+                }
+            }
+        }
+    }
+    tally.finish(&format!("{D}D broad lognormal"));
+}
+
+#[test]
+fn invariants_2d_broad_lognormal() {
+    invariants_broad::<2>(3000);
+}
+
+#[test]
+fn invariants_3d_broad_lognormal() {
+    invariants_broad::<3>(3000);
 }
 
 /// Where a particle of radius `r` wedged between two supports whose normals are
