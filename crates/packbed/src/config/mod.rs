@@ -742,9 +742,7 @@ impl SizeConfig {
         };
         Ok(d)
     }
-}
 
-impl SizeConfig {
     /// The window `[min, max]` of a normal or lognormal: the bounds given, a
     /// missing one taken from the `default` truncation.
     fn window(&self, at: &str, default: (Real, Real)) -> Result<(Real, Real)> {
@@ -759,11 +757,11 @@ impl SizeConfig {
                 "{at}.size: max ({max}) is smaller than min ({min})"
             ))),
             (Some(min), None) if min > default.1 => Err(Error::config(format!(
-                "{at}.size.min ({min}) is above the largest radius of the default truncation ({}, +{k} sd); give `max` too",
+                "{at}.size.min ({min}) is above the default upper end of the window ({}, +{k} sd); give `max` too",
                 default.1
             ))),
             (None, Some(max)) if max < default.0 => Err(Error::config(format!(
-                "{at}.size.max ({max}) is below the smallest radius of the default truncation ({}, -{k} sd); give `min` too",
+                "{at}.size.max ({max}) is below the default lower end of the window ({}); give `min` too",
                 default.0
             ))),
             (min, max) => Ok((min.unwrap_or(default.0), max.unwrap_or(default.1))),
@@ -771,8 +769,9 @@ impl SizeConfig {
     }
 }
 
-/// `dist` (named `what`) if its window holds enough of it to draw from; a
-/// distribution of no spread becomes its one radius.
+/// `dist` (named `what`) if its window holds enough of it to draw from. A
+/// distribution of no spread gets the window of its one radius, so that
+/// `bounds()` (the grid, the box presets) is what is drawn, not the bounds given.
 fn bounded(at: &str, dist: SizeDist, what: String) -> Result<SizeDist> {
     let (lo, hi) = dist.bounds();
     if lo == hi {

@@ -40,6 +40,9 @@ fn bounds_from_the_config_are_the_window() {
     let d = size_of(3, "dist = \"normal\", mean = 10, sd = 2, min = 9, max = 30");
     assert_eq!(d.bounds(), (9.0, 30.0));
     assert_eq!(d.describe(), "r ~ normal(mean 10, sd 2) in [9, 30]");
+    // No spread: the one radius, whatever window holds it.
+    let d = size_of(3, "dist = \"normal\", mean = 10, sd = 0, min = 5, max = 20");
+    assert_eq!(d.bounds(), (10.0, 10.0));
 }
 
 #[test]
@@ -114,11 +117,11 @@ fn bad_bounds_are_refused_naming_the_setting() {
         ),
         (
             "dist = \"lognormal\", median = 10, gsd = 2, min = 100",
-            "species[0].size.min (100) is above the largest radius of the default truncation (80, +3 sd); give `max` too",
+            "species[0].size.min (100) is above the default upper end of the window (80, +3 sd); give `max` too",
         ),
         (
             "dist = \"normal\", mean = 10, sd = 2, max = 3",
-            "species[0].size.max (3) is below the smallest radius of the default truncation (4, -3 sd); give `min` too",
+            "species[0].size.max (3) is below the default lower end of the window (4); give `min` too",
         ),
         (
             "dist = \"lognormal\", median = 10, gsd = 1.1, min = 50, max = 60",
