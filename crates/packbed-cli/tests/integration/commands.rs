@@ -263,6 +263,54 @@ fn run_writes_the_files_of_the_contract() {
 }
 
 #[test]
+fn size_windows_are_shown_on_screen_and_in_the_summary() {
+    let s = Scratch::new();
+    let c = s.input(
+        "sizes.toml",
+        "dim = 2\nseed = 3\n[box]\nwidth = 400\nheight = 300\n[fill]\ncount = 40\n\
+         [[species]]\nsize = { dist = \"lognormal\", median = 10, gsd = 2, min = 8, max = 12 }\n\
+         [[species]]\nsize = { dist = \"lognormal\", median = 10, gsd = 2 }\n",
+    );
+    let o = s.ok(&["run", c.to_str().unwrap(), "--out", "w"]);
+    let bounded = "r ~ lognormal(median 10, gsd 2) in [8, 12]";
+    let default = "r ~ lognormal(median 10, gsd 2) in [1.25, 80] (±3 sd)";
+    assert!(
+        o.stdout.contains(&format!("{bounded}, ratio 1")),
+        "{}",
+        o.stdout
+    );
+    assert!(
+        o.stdout.contains(&format!("{default}, ratio 1")),
+        "{}",
+        o.stdout
+    );
+    let v = s.summary("w");
+    assert_eq!(v["species"][0]["size"], bounded);
+    assert_eq!(v["species"][1]["size"], default);
+    // The config as used keeps the bounds given, and only those.
+    assert_eq!(v["config"]["species"][0]["size"]["min"], 8.0);
+    assert_eq!(v["config"]["species"][0]["size"]["max"], 12.0);
+    assert!(v["config"]["species"][1]["size"].get("max").is_none());
+}
+
+#[test]
+fn bad_size_bounds_are_refused() {
+    let s = Scratch::new();
+    assert_config_refused(
+        &s,
+        "min.toml",
+        "[[species]]\nsize = { dist = \"lognormal\", median = 10, gsd = 2, min = -1 }\n",
+        &["min.toml", "species[0].size.min", "-1"],
+    );
+    assert_config_refused(
+        &s,
+        "tail.toml",
+        "[[species]]\nsize = { dist = \"normal\", mean = 10, sd = 1, min = 20, max = 30 }\n",
+        &["species[0].size", "[20, 30]", "holds only"],
+    );
+}
+
+#[test]
 fn summary_has_every_key_scripts_rely_on() {
     let s = Scratch::new();
     let o = s.packbed(&["run", "--radii", "10,20", "--out", "out3", "--quiet"]);

@@ -681,6 +681,11 @@ impl SizeConfig {
                     "{at}.size: give either `table` or `dist`, not both"
                 )));
             }
+            if self.min.is_some() || self.max.is_some() {
+                return Err(Error::config(format!(
+                    "{at}.size: `min`/`max` do not apply to a table (its rows bound it; leave out the rows you do not want)"
+                )));
+            }
             return SizeDist::read_table(t);
         }
         let dist = self.dist.as_deref().ok_or_else(|| {
@@ -691,10 +696,13 @@ impl SizeConfig {
         let d = match dist {
             "normal" => {
                 let mean = positive(need(self.mean, "mean")?, &format!("{at}.size.mean"))?;
-                SizeDist::Normal {
-                    mean,
-                    sd: need(self.sd, "sd")?,
-                }
+                let sd = need(self.sd, "sd")?;
+                let (lo, hi) = self.window(at, SizeDist::normal_window(mean, sd))?;
+                bounded(
+                    at,
+                    SizeDist::Normal { mean, sd, lo, hi },
+                    format!("normal(mean {mean}, sd {sd})"),
+                )?
             }
             "lognormal" => {
                 let median = positive(need(self.median, "median")?, &format!("{at}.size.median"))?;
@@ -704,7 +712,17 @@ impl SizeConfig {
                         "{at}.size.gsd must be >= 1 (a geometric standard deviation), got {gsd}"
                     )));
                 }
-                SizeDist::Lognormal { median, gsd }
+                let (lo, hi) = self.window(at, SizeDist::lognormal_window(median, gsd))?;
+                bounded(
+                    at,
+                    SizeDist::Lognormal {
+                        median,
+                        gsd,
+                        lo,
+                        hi,
+                    },
+                    format!("lognormal(median {median}, gsd {gsd})"),
+                )?
             }
             "uniform" => {
                 let min = positive(need(self.min, "min")?, &format!("{at}.size.min"))?;
@@ -724,6 +742,65 @@ impl SizeConfig {
         };
         Ok(d)
     }
+
+    /// The window `[min, max]` of a normal or lognormal: the bounds given, a
+    /// missing one taken from the `default` truncation.
+    fn window(&self, at: &str, default: (Real, Real)) -> Result<(Real, Real)> {
+        let bound = |v: Option<Real>, key: &str| {
+            v.map(|v| positive(v, &format!("{at}.size.{key}")))
+                .transpose()
+        };
+        let (min, max) = (bound(self.min, "min")?, bound(self.max, "max")?);
+        let k = crate::species::TRUNCATION_SIGMAS;
+        match (min, max) {
+            (Some(min), Some(max)) if max < min => Err(Error::config(format!(
+                "{at}.size: max ({max}) is smaller than min ({min})"
+            ))),
+            (Some(min), None) if min > default.1 => Err(Error::config(format!(
+                "{at}.size.min ({min}) is above the default upper end of the window ({}, +{k} sd); give `max` too",
+                default.1
+            ))),
+            (None, Some(max)) if max < default.0 => Err(Error::config(format!(
+                "{at}.size.max ({max}) is below the default lower end of the window ({}); give `min` too",
+                default.0
+            ))),
+            (min, max) => Ok((min.unwrap_or(default.0), max.unwrap_or(default.1))),
+        }
+    }
+}
+
+/// `dist` (named `what`) if its window holds enough of it to draw from. A
+/// distribution of no spread gets the window of its one radius, so that
+/// `bounds()` (the grid, the box presets) is what is drawn, not the bounds given.
+fn bounded(at: &str, dist: SizeDist, what: String) -> Result<SizeDist> {
+    let (lo, hi) = dist.bounds();
+    if lo == hi {
+        // `min = max` asks for one radius, whatever the distribution.
+        return Ok(dist);
+    }
+    let mass = dist.window_mass();
+    if mass >= crate::species::MIN_WINDOW_MASS {
+        return Ok(match dist {
+            SizeDist::Normal { mean, sd, .. } if sd == 0.0 => SizeDist::Normal {
+                mean,
+                sd,
+                lo: mean,
+                hi: mean,
+            },
+            SizeDist::Lognormal { median, gsd, .. } if gsd == 1.0 => SizeDist::Lognormal {
+                median,
+                gsd,
+                lo: median,
+                hi: median,
+            },
+            d => d,
+        });
+    }
+    Err(Error::config(format!(
+        "{at}.size: the window [{lo}, {hi}] holds {} of {what} (at least {:e} needed); move `min`/`max` towards the distribution or widen them",
+        if mass > 0.0 { format!("only {mass:.1e}") } else { "nothing".into() },
+        crate::species::MIN_WINDOW_MASS
+    )))
 }
 
 /// Bytes of memory a run may use per particle, used to refuse impossible counts.

@@ -128,7 +128,10 @@ pub struct Timing {
 pub struct SpeciesSummary {
     /// Name ("large", "small", or from the config).
     pub name: String,
-    /// Size, e.g. `r = 10` or `r ~ lognormal(median 10, gsd 1.3)`.
+    /// Size, e.g. `r = 10` or `r ~ lognormal(median 10, gsd 2) in [1.25, 80] (±3 sd)`
+    /// (a distribution with the window it is truncated to; [`SizeDist::describe`]).
+    ///
+    /// [`SizeDist::describe`]: crate::species::SizeDist::describe
     pub size: String,
     /// `sphere`, or `chain of 5 beads, spacing 1`.
     pub shape: String,

@@ -4,7 +4,8 @@
 //! works on [`Vector<D>`]. This module is the only place that names a concrete
 //! dimension; the last axis is always vertical ("up"). The least-squares
 //! routines of the force balances live in `lsq.rs`, the rotations of turning
-//! bodies in `rotation.rs`.
+//! bodies in `rotation.rs`, the standard normal distribution of the size
+//! distributions in `normal.rs`.
 
 use std::ops::{Add, AddAssign, Div, Index, IndexMut, Mul, Neg, Sub, SubAssign};
 
@@ -200,6 +201,7 @@ pub fn ball_volume<const D: usize>(r: Real) -> Real {
 pub type Gen = Vector<6>;
 
 mod lsq;
+pub(crate) mod normal;
 mod rotation;
 
 pub use lsq::{least_squares_qr, nnls, nnls_gen, nnls_qr, solve_pivoted, MAX_GEN_COLUMNS};

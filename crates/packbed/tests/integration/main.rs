@@ -12,4 +12,5 @@ mod length_scale;
 mod physics;
 mod render;
 mod rsa;
+mod sizes;
 mod trust;

@@ -26,9 +26,10 @@ fn config(dim: u8, seed: u64, boxed: &str, fill: &str, species: &str) -> Config 
 const ONE: &str = "[[species]]\nradius = 10\n";
 const TWO: &str = "[[species]]\nradius = 20\nratio = 1\n\n[[species]]\nradius = 10\nratio = 2\n";
 const LOGNORMAL: &str = "[[species]]\nsize = { dist = \"lognormal\", median = 10.0, gsd = 1.2 }\n";
-/// Smallest radius of `LOGNORMAL`: the median over `gsd^5` (the truncation).
+/// Smallest radius of `LOGNORMAL`: the median over `gsd^3` (the default
+/// truncation at -3 sd).
 fn lognormal_min() -> Real {
-    10.0 / 1.2f64.powi(5)
+    10.0 / 1.2f64.powi(3)
 }
 
 /// No overlap beyond 1e-12 of a radius, every particle inside the box.
