@@ -767,12 +767,13 @@ mod tests {
 
     #[test]
     fn broad_lognormal_levels_keep_cells_fewer_than_particles() {
-        use rand::SeedableRng;
-        use rand_distr::{Distribution, LogNormal};
-        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(3);
-        let ln = LogNormal::new((10.0 as Real).ln(), (2.0 as Real).ln()).unwrap();
-        let radii: Vec<Real> = (0..20_000)
-            .map(|_| ln.sample(&mut rng))
+        // Lognormal quantiles, median 10, gsd 2, within ±3 sd.
+        let n = 20_000;
+        let radii: Vec<Real> = (0..n)
+            .map(|i| {
+                10.0 * (2.0 as Real)
+                    .powf(crate::math::normal::quantile((i as Real + 0.5) / n as Real))
+            })
             .filter(|&r| (1.25..=80.0).contains(&r))
             .collect();
         let sample: Vec<(Real, Real)> = radii.iter().map(|&r| (r, 1.0)).collect();
