@@ -119,12 +119,15 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
     let mut lambda = [0.0; MAX_ACTIVE];
     let mut keep = ContactSet::<D>::new();
     let mut hits = ContactSet::<D>::new();
+    let mut repeats = 0;
     for _ in 0..MAX_MOVES {
         *moves += 1;
         if active.len == 0 {
             p[D - 1] -= fall(terrain, &p, r, tol, &mut active);
             continue;
         }
+        let (p_before, active_before) = (p, active);
+        let mut drew = false;
         for i in 0..active.len {
             normals[i] = active.get(i).surface.normal_at(&p);
         }
@@ -144,6 +147,7 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
             }
             // Balanced but unstable (on top of a sphere, or of a circle): any
             // push tips it over; the push's direction is drawn at random.
+            drew = true;
             random_tangent(&keep, &p, rng)?
         } else {
             (-residual).normalized()?
@@ -194,8 +198,25 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
                 active.remove_key(key);
             }
         }
+        // A move that changed nothing and drew nothing from the generator
+        // repeats forever (a fine whose descent is tangent to a neighbour it
+        // already touches): give up now, not after the whole move budget. The
+        // re-drop, and so the bed, is the same; only the time is saved.
+        if !drew && p == p_before && same_contacts(&active, &active_before) {
+            repeats += 1;
+            if repeats >= 3 {
+                return None;
+            }
+        } else {
+            repeats = 0;
+        }
     }
     None
+}
+
+/// The same contacts in the same order.
+fn same_contacts<const D: usize>(a: &ContactSet<D>, b: &ContactSet<D>) -> bool {
+    a.len == b.len && (0..a.len).all(|i| a.get(i).key == b.get(i).key)
 }
 
 /// The exact resting point: where the `D` supporting surfaces meet.
