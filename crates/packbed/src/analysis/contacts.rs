@@ -53,11 +53,9 @@ pub fn find_contacts<const D: usize>(bed: &Bed<D>, contact_tol: Real) -> Contact
     let n = bed.len();
     let mut pairs = Vec::new();
     if n >= 2 {
-        // The largest centre distance that can still be a contact.
-        let r_max = bed.r_max();
-        let range = r_max * (2.0 + contact_tol.max(0.0));
-        let cells = CellList::new(bed, range);
-        pairs = cells.close_pairs(bed, range, |i, j| {
+        // A contact's centre distance is at most r_i + r_j + tol × min(r_i, r_j).
+        let cells = CellList::new(bed, contact_tol);
+        pairs = cells.close_pairs(|i, j| {
             if bed.bodies[i] == bed.bodies[j] {
                 return None;
             }

@@ -230,7 +230,7 @@ pub fn particle_volumes<const D: usize>(bed: &Bed<D>) -> Vec<Real> {
     // Planes (unit normal, signed distance from the bead's centre) cutting each bead.
     let mut planes: Vec<Vec<(Vector<D>, Real)>> = vec![Vec::new(); bed.len()];
     let mut swallowed = vec![false; bed.len()];
-    let cells = CellList::new(bed, 2.0 * bed.r_max());
+    let cells = CellList::new(bed, 0.0);
     cells.for_each_pair(|i, j| {
         if bed.bodies[i] != bed.bodies[j] {
             return;

@@ -212,7 +212,7 @@ pub fn check_bed_with<const D: usize>(bed: &Bed<D>, checks: &Checks) -> Report {
 
     let mut touches: Vec<Vec<Touch<D>>> = vec![Vec::new(); n];
     let periods: Vec<Vector<D>> = periodic_shifts(bed);
-    let cells = CellList::new(bed, bed.r_max() * (2.0 + tol.max(0.0)));
+    let cells = CellList::new(bed, tol);
     cells.for_each_pair(|i, j| {
         if !valid[i] || !valid[j] || bed.bodies[i] == bed.bodies[j] {
             return;
