@@ -477,17 +477,22 @@ impl<const D: usize> Grid<D> {
             let n = level.counts[k] as isize;
             (a.rem_euclid(n), a.div_euclid(n))
         };
+        // Shifts and image codes change only where a row wraps round the
+        // period: they are worked out there, not per column.
         if D == 2 {
             let (mut i, mut period) = row_of(0, first[0]);
+            offset[0] = period as Real * self.extent[0];
+            let mut image = image_code(period, 0);
             for _ in first[0]..=last[0] {
-                offset[0] = period as Real * self.extent[0];
-                if !f(i as usize, offset, image_code(period, 0)) {
+                if !f(i as usize, offset, image) {
                     return false;
                 }
                 i += 1;
                 if i == nx {
                     i = 0;
                     period += 1;
+                    offset[0] = period as Real * self.extent[0];
+                    image = image_code(period, 0);
                 }
             }
         } else {
@@ -499,15 +504,18 @@ impl<const D: usize> Grid<D> {
                 let row = iy as usize * nx as usize;
                 let image_y = image_code(py, 1);
                 let (mut ix, mut px) = (ix0, px0);
+                offset[0] = px as Real * self.extent[0];
+                let mut image = image_code(px, 0) | image_y;
                 for _ in first[0]..=last[0] {
-                    offset[0] = px as Real * self.extent[0];
-                    if !f(row + ix as usize, offset, image_code(px, 0) | image_y) {
+                    if !f(row + ix as usize, offset, image) {
                         return false;
                     }
                     ix += 1;
                     if ix == nx {
                         ix = 0;
                         px += 1;
+                        offset[0] = px as Real * self.extent[0];
+                        image = image_code(px, 0) | image_y;
                     }
                 }
                 iy += 1;

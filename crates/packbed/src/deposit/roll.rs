@@ -119,14 +119,16 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
     let mut lambda = [0.0; MAX_ACTIVE];
     let mut keep = ContactSet::<D>::new();
     let mut hits = ContactSet::<D>::new();
-    let mut repeats = 0;
+    // Zero-length moves in a row, and the contacts after the last of them.
+    let mut still = 0;
+    let mut still_contacts: Option<ContactSet<D>> = None;
     for _ in 0..MAX_MOVES {
         *moves += 1;
         if active.len == 0 {
             p[D - 1] -= fall(terrain, &p, r, tol, &mut active);
             continue;
         }
-        let (p_before, active_before) = (p, active);
+        let p_before = p;
         let mut drew = false;
         for i in 0..active.len {
             normals[i] = active.get(i).surface.normal_at(&p);
@@ -198,17 +200,23 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
                 active.remove_key(key);
             }
         }
-        // A move that changed nothing and drew nothing from the generator
-        // repeats forever (a fine whose descent is tangent to a neighbour it
-        // already touches): give up now, not after the whole move budget. The
-        // re-drop, and so the bed, is the same; only the time is saved.
-        if !drew && p == p_before && same_contacts(&active, &active_before) {
-            repeats += 1;
-            if repeats >= 3 {
-                return None;
+        // A move that leaves the centre and the contacts as they were and drew
+        // nothing from the generator repeats forever (a fine whose descent is
+        // tangent to a neighbour it already touches): give up now, not after
+        // the whole move budget. The re-drop, and so the bed, is the same; only
+        // the time is saved. The contacts are copied only once the centre has
+        // stood still for two moves, so ordinary moves pay one comparison.
+        if !drew && p == p_before {
+            still += 1;
+            if still >= 2 {
+                if still_contacts.is_some_and(|c| same_contacts(&c, &active)) {
+                    return None;
+                }
+                still_contacts = Some(active);
             }
         } else {
-            repeats = 0;
+            still = 0;
+            still_contacts = None;
         }
     }
     None
