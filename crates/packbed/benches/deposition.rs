@@ -2,6 +2,7 @@
 //! BENCHMARKS.md come from `packbed bench` (10^6 particles) and from this.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use packbed::bench::{BenchBed, BenchSizes};
 use packbed::config::{BaseLayerKind, Config, SpeciesConfig};
 use packbed::deposit::build;
 
@@ -42,6 +43,26 @@ fn deposition(cr: &mut Criterion) {
         group.bench_with_input(BenchmarkId::new(name, n), &c, |b, c| {
             b.iter(|| build(c, &mut |_| {}).expect("valid config"))
         });
+    }
+    // Broad lognormal powders (median 10, default ±3 sd truncation) on the
+    // bench bed of `packbed bench --gsd`: the multilevel grid's rows.
+    for gsd in [1.6, 2.0] {
+        let n = 20_000;
+        let c = BenchBed {
+            dim: 3,
+            n,
+            chains: None,
+            periodic: true,
+            sizes: BenchSizes::Lognormal(gsd),
+            base_layer: false,
+        }
+        .config();
+        group.throughput(Throughput::Elements(n));
+        group.bench_with_input(
+            BenchmarkId::new(format!("3d-lognormal-gsd{gsd}"), n),
+            &c,
+            |b, c| b.iter(|| build(c, &mut |_| {}).expect("valid config")),
+        );
     }
     group.finish();
 }
