@@ -317,8 +317,10 @@ impl<const D: usize> Grid<D> {
     /// True if `f` holds for some particle visited by
     /// [`Grid::for_each_in_box`] with the same box; stops at the first.
     /// Overlap tests, where most queries of a saturating floor end at their
-    /// first neighbour: the finest level, with the smallest cells and the most
-    /// particles near any point, is searched first.
+    /// first neighbour. The coarse levels come first: they are the cheapest to
+    /// search for a large body (few, wide cells), and no dearer for a small
+    /// one (measured: a broad lognormal base layer 5 % faster than finest
+    /// first; the answer is the same either way).
     pub fn any_in_box(
         &self,
         lo: &Vector<D>,
@@ -326,7 +328,7 @@ impl<const D: usize> Grid<D> {
         margin: Real,
         f: impl FnMut(u32, Vector<D>, u16) -> bool,
     ) -> bool {
-        self.search(lo, hi, margin, self.levels.iter().rev(), f)
+        self.search(lo, hi, margin, self.levels.iter(), f)
     }
 
     /// [`Grid::any_in_box`] over `levels` in the order given.
