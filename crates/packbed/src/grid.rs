@@ -74,11 +74,12 @@ impl Levels {
             if !(w > 0.0 && r.is_finite() && r >= 0.0) {
                 continue;
             }
-            let k = class_of(r.min(r_max));
+            let r = r.min(r_max);
+            let k = class_of(r);
             weight[k] += w;
-            largest[k] = largest[k].max(r.min(r_max));
+            largest[k] = largest[k].max(r);
             total += w;
-            volume += w * ball_volume::<D>(r.min(r_max));
+            volume += w * ball_volume::<D>(r);
         }
         if !(total > 0.0 && volume > 0.0) {
             return Levels::uniform(2.0 * r_max);
@@ -673,12 +674,15 @@ mod tests {
             prop_assert!(seen.contains(n), "missed {n:?}");
         }
         // The stopping variant agrees, and stops at the first hit.
-        let mut count = 0;
+        let mut after_hit = 0;
+        let mut hit = false;
         let any = grid.any_in_box(&lo, &hi, margin, |id, shift, _| {
-            count += 1;
-            need.contains(&(id, shift_of(&c, &shift)))
+            after_hit += usize::from(hit);
+            hit = need.contains(&(id, shift_of(&c, &shift)));
+            hit
         });
         prop_assert_eq!(any, !need.is_empty());
+        prop_assert_eq!(after_hit, 0);
         // The scan from the top visits every centre below the box's top, each
         // image once, when nothing is pruned.
         let mut down = HashSet::new();

@@ -1,8 +1,7 @@
 //! Particle species: shape, size distribution and number ratio.
 
 use crate::error::{Error, Result};
-use crate::math::{normal, Real};
-use crate::output::text::length;
+use crate::math::{display_length as length, normal, Real};
 use rand::RngExt;
 use std::path::{Path, PathBuf};
 

@@ -443,17 +443,8 @@ impl<const D: usize> CellList<D> {
                         emit(i as u32, coarse.ids[b], keep, out);
                     }
                 }
-                let mut k = 0;
-                loop {
-                    if k == D {
-                        return;
-                    }
-                    step[k] += 1;
-                    if step[k] < span[k] {
-                        break;
-                    }
-                    step[k] = 0;
-                    k += 1;
+                if !next_cell(&mut step, &span) {
+                    return;
                 }
             }
         }
@@ -475,18 +466,8 @@ impl<const D: usize> CellList<D> {
                     emit(i as u32, coarse.ids[b], keep, out);
                 }
             }
-            // Next cell of the box, first axis fastest.
-            let mut k = 0;
-            loop {
-                if k == D {
-                    return;
-                }
-                step[k] += 1;
-                if step[k] < span[k] {
-                    break;
-                }
-                step[k] = 0;
-                k += 1;
+            if !next_cell(&mut step, &span) {
+                return;
             }
         }
     }
@@ -720,6 +701,20 @@ impl<const D: usize> Level<D> {
         }
         idx
     }
+}
+
+/// Steps `step` to the next cell of a box `span` cells wide per axis, first
+/// axis fastest; false once every cell has been visited.
+#[inline]
+fn next_cell<const D: usize>(step: &mut [usize; D], span: &[usize; D]) -> bool {
+    for k in 0..D {
+        step[k] += 1;
+        if step[k] < span[k] {
+            return true;
+        }
+        step[k] = 0;
+    }
+    false
 }
 
 #[cfg(test)]

@@ -203,9 +203,7 @@ pub(crate) fn grid_levels<const D: usize>(species: &[Species]) -> Levels {
         .filter(|s| s.ratio > 0.0)
         .map(|s| s.size.bounds().1)
         .fold(0.0, Real::max);
-    if species.iter().all(|s| s.ratio <= 0.0) {
-        return Levels::uniform(2.0 * r_max.max(Real::MIN_POSITIVE));
-    }
+    // The plan has ratios >= 0 summing to more than 0 (SpeciesPicker's terms).
     let picker = SpeciesPicker::new(species);
     let mut rng = RunRng::seed_from_u64(0x9e1d_5a3e);
     let sample: Vec<(Real, Real)> = (0..SAMPLE)

@@ -196,6 +196,30 @@ pub fn ball_volume<const D: usize>(r: Real) -> Real {
     }
 }
 
+/// A length for a person to read (the screen, species descriptions): at most six significant digits (but the whole
+/// integer part), trailing zeros dropped, so that a box of 1485.1720000000003
+/// reads 1485.17 (`summary.json` keeps every digit).
+pub fn display_length(x: Real) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let magnitude = x.abs().log10().floor() as i32;
+    let trim = |t: String| -> String {
+        if t.contains('.') {
+            t.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            t
+        }
+    };
+    if !(-4..15).contains(&magnitude) {
+        let t = format!("{x:.5e}");
+        let (mantissa, exponent) = t.split_once('e').unwrap_or((&t, "0"));
+        return format!("{}e{exponent}", trim(mantissa.to_string()));
+    }
+    let decimals = (5 - magnitude).max(0) as usize;
+    trim(format!("{x:.decimals$}"))
+}
+
 /// A generalised vector of a rigid body: translation in slots `0..D`, rotation
 /// (times a radius of gyration) in slot 2 (2D) or slots 3–5 (3D).
 pub type Gen = Vector<6>;

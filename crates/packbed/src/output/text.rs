@@ -14,29 +14,8 @@ pub fn count(n: u64, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })
 }
 
-/// A length for the screen: at most six significant digits (but the whole
-/// integer part), trailing zeros dropped, so that a box of 1485.1720000000003
-/// reads 1485.17 (`summary.json` keeps every digit).
-pub fn length(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return format!("{x}");
-    }
-    let magnitude = x.abs().log10().floor() as i32;
-    let trim = |t: String| -> String {
-        if t.contains('.') {
-            t.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            t
-        }
-    };
-    if !(-4..15).contains(&magnitude) {
-        let t = format!("{x:.5e}");
-        let (mantissa, exponent) = t.split_once('e').unwrap_or((&t, "0"));
-        return format!("{}e{exponent}", trim(mantissa.to_string()));
-    }
-    let decimals = (5 - magnitude).max(0) as usize;
-    trim(format!("{x:.decimals$}"))
-}
+/// A length for the screen (see [`crate::math::display_length`]).
+pub use crate::math::display_length as length;
 
 /// What bounds the box at its sides.
 fn sides(b: &BoxSummary) -> &'static str {

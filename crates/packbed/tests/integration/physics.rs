@@ -238,24 +238,37 @@ fn invariants_check<const D: usize>(
 const SEEDS: [u64; 3] = [1, 2, 3];
 const BASES: [&str; 2] = ["random", "none"];
 
-fn invariants_roof<const D: usize>() {
-    let mut tally = Tally::default();
-    for sizes in ALL_SIZES {
+/// Every invariant for each of `sizes`, walls and periodic sides, both base
+/// layers and every seed; `boxed(periodic)` is the `[box]` table and
+/// `fill(base)` the `[fill]` table.
+fn invariants_over<const D: usize>(
+    sizes: &[Sizes],
+    boxed: impl Fn(bool) -> String,
+    fill: impl Fn(&str) -> String,
+    roof: bool,
+    tally: &mut Tally,
+) {
+    for &size in sizes {
         for periodic in [false, true] {
             for base in BASES {
                 for seed in SEEDS {
-                    let c = config(
-                        D as u8,
-                        seed,
-                        &format!("preset = \"thesis\"\nperiodic = {periodic}"),
-                        &format!("until = \"roof\"\nbase_layer = \"{base}\""),
-                        sizes,
-                    );
-                    invariants_one::<D>(&c, true, &mut tally);
+                    let c = config(D as u8, seed, &boxed(periodic), &fill(base), size);
+                    invariants_one::<D>(&c, roof, tally);
                 }
             }
         }
     }
+}
+
+fn invariants_roof<const D: usize>() {
+    let mut tally = Tally::default();
+    invariants_over::<D>(
+        &ALL_SIZES,
+        |periodic| format!("preset = \"thesis\"\nperiodic = {periodic}"),
+        |base| format!("until = \"roof\"\nbase_layer = \"{base}\""),
+        true,
+        &mut tally,
+    );
     // Also `roof_misses`: going past a few overflows keeps every invariant.
     for seed in SEEDS {
         let c = config(
@@ -272,30 +285,22 @@ fn invariants_roof<const D: usize>() {
 
 fn invariants_count<const D: usize>(count: u64, diameters: Real) {
     let mut tally = Tally::default();
-    for sizes in ALL_SIZES {
-        for periodic in [false, true] {
-            for base in BASES {
-                for seed in SEEDS {
-                    // Walls: an explicit box; periodic: a cube of `diameters`.
-                    let boxed = if periodic {
-                        format!("diameters = {diameters}\nperiodic = true")
-                    } else if D == 3 {
-                        "width = 300\ndepth = 220\nheight = 300".to_string()
-                    } else {
-                        "width = 700\nheight = 300".to_string()
-                    };
-                    let c = config(
-                        D as u8,
-                        seed,
-                        &boxed,
-                        &format!("count = {count}\nbase_layer = \"{base}\""),
-                        sizes,
-                    );
-                    invariants_one::<D>(&c, false, &mut tally);
-                }
+    // Walls: an explicit box; periodic: a cube of `diameters`.
+    invariants_over::<D>(
+        &ALL_SIZES,
+        |periodic| {
+            if periodic {
+                format!("diameters = {diameters}\nperiodic = true")
+            } else if D == 3 {
+                "width = 300\ndepth = 220\nheight = 300".to_string()
+            } else {
+                "width = 700\nheight = 300".to_string()
             }
-        }
-    }
+        },
+        |base| format!("count = {count}\nbase_layer = \"{base}\""),
+        false,
+        &mut tally,
+    );
     tally.finish(&format!("{D}D count"));
 }
 
@@ -324,22 +329,13 @@ fn invariants_3d_count() {
 /// coarse skeleton: every invariant, in a box of a few largest diameters.
 fn invariants_broad<const D: usize>(count: u64) {
     let mut tally = Tally::default();
-    for gsd in [2.0, 2.5] {
-        for periodic in [false, true] {
-            for base in BASES {
-                for seed in SEEDS {
-                    let c = config(
-                        D as u8,
-                        seed,
-                        &format!("diameters = 4\nperiodic = {periodic}"),
-                        &format!("count = {count}\nbase_layer = \"{base}\""),
-                        Sizes::Broad(gsd),
-                    );
-                    invariants_one::<D>(&c, false, &mut tally);
-                }
-            }
-        }
-    }
+    invariants_over::<D>(
+        &[Sizes::Broad(2.0), Sizes::Broad(2.5)],
+        |periodic| format!("diameters = 4\nperiodic = {periodic}"),
+        |base| format!("count = {count}\nbase_layer = \"{base}\""),
+        false,
+        &mut tally,
+    );
     tally.finish(&format!("{D}D broad lognormal"));
 }
 
