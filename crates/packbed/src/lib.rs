@@ -104,6 +104,7 @@ pub(crate) mod geometry;
 pub(crate) mod grid;
 pub mod io;
 pub mod math;
+pub mod mechanics;
 pub mod output;
 mod pipeline;
 #[cfg(feature = "render")]

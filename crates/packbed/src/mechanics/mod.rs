@@ -1,0 +1,468 @@
+//! Contact forces and breakage of a bed under load (`spec/fragmentation.md`):
+//! a stage after the analysis that takes a [`Bed`] and its contacts, never the
+//! deposition engine.
+//!
+//! Every body is rigid and every contact a spring; the bed is loaded
+//! (`shear`, `compression`, `gravity`), the stiffness system is solved exactly
+//! by a sparse Cholesky factorisation ([`solver`]), and bonds are broken one
+//! by one, strongest first, until a count or the failure of the bed.
+
+pub mod loads;
+pub mod network;
+pub mod solver;
+pub mod spring;
+
+use crate::analysis::Contacts;
+use crate::bed::Bed;
+use crate::error::{Error, Result};
+use crate::math::{Real, Vector};
+pub use loads::{AppliedLoad, TOTAL};
+pub use network::{BondGeometry, Bodies};
+use serde::{Deserialize, Serialize};
+use spring::body_dofs;
+
+/// Which load the bed carries.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Load {
+    /// `+F x̂` on the top bodies, `−F x̂` on the bottom bodies (the study's).
+    #[default]
+    Shear,
+    /// `−F ẑ` on the top bodies; the floor reacts.
+    Compression,
+    /// Each body's weight, by solid volume, summing to F.
+    Gravity,
+}
+
+impl Load {
+    /// The name used in configs, options and `summary.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Load::Shear => "shear",
+            Load::Compression => "compression",
+            Load::Gravity => "gravity",
+        }
+    }
+}
+
+impl std::str::FromStr for Load {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "shear" => Ok(Load::Shear),
+            "compression" => Ok(Load::Compression),
+            "gravity" => Ok(Load::Gravity),
+            _ => Err(Error::config(format!(
+                "unknown load {s:?}: give shear, compression or gravity"
+            ))),
+        }
+    }
+}
+
+/// How many bonds to break.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Breaks {
+    /// Exactly this many (fewer if the bonds run out).
+    Count(u64),
+    /// Until the bed fails.
+    #[default]
+    Failure,
+}
+
+impl std::str::FromStr for Breaks {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        if s == "failure" {
+            return Ok(Breaks::Failure);
+        }
+        match s.parse::<u64>() {
+            Ok(0) => Err(Error::config("breaks must be at least 1 (or \"failure\")")),
+            Ok(n) => Ok(Breaks::Count(n)),
+            Err(_) => Err(Error::config(format!(
+                "breaks must be a whole number of at least 1 or \"failure\", got {s:?}"
+            ))),
+        }
+    }
+}
+
+impl std::fmt::Display for Breaks {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Breaks::Count(n) => write!(f, "{n}"),
+            Breaks::Failure => f.write_str("failure"),
+        }
+    }
+}
+
+/// Settings of a fragmentation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Options {
+    /// The load.
+    pub load: Load,
+    /// How many bonds to break.
+    pub breaks: Breaks,
+    /// `k_t / k_n` (`k_n = 1`).
+    pub kt_over_kn: Real,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            load: Load::Shear,
+            breaks: Breaks::Failure,
+            kt_over_kn: 1.0,
+        }
+    }
+}
+
+impl Options {
+    /// Refuses settings no bed can be broken with.
+    pub fn check(&self) -> Result<()> {
+        if let Breaks::Count(0) = self.breaks {
+            return Err(Error::config("breaks must be at least 1 (or \"failure\")"));
+        }
+        if !(self.kt_over_kn.is_finite() && self.kt_over_kn >= 0.0) {
+            return Err(Error::config(format!(
+                "kt_over_kn must be a number >= 0, got {}",
+                self.kt_over_kn
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// One broken bond.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Step {
+    /// 1 for the first break.
+    pub step: u64,
+    /// Index of the bond in [`Fragmentation::bonds`].
+    pub bond: usize,
+    /// The bond's force magnitude when it broke.
+    pub magnitude: Real,
+    /// Connected pieces of the bond network (with at least one body) after it.
+    pub fragments: u64,
+    /// Bodies in the largest of them.
+    pub largest_fragment: u64,
+}
+
+/// `fragmentation.*` of `summary.json`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FragmentationSummary {
+    /// The load.
+    pub load: Load,
+    /// Bonds of the intact bed.
+    pub bonds: u64,
+    /// Largest bond force magnitude of the intact bed.
+    pub max_force: Real,
+    /// Mean bond force magnitude of the intact bed.
+    pub mean_force: Real,
+    /// Standard deviation ÷ mean of the magnitudes (population sd).
+    pub force_cv: Real,
+    /// Bodies of the intact bed held by their ground springs (mechanisms).
+    pub unstable_bodies: u64,
+    /// Bonds broken.
+    pub breaks: u64,
+    /// True when the bed failed.
+    pub failed: bool,
+    /// Breaks until failure (null when the run stopped before it).
+    pub breaks_to_failure: Option<u64>,
+    /// Pieces of the bond network at the end.
+    pub fragments: u64,
+    /// Bodies in the largest piece at the end.
+    pub largest_fragment: u64,
+}
+
+/// The forces in a bed under load and the order its bonds broke.
+#[derive(Clone, Debug)]
+pub struct Fragmentation<const D: usize> {
+    /// The rigid bodies.
+    pub bodies: Bodies<D>,
+    /// Every bond of the intact bed.
+    pub bonds: Vec<BondGeometry<D>>,
+    /// The force each bond exerts on its body i, in the intact bed.
+    pub forces: Vec<Vector<D>>,
+    /// The loads on the intact bed.
+    pub loads: Vec<AppliedLoad<D>>,
+    /// Each body's unknowns (translation, rotation) in the intact bed.
+    pub displacements: Vec<Real>,
+    /// Ground-spring stiffness of each unknown.
+    pub ground: Vec<Real>,
+    /// The broken bonds, in order.
+    pub steps: Vec<Step>,
+    /// The summary.
+    pub summary: FragmentationSummary,
+    /// Numeric factorisations done (the first included).
+    pub factorisations: usize,
+}
+
+impl<const D: usize> Fragmentation<D> {
+    /// Number of unknowns per body.
+    pub const DOFS: usize = body_dofs(D);
+
+    /// `normal` (positive: tension) of bond `k`'s force.
+    pub fn normal(&self, k: usize) -> Real {
+        self.forces[k].dot(&self.bonds[k].normal)
+    }
+
+    /// `tangential` of bond `k`'s force.
+    pub fn tangential(&self, k: usize) -> Real {
+        let f = self.forces[k];
+        (f - self.bonds[k].normal * self.normal(k)).norm()
+    }
+}
+
+/// Loads `bed` as `options` say, solves for its bond forces and breaks bonds
+/// (`contacts`: the analysis' contacts of `bed`).
+pub fn fragment<const D: usize>(
+    bed: &Bed<D>,
+    contacts: &Contacts,
+    options: &Options,
+) -> Result<Fragmentation<D>> {
+    options.check()?;
+    let bodies = Bodies::of(bed);
+    let bonds = network::bonds(bed, &bodies, contacts);
+    if bonds.is_empty() {
+        return Err(Error::Impossible(
+            "the bed has no bonds (no particle touches another or a wall)".into(),
+        ));
+    }
+    let load_groups = loads::Loads::new(options.load, bed, &bodies, &bonds);
+    if load_groups.is_empty() {
+        return Err(Error::Impossible("the bed has no body to load".into()));
+    }
+    let springs = solver::Springs {
+        kn: 1.0,
+        kt: options.kt_over_kn,
+    };
+    let nb = bodies.len();
+    let mut bond_count = vec![0u32; nb];
+    for g in &bonds {
+        bond_count[g.i as usize] += 1;
+        if let Some(j) = g.j {
+            bond_count[j as usize] += 1;
+        }
+    }
+    let bonded = |count: &[u32]| count.iter().map(|&c| c > 0).collect::<Vec<_>>();
+    let loads = load_groups
+        .current(&bonded(&bond_count))
+        .ok_or_else(|| Error::Impossible("the loaded bodies have no bonds".into()))?;
+    let mut system = solver::Solver::new(&bonds, &bodies.reach, springs)?;
+    let u = system.solve(&loads::load_vector(&loads, nb))?;
+    let forces = bond_forces(&bonds, &vec![true; bonds.len()], &u, springs);
+    let magnitudes: Vec<Real> = forces.iter().map(|f| f.norm()).collect();
+    let unstable = unstable_bodies::<D>(&u, system.ground(), &bodies.reach);
+
+    let mut alive = vec![true; bonds.len()];
+    let mut current = magnitudes.clone();
+    let mut steps = Vec::new();
+    let (mut fragments, mut largest) = pieces(&bonds, &alive, nb);
+    let mut failed_at = failure(&bonds, &alive, nb, Some(&loads)).then_some(0u64);
+    loop {
+        let done = steps.len() as u64;
+        match options.breaks {
+            Breaks::Failure if failed_at.is_some() => break,
+            Breaks::Count(n) if done >= n => break,
+            _ => {}
+        }
+        // The strongest bond; the first listed wins a tie.
+        let mut pick: Option<usize> = None;
+        for k in (0..bonds.len()).filter(|&k| alive[k]) {
+            if pick.is_none_or(|p| current[k] > current[p]) {
+                pick = Some(k);
+            }
+        }
+        let Some(k) = pick else { break };
+        let magnitude = current[k];
+        alive[k] = false;
+        bond_count[bonds[k].i as usize] -= 1;
+        if let Some(j) = bonds[k].j {
+            bond_count[j as usize] -= 1;
+        }
+        system.remove(k)?;
+        let loaded = load_groups.current(&bonded(&bond_count));
+        (fragments, largest) = pieces(&bonds, &alive, nb);
+        let step = done + 1;
+        if failed_at.is_none() && failure(&bonds, &alive, nb, loaded.as_deref()) {
+            failed_at = Some(step);
+        }
+        steps.push(Step {
+            step,
+            bond: k,
+            magnitude,
+            fragments,
+            largest_fragment: largest,
+        });
+        let more = match options.breaks {
+            Breaks::Failure => failed_at.is_none(),
+            Breaks::Count(n) => step < n,
+        };
+        if !more {
+            break;
+        }
+        let Some(now) = &loaded else { break };
+        let u = system.solve(&loads::load_vector(now, nb))?;
+        let f = bond_forces(&bonds, &alive, &u, springs);
+        for (c, f) in current.iter_mut().zip(&f) {
+            *c = f.norm();
+        }
+    }
+    let summary = FragmentationSummary {
+        load: options.load,
+        bonds: bonds.len() as u64,
+        max_force: magnitudes.iter().copied().fold(0.0, Real::max),
+        mean_force: mean(&magnitudes),
+        force_cv: cv(&magnitudes),
+        unstable_bodies: unstable,
+        breaks: steps.len() as u64,
+        failed: failed_at.is_some(),
+        breaks_to_failure: failed_at,
+        fragments,
+        largest_fragment: largest,
+    };
+    Ok(Fragmentation {
+        factorisations: system.factorisations,
+        ground: system.ground().to_vec(),
+        bodies,
+        bonds,
+        forces,
+        loads,
+        displacements: u,
+        steps,
+        summary,
+    })
+}
+
+fn mean(v: &[Real]) -> Real {
+    if v.is_empty() {
+        0.0
+    } else {
+        v.iter().sum::<Real>() / v.len() as Real
+    }
+}
+
+fn cv(v: &[Real]) -> Real {
+    let mu = mean(v);
+    if !(mu > 0.0) {
+        return 0.0;
+    }
+    let var = v.iter().map(|x| (x - mu) * (x - mu)).sum::<Real>() / v.len() as Real;
+    var.sqrt() / mu
+}
+
+/// The force on body i of every bond (zero for a broken one).
+fn bond_forces<const D: usize>(
+    bonds: &[BondGeometry<D>],
+    alive: &[bool],
+    u: &[Real],
+    springs: solver::Springs,
+) -> Vec<Vector<D>> {
+    let m = body_dofs(D);
+    bonds
+        .iter()
+        .zip(alive)
+        .map(|(g, &on)| {
+            if !on {
+                return Vector::zero();
+            }
+            let k = spring::stiffness::<D>(&g.normal, springs.kn, springs.kt);
+            let i = g.i as usize * m;
+            let uj = g.j.map(|j| &u[j as usize * m..j as usize * m + m]);
+            spring::bond_force::<D>(g, &k, &u[i..i + m], uj)
+        })
+        .collect()
+}
+
+/// Bodies whose ground springs carry more than `1e-6` of the total load (a
+/// torque counted as the force at the body's reach).
+fn unstable_bodies<const D: usize>(u: &[Real], ground: &[Real], reach: &[Real]) -> u64 {
+    let m = body_dofs(D);
+    let limit = 1e-6 * TOTAL;
+    (0..reach.len())
+        .filter(|&b| {
+            let at = b * m;
+            let force: Real = (0..D)
+                .map(|c| (ground[at + c] * u[at + c]).powi(2))
+                .sum::<Real>()
+                .sqrt();
+            let torque: Real = (D..m)
+                .map(|c| (ground[at + c] * u[at + c]).powi(2))
+                .sum::<Real>()
+                .sqrt();
+            force > limit || (reach[b] > 0.0 && torque / reach[b] > limit)
+        })
+        .count() as u64
+}
+
+/// Union–find over bodies and the five wall nodes.
+struct Pieces {
+    parent: Vec<u32>,
+}
+
+impl Pieces {
+    fn of<const D: usize>(bonds: &[BondGeometry<D>], alive: &[bool], bodies: usize) -> Self {
+        let mut p = Pieces {
+            parent: (0..(bodies + network::WALL_NODES) as u32).collect(),
+        };
+        for (g, _) in bonds.iter().zip(alive).filter(|(_, a)| **a) {
+            let other = match (g.j, g.wall) {
+                (Some(j), _) => j as usize,
+                (None, Some(w)) => bodies + network::wall_node(w),
+                (None, None) => continue,
+            };
+            p.join(g.i as usize, other);
+        }
+        p
+    }
+
+    fn root(&mut self, mut a: usize) -> usize {
+        while self.parent[a] as usize != a {
+            let up = self.parent[self.parent[a] as usize];
+            self.parent[a] = up;
+            a = up as usize;
+        }
+        a
+    }
+
+    fn join(&mut self, a: usize, b: usize) {
+        let (ra, rb) = (self.root(a), self.root(b));
+        if ra != rb {
+            // The smaller root wins, so the result does not depend on bond order.
+            let (lo, hi) = (ra.min(rb), ra.max(rb));
+            self.parent[hi] = lo as u32;
+        }
+    }
+}
+
+/// Connected pieces with at least one body, and the bodies of the largest.
+fn pieces<const D: usize>(bonds: &[BondGeometry<D>], alive: &[bool], bodies: usize) -> (u64, u64) {
+    let mut p = Pieces::of(bonds, alive, bodies);
+    let mut size = vec![0u64; bodies + network::WALL_NODES];
+    for b in 0..bodies {
+        let r = p.root(b);
+        size[r] += 1;
+    }
+    let count = size.iter().filter(|&&s| s > 0).count() as u64;
+    (count, size.iter().copied().max().unwrap_or(0))
+}
+
+/// True when a loaded body sits in a piece with no floor or wall bond, or a
+/// group's load has nowhere to go (`loads` is `None`).
+fn failure<const D: usize>(
+    bonds: &[BondGeometry<D>],
+    alive: &[bool],
+    bodies: usize,
+    loads: Option<&[AppliedLoad<D>]>,
+) -> bool {
+    let Some(loads) = loads else { return true };
+    let mut p = Pieces::of(bonds, alive, bodies);
+    let mut supported = vec![false; bodies + network::WALL_NODES];
+    for w in 0..network::WALL_NODES {
+        let r = p.root(bodies + w);
+        supported[r] = true;
+    }
+    loads
+        .iter()
+        .filter(|l| l.force.norm() > 0.0)
+        .any(|l| !supported[p.root(l.body as usize)])
+}

@@ -1,0 +1,493 @@
+//! The linear algebra of the bond network: the stiffness matrix assembled in
+//! sparse form, its sparse Cholesky factorisation (faer), and the solves after
+//! bonds break.
+//!
+//! A broken bond removes `W Wᵀ` from the matrix, with `W = Gᵀ C` of rank `D`
+//! (`C`: the root of the bond's spring, `G`: the bodies' motion at the contact).
+//! Instead of a new factorisation, the solver keeps the factor `L` of the last
+//! matrix `A₀` it factored and the bonds removed since, and applies the
+//! Sherman–Morrison–Woodbury inverse
+//! `(A₀ − W Wᵀ)⁻¹ = A₀⁻¹ + Z S⁻¹ Zᵀ` with `Z = A₀⁻¹ W`, `S = I − Wᵀ Z`.
+//! Each break costs `D` triangular solves and a small dense factorisation.
+//! Because the ground springs make `S` nearly singular when a body loses its
+//! last support, that inverse is used as the preconditioner of a conjugate
+//! gradient on the exact current matrix (applied bond by bond), which restores
+//! full accuracy in one or two steps; when the removed rank grows past a
+//! limit, or the iteration does not settle, the matrix is factored again with
+//! the symbolic analysis of the first factorisation (the pattern never
+//! changes: a broken bond keeps its entries, as zeros).
+
+use super::network::BondGeometry;
+use super::spring::{self, body_dofs};
+use crate::error::{Error, Result};
+use crate::math::{Real, Vector};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymmetricOrdering,
+};
+use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
+use faer::{Conj, MatMut, Par, Side};
+
+/// Ground spring stiffness relative to `k_n` (spec: `1e-9 k_n`).
+pub const GROUND: Real = 1e-9;
+
+/// Columns of `W` kept before the matrix is factored again. Each costs two
+/// passes over `n` numbers per solve; past this, a numeric factorisation with
+/// the kept symbolic analysis is cheaper than carrying them.
+const MAX_RANK: usize = 96;
+
+/// Relative residual at which the conjugate gradient stops.
+const TOLERANCE: Real = 1e-12;
+
+/// Conjugate-gradient steps before the solver gives up on the kept factor and
+/// factors the current matrix.
+const MAX_STEPS: usize = 25;
+
+/// The spring constants of every bond.
+#[derive(Clone, Copy, Debug)]
+pub struct Springs {
+    /// Normal stiffness.
+    pub kn: Real,
+    /// Tangential stiffness.
+    pub kt: Real,
+}
+
+/// The stiffness matrix of a bond network and its solver.
+pub struct Solver<'a, const D: usize> {
+    bonds: &'a [BondGeometry<D>],
+    springs: Springs,
+    /// Ground stiffness of every unknown.
+    ground: Vec<Real>,
+    /// Bonds present in the current matrix.
+    alive: Vec<bool>,
+    pattern: SymbolicSparseColMat<usize>,
+    argsort: Argsort<usize>,
+    symbolic: SymbolicCholesky<usize>,
+    factor: Vec<Real>,
+    /// Bonds removed since the last factorisation, their `W` columns and `Z`.
+    removed: Vec<WColumn>,
+    z: Vec<Vec<Real>>,
+    /// Dense `S = I − Wᵀ Z` and its Cholesky factor (lower, row-major).
+    s: Vec<Vec<Real>>,
+    s_factor: Option<Vec<Vec<Real>>>,
+    par: Par,
+    /// Numeric factorisations so far (the first included).
+    pub factorisations: usize,
+}
+
+/// One column of `W`: a sparse vector over the unknowns.
+#[derive(Clone, Debug)]
+struct WColumn {
+    idx: Vec<usize>,
+    val: Vec<Real>,
+}
+
+impl WColumn {
+    fn dot(&self, x: &[Real]) -> Real {
+        self.idx.iter().zip(&self.val).map(|(&i, v)| v * x[i]).sum()
+    }
+}
+
+fn internal(what: &str) -> Error {
+    Error::Impossible(format!("the stiffness matrix could not be {what}"))
+}
+
+impl<'a, const D: usize> Solver<'a, D> {
+    /// Assembles the matrix of `bonds` over `bodies` bodies with ground
+    /// springs (`reach`: each body's `ρ_b`) and factors it.
+    pub fn new(
+        bonds: &'a [BondGeometry<D>],
+        reach: &[Real],
+        springs: Springs,
+    ) -> Result<Self> {
+        let m = body_dofs(D);
+        let n = reach.len() * m;
+        let mut ground = vec![0.0; n];
+        for (b, rho) in reach.iter().enumerate() {
+            for c in 0..m {
+                let lever = if c < D { 1.0 } else { rho * rho };
+                ground[b * m + c] = GROUND * springs.kn * lever;
+            }
+        }
+        let pairs = entries::<D>(bonds, reach.len());
+        let (pattern, argsort) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs)
+            .map_err(|_| internal("assembled"))?;
+        let alive = vec![true; bonds.len()];
+        let values = values::<D>(bonds, &alive, &ground, springs);
+        let matrix = SparseColMat::new_from_argsort(pattern.clone(), &argsort, &values)
+            .map_err(|_| internal("assembled"))?;
+        let symbolic = factorize_symbolic_cholesky(
+            matrix.symbolic(),
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            Default::default(),
+        )
+        .map_err(|_| internal("ordered"))?;
+        let mut solver = Solver {
+            bonds,
+            springs,
+            ground,
+            alive,
+            pattern,
+            argsort,
+            factor: Vec::new(),
+            symbolic,
+            removed: Vec::new(),
+            z: Vec::new(),
+            s: Vec::new(),
+            s_factor: None,
+            par: Par::rayon(0),
+            factorisations: 0,
+        };
+        solver.refactor()?;
+        Ok(solver)
+    }
+
+    /// Number of unknowns.
+    pub fn len(&self) -> usize {
+        self.ground.len()
+    }
+
+    /// True for a network without bodies.
+    pub fn is_empty(&self) -> bool {
+        self.ground.is_empty()
+    }
+
+    /// Ground stiffness of each unknown.
+    pub fn ground(&self) -> &[Real] {
+        &self.ground
+    }
+
+    /// Factors the current matrix, forgetting the removed bonds' columns.
+    fn refactor(&mut self) -> Result<()> {
+        let values = values::<D>(self.bonds, &self.alive, &self.ground, self.springs);
+        let matrix = SparseColMat::new_from_argsort(self.pattern.clone(), &self.argsort, &values)
+            .map_err(|_| internal("assembled"))?;
+        self.factor.resize(self.symbolic.len_val(), 0.0);
+        let mut mem = MemBuffer::new(
+            self.symbolic
+                .factorize_numeric_llt_scratch::<Real>(self.par, Default::default()),
+        );
+        self.symbolic
+            .factorize_numeric_llt(
+                &mut self.factor,
+                matrix.as_ref(),
+                Side::Lower,
+                LltRegularization::default(),
+                self.par,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .map_err(|_| internal("factored (not positive definite)"))?;
+        self.removed.clear();
+        self.z.clear();
+        self.s.clear();
+        self.s_factor = None;
+        self.factorisations += 1;
+        Ok(())
+    }
+
+    /// `A₀⁻¹` applied in place to `cols` right-hand sides stored one after another.
+    fn factor_solve(&self, x: &mut [Real], cols: usize) {
+        let n = self.len();
+        let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<Real>(cols, self.par));
+        LltRef::new(&self.symbolic, &self.factor).solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(x, n, cols),
+            self.par,
+            MemStack::new(&mut mem),
+        );
+    }
+
+    /// Removes bond `k` from the matrix.
+    pub fn remove(&mut self, k: usize) -> Result<()> {
+        if !self.alive[k] {
+            return Ok(());
+        }
+        self.alive[k] = false;
+        if self.removed.len() + D > MAX_RANK {
+            return self.refactor();
+        }
+        let n = self.len();
+        let cols = w_columns::<D>(&self.bonds[k], self.springs);
+        let mut z = vec![0.0; n * D];
+        for (c, col) in cols.iter().enumerate() {
+            for (&i, &v) in col.idx.iter().zip(&col.val) {
+                z[c * n + i] = v;
+            }
+        }
+        self.factor_solve(&mut z, D);
+        for (c, col) in cols.into_iter().enumerate() {
+            self.removed.push(col);
+            self.z.push(z[c * n..(c + 1) * n].to_vec());
+        }
+        // S = I − Wᵀ Z, grown by the new rows and columns.
+        let r = self.removed.len();
+        for row in self.s.iter_mut() {
+            row.resize(r, 0.0);
+        }
+        self.s.resize(r, vec![0.0; r]);
+        for p in 0..r {
+            for q in r - D..r {
+                let v = f64::from(u8::from(p == q)) - self.removed[p].dot(&self.z[q]);
+                self.s[p][q] = v;
+                self.s[q][p] = v;
+            }
+        }
+        self.s_factor = dense_cholesky(&self.s);
+        if self.s_factor.is_none() {
+            return self.refactor();
+        }
+        Ok(())
+    }
+
+    /// The preconditioner: the Woodbury inverse of the current matrix.
+    fn precondition(&self, b: &[Real]) -> Vec<Real> {
+        let mut x = b.to_vec();
+        self.factor_solve(&mut x, 1);
+        if let Some(l) = &self.s_factor {
+            let y: Vec<Real> = self.z.iter().map(|z| dot(z, b)).collect();
+            let y = dense_solve(l, y);
+            for (z, yk) in self.z.iter().zip(y) {
+                for (xi, zi) in x.iter_mut().zip(z) {
+                    *xi += yk * zi;
+                }
+            }
+        }
+        x
+    }
+
+    /// `A x` for the current matrix, bond by bond (independent of the
+    /// assembled one, so that the residual checks the factor).
+    pub fn apply(&self, x: &[Real]) -> Vec<Real> {
+        let m = body_dofs(D);
+        let mut y: Vec<Real> = x.iter().zip(&self.ground).map(|(a, g)| a * g).collect();
+        for (g, _) in self.bonds.iter().zip(&self.alive).filter(|(_, a)| **a) {
+            let k = spring::stiffness::<D>(&g.normal, self.springs.kn, self.springs.kt);
+            let i = g.i as usize * m;
+            let uj = g.j.map(|j| &x[j as usize * m..j as usize * m + m]);
+            let f = spring::bond_force::<D>(g, &k, &x[i..i + m], uj);
+            let gi = spring::generalized::<D>(&g.arm_i, &f);
+            for c in 0..m {
+                y[i + c] -= gi[c];
+            }
+            if let Some(j) = g.j {
+                let j = j as usize * m;
+                let gj = spring::generalized::<D>(&g.arm_j, &f);
+                for c in 0..m {
+                    y[j + c] += gj[c];
+                }
+            }
+        }
+        y
+    }
+
+    /// Solves the current matrix for `b`: the kept factor with the removed
+    /// bonds' correction, refined by conjugate gradients on the exact matrix.
+    pub fn solve(&mut self, b: &[Real]) -> Result<Vec<Real>> {
+        if let Some(x) = self.iterate(b) {
+            return Ok(x);
+        }
+        self.refactor()?;
+        Ok(self.iterate(b).unwrap_or_else(|| self.precondition(b)))
+    }
+
+    /// Preconditioned conjugate gradients from the preconditioned guess;
+    /// `None` when they do not reach the tolerance in [`MAX_STEPS`].
+    fn iterate(&self, b: &[Real]) -> Option<Vec<Real>> {
+        let scale = dot(b, b).sqrt();
+        if scale == 0.0 {
+            return Some(vec![0.0; b.len()]);
+        }
+        let mut x = self.precondition(b);
+        let ax = self.apply(&x);
+        let mut r: Vec<Real> = b.iter().zip(&ax).map(|(b, a)| b - a).collect();
+        let mut best = (dot(&r, &r).sqrt(), x.clone());
+        if best.0 <= TOLERANCE * scale {
+            return Some(x);
+        }
+        let mut z = self.precondition(&r);
+        let mut p = z.clone();
+        let mut rz = dot(&r, &z);
+        for _ in 0..MAX_STEPS {
+            let ap = self.apply(&p);
+            let pap = dot(&p, &ap);
+            if !(pap > 0.0 && rz.is_finite()) {
+                break;
+            }
+            let alpha = rz / pap;
+            for i in 0..x.len() {
+                x[i] += alpha * p[i];
+                r[i] -= alpha * ap[i];
+            }
+            let norm = dot(&r, &r).sqrt();
+            if norm < best.0 {
+                best = (norm, x.clone());
+            }
+            if norm <= TOLERANCE * scale {
+                return Some(x);
+            }
+            z = self.precondition(&r);
+            let rz_new = dot(&r, &z);
+            let beta = rz_new / rz;
+            rz = rz_new;
+            for i in 0..p.len() {
+                p[i] = z[i] + beta * p[i];
+            }
+        }
+        // Round-off bounds the residual near ε·cond; accept a solution whose
+        // residual is far below what the measures resolve (1e-6 of the load).
+        (best.0 <= 1e-9 * scale).then_some(best.1)
+    }
+}
+
+fn dot(a: &[Real], b: &[Real]) -> Real {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// The `D` columns of `W = Gᵀ C` of a bond.
+fn w_columns<const D: usize>(g: &BondGeometry<D>, springs: Springs) -> Vec<WColumn> {
+    let m = body_dofs(D);
+    let c = spring::stiffness_root::<D>(&g.normal, springs.kn, springs.kt);
+    (0..D)
+        .map(|col| {
+            let mut cv = Vector::<D>::zero();
+            for r in 0..D {
+                cv.0[r] = c[r][col];
+            }
+            let mut idx = Vec::with_capacity(2 * m);
+            let mut val = Vec::with_capacity(2 * m);
+            let gi = spring::generalized::<D>(&g.arm_i, &cv);
+            for k in 0..m {
+                idx.push(g.i as usize * m + k);
+                val.push(-gi[k]);
+            }
+            if let Some(j) = g.j {
+                let gj = spring::generalized::<D>(&g.arm_j, &cv);
+                for k in 0..m {
+                    idx.push(j as usize * m + k);
+                    val.push(gj[k]);
+                }
+            }
+            WColumn { idx, val }
+        })
+        .collect()
+}
+
+/// Lower-triangle positions of the matrix, in the order [`values`] fills them:
+/// each body's diagonal block, then each bond's blocks.
+fn entries<const D: usize>(bonds: &[BondGeometry<D>], bodies: usize) -> Vec<Pair<usize, usize>> {
+    let m = body_dofs(D);
+    let mut out = Vec::with_capacity(bodies * m * (m + 1) / 2 + bonds.len() * 3 * m * m);
+    for b in 0..bodies {
+        lower_block(&mut out, b, b, m, |_| {});
+    }
+    for g in bonds {
+        let i = g.i as usize;
+        lower_block(&mut out, i, i, m, |_| {});
+        if let Some(j) = g.j.map(|j| j as usize) {
+            lower_block(&mut out, j, j, m, |_| {});
+            lower_block(&mut out, i, j, m, |_| {});
+        }
+    }
+    out
+}
+
+/// Visits the lower-triangle entries of block `(bi, bj)` (or of its
+/// transpose when `bi < bj`) in a fixed order, pushing their positions.
+fn lower_block(
+    out: &mut Vec<Pair<usize, usize>>,
+    bi: usize,
+    bj: usize,
+    m: usize,
+    mut each: impl FnMut((usize, usize)),
+) {
+    for a in 0..m {
+        for c in 0..m {
+            if bi == bj && c > a {
+                continue;
+            }
+            // Entry (a, c) of block (bi, bj) sits at row bi·m + a, column bj·m + c.
+            let (row, col) = (bi * m + a, bj * m + c);
+            let (row, col) = if row >= col { (row, col) } else { (col, row) };
+            out.push(Pair { row, col });
+            each((a, c));
+        }
+    }
+}
+
+/// Values of the matrix in the order of [`entries`]; a dead bond adds zeros.
+fn values<const D: usize>(
+    bonds: &[BondGeometry<D>],
+    alive: &[bool],
+    ground: &[Real],
+    springs: Springs,
+) -> Vec<Real> {
+    let m = body_dofs(D);
+    let bodies = ground.len() / m;
+    let mut out = Vec::with_capacity(bodies * m * (m + 1) / 2 + bonds.len() * 3 * m * m);
+    for b in 0..bodies {
+        for a in 0..m {
+            for c in 0..=a {
+                out.push(if a == c { ground[b * m + a] } else { 0.0 });
+            }
+        }
+    }
+    let mut sink = Vec::new();
+    for (g, &on) in bonds.iter().zip(alive) {
+        let k = spring::stiffness::<D>(&g.normal, springs.kn, springs.kt);
+        let blocks = spring::blocks::<D>(g, &k);
+        let scale = if on { 1.0 } else { 0.0 };
+        let i = g.i as usize;
+        sink.clear();
+        lower_block(&mut sink, i, i, m, |(a, c)| out.push(scale * blocks[0][a][c]));
+        if let Some(j) = g.j.map(|j| j as usize) {
+            lower_block(&mut sink, j, j, m, |(a, c)| out.push(scale * blocks[2][a][c]));
+            lower_block(&mut sink, i, j, m, |(a, c)| out.push(scale * blocks[1][a][c]));
+        }
+    }
+    out
+}
+
+/// Cholesky factor (lower, rows) of a small dense symmetric matrix; `None`
+/// when it is not numerically positive definite.
+fn dense_cholesky(s: &[Vec<Real>]) -> Option<Vec<Vec<Real>>> {
+    let r = s.len();
+    let mut l = vec![vec![0.0; r]; r];
+    for i in 0..r {
+        for j in 0..=i {
+            let mut v = s[i][j];
+            for k in 0..j {
+                v -= l[i][k] * l[j][k];
+            }
+            if i == j {
+                if !(v > 0.0) {
+                    return None;
+                }
+                l[i][i] = v.sqrt();
+            } else {
+                l[i][j] = v / l[j][j];
+            }
+        }
+    }
+    Some(l)
+}
+
+/// Solves `L Lᵀ y = b`.
+fn dense_solve(l: &[Vec<Real>], mut b: Vec<Real>) -> Vec<Real> {
+    let r = l.len();
+    for i in 0..r {
+        for k in 0..i {
+            b[i] -= l[i][k] * b[k];
+        }
+        b[i] /= l[i][i];
+    }
+    for i in (0..r).rev() {
+        for k in i + 1..r {
+            b[i] -= l[k][i] * b[k];
+        }
+        b[i] /= l[i][i];
+    }
+    b
+}
