@@ -4,6 +4,7 @@
 mod analyze;
 mod bench;
 mod ensemble;
+mod fragment;
 mod overrides;
 mod progress;
 mod render;
@@ -32,6 +33,8 @@ enum Command {
     Run(run::RunArgs),
     /// Analyse an existing bed file (packbed CSV, plain x y [z] r, LAMMPS dump, XYZ).
     Analyze(analyze::AnalyzeArgs),
+    /// Contact forces of a bed file under load, and the order its bonds break.
+    Fragment(fragment::FragmentArgs),
     /// Draw a bed file as a picture (PNG, or SVG in 2D).
     Render(render::RenderArgs),
     /// Build and analyse N replicate beds in parallel, with statistics.
@@ -54,6 +57,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run(args) => run::run(args),
         Command::Analyze(args) => analyze::analyze(args),
+        Command::Fragment(args) => fragment::fragment(args),
         Command::Render(args) => render::render(args),
         Command::Ensemble(args) => ensemble::ensemble(args),
         Command::Merge(args) => ensemble::merge(args),

@@ -119,4 +119,7 @@ pub use error::{Error, Result};
 pub use io::read::{read_bed, read_bed_report, BoxHint};
 pub use io::{AnalyzeSummary, RunSummary};
 pub use output::RunExtras;
-pub use pipeline::{analyze_file, check_box_hint, run_bed, AnalyzedBed, FinishedBed};
+pub use pipeline::{
+    analyze_file, check_box_hint, fragment_file, run_bed, AnalyzedBed, AnyFragmentation,
+    FinishedBed, FragmentedBed,
+};

@@ -9,8 +9,11 @@ use crate::config::{AnalysisConfig, Config};
 use crate::deposit::DepositReport;
 use crate::error::{Error, Result};
 use crate::io::read::{read_bed_report, BoxHint, ReadReport};
-use crate::io::summary::{AnalyzeSettings, AnalyzeTiming};
+use crate::io::summary::{
+    AnalyzeSettings, AnalyzeTiming, FragmentSettings, FragmentSummary, FragmentTiming,
+};
 use crate::io::{AnalyzeSummary, RunSummary, Timing};
+use crate::mechanics::{self, Fragmentation};
 use crate::output::RunExtras;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -164,6 +167,113 @@ impl AnalyzedBed {
             AnyBed::D3(b) => {
                 crate::output::write_analysis(dir, b, &self.contacts, &self.summary, extras)
             }
+        }
+    }
+}
+
+/// The fragmentation of either dimension.
+#[derive(Clone, Debug)]
+pub enum AnyFragmentation {
+    /// Of a 2D bed.
+    D2(Fragmentation<2>),
+    /// Of a 3D bed.
+    D3(Fragmentation<3>),
+}
+
+/// A bed read from a file, loaded and broken (`packbed fragment`).
+#[derive(Clone, Debug)]
+pub struct FragmentedBed {
+    /// The bed as read.
+    pub bed: AnyBed,
+    /// Forces, loads and breaks.
+    pub fragmentation: AnyFragmentation,
+    /// Everything its `summary.json` holds.
+    pub summary: FragmentSummary,
+}
+
+/// Reads the bed file at `path` (as [`analyze_file`] does), finds its contacts
+/// (`contact_tol` relative to the smaller radius), loads it and breaks its
+/// bonds as `options` say.
+pub fn fragment_file(
+    path: &Path,
+    hint: Option<&BoxHint>,
+    options: &mechanics::Options,
+    contact_tol: crate::math::Real,
+) -> Result<FragmentedBed> {
+    options.check()?;
+    if let Some(h) = hint {
+        check_box_hint(h).map_err(|e| e.within("box"))?;
+    }
+    let t = Instant::now();
+    let (bed, read) = read_bed_report(path, hint)?;
+    let read_seconds = t.elapsed().as_secs_f64();
+    let source = path.display().to_string();
+    let (fragmentation, summary) = match &bed {
+        AnyBed::D2(b) => {
+            let (f, s) = fragment_read(&source, b, &read, options, contact_tol, read_seconds)?;
+            (AnyFragmentation::D2(f), s)
+        }
+        AnyBed::D3(b) => {
+            let (f, s) = fragment_read(&source, b, &read, options, contact_tol, read_seconds)?;
+            (AnyFragmentation::D3(f), s)
+        }
+    };
+    Ok(FragmentedBed {
+        bed,
+        fragmentation,
+        summary,
+    })
+}
+
+fn fragment_read<const D: usize>(
+    source: &str,
+    bed: &Bed<D>,
+    read: &ReadReport,
+    options: &mechanics::Options,
+    contact_tol: crate::math::Real,
+    read_seconds: f64,
+) -> Result<(Fragmentation<D>, FragmentSummary)> {
+    let contacts = crate::analysis::find_contacts(bed, contact_tol);
+    let overlaps = crate::analysis::overlaps(bed, &contacts);
+    let frag = mechanics::fragment(bed, &contacts, options)?;
+    let timing = FragmentTiming {
+        read_seconds,
+        first_solve_seconds: frag.first_solve_seconds,
+        breakage_seconds: frag.breakage_seconds,
+    };
+    let settings = FragmentSettings {
+        load: options.load,
+        breaks: options.breaks.to_string(),
+        kt_over_kn: options.kt_over_kn,
+        contact_tol,
+    };
+    let summary = FragmentSummary::new(
+        source,
+        bed,
+        read,
+        &overlaps,
+        settings,
+        &frag.summary,
+        timing,
+    );
+    Ok((frag, summary))
+}
+
+impl FragmentedBed {
+    /// Writes `bonds.csv`, `breakage.csv`, the pictures (with `pictures`) and
+    /// `summary.json` into `dir`, atomically.
+    pub fn write(&self, dir: &Path, pictures: bool) -> Result<Vec<PathBuf>> {
+        match (&self.bed, &self.fragmentation) {
+            (AnyBed::D2(b), AnyFragmentation::D2(f)) => {
+                crate::output::write_fragmentation(dir, b, f, &self.summary, pictures)
+            }
+            (AnyBed::D3(b), AnyFragmentation::D3(f)) => {
+                crate::output::write_fragmentation(dir, b, f, &self.summary, pictures)
+            }
+            _ => Err(Error::Impossible(
+                "a bed and its fragmentation of different dimensions (please report this bug)"
+                    .into(),
+            )),
         }
     }
 }

@@ -11,6 +11,7 @@ use crate::deposit::DepositReport;
 use crate::error::{Error, Result};
 use crate::io::read::ReadReport;
 use crate::math::Real;
+use crate::mechanics::FragmentationSummary;
 use crate::species::Shape;
 use serde::Serialize;
 
@@ -95,6 +96,20 @@ pub struct BoxSummary {
     pub source: Option<&'static str>,
 }
 
+impl BoxSummary {
+    /// The box of `bed`; `source` says where an analysed file's box came from.
+    pub fn of<const D: usize>(bed: &Bed<D>, source: Option<&'static str>) -> Self {
+        let size = bed.container.size;
+        BoxSummary {
+            width: size[0],
+            depth: (D == 3).then(|| size[1]),
+            height: size[D - 1],
+            periodic: bed.container.periodic,
+            source,
+        }
+    }
+}
+
 /// `counts.*`.
 #[derive(Clone, Debug, Serialize)]
 pub struct Counts {
@@ -152,19 +167,12 @@ impl RunSummary {
         analysis: &Summary,
         timing: Timing,
     ) -> RunSummary {
-        let size = bed.container.size;
         RunSummary {
             packbed_version: env!("CARGO_PKG_VERSION"),
             dim: D as u8,
             seed: config.seed,
             mode: config.mode,
-            container: BoxSummary {
-                width: size[0],
-                depth: (D == 3).then(|| size[1]),
-                height: size[D - 1],
-                periodic: bed.container.periodic,
-                source: None,
-            },
+            container: BoxSummary::of(bed, None),
             counts: Counts {
                 particles: bed.len() as u64,
                 bodies: bed.body_count() as u64,
@@ -273,18 +281,11 @@ impl AnalyzeSummary {
         analysis: &Summary,
         timing: AnalyzeTiming,
     ) -> AnalyzeSummary {
-        let size = bed.container.size;
         AnalyzeSummary {
             packbed_version: env!("CARGO_PKG_VERSION"),
             source: source.to_string(),
             dim: D as u8,
-            container: BoxSummary {
-                width: size[0],
-                depth: (D == 3).then(|| size[1]),
-                height: size[D - 1],
-                periodic: bed.container.periodic,
-                source: Some(read.box_source.name()),
-            },
+            container: BoxSummary::of(bed, Some(read.box_source.name())),
             counts: AnalyzeCounts {
                 particles: bed.len() as u64,
                 bodies: bed.body_count() as u64,
@@ -432,5 +433,99 @@ mod tests {
         );
         let e = s.to_json().unwrap_err().to_string();
         assert!(e.contains("coordination.mean_bulk"), "{e}");
+    }
+}
+
+/// `summary.json` of `packbed fragment`: the bed file, its box and counts, the
+/// settings, and `fragmentation.*`.
+#[derive(Clone, Debug, Serialize)]
+pub struct FragmentSummary {
+    /// Version of packbed that wrote the file.
+    pub packbed_version: &'static str,
+    /// The bed file.
+    pub source: String,
+    /// 2 or 3.
+    pub dim: u8,
+    /// The container.
+    #[serde(rename = "box")]
+    pub container: BoxSummary,
+    /// Particle counts.
+    pub counts: AnalyzeCounts,
+    /// The settings of the fragmentation.
+    pub settings: FragmentSettings,
+    /// What the checks of the input found.
+    pub checks: Checks,
+    /// The forces and the breakage.
+    pub fragmentation: FragmentationSummary,
+    /// Wall times.
+    pub timing: FragmentTiming,
+}
+
+/// `settings.*` of `packbed fragment`.
+#[derive(Clone, Debug, Serialize)]
+pub struct FragmentSettings {
+    /// The load.
+    pub load: crate::mechanics::Load,
+    /// Breaks asked for: a number, or `"failure"`.
+    pub breaks: String,
+    /// `k_t / k_n`.
+    pub kt_over_kn: Real,
+    /// Contact tolerance relative to the smaller radius (bonds are contacts).
+    pub contact_tol: Real,
+}
+
+/// `timing.*` of `packbed fragment`, seconds of wall time.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct FragmentTiming {
+    /// Reading the bed file.
+    pub read_seconds: f64,
+    /// Contacts, network, loads and the first solve.
+    pub first_solve_seconds: f64,
+    /// The breaks after it.
+    pub breakage_seconds: f64,
+}
+
+impl FragmentSummary {
+    /// Gathers the summary of a fragmented bed file.
+    pub fn new<const D: usize>(
+        source: &str,
+        bed: &Bed<D>,
+        read: &ReadReport,
+        overlaps: &Overlaps,
+        settings: FragmentSettings,
+        fragmentation: &FragmentationSummary,
+        timing: FragmentTiming,
+    ) -> FragmentSummary {
+        FragmentSummary {
+            packbed_version: env!("CARGO_PKG_VERSION"),
+            source: source.to_string(),
+            dim: D as u8,
+            container: BoxSummary::of(bed, Some(read.box_source.name())),
+            counts: AnalyzeCounts {
+                particles: bed.len() as u64,
+                bodies: bed.body_count() as u64,
+            },
+            settings,
+            checks: Checks {
+                overlapping_pairs: overlaps.overlapping_pairs,
+                max_overlap: overlaps.max_overlap,
+                wrapped_centres: read.wrapped,
+            },
+            fragmentation: fragmentation.clone(),
+            timing,
+        }
+    }
+
+    /// The JSON text, refused if any number in it is NaN or infinite.
+    pub fn to_json(&self) -> Result<String> {
+        if let Some(key) = super::finite::first_non_finite(self) {
+            return Err(Error::Impossible(format!(
+                "summary.json: `{key}` is not a finite number; the results are unusable (please report this bug)"
+            )));
+        }
+        let mut text = serde_json::to_string_pretty(self)
+            .map_err(|e| Error::Impossible(format!("summary.json: {e}")))?;
+        text.push('\n');
+        Ok(text)
     }
 }

@@ -2,7 +2,7 @@
 //! bodies, where their shares act, and how a group's total is shared again
 //! when one of its bodies loses its last bond.
 
-use super::network::{BondGeometry, Bodies};
+use super::network::{Bodies, BondGeometry};
 use super::spring::{self, body_dofs};
 use super::Load;
 use crate::bed::Bed;

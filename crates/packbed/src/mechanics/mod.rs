@@ -17,7 +17,7 @@ use crate::bed::Bed;
 use crate::error::{Error, Result};
 use crate::math::{Real, Vector};
 pub use loads::{AppliedLoad, TOTAL};
-pub use network::{BondGeometry, Bodies};
+pub use network::{Bodies, BondGeometry};
 use serde::{Deserialize, Serialize};
 use spring::body_dofs;
 
@@ -194,6 +194,10 @@ pub struct Fragmentation<const D: usize> {
     pub summary: FragmentationSummary,
     /// Numeric factorisations done (the first included).
     pub factorisations: usize,
+    /// Wall time of the network, the loads and the first solve.
+    pub first_solve_seconds: f64,
+    /// Wall time of the breaks.
+    pub breakage_seconds: f64,
 }
 
 impl<const D: usize> Fragmentation<D> {
@@ -220,6 +224,7 @@ pub fn fragment<const D: usize>(
     options: &Options,
 ) -> Result<Fragmentation<D>> {
     options.check()?;
+    let start = std::time::Instant::now();
     let bodies = Bodies::of(bed);
     let bonds = network::bonds(bed, &bodies, contacts);
     if bonds.is_empty() {
@@ -252,6 +257,8 @@ pub fn fragment<const D: usize>(
     let forces = bond_forces(&bonds, &vec![true; bonds.len()], &u, springs);
     let magnitudes: Vec<Real> = forces.iter().map(|f| f.norm()).collect();
     let unstable = unstable_bodies::<D>(&u, system.ground(), &bodies.reach);
+    let first_solve_seconds = start.elapsed().as_secs_f64();
+    let start = std::time::Instant::now();
 
     let mut alive = vec![true; bonds.len()];
     let mut current = magnitudes.clone();
@@ -322,6 +329,8 @@ pub fn fragment<const D: usize>(
     };
     Ok(Fragmentation {
         factorisations: system.factorisations,
+        first_solve_seconds,
+        breakage_seconds: start.elapsed().as_secs_f64(),
         ground: system.ground().to_vec(),
         bodies,
         bonds,

@@ -193,3 +193,50 @@ pub(crate) fn no_pictures() -> Error {
             .into(),
     )
 }
+
+/// Names of the tables [`write_fragmentation`] writes (pictures aside).
+pub const FRAGMENT_FILES: [&str; 3] = ["bonds.csv", "breakage.csv", "summary.json"];
+
+/// Writes the files of `packbed fragment` into `dir`, atomically: the bond
+/// and breakage tables, the force and breakage pictures (with `pictures`),
+/// and last `summary.json`.
+pub fn write_fragmentation<const D: usize>(
+    dir: &Path,
+    bed: &Bed<D>,
+    frag: &crate::mechanics::Fragmentation<D>,
+    summary: &crate::io::summary::FragmentSummary,
+    pictures: bool,
+) -> Result<Vec<PathBuf>> {
+    let json = summary.to_json()?;
+    let files = fragmentation_pictures(bed, frag, pictures)?;
+    let mut out = Staging::new(dir)?;
+    out.stage(FRAGMENT_FILES[0], |w| {
+        crate::io::fragmentation::write_bonds(w, frag)
+    })?;
+    out.stage(FRAGMENT_FILES[1], |w| {
+        crate::io::fragmentation::write_breakage(w, frag)
+    })?;
+    for (name, bytes) in &files {
+        out.stage(name, |w| w.write_all(bytes))?;
+    }
+    out.stage(FRAGMENT_FILES[2], |w| w.write_all(json.as_bytes()))?;
+    out.commit()
+}
+
+#[cfg(feature = "render")]
+fn fragmentation_pictures<const D: usize>(
+    _bed: &Bed<D>,
+    _frag: &crate::mechanics::Fragmentation<D>,
+    _pictures: bool,
+) -> Result<Vec<(String, Vec<u8>)>> {
+    Ok(Vec::new())
+}
+
+#[cfg(not(feature = "render"))]
+fn fragmentation_pictures<const D: usize>(
+    _bed: &Bed<D>,
+    _frag: &crate::mechanics::Fragmentation<D>,
+    _pictures: bool,
+) -> Result<Vec<(String, Vec<u8>)>> {
+    Ok(Vec::new())
+}

@@ -365,3 +365,48 @@ mod tests {
         }
     }
 }
+
+/// The short report of `packbed fragment`.
+pub fn fragment_text(
+    s: &crate::io::summary::FragmentSummary,
+    out: &Path,
+    files: &[PathBuf],
+) -> String {
+    let mut t = String::new();
+    let b = &s.container;
+    let f = &s.fragmentation;
+    let _ = writeln!(
+        t,
+        "packbed: {} ({}D, {}, {} box, {}) under {} (k_t/k_n {})",
+        s.source,
+        s.dim,
+        count(s.counts.bodies, "body", "bodies"),
+        box_size(b),
+        sides(b),
+        f.load.name(),
+        s.settings.kt_over_kn
+    );
+    let _ = writeln!(
+        t,
+        "  bonds: {}, force max {:.4} mean {:.4} cv {:.3} (total load 1); unstable bodies {}",
+        f.bonds, f.max_force, f.mean_force, f.force_cv, f.unstable_bodies
+    );
+    let failure = match f.breaks_to_failure {
+        Some(n) => format!("failed after {}", count(n, "break", "breaks")),
+        None => "not failed".to_string(),
+    };
+    let _ = writeln!(
+        t,
+        "  breakage: {} ({failure}); {} at the end, the largest of {}",
+        count(f.breaks, "bond broken", "bonds broken"),
+        count(f.fragments, "fragment", "fragments"),
+        count(f.largest_fragment, "body", "bodies")
+    );
+    let _ = writeln!(
+        t,
+        "  time: read {:.3} s, first solve {:.3} s, breaks {:.3} s",
+        s.timing.read_seconds, s.timing.first_solve_seconds, s.timing.breakage_seconds
+    );
+    let _ = writeln!(t, "  files in {}: {}", out.display(), file_names(files));
+    t
+}
