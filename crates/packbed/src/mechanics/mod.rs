@@ -9,6 +9,7 @@
 
 pub mod loads;
 pub mod network;
+pub mod ordering;
 pub mod solver;
 pub mod spring;
 
@@ -252,7 +253,7 @@ pub fn fragment<const D: usize>(
     let loads = load_groups
         .current(&bonded(&bond_count))
         .ok_or_else(|| Error::Impossible("the loaded bodies have no bonds".into()))?;
-    let mut system = solver::Solver::new(&bonds, &bodies.reach, springs)?;
+    let mut system = solver::Solver::new(&bonds, &bodies.reference, &bodies.reach, springs)?;
     let u = system.solve(&loads::load_vector(&loads, nb))?;
     let forces = bond_forces(&bonds, &vec![true; bonds.len()], &u, springs);
     let magnitudes: Vec<Real> = forces.iter().map(|f| f.norm()).collect();
