@@ -138,14 +138,6 @@ impl<'a, const D: usize> Solver<'a, D> {
             Default::default(),
         )
         .map_err(|_| internal("ordered"))?;
-        if std::env::var_os("PACKBED_DEBUG_SOLVER").is_some() {
-            eprintln!(
-                "symbolic {:.3} s, L nnz {}, n {}",
-                t.elapsed().as_secs_f64(),
-                symbolic.len_val(),
-                n
-            );
-        }
         let mut solver = Solver {
             bonds,
             springs,
@@ -209,9 +201,6 @@ impl<'a, const D: usize> Solver<'a, D> {
         self.s_factor = None;
         self.base = None;
         self.factorisations += 1;
-        if std::env::var_os("PACKBED_DEBUG_SOLVER").is_some() {
-            eprintln!("numeric {:.3} s", t.elapsed().as_secs_f64());
-        }
         Ok(())
     }
 
@@ -225,9 +214,6 @@ impl<'a, const D: usize> Solver<'a, D> {
             self.par,
             MemStack::new(&mut mem),
         );
-        if std::env::var_os("PACKBED_DEBUG_SOLVER").is_some() {
-            eprintln!("solve {cols}: {:.3} s", t.elapsed().as_secs_f64());
-        }
     }
 
     /// Removes bond `k` from the matrix.
@@ -378,9 +364,6 @@ impl<'a, const D: usize> Solver<'a, D> {
                 best = (norm, x.clone());
             }
             if norm <= TOLERANCE * scale {
-                if std::env::var_os("PACKBED_DEBUG_SOLVER").is_some() {
-                    eprintln!("pcg converged, rank {}", self.removed.len());
-                }
                 return Some(x);
             }
             z = self.precondition(&r);
