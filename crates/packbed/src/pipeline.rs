@@ -35,8 +35,8 @@ pub fn run_bed(config: &Config, progress: &mut dyn FnMut(u64)) -> Result<Finishe
     let start = Instant::now();
     let (bed, deposit) = crate::deposit::build(config, progress)?;
     let (contacts, summary) = match &bed {
-        AnyBed::D2(b) => analyse(config, b, &deposit, start),
-        AnyBed::D3(b) => analyse(config, b, &deposit, start),
+        AnyBed::D2(b) => analyse(config, b, &deposit, start)?,
+        AnyBed::D3(b) => analyse(config, b, &deposit, start)?,
     };
     Ok(FinishedBed {
         bed,
@@ -50,16 +50,21 @@ fn analyse<const D: usize>(
     bed: &Bed<D>,
     deposit: &DepositReport,
     start: Instant,
-) -> (Contacts, RunSummary) {
+) -> Result<(Contacts, RunSummary)> {
     let t = Instant::now();
     let (contacts, analysis) = crate::analysis::analyze_with(bed, &config.analysis.options());
+    let fragmentation = match &config.fragmentation {
+        Some(options) => Some(mechanics::fragment(bed, &contacts, options)?.summary),
+        None => None,
+    };
     let timing = Timing {
         deposit_seconds: deposit.deposit_seconds,
         analysis_seconds: t.elapsed().as_secs_f64(),
         total_seconds: start.elapsed().as_secs_f64(),
     };
-    let summary = RunSummary::new(config, bed, deposit, &analysis, timing);
-    (contacts, summary)
+    let mut summary = RunSummary::new(config, bed, deposit, &analysis, timing);
+    summary.fragmentation = fragmentation;
+    Ok((contacts, summary))
 }
 
 impl FinishedBed {

@@ -2,6 +2,7 @@
 //! keys are errors) and its validation into a [`Plan`] the engine can run.
 
 mod edit;
+pub mod fragmentation;
 
 pub(crate) use edit::species_parameter;
 pub use edit::{parse_numbers, BoxSpec, Edit, Overrides, SWEEP_PARAMETERS};
@@ -60,6 +61,9 @@ pub struct Config {
     /// Analysis settings.
     #[serde(default)]
     pub analysis: AnalysisConfig,
+    /// Load and break every bed (`fragmentation.*` in its summary).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fragmentation: Option<fragmentation::FragmentationConfig>,
     /// Defaults of `packbed ensemble` (the replicate count); ignored by `run`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ensemble: Option<EnsembleConfig>,
@@ -476,6 +480,7 @@ impl Default for Config {
             fill: FillConfig::default(),
             species: default_species(),
             analysis: AnalysisConfig::default(),
+            fragmentation: None,
             ensemble: None,
             sweep: None,
         }
@@ -904,6 +909,9 @@ impl Config {
             }
         }
         self.analysis.check()?;
+        if let Some(f) = &self.fragmentation {
+            f.check()?;
+        }
         let tol = self.analysis.contact_tol;
         let large_radius = self.analysis.large_radius.unwrap_or(r_max);
         Ok(Plan {

@@ -69,6 +69,9 @@ pub struct RunSummary {
     /// Every measure of the analysis (`packing.*`, `coordination.*`, …).
     #[serde(flatten)]
     pub analysis: Summary,
+    /// Forces and breakage under load (with a `[fragmentation]` table).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fragmentation: Option<FragmentationSummary>,
     /// Wall times.
     pub timing: Timing,
     /// The species, in config order (the `species` column of `particles.csv`).
@@ -182,6 +185,7 @@ impl RunSummary {
                 roof_overflows: report.roof_overflows,
             },
             analysis: analysis.clone(),
+            fragmentation: None,
             timing,
             species: species_summaries(bed),
             config: config_as_used(config),

@@ -15,122 +15,13 @@ pub mod spring;
 
 use crate::analysis::Contacts;
 use crate::bed::Bed;
+pub use crate::config::fragmentation::{Breaks, FragmentationConfig as Options, Load};
 use crate::error::{Error, Result};
 use crate::math::{Real, Vector};
 pub use loads::{AppliedLoad, TOTAL};
 pub use network::{Bodies, BondGeometry};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 use spring::body_dofs;
-
-/// Which load the bed carries.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Load {
-    /// `+F x̂` on the top bodies, `−F x̂` on the bottom bodies (the study's).
-    #[default]
-    Shear,
-    /// `−F ẑ` on the top bodies; the floor reacts.
-    Compression,
-    /// Each body's weight, by solid volume, summing to F.
-    Gravity,
-}
-
-impl Load {
-    /// The name used in configs, options and `summary.json`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Load::Shear => "shear",
-            Load::Compression => "compression",
-            Load::Gravity => "gravity",
-        }
-    }
-}
-
-impl std::str::FromStr for Load {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        match s {
-            "shear" => Ok(Load::Shear),
-            "compression" => Ok(Load::Compression),
-            "gravity" => Ok(Load::Gravity),
-            _ => Err(Error::config(format!(
-                "unknown load {s:?}: give shear, compression or gravity"
-            ))),
-        }
-    }
-}
-
-/// How many bonds to break.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Breaks {
-    /// Exactly this many (fewer if the bonds run out).
-    Count(u64),
-    /// Until the bed fails.
-    #[default]
-    Failure,
-}
-
-impl std::str::FromStr for Breaks {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        if s == "failure" {
-            return Ok(Breaks::Failure);
-        }
-        match s.parse::<u64>() {
-            Ok(0) => Err(Error::config("breaks must be at least 1 (or \"failure\")")),
-            Ok(n) => Ok(Breaks::Count(n)),
-            Err(_) => Err(Error::config(format!(
-                "breaks must be a whole number of at least 1 or \"failure\", got {s:?}"
-            ))),
-        }
-    }
-}
-
-impl std::fmt::Display for Breaks {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Breaks::Count(n) => write!(f, "{n}"),
-            Breaks::Failure => f.write_str("failure"),
-        }
-    }
-}
-
-/// Settings of a fragmentation.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Options {
-    /// The load.
-    pub load: Load,
-    /// How many bonds to break.
-    pub breaks: Breaks,
-    /// `k_t / k_n` (`k_n = 1`).
-    pub kt_over_kn: Real,
-}
-
-impl Default for Options {
-    fn default() -> Self {
-        Options {
-            load: Load::Shear,
-            breaks: Breaks::Failure,
-            kt_over_kn: 1.0,
-        }
-    }
-}
-
-impl Options {
-    /// Refuses settings no bed can be broken with.
-    pub fn check(&self) -> Result<()> {
-        if let Breaks::Count(0) = self.breaks {
-            return Err(Error::config("breaks must be at least 1 (or \"failure\")"));
-        }
-        if !(self.kt_over_kn.is_finite() && self.kt_over_kn >= 0.0) {
-            return Err(Error::config(format!(
-                "kt_over_kn must be a number >= 0, got {}",
-                self.kt_over_kn
-            )));
-        }
-        Ok(())
-    }
-}
 
 /// One broken bond.
 #[derive(Clone, Copy, Debug, PartialEq)]
