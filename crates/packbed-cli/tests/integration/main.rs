@@ -7,4 +7,5 @@ mod common;
 mod commands;
 mod ensemble;
 mod files;
+mod fragment;
 mod render;
