@@ -17,7 +17,7 @@ use crate::bed::Bed;
 use crate::error::{Error, Result};
 use crate::math::{Real, Vector};
 pub use loads::{AppliedLoad, TOTAL};
-pub use network::{BondGeometry, Bodies};
+pub use network::{Bodies, BondGeometry};
 use serde::{Deserialize, Serialize};
 use spring::body_dofs;
 
@@ -266,13 +266,9 @@ pub fn fragment<const D: usize>(
             _ => {}
         }
         // The strongest bond; the first listed wins a tie.
-        let mut pick: Option<usize> = None;
-        for k in (0..bonds.len()).filter(|&k| alive[k]) {
-            if pick.is_none_or(|p| current[k] > current[p]) {
-                pick = Some(k);
-            }
-        }
-        let Some(k) = pick else { break };
+        let Some(k) = strongest(&current, &alive) else {
+            break;
+        };
         let magnitude = current[k];
         alive[k] = false;
         bond_count[bonds[k].i as usize] -= 1;
@@ -331,6 +327,21 @@ pub fn fragment<const D: usize>(
         steps,
         summary,
     })
+}
+
+/// Relative difference below which two magnitudes tie: the solve's rounding
+/// (and the ground springs' ~1e-9) are below it, so bonds that carry the same
+/// force by symmetry tie however the arithmetic rounded them.
+pub const TIE: Real = 1e-9;
+
+/// The alive bond with the largest magnitude, the first listed of those
+/// within [`TIE`] of it (`None` when no bond is left).
+fn strongest(magnitudes: &[Real], alive: &[bool]) -> Option<usize> {
+    let top = (0..magnitudes.len())
+        .filter(|&k| alive[k])
+        .map(|k| magnitudes[k])
+        .reduce(Real::max)?;
+    (0..magnitudes.len()).find(|&k| alive[k] && magnitudes[k] >= top * (1.0 - TIE))
 }
 
 fn mean(v: &[Real]) -> Real {
@@ -465,4 +476,19 @@ fn failure<const D: usize>(
         .iter()
         .filter(|l| l.force.norm() > 0.0)
         .any(|l| !supported[p.root(l.body as usize)])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ties_to_rounding_go_to_the_first_listed() {
+        let alive = [true, true, true, false];
+        // Bonds 0 and 2 carry the same force by symmetry, rounded apart.
+        let m = [0.5, 0.25, 0.5 + 1e-15, 0.9];
+        assert_eq!(strongest(&m, &alive), Some(0));
+        assert_eq!(strongest(&[0.5, 0.25, 0.5 + 1e-6, 0.9], &alive), Some(2));
+        assert_eq!(strongest(&m, &[false; 4]), None);
+    }
 }
