@@ -2,7 +2,7 @@
 //! bodies, where their shares act, and how a group's total is shared again
 //! when one of its bodies loses its last bond.
 
-use super::network::{BondGeometry, Bodies};
+use super::network::{Bodies, BondGeometry};
 use super::spring::{self, body_dofs};
 use super::Load;
 use crate::bed::Bed;
@@ -177,7 +177,7 @@ impl<const D: usize> Loads<D> {
                 .filter(|(m, _)| bonded[m.body as usize])
                 .map(|(_, w)| w)
                 .sum();
-            if !(weight > 0.0) {
+            if weight.is_nan() || weight <= 0.0 {
                 return None;
             }
             for (m, w) in g.members.iter().zip(&g.weights) {

@@ -354,7 +354,7 @@ fn mean(v: &[Real]) -> Real {
 
 fn cv(v: &[Real]) -> Real {
     let mu = mean(v);
-    if !(mu > 0.0) {
+    if mu.is_nan() || mu <= 0.0 {
         return 0.0;
     }
     let var = v.iter().map(|x| (x - mu) * (x - mu)).sum::<Real>() / v.len() as Real;

@@ -96,11 +96,7 @@ fn internal(what: &str) -> Error {
 impl<'a, const D: usize> Solver<'a, D> {
     /// Assembles the matrix of `bonds` over `bodies` bodies with ground
     /// springs (`reach`: each body's `ρ_b`) and factors it.
-    pub fn new(
-        bonds: &'a [BondGeometry<D>],
-        reach: &[Real],
-        springs: Springs,
-    ) -> Result<Self> {
+    pub fn new(bonds: &'a [BondGeometry<D>], reach: &[Real], springs: Springs) -> Result<Self> {
         let m = body_dofs(D);
         let n = reach.len() * m;
         let mut ground = vec![0.0; n];
@@ -441,10 +437,16 @@ fn values<const D: usize>(
         let scale = if on { 1.0 } else { 0.0 };
         let i = g.i as usize;
         sink.clear();
-        lower_block(&mut sink, i, i, m, |(a, c)| out.push(scale * blocks[0][a][c]));
+        lower_block(&mut sink, i, i, m, |(a, c)| {
+            out.push(scale * blocks[0][a][c])
+        });
         if let Some(j) = g.j.map(|j| j as usize) {
-            lower_block(&mut sink, j, j, m, |(a, c)| out.push(scale * blocks[2][a][c]));
-            lower_block(&mut sink, i, j, m, |(a, c)| out.push(scale * blocks[1][a][c]));
+            lower_block(&mut sink, j, j, m, |(a, c)| {
+                out.push(scale * blocks[2][a][c])
+            });
+            lower_block(&mut sink, i, j, m, |(a, c)| {
+                out.push(scale * blocks[1][a][c])
+            });
         }
     }
     out
@@ -462,7 +464,7 @@ fn dense_cholesky(s: &[Vec<Real>]) -> Option<Vec<Vec<Real>>> {
                 v -= l[i][k] * l[j][k];
             }
             if i == j {
-                if !(v > 0.0) {
+                if v.is_nan() || v <= 0.0 {
                     return None;
                 }
                 l[i][i] = v.sqrt();

@@ -117,10 +117,7 @@ pub fn bond_force<const D: usize>(
 
 /// The stiffness blocks of a bond: `(K_ii, K_ij, K_jj)` of `M × M` with
 /// `K_ii = B_iᵀ K B_i`, `K_ij = −B_iᵀ K B_j`, `K_jj = B_jᵀ K B_j`.
-pub fn blocks<const D: usize>(
-    g: &BondGeometry<D>,
-    k: &[[Real; 3]; 3],
-) -> [[[Real; 6]; 6]; 3] {
+pub fn blocks<const D: usize>(g: &BondGeometry<D>, k: &[[Real; 3]; 3]) -> [[[Real; 6]; 6]; 3] {
     let m = body_dofs(D);
     let bi = motion::<D>(&g.arm_i);
     let bj = motion::<D>(&g.arm_j);
@@ -193,7 +190,10 @@ mod tests {
     #[test]
     fn root_squares_to_the_stiffness() {
         let n = Vector([0.6, 0.0, 0.8]);
-        let (k, c) = (stiffness::<3>(&n, 2.0, 0.5), stiffness_root::<3>(&n, 2.0, 0.5));
+        let (k, c) = (
+            stiffness::<3>(&n, 2.0, 0.5),
+            stiffness_root::<3>(&n, 2.0, 0.5),
+        );
         for r in 0..3 {
             for s in 0..3 {
                 let cc: Real = (0..3).map(|t| c[r][t] * c[t][s]).sum();
