@@ -177,7 +177,7 @@ impl<const D: usize> Loads<D> {
                 .filter(|(m, _)| bonded[m.body as usize])
                 .map(|(_, w)| w)
                 .sum();
-            if !(weight > 0.0) {
+            if weight.is_nan() || weight <= 0.0 {
                 return None;
             }
             for (m, w) in g.members.iter().zip(&g.weights) {

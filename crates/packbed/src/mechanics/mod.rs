@@ -165,13 +165,9 @@ pub fn fragment<const D: usize>(
             _ => {}
         }
         // The strongest bond; the first listed wins a tie.
-        let mut pick: Option<usize> = None;
-        for k in (0..bonds.len()).filter(|&k| alive[k]) {
-            if pick.is_none_or(|p| current[k] > current[p]) {
-                pick = Some(k);
-            }
-        }
-        let Some(k) = pick else { break };
+        let Some(k) = strongest(&current, &alive) else {
+            break;
+        };
         let magnitude = current[k];
         alive[k] = false;
         bond_count[bonds[k].i as usize] -= 1;
@@ -234,6 +230,21 @@ pub fn fragment<const D: usize>(
     })
 }
 
+/// Relative difference below which two magnitudes tie: the solve's rounding
+/// (and the ground springs' ~1e-9) are below it, so bonds that carry the same
+/// force by symmetry tie however the arithmetic rounded them.
+pub const TIE: Real = 1e-9;
+
+/// The alive bond with the largest magnitude, the first listed of those
+/// within [`TIE`] of it (`None` when no bond is left).
+fn strongest(magnitudes: &[Real], alive: &[bool]) -> Option<usize> {
+    let top = (0..magnitudes.len())
+        .filter(|&k| alive[k])
+        .map(|k| magnitudes[k])
+        .reduce(Real::max)?;
+    (0..magnitudes.len()).find(|&k| alive[k] && magnitudes[k] >= top * (1.0 - TIE))
+}
+
 fn mean(v: &[Real]) -> Real {
     if v.is_empty() {
         0.0
@@ -244,7 +255,7 @@ fn mean(v: &[Real]) -> Real {
 
 fn cv(v: &[Real]) -> Real {
     let mu = mean(v);
-    if !(mu > 0.0) {
+    if mu.is_nan() || mu <= 0.0 {
         return 0.0;
     }
     let var = v.iter().map(|x| (x - mu) * (x - mu)).sum::<Real>() / v.len() as Real;
@@ -366,4 +377,19 @@ fn failure<const D: usize>(
         .iter()
         .filter(|l| l.force.norm() > 0.0)
         .any(|l| !supported[p.root(l.body as usize)])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ties_to_rounding_go_to_the_first_listed() {
+        let alive = [true, true, true, false];
+        // Bonds 0 and 2 carry the same force by symmetry, rounded apart.
+        let m = [0.5, 0.25, 0.5 + 1e-15, 0.9];
+        assert_eq!(strongest(&m, &alive), Some(0));
+        assert_eq!(strongest(&[0.5, 0.25, 0.5 + 1e-6, 0.9], &alive), Some(2));
+        assert_eq!(strongest(&m, &[false; 4]), None);
+    }
 }
