@@ -10,6 +10,7 @@ mod chains;
 mod ensemble;
 mod length_scale;
 mod physics;
+#[cfg(feature = "render")]
 mod render;
 mod rsa;
 mod sizes;
