@@ -22,7 +22,7 @@ pub enum Color {
     Chains,
     /// Height of the centre.
     Height,
-    /// Contact forces (not computed by packbed yet: refused with the reason).
+    /// Largest contact force on each body under the default shear load.
     Force,
 }
 
@@ -65,7 +65,7 @@ pub struct RenderArgs {
     /// The box given with --box has periodic sides.
     #[arg(long)]
     pub periodic: bool,
-    /// Contact tolerance relative to the smaller radius (coordination, network, chains).
+    /// Contact tolerance relative to the smaller radius (coordination, network, chains, force).
     #[arg(long, default_value_t = 1e-6)]
     pub contact_tol: f64,
     /// Radius from which particles count as large (chains); default the largest.
@@ -137,9 +137,7 @@ pub fn render(args: RenderArgs) -> Result<()> {
         Color::Species => ColorBy::Species,
         Color::Contacts | Color::Coordination => ColorBy::Coordination,
         Color::Height => ColorBy::Height,
-        Color::Force => bail!(
-            "--color force: packbed does not compute contact forces yet (use species, contacts, coordination, chains or height)"
-        ),
+        Color::Force => ColorBy::Force,
         Color::Chains => ColorBy::Classes(match &bed {
             AnyBed::D2(b) => chains(b, &args)?,
             AnyBed::D3(b) => chains(b, &args)?,

@@ -105,6 +105,22 @@ fn run_writes_pictures_plots_and_exports_that_render_reads() {
     );
     let k = std::fs::read_to_string(d.join("k.svg")).unwrap();
     assert!(k.contains("wall-to-wall chain"));
+    // Contact forces under shear: one disc per particle, a continuous legend.
+    ok(
+        d,
+        &[
+            "render",
+            "r/particles.csv",
+            "--out",
+            "f.svg",
+            "--color",
+            "force",
+        ],
+    );
+    let f = std::fs::read_to_string(d.join("f.svg")).unwrap();
+    assert!(f.contains(">largest bond force (shear)<"));
+    assert_eq!(f.matches("class=\"particle\"").count(), rows);
+    assert!(!f.contains("NaN"));
     ok(d, &["render", "r/bed.xyz"]);
     assert!(d.join("r/bed.png").is_file());
 }
@@ -161,12 +177,27 @@ fn render_3d_views_and_cuts() {
         png_size(&std::fs::read(d.join("s.png")).unwrap()),
         (1200, 1000)
     );
+    // Contact forces under shear colour the spheres (no longer refused).
+    ok(
+        d,
+        &[
+            "render",
+            "r/particles.csv",
+            "--out",
+            "f.png",
+            "--color",
+            "force",
+        ],
+    );
+    assert_eq!(
+        png_size(&std::fs::read(d.join("f.png")).unwrap()),
+        (1200, 1000)
+    );
     // Bad views, cuts, colours and formats: the output file first, then options.
     for (tail, needles) in [
         (&["x.svg"][..], &["SVG", "2D"][..]),
         (&["x.png", "--cut", "w:1:2"][..], &["--cut"][..]),
         (&["x.png", "--view", "0,100"][..], &["elevation"][..]),
-        (&["x.png", "--color", "force"][..], &["force"][..]),
         (&["x.jpg"][..], &[".png or .svg"][..]),
         (&["x.png", "--width", "5"][..], &["width"][..]),
     ] {

@@ -153,6 +153,11 @@ pub trait Canvas {
     fn circle(&mut self, cx: f64, cy: f64, r: f64, style: Style, class: &str);
     /// An open polyline.
     fn polyline(&mut self, points: &[(f64, f64)], color: Rgb, width: f64);
+    /// An open polyline that SVG names by `class` (tests and scripts find bonds
+    /// by it); the same as [`Canvas::polyline`] elsewhere.
+    fn polyline_class(&mut self, points: &[(f64, f64)], color: Rgb, width: f64, _class: &str) {
+        self.polyline(points, color, width);
+    }
     /// One line of text; `(x, y)` is the anchor on the baseline.
     fn text(&mut self, x: f64, y: f64, text: &str, style: TextStyle);
 
@@ -239,6 +244,21 @@ impl SvgCanvas {
         )
     }
 
+    /// A `<polyline>` with extra attributes `attrs` (empty, or starting with a space).
+    fn write_polyline(&mut self, points: &[(f64, f64)], color: Rgb, width: f64, attrs: &str) {
+        let wd = self.world.is_some();
+        let pts: Vec<String> = points
+            .iter()
+            .map(|&(x, y)| format!("{},{}", fmt_coord(x, wd), fmt_coord(y, wd)))
+            .collect();
+        let _ = writeln!(
+            self.body,
+            r#"<polyline{attrs} points="{}"{} stroke-linejoin="round"/>"#,
+            pts.join(" "),
+            self.style_attrs(Style::stroke(color, width))
+        );
+    }
+
     fn style_attrs(&self, style: Style) -> String {
         let mut s = String::new();
         match style.fill {
@@ -320,17 +340,12 @@ impl Canvas for SvgCanvas {
     }
 
     fn polyline(&mut self, points: &[(f64, f64)], color: Rgb, width: f64) {
-        let wd = self.world.is_some();
-        let pts: Vec<String> = points
-            .iter()
-            .map(|&(x, y)| format!("{},{}", fmt_coord(x, wd), fmt_coord(y, wd)))
-            .collect();
-        let _ = writeln!(
-            self.body,
-            r#"<polyline points="{}"{} stroke-linejoin="round"/>"#,
-            pts.join(" "),
-            self.style_attrs(Style::stroke(color, width))
-        );
+        self.write_polyline(points, color, width, "");
+    }
+
+    fn polyline_class(&mut self, points: &[(f64, f64)], color: Rgb, width: f64, class: &str) {
+        let class = format!(r#" class="{}""#, xml_escape(class));
+        self.write_polyline(points, color, width, &class);
     }
 
     fn text(&mut self, x: f64, y: f64, text: &str, style: TextStyle) {

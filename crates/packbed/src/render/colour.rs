@@ -45,6 +45,32 @@ pub fn viridis(t: f64) -> Rgb {
     VIRIDIS[i].mix(VIRIDIS[i + 1], x - i as f64)
 }
 
+/// Light to dark orange-red (ColorBrewer OrRd): tensile bond forces.
+const TENSION: [Rgb; 3] = [Rgb(253, 212, 158), Rgb(239, 101, 72), Rgb(127, 0, 0)];
+/// Light to dark blue (ColorBrewer Blues): compressive bond forces.
+const COMPRESSION: [Rgb; 3] = [Rgb(198, 219, 239), Rgb(66, 146, 198), Rgb(8, 48, 107)];
+
+fn ramp(stops: &[Rgb; 3], t: f64) -> Rgb {
+    let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
+    if t < 0.5 {
+        stops[0].mix(stops[1], 2.0 * t)
+    } else {
+        stops[1].mix(stops[2], 2.0 * t - 1.0)
+    }
+}
+
+/// A tensile force of relative size `t` in `[0, 1]`: light orange to dark red
+/// (clamped; NaN gives the light end).
+pub fn tension(t: f64) -> Rgb {
+    ramp(&TENSION, t)
+}
+
+/// A compressive force of relative size `t` in `[0, 1]`: light to dark blue
+/// (clamped; NaN gives the light end).
+pub fn compression(t: f64) -> Rgb {
+    ramp(&COMPRESSION, t)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -67,5 +93,21 @@ mod tests {
             }
         }
         assert_eq!(categorical(6), categorical(0));
+    }
+
+    #[test]
+    fn force_ramps_darken_and_differ() {
+        assert_eq!(tension(0.0), TENSION[0]);
+        assert_eq!(tension(1.0), TENSION[2]);
+        assert_eq!(compression(f64::NAN), COMPRESSION[0]);
+        assert_eq!(compression(9.0), COMPRESSION[2]);
+        let sum = |c: Rgb| c.0 as u32 + c.1 as u32 + c.2 as u32;
+        for k in 0..10 {
+            let (a, b) = (k as f64 / 10.0, (k + 1) as f64 / 10.0);
+            assert!(sum(tension(b)) < sum(tension(a)));
+            assert!(sum(compression(b)) < sum(compression(a)));
+            // Red stays redder than blue along both ramps.
+            assert!(tension(a).0 > compression(a).0 && tension(a).2 < compression(a).2);
+        }
     }
 }

@@ -6,6 +6,7 @@
 //! - [`bed3d`]: 3D beds, a z-buffered raster of exact sphere surfaces, shaded.
 //! - [`frame`]: title, legend and scale bar around a bed picture.
 //! - [`plot`]: histograms, profiles, bars with error bars, from plain data.
+//! - [`fragmentation`]: bond forces and breakage of a bed under load.
 //! - [`colour`]: colour-blind-safe palettes.
 //!
 //! Colouring takes per-particle classes ([`ColorBy::Classes`]) so that any
@@ -15,6 +16,7 @@ pub mod bed2d;
 pub mod bed3d;
 pub mod canvas;
 pub mod colour;
+pub mod fragmentation;
 pub(crate) mod frame;
 pub(crate) mod plot;
 pub(crate) mod run_files;
@@ -27,6 +29,7 @@ use crate::error::{Error, Result};
 use canvas::Rgb;
 
 pub use bed3d::{Cut, View};
+pub use fragmentation::fragmentation_pictures;
 
 /// Per-particle classes with names, e.g. "in a percolation chain" / "other".
 #[derive(Clone, Debug, PartialEq)]
@@ -48,6 +51,10 @@ pub enum ColorBy {
     Coordination,
     /// The height of the centre.
     Height,
+    /// The largest contact force `|f|` among the bonds of the particle's body
+    /// under the default load (shear, total 1), from [`crate::mechanics`]
+    /// (see [`fragmentation::particle_forces`]).
+    Force,
     /// Given classes (percolation chains, clusters, …).
     Classes(Classes),
 }
@@ -171,12 +178,13 @@ pub struct Palette {
     pub heading: String,
 }
 
-/// The contacts, when the options need them (coordination colour, network).
+/// The contacts, when the options need them (coordination or force colour,
+/// network).
 pub(crate) fn contacts_if_needed<const D: usize>(
     bed: &Bed<D>,
     opts: &RenderOptions,
 ) -> Option<Contacts> {
-    (opts.network || opts.color == ColorBy::Coordination)
+    (opts.network || matches!(opts.color, ColorBy::Coordination | ColorBy::Force))
         .then(|| find_contacts(bed, opts.contact_tol))
 }
 
@@ -256,6 +264,38 @@ pub fn palette<const D: usize>(
                 colours,
                 legend,
                 heading: "centre height".into(),
+            })
+        }
+        ColorBy::Force => {
+            let owned;
+            let contacts = match contacts {
+                Some(c) => c,
+                None => {
+                    owned = find_contacts(bed, 1e-6);
+                    &owned
+                }
+            };
+            // The intact bed's forces: one break is the least `fragment` does.
+            let options = crate::mechanics::Options {
+                breaks: crate::mechanics::Breaks::Count(1),
+                ..crate::mechanics::Options::default()
+            };
+            let frag = crate::mechanics::fragment(bed, contacts, &options)?;
+            let f = fragmentation::particle_forces(bed, &frag);
+            let largest = f.iter().copied().fold(0.0, f64::max);
+            let top = if largest > 0.0 { largest } else { 1.0 };
+            let colours = f.iter().map(|&v| colour::viridis(v / top)).collect();
+            let legend = (0..=4)
+                .rev()
+                .map(|k| {
+                    let t = k as f64 / 4.0;
+                    (colour::viridis(t), plot::format_tick(t * top, top / 4.0))
+                })
+                .collect();
+            Ok(Palette {
+                colours,
+                legend,
+                heading: format!("largest bond force ({})", options.load.name()),
             })
         }
         ColorBy::Classes(c) => {

@@ -11,6 +11,7 @@ mod ensemble;
 mod fragmentation;
 mod length_scale;
 mod physics;
+#[cfg(feature = "render")]
 mod render;
 mod rsa;
 mod sizes;

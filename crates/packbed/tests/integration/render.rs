@@ -705,3 +705,294 @@ fn crowded_files_are_refused_but_dense_rods_are_not() {
         AnyBed::D2(_) => panic!("3D expected"),
     }
 }
+
+// ---------------------------------------------------------------------------
+// Pictures of a fragmentation (forces, breakage) and the force colouring
+// ---------------------------------------------------------------------------
+
+/// Panics unless `text` is well-formed XML: one root element, every tag
+/// closed in order, attributes quoted and unique, `<` never in text or
+/// values, `&` only in entities.
+fn assert_well_formed_xml(text: &str) {
+    fn entities_ok(s: &str) -> bool {
+        let mut rest = s;
+        while let Some(k) = rest.find('&') {
+            let tail = &rest[k + 1..];
+            let Some(end) = tail.find(';') else {
+                return false;
+            };
+            let name = &tail[..end];
+            let ok = matches!(name, "amp" | "lt" | "gt" | "quot" | "apos")
+                || name
+                    .strip_prefix('#')
+                    .is_some_and(|n| !n.is_empty() && n.chars().all(|c| c.is_ascii_digit()));
+            if !ok {
+                return false;
+            }
+            rest = &tail[end + 1..];
+        }
+        true
+    }
+    let name_end = |s: &str| {
+        s.find(|c: char| !(c.is_alphanumeric() || "-_:.".contains(c)))
+            .unwrap_or(s.len())
+    };
+    let mut s = text.trim_start();
+    if s.starts_with("<?xml") {
+        s = &s[s.find("?>").expect("prolog closed") + 2..];
+    }
+    let mut stack: Vec<&str> = Vec::new();
+    let mut roots = 0;
+    loop {
+        let lt = s.find('<');
+        let chunk = &s[..lt.unwrap_or(s.len())];
+        assert!(entities_ok(chunk), "text {chunk:?}");
+        if stack.is_empty() {
+            assert!(chunk.trim().is_empty(), "text outside the root: {chunk:?}");
+        }
+        let Some(lt) = lt else { break };
+        s = &s[lt + 1..];
+        if let Some(rest) = s.strip_prefix('/') {
+            let n = name_end(rest);
+            let open = stack.pop().expect("a closing tag without its opening");
+            assert_eq!(open, &rest[..n], "tags closed out of order");
+            let gt = rest.find('>').unwrap();
+            assert!(rest[n..gt].trim().is_empty());
+            s = &rest[gt + 1..];
+            continue;
+        }
+        let n = name_end(s);
+        assert!(n > 0, "a tag without a name: {:?}", &s[..s.len().min(40)]);
+        let name = &s[..n];
+        if stack.is_empty() {
+            roots += 1;
+        }
+        s = &s[n..];
+        let mut seen = Vec::new();
+        loop {
+            s = s.trim_start();
+            if let Some(rest) = s.strip_prefix("/>") {
+                s = rest;
+                break;
+            }
+            if let Some(rest) = s.strip_prefix('>') {
+                s = rest;
+                stack.push(name);
+                break;
+            }
+            let a = name_end(s);
+            assert!(
+                a > 0,
+                "bad attribute in <{name}: {:?}",
+                &s[..s.len().min(40)]
+            );
+            let attr = &s[..a];
+            assert!(!seen.contains(&attr), "<{name}> repeats {attr}");
+            seen.push(attr);
+            let rest = s[a..].trim_start().strip_prefix('=').expect("attribute =");
+            let rest = rest.trim_start();
+            let q = rest.chars().next().unwrap();
+            assert!(q == '"' || q == '\'', "unquoted {attr}");
+            let end = rest[1..].find(q).expect("value closed");
+            let value = &rest[1..1 + end];
+            assert!(
+                !value.contains('<') && entities_ok(value),
+                "{attr}={value:?}"
+            );
+            s = &rest[end + 2..];
+        }
+    }
+    assert!(stack.is_empty(), "unclosed {stack:?}");
+    assert_eq!(roots, 1);
+}
+
+#[test]
+fn the_xml_checker_refuses_broken_documents() {
+    assert_well_formed_xml("<?xml version=\"1.0\"?>\n<a x=\"1\"><b/><c>t &amp; u</c></a>\n");
+    for bad in [
+        "<a><b></a></b>",
+        "<a x=\"1\" x=\"2\"/>",
+        "<a x=1/>",
+        "<a>x & y</a>",
+        "<a/><b/>",
+        "<a>",
+    ] {
+        assert!(
+            std::panic::catch_unwind(|| assert_well_formed_xml(bad)).is_err(),
+            "{bad}"
+        );
+    }
+}
+
+/// Checks the four pictures of `frag`: names, PNG sizes, SVG well-formed with
+/// one line per bond and one numbered label per break, no NaN or infinity.
+fn check_fragmentation_pictures<const D: usize>(
+    bed: &Bed<D>,
+    frag: &packbed::mechanics::Fragmentation<D>,
+    what: &str,
+) -> Vec<(String, Vec<u8>)> {
+    let pics = render::fragmentation_pictures(bed, frag).unwrap();
+    let names: Vec<&str> = pics.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(
+        names,
+        ["forces.png", "forces.svg", "breakage.png", "breakage.svg"],
+        "{what}"
+    );
+    for (name, bytes) in &pics {
+        if name.ends_with(".png") {
+            let p = Pixmap::decode_png(bytes).unwrap();
+            assert_eq!(
+                (p.width(), p.height()),
+                (render::fragmentation::WIDTH, render::fragmentation::HEIGHT),
+                "{what} {name}"
+            );
+            // Not blank: the bonds and the legend darken some pixels.
+            let dark = p
+                .pixels()
+                .iter()
+                .filter(|c| c.red() < 128 || c.blue() < 128)
+                .count();
+            assert!(dark > 1000, "{what} {name}: {dark} dark pixels");
+            continue;
+        }
+        let svg = std::str::from_utf8(bytes).unwrap();
+        assert_well_formed_xml(svg);
+        for bad in ["NaN", "inf"] {
+            assert!(!svg.contains(bad), "{what} {name} contains {bad}");
+        }
+        let lines = svg.matches("<polyline class=\"bond ").count();
+        assert_eq!(lines, frag.bonds.len(), "{what} {name}: one line per bond");
+        assert_eq!(
+            svg.matches("<circle class=\"particle\"").count(),
+            bed.len(),
+            "{what} {name}"
+        );
+        if name == "forces.svg" {
+            let tension = svg.matches("class=\"bond tension\"").count();
+            let expected = (0..frag.bonds.len())
+                .filter(|&k| frag.normal(k) > 0.0)
+                .count();
+            assert_eq!(tension, expected, "{what}");
+            assert_eq!(
+                svg.matches("class=\"load\"").count(),
+                frag.loads.iter().filter(|l| l.force.norm() > 0.0).count(),
+                "{what}: one arrow per load"
+            );
+        } else {
+            let n = frag.steps.len();
+            assert!(n > 0, "{what}: nothing broke");
+            assert_eq!(svg.matches("class=\"bond broken\"").count(), n, "{what}");
+            assert_eq!(svg.matches("class=\"break-label\"").count(), n, "{what}");
+            for k in 1..=n {
+                assert_eq!(
+                    svg.matches(&format!(">{k}</text>")).count(),
+                    // The legend's badge shows a 1 as well.
+                    1 + usize::from(k == 1),
+                    "{what}: label {k}"
+                );
+            }
+            assert!(!svg.contains(&format!(">{}</text>", n + 1)), "{what}");
+        }
+    }
+    pics
+}
+
+fn deposited<const D: usize>(periodic: bool, count: u64) -> Bed<D> {
+    let text = format!(
+        "dim = {D}\nseed = 7\n\n[box]\ndiameters = 8\nperiodic = {periodic}\n\n\
+         [fill]\ncount = {count}\n\n[[species]]\nradius = 10\nratio = 1\n\n\
+         [[species]]\nradius = 6\nratio = 1\n"
+    );
+    crate::common::run::<D>(&crate::common::config(&text)).0
+}
+
+#[test]
+fn fragmentation_pictures_2d_draw_every_bond_and_number_every_break() {
+    use packbed::mechanics::{fragment, Options};
+    for periodic in [false, true] {
+        let bed = deposited::<2>(periodic, 120);
+        let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
+        let frag = fragment(&bed, &contacts, &Options::default()).unwrap();
+        let what = format!("2D periodic {periodic}");
+        let pics = check_fragmentation_pictures(&bed, &frag, &what);
+        if periodic {
+            // Bonds across the periodic sides are drawn in two halves.
+            let svg = std::str::from_utf8(&pics[1].1).unwrap();
+            assert!(svg.contains("class=\"bond-image\""), "{what}");
+        }
+        if std::env::var_os("PACKBED_KEEP_PICTURES").is_some() {
+            let d = scratch(&format!("frag2-{periodic}"));
+            for (n, b) in &pics {
+                std::fs::write(d.join(n), b).unwrap();
+            }
+            eprintln!("pictures in {}", d.display());
+        }
+    }
+}
+
+#[test]
+fn fragmentation_pictures_3d_are_a_projection_with_numbered_breaks() {
+    use packbed::mechanics::{fragment, Breaks, Options};
+    let bed = deposited::<3>(false, 150);
+    let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
+    let options = Options {
+        breaks: Breaks::Count(12),
+        ..Options::default()
+    };
+    let frag = fragment(&bed, &contacts, &options).unwrap();
+    let pics = check_fragmentation_pictures(&bed, &frag, "3D");
+    let svg = std::str::from_utf8(&pics[1].1).unwrap();
+    assert!(svg.contains("x–z projection"));
+    if std::env::var_os("PACKBED_KEEP_PICTURES").is_some() {
+        let d = scratch("frag3");
+        for (n, b) in &pics {
+            std::fs::write(d.join(n), b).unwrap();
+        }
+        eprintln!("pictures in {}", d.display());
+    }
+}
+
+#[test]
+fn fragmentation_pictures_refuse_another_beds_fragmentation() {
+    use packbed::mechanics::{fragment, Options};
+    let bed = bed2();
+    let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
+    let frag = fragment(&bed, &contacts, &Options::default()).unwrap();
+    let mut other = bed.clone();
+    other.push(Vector([100.0, 120.0]), 5.0, 1);
+    let e = render::fragmentation_pictures(&other, &frag).unwrap_err();
+    assert!(e.to_string().contains("not of this bed"), "{e}");
+}
+
+#[test]
+fn force_colours_follow_the_bond_forces_under_shear() {
+    use packbed::mechanics::{fragment, Options};
+    let bed = bed2();
+    let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
+    let pal = render::palette(&bed, &ColorBy::Force, Some(&contacts)).unwrap();
+    let frag = fragment(&bed, &contacts, &Options::default()).unwrap();
+    let f = render::fragmentation::particle_forces(&bed, &frag);
+    let top = f.iter().copied().fold(0.0, f64::max);
+    assert!(top > 0.0 && f.iter().all(|v| v.is_finite() && *v >= 0.0));
+    for (k, &v) in f.iter().enumerate() {
+        assert_eq!(pal.colours[k], colour::viridis(v / top), "particle {k}");
+        // A body's largest bond is at least any of its bonds.
+        for (g, force) in frag.bonds.iter().zip(&frag.forces) {
+            if g.bead_i as usize == k || g.bead_j == Some(k as u32) {
+                assert!(force.norm() <= v + 1e-12);
+            }
+        }
+    }
+    assert!(pal.heading.contains("force") && pal.heading.contains("shear"));
+    assert_eq!(pal.legend.len(), 5);
+    assert_eq!(pal.legend[0].0, colour::viridis(1.0));
+    // Both formats draw it.
+    let opts = RenderOptions {
+        color: ColorBy::Force,
+        ..RenderOptions::default()
+    };
+    let svg = render::render_svg(&AnyBed::D2(bed.clone()), &opts).unwrap();
+    assert!(svg.contains("largest bond force"));
+    let png = render::render_png(&AnyBed::D3(deposited::<3>(false, 60)), &opts).unwrap();
+    assert_eq!(Pixmap::decode_png(&png).unwrap().width(), 1200);
+}
