@@ -225,13 +225,18 @@ pub fn write_fragmentation<const D: usize>(
 
 #[cfg(feature = "render")]
 fn fragmentation_pictures<const D: usize>(
-    _bed: &Bed<D>,
-    _frag: &crate::mechanics::Fragmentation<D>,
-    _pictures: bool,
+    bed: &Bed<D>,
+    frag: &crate::mechanics::Fragmentation<D>,
+    pictures: bool,
 ) -> Result<Vec<(String, Vec<u8>)>> {
-    Ok(Vec::new())
+    if pictures {
+        crate::render::fragmentation_pictures(bed, frag)
+    } else {
+        Ok(Vec::new())
+    }
 }
 
+/// Without the `render` feature there are no pictures to write.
 #[cfg(not(feature = "render"))]
 fn fragmentation_pictures<const D: usize>(
     _bed: &Bed<D>,
