@@ -344,28 +344,6 @@ fn percolation_text(c: &Percolation) -> String {
     t
 }
 
-#[cfg(test)]
-mod tests {
-    use super::length;
-
-    #[test]
-    fn lengths_have_at_most_six_significant_digits() {
-        for (x, want) in [
-            (1485.1720000000003, "1485.17"),
-            (600.0, "600"),
-            (66.666666, "66.6667"),
-            (0.1 + 0.2, "0.3"),
-            (123456789.0, "123456789"),
-            (2.5e-7, "2.5e-7"),
-            (1.0e20 / 3.0, "3.33333e19"),
-            (-12.5, "-12.5"),
-            (0.0, "0"),
-        ] {
-            assert_eq!(length(x), want, "{x}");
-        }
-    }
-}
-
 /// The short report of `packbed fragment`.
 pub fn fragment_text(
     s: &crate::io::summary::FragmentSummary,
@@ -409,4 +387,26 @@ pub fn fragment_text(
     );
     let _ = writeln!(t, "  files in {}: {}", out.display(), file_names(files));
     t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::length;
+
+    #[test]
+    fn lengths_have_at_most_six_significant_digits() {
+        for (x, want) in [
+            (1485.1720000000003, "1485.17"),
+            (600.0, "600"),
+            (66.666666, "66.6667"),
+            (0.1 + 0.2, "0.3"),
+            (123456789.0, "123456789"),
+            (2.5e-7, "2.5e-7"),
+            (1.0e20 / 3.0, "3.33333e19"),
+            (-12.5, "-12.5"),
+            (0.0, "0"),
+        ] {
+            assert_eq!(length(x), want, "{x}");
+        }
+    }
 }
