@@ -80,17 +80,7 @@ pub fn analyze(args: AnalyzeArgs) -> Result<()> {
     }
     // Refuse a bad export list or output folder before any work.
     let extras = args.files.extras()?;
-    let hint = match (&args.container, args.periodic) {
-        (Some(size), periodic) => Some(BoxHint {
-            size: size.clone(),
-            periodic,
-        }),
-        (None, true) => bail!("--periodic needs --box W,H or W,D,H"),
-        (None, false) => None,
-    };
-    if let Some(h) = &hint {
-        check_box_hint(h).map_err(|e| anyhow::anyhow!("{}", e.within("--box").message()))?;
-    }
+    let hint = box_hint(args.container.as_ref(), args.periodic)?;
     crate::run::check_out_dir(&args.out)?;
     let analyzed = packbed::analyze_file(&args.path, hint.as_ref(), &settings)?;
     let written = analyzed
@@ -106,4 +96,19 @@ pub fn analyze(args: AnalyzeArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The box of `--box` and `--periodic` for a bed file, checked (`packbed
+/// analyze` and `packbed fragment`).
+pub fn box_hint(container: Option<&Numbers>, periodic: bool) -> Result<Option<BoxHint>> {
+    let hint = match (container, periodic) {
+        (Some(size), periodic) => BoxHint {
+            size: size.clone(),
+            periodic,
+        },
+        (None, true) => bail!("--periodic needs --box W,H or W,D,H"),
+        (None, false) => return Ok(None),
+    };
+    check_box_hint(&hint).map_err(|e| anyhow::anyhow!("{}", e.within("--box").message()))?;
+    Ok(Some(hint))
 }

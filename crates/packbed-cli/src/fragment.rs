@@ -4,7 +4,6 @@
 use crate::overrides::{numbers, Numbers};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use packbed::io::read::BoxHint;
 use packbed::mechanics::{Breaks, Load, Options};
 use packbed::output::text;
 use std::path::PathBuf;
@@ -78,18 +77,7 @@ pub fn fragment(args: FragmentArgs) -> Result<()> {
             args.contact_tol
         );
     }
-    let hint = match (&args.container, args.periodic) {
-        (Some(size), periodic) => Some(BoxHint {
-            size: size.clone(),
-            periodic,
-        }),
-        (None, true) => bail!("--periodic needs --box W,H or W,D,H"),
-        (None, false) => None,
-    };
-    if let Some(h) = &hint {
-        packbed::check_box_hint(h)
-            .map_err(|e| anyhow::anyhow!("{}", e.within("--box").message()))?;
-    }
+    let hint = crate::analyze::box_hint(args.container.as_ref(), args.periodic)?;
     crate::run::check_out_dir(&args.out)?;
     let done = packbed::fragment_file(&args.path, hint.as_ref(), &options, args.contact_tol)?;
     let written = done

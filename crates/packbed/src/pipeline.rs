@@ -106,12 +106,7 @@ pub fn analyze_file(
     settings: &AnalysisConfig,
 ) -> Result<AnalyzedBed> {
     settings.check()?;
-    if let Some(h) = hint {
-        check_box_hint(h).map_err(|e| e.within("box"))?;
-    }
-    let t = Instant::now();
-    let (bed, read) = read_bed_report(path, hint)?;
-    let read_seconds = t.elapsed().as_secs_f64();
+    let (bed, read, read_seconds) = read_timed(path, hint)?;
     let source = path.display().to_string();
     let (contacts, summary) = match &bed {
         AnyBed::D2(b) => analyze_read(&source, b, &read, settings, read_seconds),
@@ -122,6 +117,17 @@ pub fn analyze_file(
         contacts,
         summary,
     })
+}
+
+/// Reads the bed file at `path` after checking the caller's box `hint`; also
+/// returns the seconds the reading took.
+fn read_timed(path: &Path, hint: Option<&BoxHint>) -> Result<(AnyBed, ReadReport, f64)> {
+    if let Some(h) = hint {
+        check_box_hint(h).map_err(|e| e.within("box"))?;
+    }
+    let t = Instant::now();
+    let (bed, read) = read_bed_report(path, hint)?;
+    Ok((bed, read, t.elapsed().as_secs_f64()))
 }
 
 /// Refuses a box given by the caller unless it has two or three positive sizes.
@@ -206,12 +212,12 @@ pub fn fragment_file(
     contact_tol: crate::math::Real,
 ) -> Result<FragmentedBed> {
     options.check()?;
-    if let Some(h) = hint {
-        check_box_hint(h).map_err(|e| e.within("box"))?;
+    if !(contact_tol.is_finite() && contact_tol >= 0.0) {
+        return Err(Error::config(format!(
+            "contact_tol must be a non-negative number, got {contact_tol}"
+        )));
     }
-    let t = Instant::now();
-    let (bed, read) = read_bed_report(path, hint)?;
-    let read_seconds = t.elapsed().as_secs_f64();
+    let (bed, read, read_seconds) = read_timed(path, hint)?;
     let source = path.display().to_string();
     let (fragmentation, summary) = match &bed {
         AnyBed::D2(b) => {

@@ -194,15 +194,7 @@ impl RunSummary {
 
     /// The JSON text, refused if any number in it is NaN or infinite.
     pub fn to_json(&self) -> Result<String> {
-        if let Some(key) = super::finite::first_non_finite(self) {
-            return Err(Error::Impossible(format!(
-                "summary.json: `{key}` is not a finite number; the run's results are unusable (please report this bug)"
-            )));
-        }
-        let mut text = serde_json::to_string_pretty(self)
-            .map_err(|e| Error::Impossible(format!("summary.json: {e}")))?;
-        text.push('\n');
-        Ok(text)
+        json_text(self, "the run's results")
     }
 }
 
@@ -307,15 +299,7 @@ impl AnalyzeSummary {
 
     /// The JSON text, refused if any number in it is NaN or infinite.
     pub fn to_json(&self) -> Result<String> {
-        if let Some(key) = super::finite::first_non_finite(self) {
-            return Err(Error::Impossible(format!(
-                "summary.json: `{key}` is not a finite number; the results are unusable (please report this bug)"
-            )));
-        }
-        let mut text = serde_json::to_string_pretty(self)
-            .map_err(|e| Error::Impossible(format!("summary.json: {e}")))?;
-        text.push('\n');
-        Ok(text)
+        json_text(self, "the results")
     }
 }
 
@@ -522,14 +506,20 @@ impl FragmentSummary {
 
     /// The JSON text, refused if any number in it is NaN or infinite.
     pub fn to_json(&self) -> Result<String> {
-        if let Some(key) = super::finite::first_non_finite(self) {
-            return Err(Error::Impossible(format!(
-                "summary.json: `{key}` is not a finite number; the results are unusable (please report this bug)"
-            )));
-        }
-        let mut text = serde_json::to_string_pretty(self)
-            .map_err(|e| Error::Impossible(format!("summary.json: {e}")))?;
-        text.push('\n');
-        Ok(text)
+        json_text(self, "the results")
     }
+}
+
+/// The pretty JSON text of a summary, refused if any number in it is NaN or
+/// infinite (`what` names what becomes unusable).
+fn json_text<T: Serialize>(summary: &T, what: &str) -> Result<String> {
+    if let Some(key) = super::finite::first_non_finite(summary) {
+        return Err(Error::Impossible(format!(
+            "summary.json: `{key}` is not a finite number; {what} are unusable (please report this bug)"
+        )));
+    }
+    let mut text = serde_json::to_string_pretty(summary)
+        .map_err(|e| Error::Impossible(format!("summary.json: {e}")))?;
+    text.push('\n');
+    Ok(text)
 }

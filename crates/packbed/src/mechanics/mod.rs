@@ -93,9 +93,6 @@ pub struct Fragmentation<const D: usize> {
 }
 
 impl<const D: usize> Fragmentation<D> {
-    /// Number of unknowns per body.
-    pub const DOFS: usize = body_dofs(D);
-
     /// `normal` (positive: tension) of bond `k`'s force.
     pub fn normal(&self, k: usize) -> Real {
         self.forces[k].dot(&self.bonds[k].normal)
@@ -114,6 +111,25 @@ pub fn fragment<const D: usize>(
     bed: &Bed<D>,
     contacts: &Contacts,
     options: &Options,
+) -> Result<Fragmentation<D>> {
+    solve_and_break(bed, contacts, options, true)
+}
+
+/// The bond forces of the intact bed under `options.load`, without breaking
+/// any bond (`options.breaks` is not used; `steps` is empty).
+pub fn forces<const D: usize>(
+    bed: &Bed<D>,
+    contacts: &Contacts,
+    options: &Options,
+) -> Result<Fragmentation<D>> {
+    solve_and_break(bed, contacts, options, false)
+}
+
+fn solve_and_break<const D: usize>(
+    bed: &Bed<D>,
+    contacts: &Contacts,
+    options: &Options,
+    breaking: bool,
 ) -> Result<Fragmentation<D>> {
     options.check()?;
     let start = std::time::Instant::now();
@@ -155,9 +171,12 @@ pub fn fragment<const D: usize>(
     let mut alive = vec![true; bonds.len()];
     let mut current = magnitudes.clone();
     let mut steps = Vec::new();
-    let (mut fragments, mut largest) = pieces(&bonds, &alive, nb);
-    let mut failed_at = failure(&bonds, &alive, nb, Some(&loads)).then_some(0u64);
+    let (mut fragments, mut largest, failed) = network_state(&bonds, &alive, nb, Some(&loads));
+    let mut failed_at = failed.then_some(0u64);
     loop {
+        if !breaking {
+            break;
+        }
         let done = steps.len() as u64;
         match options.breaks {
             Breaks::Failure if failed_at.is_some() => break,
@@ -176,9 +195,10 @@ pub fn fragment<const D: usize>(
         }
         system.remove(k)?;
         let loaded = load_groups.current(&bonded(&bond_count));
-        (fragments, largest) = pieces(&bonds, &alive, nb);
+        let failed;
+        (fragments, largest, failed) = network_state(&bonds, &alive, nb, loaded.as_deref());
         let step = done + 1;
-        if failed_at.is_none() && failure(&bonds, &alive, nb, loaded.as_deref()) {
+        if failed_at.is_none() && failed {
             failed_at = Some(step);
         }
         steps.push(Step {
@@ -346,8 +366,15 @@ impl Pieces {
     }
 }
 
-/// Connected pieces with at least one body, and the bodies of the largest.
-fn pieces<const D: usize>(bonds: &[BondGeometry<D>], alive: &[bool], bodies: usize) -> (u64, u64) {
+/// The connected pieces with at least one body, the bodies in the largest,
+/// and whether the bed has failed: a loaded body sits in a piece with no
+/// floor or wall bond, or a group's load has nowhere to go (`loads` is `None`).
+fn network_state<const D: usize>(
+    bonds: &[BondGeometry<D>],
+    alive: &[bool],
+    bodies: usize,
+    loads: Option<&[AppliedLoad<D>]>,
+) -> (u64, u64, bool) {
     let mut p = Pieces::of(bonds, alive, bodies);
     let mut size = vec![0u64; bodies + network::WALL_NODES];
     for b in 0..bodies {
@@ -355,28 +382,22 @@ fn pieces<const D: usize>(bonds: &[BondGeometry<D>], alive: &[bool], bodies: usi
         size[r] += 1;
     }
     let count = size.iter().filter(|&&s| s > 0).count() as u64;
-    (count, size.iter().copied().max().unwrap_or(0))
-}
-
-/// True when a loaded body sits in a piece with no floor or wall bond, or a
-/// group's load has nowhere to go (`loads` is `None`).
-fn failure<const D: usize>(
-    bonds: &[BondGeometry<D>],
-    alive: &[bool],
-    bodies: usize,
-    loads: Option<&[AppliedLoad<D>]>,
-) -> bool {
-    let Some(loads) = loads else { return true };
-    let mut p = Pieces::of(bonds, alive, bodies);
-    let mut supported = vec![false; bodies + network::WALL_NODES];
-    for w in 0..network::WALL_NODES {
-        let r = p.root(bodies + w);
-        supported[r] = true;
-    }
-    loads
-        .iter()
-        .filter(|l| l.force.norm() > 0.0)
-        .any(|l| !supported[p.root(l.body as usize)])
+    let largest = size.iter().copied().max().unwrap_or(0);
+    let failed = match loads {
+        None => true,
+        Some(loads) => {
+            let mut supported = vec![false; bodies + network::WALL_NODES];
+            for w in 0..network::WALL_NODES {
+                let r = p.root(bodies + w);
+                supported[r] = true;
+            }
+            loads
+                .iter()
+                .filter(|l| l.force.norm() > 0.0)
+                .any(|l| !supported[p.root(l.body as usize)])
+        }
+    };
+    (count, largest, failed)
 }
 
 #[cfg(test)]
@@ -391,5 +412,28 @@ mod tests {
         assert_eq!(strongest(&m, &alive), Some(0));
         assert_eq!(strongest(&[0.5, 0.25, 0.5 + 1e-6, 0.9], &alive), Some(2));
         assert_eq!(strongest(&m, &[false; 4]), None);
+    }
+
+    #[test]
+    fn forces_break_nothing_and_match_the_intact_bed_of_fragment() {
+        // Three discs in a row on the floor of a walled box, one on top.
+        let bed = Bed::of_discs(
+            [6.0, 10.0],
+            false,
+            &[
+                (1.0, 1.0, 1.0),
+                (3.0, 1.0, 1.0),
+                (5.0, 1.0, 1.0),
+                (2.0, 1.0 + 3f64.sqrt(), 1.0),
+            ],
+        );
+        let contacts = crate::analysis::find_contacts(&bed, 1e-6);
+        let options = Options::default();
+        let intact = forces(&bed, &contacts, &options).unwrap();
+        let broken = fragment(&bed, &contacts, &options).unwrap();
+        assert!(intact.steps.is_empty() && intact.summary.breaks == 0);
+        assert!(!broken.steps.is_empty());
+        assert_eq!(intact.forces, broken.forces);
+        assert_eq!(intact.summary.max_force, broken.summary.max_force);
     }
 }

@@ -188,6 +188,23 @@ pub(crate) fn contacts_if_needed<const D: usize>(
         .then(|| find_contacts(bed, opts.contact_tol))
 }
 
+/// A viridis colouring of `values` from 0 to `top`, with a five-step legend.
+fn continuous(values: &[f64], top: f64, heading: String) -> Palette {
+    let colours = values.iter().map(|&v| colour::viridis(v / top)).collect();
+    let legend = (0..=4)
+        .rev()
+        .map(|k| {
+            let t = k as f64 / 4.0;
+            (colour::viridis(t), plot::format_tick(t * top, top / 4.0))
+        })
+        .collect();
+    Palette {
+        colours,
+        legend,
+        heading,
+    }
+}
+
 /// Works out the colour of every particle.
 pub fn palette<const D: usize>(
     bed: &Bed<D>,
@@ -248,23 +265,8 @@ pub fn palette<const D: usize>(
         }
         ColorBy::Height => {
             let h = bed.container.height().max(bed.top()).max(f64::MIN_POSITIVE);
-            let colours = bed
-                .centres
-                .iter()
-                .map(|c| colour::viridis(c.height() / h))
-                .collect();
-            let legend = (0..=4)
-                .rev()
-                .map(|k| {
-                    let t = k as f64 / 4.0;
-                    (colour::viridis(t), plot::format_tick(t * h, h / 4.0))
-                })
-                .collect();
-            Ok(Palette {
-                colours,
-                legend,
-                heading: "centre height".into(),
-            })
+            let heights: Vec<f64> = bed.centres.iter().map(|c| c.height()).collect();
+            Ok(continuous(&heights, h, "centre height".into()))
         }
         ColorBy::Force => {
             let owned;
@@ -275,28 +277,13 @@ pub fn palette<const D: usize>(
                     &owned
                 }
             };
-            // The intact bed's forces: one break is the least `fragment` does.
-            let options = crate::mechanics::Options {
-                breaks: crate::mechanics::Breaks::Count(1),
-                ..crate::mechanics::Options::default()
-            };
-            let frag = crate::mechanics::fragment(bed, contacts, &options)?;
+            let options = crate::mechanics::Options::default();
+            let frag = crate::mechanics::forces(bed, contacts, &options)?;
             let f = fragmentation::particle_forces(bed, &frag);
             let largest = f.iter().copied().fold(0.0, f64::max);
             let top = if largest > 0.0 { largest } else { 1.0 };
-            let colours = f.iter().map(|&v| colour::viridis(v / top)).collect();
-            let legend = (0..=4)
-                .rev()
-                .map(|k| {
-                    let t = k as f64 / 4.0;
-                    (colour::viridis(t), plot::format_tick(t * top, top / 4.0))
-                })
-                .collect();
-            Ok(Palette {
-                colours,
-                legend,
-                heading: format!("largest bond force ({})", options.load.name()),
-            })
+            let heading = format!("largest bond force ({})", options.load.name());
+            Ok(continuous(&f, top, heading))
         }
         ColorBy::Classes(c) => {
             if c.class.len() != n {
