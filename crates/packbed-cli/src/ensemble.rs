@@ -84,6 +84,7 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
         shard,
         keep_beds: args.keep_beds,
         pictures: !args.no_pictures,
+        stop: None,
     };
     let bar = crate::progress::terminal_bar(
         args.quiet,

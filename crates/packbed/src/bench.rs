@@ -14,6 +14,7 @@ use crate::bed::{AnyBed, Bed};
 use crate::config::{BaseLayerKind, Config, SizeConfig};
 use crate::error::Result;
 use serde::Serialize;
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 /// Radius of every bench particle.
@@ -165,7 +166,10 @@ pub const TARGET_STAGES: [&str; 6] = [
 /// placed so far.
 pub fn deposit(bench: &BenchBed, progress: &mut dyn FnMut(u64)) -> Result<(AnyBed, BenchResult)> {
     let start = Instant::now();
-    let (bed, report) = crate::deposit::build(&bench.config(), progress)?;
+    let (bed, report) = crate::deposit::build(&bench.config(), &mut |n| {
+        progress(n);
+        ControlFlow::Continue(())
+    })?;
     let seconds = start.elapsed().as_secs_f64();
     let mut result = measured(&bed, Some(seconds));
     result.redrops = report.redrops;

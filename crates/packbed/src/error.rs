@@ -30,6 +30,9 @@ pub enum Error {
     /// The request cannot be carried out (e.g. would need too much memory).
     #[error("{0}")]
     Impossible(String),
+    /// The caller asked the work to stop (Ctrl-C in Python) before it ended.
+    #[error("interrupted")]
+    Interrupted,
     /// A setting given with the request (not in the config file) is wrong:
     /// `runs`, `jobs`, `shard`, `out`, `export`. The command names it as its
     /// option (`--runs`), the Python package as its keyword.

@@ -120,6 +120,6 @@ pub use io::read::{read_bed, read_bed_report, BoxHint};
 pub use io::{AnalyzeSummary, RunSummary};
 pub use output::RunExtras;
 pub use pipeline::{
-    analyze_file, check_box_hint, fragment_file, run_bed, AnalyzedBed, AnyFragmentation,
-    FinishedBed, FragmentedBed,
+    analyze_file, check_box_hint, fragment_file, run_bed, run_bed_or_stop, AnalyzedBed,
+    AnyFragmentation, FinishedBed, FragmentedBed,
 };

@@ -7,6 +7,7 @@ use crate::analysis::Contacts;
 use crate::bed::{AnyBed, Bed};
 use crate::config::{AnalysisConfig, Config};
 use crate::deposit::DepositReport;
+use crate::deposit::Progress;
 use crate::error::{Error, Result};
 use crate::io::read::{read_bed_report, BoxHint, ReadReport};
 use crate::io::summary::{
@@ -15,6 +16,7 @@ use crate::io::summary::{
 use crate::io::{AnalyzeSummary, RunSummary, Timing};
 use crate::mechanics::{self, Fragmentation};
 use crate::output::RunExtras;
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -32,6 +34,15 @@ pub struct FinishedBed {
 /// Builds the bed of `config` (validated here), analyses it and gathers its
 /// summary; `progress` is called with the number of particles placed so far.
 pub fn run_bed(config: &Config, progress: &mut dyn FnMut(u64)) -> Result<FinishedBed> {
+    run_bed_or_stop(config, &mut |n| {
+        progress(n);
+        ControlFlow::Continue(())
+    })
+}
+
+/// [`run_bed`] that stops with [`Error::Interrupted`](crate::Error::Interrupted)
+/// when `progress` breaks (checked every 4096 particles).
+pub fn run_bed_or_stop(config: &Config, progress: &mut Progress) -> Result<FinishedBed> {
     let start = Instant::now();
     let (bed, deposit) = crate::deposit::build(config, progress)?;
     let (contacts, summary) = match &bed {

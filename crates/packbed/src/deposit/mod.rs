@@ -19,6 +19,7 @@ use chain::ChainShape;
 use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use roll::Terrain;
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 pub use body::{drop_onto, Entry};
@@ -49,6 +50,11 @@ const MAX_REDROPS_PER_PARTICLE: u32 = 1000;
 
 /// The random generator of a run.
 pub type RunRng = Xoshiro256PlusPlus;
+
+/// What a build reports its progress to: called now and then with the number
+/// of particles placed so far; [`ControlFlow::Break`] asks the build to stop
+/// (Ctrl-C in Python), which then fails with [`Error::Interrupted`].
+pub type Progress<'a> = dyn FnMut(u64) -> ControlFlow<()> + 'a;
 
 /// The deposition engine for one bed.
 struct Engine<'p, const D: usize> {
@@ -119,7 +125,7 @@ impl<'p, const D: usize> Engine<'p, D> {
         }
     }
 
-    fn run(mut self, progress: &mut dyn FnMut(u64)) -> Result<(Bed<D>, DepositReport)> {
+    fn run(mut self, progress: &mut Progress) -> Result<(Bed<D>, DepositReport)> {
         let started = Instant::now();
         if let Fill::Count(n) = self.plan.fill {
             let n = n as usize;
@@ -145,7 +151,7 @@ impl<'p, const D: usize> Engine<'p, D> {
                 break;
             }
         }
-        progress(self.bed.len() as u64);
+        let _ = progress(self.bed.len() as u64);
         self.report.deposit_seconds = started.elapsed().as_secs_f64();
         Ok((self.bed, self.report))
     }
@@ -157,7 +163,7 @@ impl<'p, const D: usize> Engine<'p, D> {
         &mut self,
         body: &B,
         s: u32,
-        progress: &mut dyn FnMut(u64),
+        progress: &mut Progress,
     ) -> Result<bool> {
         let mut tries = 0;
         let pose = loop {
@@ -186,8 +192,8 @@ impl<'p, const D: usize> Engine<'p, D> {
         let before = self.bed.len();
         self.place_body(body, &pose, s);
         self.report.dropped += 1;
-        if before / 4096 != self.bed.len() / 4096 {
-            progress(self.bed.len() as u64);
+        if before / 4096 != self.bed.len() / 4096 && progress(self.bed.len() as u64).is_break() {
+            return Err(Error::Interrupted);
         }
         Ok(true)
     }
@@ -221,10 +227,11 @@ pub(crate) fn grid_levels<const D: usize>(species: &[Species]) -> Levels {
 }
 
 /// Builds a bed for a validated plan. `progress` is called now and then with the
-/// number of particles placed so far.
+/// number of particles placed so far; when it breaks, the build stops with
+/// [`Error::Interrupted`].
 pub fn deposit<const D: usize>(
     plan: &Plan<D>,
-    progress: &mut dyn FnMut(u64),
+    progress: &mut Progress,
 ) -> Result<(Bed<D>, DepositReport)> {
     match plan.mode {
         Mode::Deposit => Engine::new(plan)?.run(progress),
@@ -233,7 +240,7 @@ pub fn deposit<const D: usize>(
 }
 
 /// Builds the bed a configuration describes, in its dimension.
-pub fn build(config: &Config, progress: &mut dyn FnMut(u64)) -> Result<(AnyBed, DepositReport)> {
+pub fn build(config: &Config, progress: &mut Progress) -> Result<(AnyBed, DepositReport)> {
     match config.dim {
         2 => deposit(&config.plan::<2>()?, progress).map(|(b, r)| (AnyBed::D2(b), r)),
         3 => deposit(&config.plan::<3>()?, progress).map(|(b, r)| (AnyBed::D3(b), r)),

@@ -46,6 +46,8 @@ use crate::error::Result;
 use serde_json::Value;
 use stats::Aggregate;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 /// Largest `--runs`: every replicate's summary (a few kB) is held in memory
 /// while the statistics are folded.
@@ -74,6 +76,11 @@ pub struct Options {
     pub keep_beds: bool,
     /// Write the plots (PNG and SVG) of the statistics.
     pub pictures: bool,
+    /// Set from another thread to stop the ensemble (Ctrl-C in Python): no
+    /// replicate starts after it, running ones stop within 4096 particles,
+    /// and the run fails with [`Error::Interrupted`](crate::Error::Interrupted).
+    /// The replicates finished before are on disk, and a rerun resumes.
+    pub stop: Option<Arc<AtomicBool>>,
 }
 
 impl Default for Options {
@@ -85,6 +92,7 @@ impl Default for Options {
             shard: Shard::ALL,
             keep_beds: false,
             pictures: true,
+            stop: None,
         }
     }
 }

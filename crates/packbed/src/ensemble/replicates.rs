@@ -12,8 +12,9 @@ use crate::io::Staging;
 use rayon::prelude::*;
 use serde_json::Value;
 use std::fs;
+use std::ops::ControlFlow;
 use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
 /// A replicate's summary if it is already done: present, valid JSON, and of
@@ -38,7 +39,13 @@ fn clear_leftovers(dir: &Path) {
 }
 
 /// Builds replicate `i` (or finds it done) and returns its summary.
-fn replicate(config: &Config, dir: &Path, i: u64, keep_beds: bool) -> Result<(Value, bool)> {
+fn replicate(
+    config: &Config,
+    dir: &Path,
+    i: u64,
+    keep_beds: bool,
+    stop: Option<&AtomicBool>,
+) -> Result<(Value, bool)> {
     let seed = seeds::replicate_seed(config.seed, i);
     let rd = run_dir(dir, i);
     if let Some((v, _)) = done_summary(&rd, seed) {
@@ -47,8 +54,18 @@ fn replicate(config: &Config, dir: &Path, i: u64, keep_beds: bool) -> Result<(Va
     clear_leftovers(&rd);
     let mut c = config.clone();
     c.seed = seed;
-    let finished = crate::pipeline::run_bed(&c, &mut |_| {})
-        .map_err(|e| Error::Impossible(format!("replicate {i} (seed {seed}): {e}")))?;
+    let stopped = || stop.is_some_and(|s| s.load(Ordering::Relaxed));
+    if stopped() {
+        return Err(Error::Interrupted);
+    }
+    let on_progress = &mut |_| match stopped() {
+        true => ControlFlow::Break(()),
+        false => ControlFlow::Continue(()),
+    };
+    let finished = crate::pipeline::run_bed_or_stop(&c, on_progress).map_err(|e| match e {
+        Error::Interrupted => e,
+        e => Error::Impossible(format!("replicate {i} (seed {seed}): {e}")),
+    })?;
     let text = finished.summary.to_json()?;
     if keep_beds {
         finished.write(&rd)?;
@@ -115,7 +132,7 @@ pub fn run(
         let summaries: Vec<Result<(Value, bool)>> = pool.install(|| {
             mine.par_iter()
                 .map(|&i| {
-                    let r = replicate(&p.config, &dir, i, opts.keep_beds);
+                    let r = replicate(&p.config, &dir, i, opts.keep_beds, opts.stop.as_deref());
                     let d = done.fetch_add(1, Ordering::Relaxed) + 1;
                     progress(Tick { done: d, total });
                     r
@@ -124,6 +141,12 @@ pub fn run(
         });
         // The first failure in replicate order is the one reported; the
         // replicates done are on disk and a rerun resumes from them.
+        if summaries
+            .iter()
+            .any(|s| matches!(s, Err(Error::Interrupted)))
+        {
+            return Err(Error::Interrupted);
+        }
         let mut values = Vec::with_capacity(summaries.len());
         let mut built = 0;
         for s in summaries {

@@ -18,7 +18,8 @@ pub fn config(text: &str) -> Config {
 /// The bed of `c`, deposited in dimension `D`, and its report.
 pub fn run<const D: usize>(c: &Config) -> (Bed<D>, DepositReport) {
     let plan = c.plan::<D>().unwrap_or_else(|e| panic!("plan: {e}"));
-    deposit::<D>(&plan, &mut |_| {}).unwrap_or_else(|e| panic!("deposit: {e}"))
+    deposit::<D>(&plan, &mut |_| std::ops::ControlFlow::Continue(()))
+        .unwrap_or_else(|e| panic!("deposit: {e}"))
 }
 
 /// The checker's report on `b` under `checks`; panics naming `what` unless

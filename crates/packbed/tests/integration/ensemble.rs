@@ -32,6 +32,7 @@ fn opts(runs: u64, jobs: usize, shard: Shard) -> Options {
         shard,
         keep_beds: false,
         pictures: true,
+        stop: None,
     }
 }
 
@@ -345,4 +346,66 @@ fn every_example_config_is_valid() {
         }
     }
     assert!(seen >= 12, "{seen} example configs");
+}
+
+/// A stop asked for from outside (Ctrl-C in Python) ends the build and the
+/// ensemble with `Interrupted`, for deposition and RSA alike; the replicates
+/// finished before it stay and a rerun completes the ensemble as if never
+/// stopped.
+#[test]
+fn stop_interrupts_builds_and_ensembles() {
+    use packbed::config::{Mode, Overrides};
+    use std::ops::ControlFlow;
+    use std::sync::atomic::AtomicBool;
+    use std::sync::Arc;
+    for mode in [Mode::Deposit, Mode::Rsa] {
+        let mut c = Config::default();
+        Overrides {
+            dim: Some(2),
+            radii: Some(vec![1.0]),
+            count: Some(10_000),
+            container: Some("400,400".parse().unwrap()),
+            periodic: true,
+            ..Overrides::default()
+        }
+        .apply(&mut c)
+        .unwrap();
+        c.mode = mode;
+        let mut calls = 0;
+        let stopped = packbed::run_bed_or_stop(&c, &mut |n| {
+            calls += 1;
+            assert!(n < 10_000, "{mode:?}: stopped only at the end");
+            ControlFlow::Break(())
+        });
+        assert!(
+            matches!(stopped, Err(packbed::Error::Interrupted)),
+            "{mode:?}"
+        );
+        assert_eq!(calls, 1, "{mode:?}");
+    }
+    let mut c = Config::default();
+    Overrides {
+        dim: Some(2),
+        radii: Some(vec![10.0]),
+        count: Some(30),
+        ..Overrides::default()
+    }
+    .apply(&mut c)
+    .unwrap();
+    let t = tempfile::tempdir().unwrap();
+    let dir = t.path();
+    let stop = Arc::new(AtomicBool::new(true));
+    let o = Options {
+        stop: Some(stop.clone()),
+        ..opts(3, 1, Shard::ALL)
+    };
+    let e = ensemble::run(&c, &o, &dir.join("a"), &|_| {}).unwrap_err();
+    assert!(matches!(e, packbed::Error::Interrupted), "{e}");
+    stop.store(false, std::sync::atomic::Ordering::Relaxed);
+    let resumed = run(&c, &o, &dir.join("a"));
+    let fresh = run(&c, &opts(3, 1, Shard::ALL), &dir.join("b"));
+    assert_eq!(resumed.points[0].built, 3);
+    let csv = |d: &str| std::fs::read(dir.join(d).join("ensemble.csv")).unwrap();
+    assert_eq!(csv("a"), csv("b"));
+    assert_eq!(fresh.points[0].built, 3);
 }

@@ -163,7 +163,8 @@ fn invariants_check<const D: usize>(
     tally: &mut Tally,
 ) -> Result<(), String> {
     let plan = c.plan::<D>().map_err(|e| e.to_string())?;
-    let (b, rep) = deposit::<D>(&plan, &mut |_| {}).map_err(|e| e.to_string())?;
+    let (b, rep) = deposit::<D>(&plan, &mut |_| std::ops::ControlFlow::Continue(()))
+        .map_err(|e| e.to_string())?;
     tally.runs += 1;
     tally.particles += b.len() as u64;
     tally.redrops += rep.redrops;
@@ -565,8 +566,8 @@ fn determinism_through_build() {
             "count = 500",
             Sizes::Two(20.0),
         );
-        let (x, _) = build(&c, &mut |_| {}).unwrap();
-        let (y, _) = build(&c, &mut |_| {}).unwrap();
+        let (x, _) = build(&c, &mut |_| std::ops::ControlFlow::Continue(())).unwrap();
+        let (y, _) = build(&c, &mut |_| std::ops::ControlFlow::Continue(())).unwrap();
         match (x, y) {
             (AnyBed::D2(x), AnyBed::D2(y)) => {
                 assert!(same_bits(&x, &y));
@@ -977,7 +978,10 @@ fn refused<const D: usize>(c: &Config, what: &str) {
         }
     }
     // `build` refuses it too, before doing anything.
-    assert!(build(c, &mut |_| {}).is_err(), "{what}: build accepted");
+    assert!(
+        build(c, &mut |_| std::ops::ControlFlow::Continue(())).is_err(),
+        "{what}: build accepted"
+    );
 }
 
 #[test]

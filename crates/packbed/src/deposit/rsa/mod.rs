@@ -24,7 +24,7 @@ mod voxels;
 use crate::bed::Bed;
 use crate::config::{Fill, Plan};
 use crate::container::Container;
-use crate::deposit::{DepositReport, RunRng};
+use crate::deposit::{DepositReport, Progress, RunRng};
 use crate::error::{Error, Result};
 use crate::grid::Grid;
 use crate::math::{Real, Vector};
@@ -57,13 +57,16 @@ const SMALLEST_VOXEL: Real = 1e-10;
 /// Builds an RSA bed for a validated plan.
 pub fn rsa<const D: usize>(
     plan: &Plan<D>,
-    progress: &mut dyn FnMut(u64),
+    progress: &mut Progress,
 ) -> Result<(Bed<D>, DepositReport)> {
     let started = Instant::now();
     let mut run = Rsa::new(plan)?;
     run.blind(progress);
     run.exclusion_regions(progress);
-    progress(run.bed.len() as u64);
+    if run.stopped {
+        return Err(Error::Interrupted);
+    }
+    let _ = progress(run.bed.len() as u64);
     let report = DepositReport {
         dropped: run.bed.len() as u64,
         deposit_seconds: started.elapsed().as_secs_f64(),
@@ -88,6 +91,8 @@ struct Rsa<'p, const D: usize> {
     hi: Vector<D>,
     /// Particles to place at most.
     target: u64,
+    /// The caller asked to stop (its progress broke): the bed counts as full.
+    stopped: bool,
 }
 
 impl<'p, const D: usize> Rsa<'p, D> {
@@ -148,11 +153,12 @@ impl<'p, const D: usize> Rsa<'p, D> {
             lo,
             hi,
             target,
+            stopped: false,
         })
     }
 
     fn full(&self) -> bool {
-        self.bed.len() as u64 >= self.target
+        self.stopped || self.bed.len() as u64 >= self.target
     }
 
     /// True when a particle of radius `r` centred at `p` lies inside the box and
@@ -189,13 +195,13 @@ impl<'p, const D: usize> Rsa<'p, D> {
     }
 
     /// Adds a particle (its centre wrapped into the box on periodic axes).
-    fn place(&mut self, p: Vector<D>, r: Real, species: u32, progress: &mut dyn FnMut(u64)) {
+    fn place(&mut self, p: Vector<D>, r: Real, species: u32, progress: &mut Progress) {
         let p = self.container.wrap(p);
         let id = self.bed.len() as u32;
         self.grid.insert(id, &p, r);
         self.bed.push(p, r, species);
-        if self.bed.len().is_multiple_of(4096) {
-            progress(self.bed.len() as u64);
+        if self.bed.len().is_multiple_of(4096) && progress(self.bed.len() as u64).is_break() {
+            self.stopped = true;
         }
     }
 
@@ -218,7 +224,7 @@ impl<'p, const D: usize> Rsa<'p, D> {
     }
 
     /// Phase 1: blind trials until most of them fail.
-    fn blind(&mut self, progress: &mut dyn FnMut(u64)) {
+    fn blind(&mut self, progress: &mut Progress) {
         let (lo, side) = (self.lo, self.hi - self.lo);
         let needed = (WINDOW as Real * SWITCH_SUCCESS).ceil() as u64;
         while !self.full() {
@@ -242,7 +248,7 @@ impl<'p, const D: usize> Rsa<'p, D> {
 
     /// One trial of phase 2 at `p`: the drawn particle if it fits, else one
     /// redrawn among the species and sizes that fit there, if any does.
-    fn trial(&mut self, p: Vector<D>, progress: &mut dyn FnMut(u64)) {
+    fn trial(&mut self, p: Vector<D>, progress: &mut Progress) {
         let (s, r) = self.draw_particle();
         if self.fits(&p, r) {
             self.place(p, r, s, progress);
@@ -301,7 +307,7 @@ impl<'p, const D: usize> Rsa<'p, D> {
 
     /// Phase 2: trials only in voxels that may hold available space, refined
     /// level by level until none is left.
-    fn exclusion_regions(&mut self, progress: &mut dyn FnMut(u64)) {
+    fn exclusion_regions(&mut self, progress: &mut Progress) {
         if self.full() {
             return;
         }
