@@ -35,7 +35,8 @@ fn analysis(cr: &mut Criterion) {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(1_000_000);
-    let (bed, _) = build(&bed_config(n), &mut |_| {}).expect("valid config");
+    let (bed, _) =
+        build(&bed_config(n), &mut |_| std::ops::ControlFlow::Continue(())).expect("valid config");
     let AnyBed::D3(bed) = bed else {
         unreachable!("3D config")
     };

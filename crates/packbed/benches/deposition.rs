@@ -41,7 +41,7 @@ fn deposition(cr: &mut Criterion) {
         let c = config(dim, n, radii);
         group.throughput(Throughput::Elements(n));
         group.bench_with_input(BenchmarkId::new(name, n), &c, |b, c| {
-            b.iter(|| build(c, &mut |_| {}).expect("valid config"))
+            b.iter(|| build(c, &mut |_| std::ops::ControlFlow::Continue(())).expect("valid config"))
         });
     }
     // Broad lognormal powders (median 10, default ±3 sd truncation) on the
@@ -61,7 +61,11 @@ fn deposition(cr: &mut Criterion) {
         group.bench_with_input(
             BenchmarkId::new(format!("3d-lognormal-gsd{gsd}"), n),
             &c,
-            |b, c| b.iter(|| build(c, &mut |_| {}).expect("valid config")),
+            |b, c| {
+                b.iter(|| {
+                    build(c, &mut |_| std::ops::ControlFlow::Continue(())).expect("valid config")
+                })
+            },
         );
     }
     group.finish();
@@ -85,7 +89,11 @@ fn chains(cr: &mut Criterion) {
         group.bench_with_input(
             BenchmarkId::new(format!("{dim}d-5-beads"), n),
             &c,
-            |b, c| b.iter(|| build(c, &mut |_| {}).expect("valid config")),
+            |b, c| {
+                b.iter(|| {
+                    build(c, &mut |_| std::ops::ControlFlow::Continue(())).expect("valid config")
+                })
+            },
         );
     }
     group.finish();

@@ -16,6 +16,7 @@ fn ensemble_500(cr: &mut Criterion) {
         shard: Shard::ALL,
         keep_beds: false,
         pictures: true,
+        stop: None,
     };
     let root = tempfile::tempdir().expect("temporary directory");
     let mut k = 0u32;

@@ -116,10 +116,10 @@ pub use bed::{AnyBed, Bed};
 pub use config::{AnalysisConfig, BoxSpec, Config, Edit, Measure, Overrides};
 pub use ensemble::{run as run_ensemble, Options as EnsembleOptions, Outcome};
 pub use error::{Error, Result};
-pub use io::read::{read_bed, read_bed_report, BoxHint};
+pub use io::read::{read_bed, read_bed_report, BoxHint, BoxSource, ReadReport};
 pub use io::{AnalyzeSummary, RunSummary};
 pub use output::RunExtras;
 pub use pipeline::{
-    analyze_file, check_box_hint, fragment_file, run_bed, run_bed_or_stop, AnalyzedBed,
-    AnyFragmentation, FinishedBed, FragmentedBed,
+    analyze_bed, analyze_file, analyze_read_bed, check_box_hint, fragment_file, fragment_read_bed,
+    run_bed, run_bed_or_stop, AnalyzedBed, AnyFragmentation, FinishedBed, FragmentedBed,
 };

@@ -3,7 +3,7 @@
 //! `packbed run` and every replicate of an ensemble go through [`run_bed`], so a
 //! replicate's `summary.json` is exactly what `run` would write for its seed.
 
-use crate::analysis::Contacts;
+use crate::analysis::{Contacts, Summary};
 use crate::bed::{AnyBed, Bed};
 use crate::config::{AnalysisConfig, Config};
 use crate::deposit::DepositReport;
@@ -118,15 +118,44 @@ pub fn analyze_file(
 ) -> Result<AnalyzedBed> {
     settings.check()?;
     let (bed, read, read_seconds) = read_timed(path, hint)?;
-    let source = path.display().to_string();
+    analyze_read_bed(
+        &path.display().to_string(),
+        bed,
+        &read,
+        settings,
+        read_seconds,
+    )
+}
+
+/// Analyses a bed already read (from `source`, as `read` reports it) with
+/// `settings`, as [`analyze_file`] does after reading.
+pub fn analyze_read_bed(
+    source: &str,
+    bed: AnyBed,
+    read: &ReadReport,
+    settings: &AnalysisConfig,
+    read_seconds: f64,
+) -> Result<AnalyzedBed> {
+    settings.check()?;
     let (contacts, summary) = match &bed {
-        AnyBed::D2(b) => analyze_read(&source, b, &read, settings, read_seconds),
-        AnyBed::D3(b) => analyze_read(&source, b, &read, settings, read_seconds),
+        AnyBed::D2(b) => analyze_read(source, b, read, settings, read_seconds),
+        AnyBed::D3(b) => analyze_read(source, b, read, settings, read_seconds),
     };
     Ok(AnalyzedBed {
         bed,
         contacts,
         summary,
+    })
+}
+
+/// The contacts and measures of a bed in memory, with `settings`: the
+/// measures `summary.json` holds, without its counts, timing or config.
+pub fn analyze_bed(bed: &AnyBed, settings: &AnalysisConfig) -> Result<(Contacts, Summary)> {
+    settings.check()?;
+    let options = settings.options();
+    Ok(match bed {
+        AnyBed::D2(b) => crate::analysis::analyze_with(b, &options),
+        AnyBed::D3(b) => crate::analysis::analyze_with(b, &options),
     })
 }
 
@@ -229,14 +258,39 @@ pub fn fragment_file(
         )));
     }
     let (bed, read, read_seconds) = read_timed(path, hint)?;
-    let source = path.display().to_string();
+    fragment_read_bed(
+        &path.display().to_string(),
+        bed,
+        &read,
+        options,
+        contact_tol,
+        read_seconds,
+    )
+}
+
+/// Loads and breaks a bed already read (from `source`, as `read` reports it),
+/// as [`fragment_file`] does after reading.
+pub fn fragment_read_bed(
+    source: &str,
+    bed: AnyBed,
+    read: &ReadReport,
+    options: &mechanics::Options,
+    contact_tol: crate::math::Real,
+    read_seconds: f64,
+) -> Result<FragmentedBed> {
+    options.check()?;
+    if !(contact_tol.is_finite() && contact_tol >= 0.0) {
+        return Err(Error::config(format!(
+            "contact_tol must be a non-negative number, got {contact_tol}"
+        )));
+    }
     let (fragmentation, summary) = match &bed {
         AnyBed::D2(b) => {
-            let (f, s) = fragment_read(&source, b, &read, options, contact_tol, read_seconds)?;
+            let (f, s) = fragment_read(source, b, read, options, contact_tol, read_seconds)?;
             (AnyFragmentation::D2(f), s)
         }
         AnyBed::D3(b) => {
-            let (f, s) = fragment_read(&source, b, &read, options, contact_tol, read_seconds)?;
+            let (f, s) = fragment_read(source, b, read, options, contact_tol, read_seconds)?;
             (AnyFragmentation::D3(f), s)
         }
     };

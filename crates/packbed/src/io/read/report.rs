@@ -23,6 +23,8 @@ pub enum BoxSource {
     File,
     /// The `summary.json` beside a `particles.csv`.
     SummaryBeside,
+    /// Not read: the bed was built in memory (a Python `packbed.deposit`).
+    Built,
 }
 
 impl BoxSource {
@@ -32,6 +34,7 @@ impl BoxSource {
             BoxSource::Given => "options",
             BoxSource::File => "file",
             BoxSource::SummaryBeside => "summary.json",
+            BoxSource::Built => "deposition",
         }
     }
 }

@@ -1,0 +1,80 @@
+//! Ensembles and merges from Python: the library's, off the GIL, with
+//! Ctrl-C and progress. The Dask path (python/packbed/_dask.py) runs shards
+//! of the same ensemble as tasks and joins them with [`merge`], which gives
+//! the files of a single local run byte for byte.
+
+use crate::config::load;
+use crate::detached::{self, Shared};
+use crate::errors::to_py;
+use packbed::ensemble::{self as library, Options, Shard, Tick};
+use pyo3::prelude::*;
+use std::path::PathBuf;
+use std::sync::atomic::Ordering;
+
+/// What an ensemble or merge made: the output folder of each point (one for a
+/// plain ensemble, one per sweep value) with its label, and the files written.
+type Made = (Vec<(Option<String>, PathBuf)>, Vec<PathBuf>);
+
+fn made(outcome: &packbed::Outcome) -> Made {
+    let points = outcome
+        .points
+        .iter()
+        .map(|p| (p.label.clone(), p.dir.clone()))
+        .collect();
+    let mut files = outcome.files.clone();
+    for p in &outcome.points {
+        files.extend(p.files.iter().cloned());
+    }
+    (points, files)
+}
+
+/// Runs replicates `0..runs` of a resolved config (canonical JSON) into
+/// `out` (resuming what is there), or shard `(K, M)` of them.
+#[pyfunction]
+#[pyo3(signature = (config_json, runs, out, jobs=None, shard=None, pictures=true, progress=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn ensemble(
+    py: Python<'_>,
+    config_json: &str,
+    runs: u64,
+    out: PathBuf,
+    jobs: Option<usize>,
+    shard: Option<(u64, u64)>,
+    pictures: bool,
+    progress: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Made> {
+    let config = load(config_json)?;
+    let shard = match shard {
+        Some((index, count)) => Shard { index, count },
+        None => Shard::ALL,
+    };
+    packbed::output::check_out_dir(&out).map_err(|e| to_py(e.within("out")))?;
+    detached::run(py, progress, |shared: &Shared| {
+        let options = Options {
+            runs,
+            jobs,
+            shard,
+            keep_beds: false,
+            pictures,
+            stop: Some(shared.stop.clone()),
+        };
+        let tick = |t: Tick| {
+            shared.done.store(t.done, Ordering::Relaxed);
+            shared.total.store(t.total, Ordering::Relaxed);
+        };
+        library::run(&config, &options, &out, &tick)
+            .map(|o| made(&o))
+            .map_err(to_py)
+    })
+}
+
+/// Joins the output folders of shards into `out` (`packbed merge`).
+#[pyfunction]
+#[pyo3(signature = (dirs, out, pictures=true))]
+pub fn merge(py: Python<'_>, dirs: Vec<PathBuf>, out: PathBuf, pictures: bool) -> PyResult<Made> {
+    detached::run(py, None, |_| {
+        library::merge_with(&dirs, &out, pictures)
+            .map(|o| made(&o))
+            .map_err(to_py)
+    })
+}

@@ -1,0 +1,213 @@
+"""Beds from Python against the command: the same bed bit for bit, the same
+measures, contacts, files and breakage."""
+
+import csv
+import json
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import packbed
+from conftest import optional
+
+
+def read_particles(path: Path):
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    return rows
+
+
+def test_deposit_equals_run_bit_for_bit(tmp_path, run_cli):
+    run_cli("run", "--radii", "10,20", "--seed", "5", "--out", str(tmp_path / "cli"), "--quiet", "--no-pictures")
+    rows = read_particles(tmp_path / "cli" / "particles.csv")
+    bed = packbed.deposit(dim=3, radii=[10, 20], seed=5)
+    assert len(bed) == len(rows) > 100
+    # float(text) of the shortest round-trip text is the exact double written.
+    expected = np.array([[float(r["x"]), float(r["y"]), float(r["z"])] for r in rows])
+    assert bed.positions.shape == (len(rows), 3)
+    assert bed.positions.dtype == np.float64
+    assert np.array_equal(bed.positions, expected)
+    assert np.array_equal(bed.radii, np.array([float(r["r"]) for r in rows]))
+    assert np.array_equal(bed.species, np.array([int(r["species"]) for r in rows]))
+    assert np.array_equal(bed.body, np.array([int(r["body"]) for r in rows]))
+    summary = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    measures = bed.analyze()
+    for key in ("packing", "coordination", "percolation"):
+        assert measures[key] == summary[key], key
+    assert bed.box == {"width": 240.0, "depth": 240.0, "height": 240.0, "periodic": False}
+    assert bed.summary["counts"] == summary["counts"]
+
+
+def test_arrays_share_memory_and_are_read_only():
+    bed = packbed.deposit(dim=2, radii=10, count=50, seed=1)
+    r = bed.radii
+    assert not r.flags.writeable
+    with pytest.raises(ValueError):
+        r[0] = 3.0
+    # Two views of one bed share the memory (zero-copy), positions are a copy.
+    assert np.shares_memory(bed.radii, bed.radii)
+    assert bed.positions.flags.writeable
+    assert bed.positions.shape == (50, 2)
+    del bed
+    assert r.sum() == 500.0  # the view keeps the bed alive
+
+
+def test_contacts_files_and_pandas_match_the_command(tmp_path, run_cli):
+    out = tmp_path / "cli"
+    run_cli("run", "--dim", "2", "--radii", "10,20", "--seed", "3", "--out", str(out), "--quiet", "--no-pictures")
+    bed = packbed.deposit(dim=2, radii=[10, 20], seed=3)
+    i, j, gap = bed.contacts()
+    rows = read_particles(out / "contacts.csv")
+    assert len(i) == len(rows) > 0
+    assert np.array_equal(i, [int(r["i"]) for r in rows])
+    assert np.array_equal(j, [int(r["j"]) for r in rows])
+    assert np.array_equal(gap, [float(r["gap"]) for r in rows])
+    pd = optional("pandas")
+    frame = bed.to_pandas()
+    expected = pd.read_csv(out / "particles.csv")
+    assert list(frame.columns) == list(expected.columns)
+    pd.testing.assert_frame_equal(frame, expected, check_dtype=False, check_exact=True)
+    written = bed.write(tmp_path / "py", pictures=False)
+    for name in ("particles.csv", "contacts.csv", "wall_contacts.csv"):
+        assert (tmp_path / "py" / name).read_bytes() == (out / name).read_bytes(), name
+        assert tmp_path / "py" / name in written
+    mine = json.loads((tmp_path / "py" / "summary.json").read_text())
+    theirs = json.loads((out / "summary.json").read_text())
+    for key in ("counts", "packing", "coordination", "percolation", "config"):
+        assert mine[key] == theirs[key], key
+
+
+def test_read_every_format_analyze_reads(tmp_path, run_cli):
+    out = tmp_path / "cli"
+    run_cli("run", "--dim", "2", "--radii", "10", "--count", "60", "--seed", "2", "--out", str(out), "--quiet", "--no-pictures")
+    built = packbed.deposit(dim=2, radii=10, count=60, seed=2)
+    bed = packbed.read(out / "particles.csv")
+    assert len(bed) == 60 and bed.dim == 2
+    assert np.array_equal(bed.positions, built.positions)
+    assert bed.box == built.box
+    assert bed.summary is None
+    # A plain table needs the box; it is the three discs of the library's doc.
+    table = tmp_path / "three.txt"
+    table.write_text("1 1 1\n3 1 1\n5 1 1\n")
+    three = packbed.read(table, box="6,4")
+    coordination = three.analyze(measures=["coordination"])["coordination"]
+    assert abs(coordination["mean"] - 4 / 3) < 1e-12
+    assert coordination["floor_contacts"] == 3
+    with pytest.raises(packbed.PackbedError):
+        packbed.read(table)  # no box
+    analysed = tmp_path / "analysed"
+    files = three.write(analysed, pictures=False)
+    assert {f.name for f in files} >= {"contacts.csv", "summary.json"}
+
+
+def test_fragment_equals_the_command(tmp_path, run_cli):
+    out = tmp_path / "cli"
+    run_cli("run", "--dim", "2", "--radii", "10", "--count", "120", "--seed", "4", "--periodic", "--box", "200,400",
+            "--out", str(out), "--quiet", "--no-pictures")
+    run_cli("fragment", str(out / "particles.csv"), "--breaks", "5", "--out", str(tmp_path / "frag"), "--no-pictures", "-q")
+    theirs = json.loads((tmp_path / "frag" / "summary.json").read_text())
+    bed = packbed.read(out / "particles.csv")
+    mine = bed.fragment(breaks=5, out=tmp_path / "pyfrag", pictures=False)
+    assert mine["fragmentation"] == theirs["fragmentation"]
+    for name in ("bonds.csv", "breakage.csv"):
+        assert (tmp_path / "pyfrag" / name).read_bytes() == (tmp_path / "frag" / name).read_bytes(), name
+
+
+def test_progress_callable_and_interrupt():
+    seen = []
+    bed = packbed.deposit(dim=2, radii=1, count=30000, box="600,600", periodic=True, progress=lambda d, t: seen.append((d, t)))
+    assert len(bed) == 30000
+    # A progress callable that raises stops the work with that exception.
+    class Stop(Exception):
+        pass
+
+    def stop(done, total):
+        raise Stop()
+
+    with pytest.raises(Stop):
+        packbed.deposit(dim=2, radii=1, count=400000, box="3000,3000", periodic=True, progress=stop)
+
+
+def test_ctrl_c_interrupts_a_long_call():
+    import _thread
+
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    started = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            # About 10 s uninterrupted on the CI machine.
+            packbed.deposit(dim=2, radii=1, count=2_000_000, box="8000,8000", periodic=True, progress=False)
+    finally:
+        timer.cancel()
+    assert time.monotonic() - started < 5.0
+
+
+def test_gil_is_released_while_depositing():
+    ticks = []
+    result = {}
+
+    def work():
+        result["bed"] = packbed.deposit(dim=2, radii=1, count=300000, box="2000,2000", periodic=True, progress=False)
+
+    t = threading.Thread(target=work)
+    t.start()
+    while t.is_alive():
+        ticks.append(time.monotonic())
+        time.sleep(0.01)
+    t.join()
+    assert len(result["bed"]) == 300000
+    # The main thread kept running Python while the bed was built.
+    assert len(ticks) > 10
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda: packbed.deposit(radii=[-1]), "radius"),
+        (lambda: packbed.deposit({"dim": 2, "bogus": 1}), "bogus"),
+        (lambda: packbed.deposit({"species": [{"radius": "ten"}]}), "radius"),
+        (lambda: packbed.deposit(dim="3"), "dim"),
+        (lambda: packbed.deposit(dim=4), "dim"),
+        (lambda: packbed.deposit(radii="abc"), "radii"),
+        (lambda: packbed.deposit(seed=-1), "seed"),
+        (lambda: packbed.deposit(count=1.5), "count"),
+        (lambda: packbed.deposit(box="nonsense"), "box"),
+        (lambda: packbed.deposit(mode="fly"), "mode"),
+        (lambda: packbed.deposit({"dim": None}), "dim"),
+        (lambda: packbed.deposit(42), "config"),
+        (lambda: packbed.deposit("/no/such/config.toml"), "config.toml"),
+        (lambda: packbed.read("/no/such/bed.csv"), "bed.csv"),
+        (lambda: packbed.read(3), "path"),
+        (lambda: packbed.ensemble(runs="3"), "runs"),
+        (lambda: packbed.ensemble(runs=0), "runs"),
+        (lambda: packbed.ensemble(runs=2, jobs=0), "jobs"),
+        (lambda: packbed.deposit(dim=2, count=5).analyze(contact_tol=-1), "contact_tol"),
+        (lambda: packbed.deposit(dim=2, count=5).analyze(nonsense=1), "nonsense"),
+        (lambda: packbed.deposit(dim=2, count=5).fragment(load="twist"), "twist"),
+        (lambda: packbed.deposit(dim=2, count=5).fragment(breaks=0), "breaks"),
+    ],
+)
+def test_bad_input_raises_value_error(call, message):
+    with pytest.raises(ValueError) as e:
+        call()
+    assert isinstance(e.value, packbed.PackbedError)
+    text = str(e.value)
+    assert message in text, text
+    assert "\n" not in text
+
+
+def test_config_dict_and_toml_file_agree(tmp_path):
+    toml = tmp_path / "c.toml"
+    toml.write_text('dim = 2\nseed = 9\n[box]\ndiameters = 6\n[[species]]\nradius = 10\n[[species]]\nradius = 5\nratio = 2\n')
+    from_file = packbed.deposit(toml)
+    from_dict = packbed.deposit({"dim": 2, "seed": 9, "box": {"diameters": 6},
+                                 "species": [{"radius": 10}, {"radius": 5, "ratio": 2}]})
+    assert np.array_equal(from_file.positions, from_dict.positions)
+    # Keywords override the file as the command's options do.
+    other = packbed.deposit(toml, seed=10)
+    assert not np.array_equal(other.positions[:5], from_file.positions[:5])
+    assert packbed.resolve_config(toml, seed=10)["seed"] == 10
