@@ -176,7 +176,9 @@ class _Progress:
         self._start = time.monotonic()
         self._bar: Any = None
         if self._force:
-            import tqdm  # noqa: F401  (True asks for a bar: tqdm must be there)
+            from tqdm.auto import tqdm  # True asks for a bar: tqdm must be there
+
+            self._bar = tqdm(unit=unit, leave=False)
 
     def __call__(self, done: int, total: int) -> None:
         if self._user is not None:

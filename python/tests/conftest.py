@@ -46,3 +46,16 @@ def run_cli(cli):
         return done
 
     return run
+
+
+@pytest.fixture(scope="session", autouse=True)
+def installed_package_is_current():
+    """The tests run against the installed package: refuse a stale install of
+    an older python/packbed (pip install ./python again)."""
+    import packbed
+
+    installed = Path(packbed.__file__).parent
+    for source in sorted((ROOT / "python" / "packbed").glob("*.py*")):
+        copy = installed / source.name
+        if not copy.exists() or copy.read_bytes() != source.read_bytes():
+            pytest.fail(f"the installed packbed ({installed}) is not built from this tree: {source.name} differs (pip install ./python)")

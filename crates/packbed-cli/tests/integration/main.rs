@@ -8,4 +8,5 @@ mod commands;
 mod ensemble;
 mod files;
 mod fragment;
+mod python;
 mod render;
