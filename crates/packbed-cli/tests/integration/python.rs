@@ -23,7 +23,14 @@ fn python_package_suite() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let mut pytest = Command::new(&python);
     pytest
-        .args(["-m", "pytest", "-q", "-p", "no:cacheprovider", "python/tests"])
+        .args([
+            "-m",
+            "pytest",
+            "-q",
+            "-p",
+            "no:cacheprovider",
+            "python/tests",
+        ])
         .current_dir(&root)
         .env("PACKBED_BIN", env!("CARGO_BIN_EXE_packbed"));
     if required {
