@@ -114,6 +114,8 @@ def _whole(name: str, value: Any, *, minimum: int = 1, optional: bool = False) -
         raise SettingError(f"{name}: must be a whole number, got {value!r}")
     if value < minimum:
         raise SettingError(f"{name}: must be at least {minimum}, got {value}")
+    if value >= 2**63:
+        raise SettingError(f"{name}: must be below 2^63, got {value}")
     return int(value)
 
 
@@ -169,6 +171,8 @@ class _Progress:
     tqdm bar made once the call has lasted a second (or at once if asked)."""
 
     def __init__(self, progress: ProgressLike, unit: str) -> None:
+        if not (progress is None or isinstance(progress, bool) or callable(progress)):
+            raise SettingError(f"progress: give None, True, False or a callable f(done, total), got {progress!r}")
         self._user = progress if callable(progress) and not isinstance(progress, bool) else None
         self._want = progress is None or progress is True
         self._force = progress is True
@@ -465,6 +469,9 @@ def ensemble(
                 points, _files = _native.ensemble(resolved, runs_n, target, jobs_n, None, bool(pictures), p)
         else:
             from ._dask import run_on
+
+            if not (hasattr(client, "submit") and hasattr(client, "nthreads")):
+                raise SettingError(f"client: give a dask.distributed.Client, got {type(client).__name__}")
 
             points, _files = run_on(client, resolved, runs_n, target, jobs_n or 1, bool(pictures), progress)
         return _statistics(points)
