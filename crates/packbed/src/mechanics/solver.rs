@@ -7,8 +7,12 @@
 //! Instead of a new factorisation, the solver keeps the factor `L` of the last
 //! matrix `A₀` it factored and the bonds removed since, and applies the
 //! Sherman–Morrison–Woodbury inverse
-//! `(A₀ − W Wᵀ)⁻¹ = A₀⁻¹ + Z S⁻¹ Zᵀ` with `Z = A₀⁻¹ W`, `S = I − Wᵀ Z`.
-//! Each break costs `D` triangular solves and a small dense factorisation.
+//! `(A₀ − W Wᵀ)⁻¹ = A₀⁻¹ + Z S⁻¹ Zᵀ` with `Z = A₀⁻¹ W`, `S = I − Wᵀ Z`,
+//! kept half-solved: with `A₀ = Pᵀ L Lᵀ P` and `Y = L⁻¹ P W` (sparse, see
+//! [`factor`](super::factor)), `S = I − Yᵀ Y` and
+//! `A⁻¹ b = Pᵀ L⁻ᵀ (y + Y S⁻¹ Yᵀ y)` with `y = L⁻¹ P b`. A break costs a
+//! sparse forward solve per column of `W` and a small dense factorisation; a
+//! solve for loads seen before costs one backward half-solve.
 //! Because the ground springs make `S` nearly singular when a body loses its
 //! last support, that inverse is used as the preconditioner of a conjugate
 //! gradient on the exact current matrix (applied bond by bond), which restores
@@ -17,6 +21,7 @@
 //! the symbolic analysis of the first factorisation (the pattern never
 //! changes: a broken bond keeps its entries, as zeros).
 
+use super::factor::{Factor, SparseVec};
 use super::network::BondGeometry;
 use super::spring::{self, body_dofs};
 use crate::error::{Error, Result};
@@ -25,10 +30,11 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymmetricOrdering,
 };
+use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
-use faer::{Conj, MatMut, Par, Side};
+use faer::{Par, Side};
 
 /// Ground spring stiffness relative to `k_n` (spec: `1e-9 k_n`).
 pub const GROUND: Real = 1e-9;
@@ -64,17 +70,17 @@ pub struct Solver<'a, const D: usize> {
     alive: Vec<bool>,
     pattern: SymbolicSparseColMat<usize>,
     argsort: Argsort<usize>,
-    symbolic: SymbolicCholesky<usize>,
-    factor: Vec<Real>,
-    /// Bonds removed since the last factorisation, their `W` columns and `Z`.
-    removed: Vec<WColumn>,
-    z: Vec<Vec<Real>>,
-    /// Dense `S = I − Wᵀ Z` and its Cholesky factor (lower, row-major).
+    factor: Factor,
+    /// `Y = L⁻¹ P W` of the bonds removed since the last factorisation.
+    y: Vec<SparseVec>,
+    /// Dense `S = I − Yᵀ Y` and its Cholesky factor (lower, row-major).
     s: Vec<Vec<Real>>,
     s_factor: Option<Vec<Vec<Real>>>,
     par: Par,
-    /// The last right-hand side and `A₀⁻¹` of it: loads change rarely.
+    /// The last right-hand side and `L⁻¹ P` of it: loads change rarely.
     base: Option<(Vec<Real>, Vec<Real>)>,
+    /// Zeroed scratch of the sparse forward solve.
+    work: Vec<Real>,
     /// Numeric factorisations so far (the first included).
     pub factorisations: usize,
 }
@@ -84,12 +90,6 @@ pub struct Solver<'a, const D: usize> {
 struct WColumn {
     idx: Vec<usize>,
     val: Vec<Real>,
-}
-
-impl WColumn {
-    fn dot(&self, x: &[Real]) -> Real {
-        self.idx.iter().zip(&self.val).map(|(&i, v)| v * x[i]).sum()
-    }
 }
 
 fn internal(what: &str) -> Error {
@@ -128,13 +128,16 @@ impl<'a, const D: usize> Solver<'a, D> {
         // on a 30 × 30 diameter floor: first solve 29 s against 68 s).
         let (fwd, inv) = dof_order::<D>(bonds, reference);
         let ordering = SymmetricOrdering::Custom(PermRef::new_checked(&fwd, &inv, n));
-        let symbolic = factorize_symbolic_cholesky(
-            matrix.symbolic(),
-            Side::Lower,
-            ordering,
-            Default::default(),
-        )
-        .map_err(|_| internal("ordered"))?;
+        // Supernodal always: the sparse forward solve walks its supernodes.
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        };
+        let symbolic =
+            factorize_symbolic_cholesky(matrix.symbolic(), Side::Lower, ordering, params)
+                .map_err(|_| internal("ordered"))?;
+        let par = Par::rayon(0);
+        let factor = Factor::new(symbolic, par).ok_or_else(|| internal("ordered (supernodes)"))?;
         let mut solver = Solver {
             bonds,
             springs,
@@ -142,14 +145,13 @@ impl<'a, const D: usize> Solver<'a, D> {
             alive,
             pattern,
             argsort,
-            factor: Vec::new(),
-            symbolic,
-            removed: Vec::new(),
-            z: Vec::new(),
+            factor,
+            y: Vec::new(),
             s: Vec::new(),
             s_factor: None,
-            par: Par::rayon(0),
+            par,
             base: None,
+            work: vec![0.0; n],
             factorisations: 0,
         };
         solver.refactor()?;
@@ -176,14 +178,15 @@ impl<'a, const D: usize> Solver<'a, D> {
         let values = values::<D>(self.bonds, &self.alive, &self.ground, self.springs);
         let matrix = SparseColMat::new_from_argsort(self.pattern.clone(), &self.argsort, &values)
             .map_err(|_| internal("assembled"))?;
-        self.factor.resize(self.symbolic.len_val(), 0.0);
+        let f = &mut self.factor;
+        f.values.resize(f.symbolic.len_val(), 0.0);
         let mut mem = MemBuffer::new(
-            self.symbolic
+            f.symbolic
                 .factorize_numeric_llt_scratch::<Real>(self.par, Default::default()),
         );
-        self.symbolic
+        f.symbolic
             .factorize_numeric_llt(
-                &mut self.factor,
+                &mut f.values,
                 matrix.as_ref(),
                 Side::Lower,
                 LltRegularization::default(),
@@ -192,25 +195,12 @@ impl<'a, const D: usize> Solver<'a, D> {
                 Default::default(),
             )
             .map_err(|_| internal("factored (not positive definite)"))?;
-        self.removed.clear();
-        self.z.clear();
+        self.y.clear();
         self.s.clear();
         self.s_factor = None;
         self.base = None;
         self.factorisations += 1;
         Ok(())
-    }
-
-    /// `A₀⁻¹` applied in place to `cols` right-hand sides stored one after another.
-    fn factor_solve(&self, x: &mut [Real], cols: usize) {
-        let n = self.len();
-        let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<Real>(cols, self.par));
-        LltRef::new(&self.symbolic, &self.factor).solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(x, n, cols),
-            self.par,
-            MemStack::new(&mut mem),
-        );
     }
 
     /// Removes bond `k` from the matrix.
@@ -219,31 +209,24 @@ impl<'a, const D: usize> Solver<'a, D> {
             return Ok(());
         }
         self.alive[k] = false;
-        if self.removed.len() + D > MAX_RANK {
+        if self.y.len() + D > MAX_RANK {
             return self.refactor();
         }
-        let n = self.len();
-        let cols = w_columns::<D>(&self.bonds[k], self.springs);
-        let mut z = vec![0.0; n * D];
-        for (c, col) in cols.iter().enumerate() {
-            for (&i, &v) in col.idx.iter().zip(&col.val) {
-                z[c * n + i] = v;
-            }
+        for col in w_columns::<D>(&self.bonds[k], self.springs) {
+            let y = self
+                .factor
+                .sparse_forward(&col.idx, &col.val, &mut self.work);
+            self.y.push(y);
         }
-        self.factor_solve(&mut z, D);
-        for (c, col) in cols.into_iter().enumerate() {
-            self.removed.push(col);
-            self.z.push(z[c * n..(c + 1) * n].to_vec());
-        }
-        // S = I − Wᵀ Z, grown by the new rows and columns.
-        let r = self.removed.len();
+        // S = I − Yᵀ Y, grown by the new rows and columns.
+        let r = self.y.len();
         for row in self.s.iter_mut() {
             row.resize(r, 0.0);
         }
         self.s.resize(r, vec![0.0; r]);
         for p in 0..r {
             for q in r - D..r {
-                let v = f64::from(u8::from(p == q)) - self.removed[p].dot(&self.z[q]);
+                let v = f64::from(u8::from(p == q)) - self.y[p].dot(&self.y[q]);
                 self.s[p][q] = v;
                 self.s[q][p] = v;
             }
@@ -255,26 +238,24 @@ impl<'a, const D: usize> Solver<'a, D> {
         Ok(())
     }
 
-    /// The preconditioner: the Woodbury inverse of the current matrix,
-    /// `x₀ + Z S⁻¹ (Wᵀ x₀)` with `x₀ = A₀⁻¹ b` (`Zᵀ b = Wᵀ A₀⁻¹ b`, a gather).
+    /// The preconditioner: the Woodbury inverse of the current matrix.
     fn precondition(&self, b: &[Real]) -> Vec<Real> {
-        let mut x = b.to_vec();
-        self.factor_solve(&mut x, 1);
-        self.correct(&mut x);
-        x
+        self.finish(self.factor.forward(b))
     }
 
-    /// Adds the removed bonds' correction `Z S⁻¹ (Wᵀ x₀)` to `x₀`.
-    fn correct(&self, x: &mut [Real]) {
+    /// `Pᵀ L⁻ᵀ (y + Y S⁻¹ Yᵀ y)` for `y = L⁻¹ P b`: the current matrix's
+    /// inverse applied to `b`.
+    fn finish(&self, mut y: Vec<Real>) -> Vec<Real> {
         if let Some(l) = &self.s_factor {
-            let y: Vec<Real> = self.removed.iter().map(|w| w.dot(x)).collect();
-            let y = dense_solve(l, y);
-            for (z, yk) in self.z.iter().zip(y) {
-                for (xi, zi) in x.iter_mut().zip(z) {
-                    *xi += yk * zi;
+            let c: Vec<Real> = self.y.iter().map(|w| w.dot_dense(&y)).collect();
+            let c = dense_solve(l, c);
+            for (w, ck) in self.y.iter().zip(c) {
+                for (&i, v) in w.idx.iter().zip(&w.val) {
+                    y[i] += ck * v;
                 }
             }
         }
+        self.factor.backward(y)
     }
 
     /// `A x` for the current matrix, bond by bond (independent of the
@@ -310,9 +291,7 @@ impl<'a, const D: usize> Solver<'a, D> {
             .as_ref()
             .is_none_or(|(old, _)| old.as_slice() != b)
         {
-            let mut x0 = b.to_vec();
-            self.factor_solve(&mut x0, 1);
-            self.base = Some((b.to_vec(), x0));
+            self.base = Some((b.to_vec(), self.factor.forward(b)));
         }
         if let Some(x) = self.iterate(b) {
             return Ok(x);
@@ -329,11 +308,7 @@ impl<'a, const D: usize> Solver<'a, D> {
             return Some(vec![0.0; b.len()]);
         }
         let mut x = match &self.base {
-            Some((old, x0)) if old.as_slice() == b => {
-                let mut x = x0.clone();
-                self.correct(&mut x);
-                x
-            }
+            Some((old, y0)) if old.as_slice() == b => self.finish(y0.clone()),
             _ => self.precondition(b),
         };
         let ax = self.apply(&x);
