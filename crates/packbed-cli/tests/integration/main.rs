@@ -9,3 +9,4 @@ mod ensemble;
 mod files;
 mod fragment;
 mod render;
+mod slurm;
