@@ -208,7 +208,7 @@ fn slurm_ensembles_equal_local_ones() {
     // 3. A task cancelled mid-run: `--wait` names it and its log, exits 1,
     // and cancels the merge that can no longer run; the same command again
     // resumes, and the result equals the local one.
-    let long = &[
+    let long: &[&str] = &[
         "--dim",
         "2",
         "--radii",
@@ -221,9 +221,9 @@ fn slurm_ensembles_equal_local_ones() {
     run_ok(
         &conf,
         &work,
-        &cat(&[&["ensemble"], &long, &["--out", "long-local", "-q"]]),
+        &cat(&[&["ensemble"], long, &["--out", "long-local", "-q"]]),
     );
-    let slurm_args = cat(&[&["slurm"], &long, &["--tasks", "2", "--out", "long-cl"]]);
+    let slurm_args = cat(&[&["slurm"], long, &["--tasks", "2", "--out", "long-cl"]]);
     let child = packbed_cmd(&conf, &work, &cat(&[&slurm_args, &["--submit", "--wait"]]))
         .spawn()
         .unwrap();
@@ -257,6 +257,10 @@ fn slurm_ensembles_equal_local_ones() {
     let c = client(&conf, "scancel", &[&task1]);
     assert!(c.status.success(), "scancel {task1}");
     let (code, stdout, stderr) = finish(child);
+    eprintln!(
+        "slurm test: after scancel {task1}, --wait said: {}",
+        stderr.trim()
+    );
     assert_eq!(code, 1, "{stdout}\n{stderr}");
     assert!(
         stderr.contains("task 1 did not finish") || stderr.contains("task 1 failed"),
@@ -277,6 +281,10 @@ fn slurm_ensembles_equal_local_ones() {
     let log = s.read("long-cl/logs/task-1.out");
     eprintln!(
         "slurm test: task 1 cancelled after {cancelled_after} replicates; resubmitted log:\n{log}"
+    );
+    assert!(
+        log.contains(" resumed") && !log.contains(" 0 resumed"),
+        "{log}"
     );
     assert_same(&work.join("long-local"), &work.join("long-cl"), &STAT_FILES);
 }

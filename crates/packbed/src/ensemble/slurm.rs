@@ -909,9 +909,11 @@ mod tests {
     fn config_round_trips_and_prepare_writes() {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("ens");
-        let mut config = Config::default();
-        config.dim = 2;
-        config.seed = 7;
+        let mut config = Config {
+            dim: 2,
+            seed: 7,
+            ..Config::default()
+        };
         let p = Plan {
             out: out.clone(),
             runs: 3,
