@@ -99,7 +99,12 @@ pub fn slurm(args: SlurmArgs) -> Result<()> {
             extra: args.sbatch_args,
         },
     };
-    let prepared = slurm::prepare(&config, &plan).with_context(|| source.clone())?;
+    if args.submit {
+        for id in slurm::clear_queue(&plan)? {
+            eprintln!("packbed: note: cancelled job {id} of an earlier submission: a task had failed, so it could never run");
+        }
+    }
+    let prepared = slurm::prepare(&config, &plan)?;
     let dir = plan.out.display();
     if plan.out.starts_with("/tmp") || plan.out.starts_with("/dev/shm") {
         eprintln!("packbed: note: {dir} is usually local to each node; on a cluster of several nodes put --out on a shared file system");
@@ -148,16 +153,25 @@ pub fn slurm(args: SlurmArgs) -> Result<()> {
         }
         WaitOutcome::Failed(failures) => {
             let list: Vec<String> = failures.iter().map(|f| f.to_string()).collect();
+            let merge_failed = failures.iter().any(|f| f.what == "the merge");
             Err(JobsFailed(format!(
-                "{} of array job {} / merge job {}: {}; run the same command again to resume",
-                if failures.len() == 1 {
-                    "one job failed"
+                "{} {}: {}; {}; run the same command again to resume",
+                if merge_failed {
+                    "merge job"
                 } else {
-                    "jobs failed"
+                    "array job"
                 },
-                jobs.array,
-                jobs.merge,
-                list.join("; ")
+                if merge_failed {
+                    &jobs.merge
+                } else {
+                    &jobs.array
+                },
+                list.join("; "),
+                if merge_failed {
+                    "the shards are complete".to_string()
+                } else {
+                    format!("so the merge (job {}) did not run", jobs.merge)
+                }
             ))
             .into())
         }

@@ -275,9 +275,20 @@ fn slurm_ensembles_equal_local_ones() {
         "jobs left in the queue: {}",
         String::from_utf8_lossy(&q.stdout)
     );
-    // The resubmission resumes the replicates task 1 finished.
-    let out = run_ok(&conf, &work, &cat(&[&slurm_args, &["--submit", "--wait"]]));
+    // The resubmission resumes the replicates task 1 finished; a second
+    // submission while its jobs are in the queue is refused.
+    let out = run_ok(&conf, &work, &cat(&[&slurm_args, &["--submit"]]));
     assert!(out.contains("resuming"), "{out}");
+    let again = packbed_cmd(&conf, &work, &cat(&[&slurm_args, &["--submit"]]))
+        .output()
+        .unwrap();
+    let again_err = String::from_utf8_lossy(&again.stderr);
+    assert_eq!(again.status.code(), Some(2), "{again_err}");
+    assert!(again_err.contains("still queued or running"), "{again_err}");
+    wait_for(Duration::from_secs(180), "the resubmitted jobs", || {
+        let q = client(&conf, "squeue", &["-h", "--me", "-o", "%i"]);
+        q.status.success() && q.stdout.iter().all(|b| b.is_ascii_whitespace())
+    });
     let log = s.read("long-cl/logs/task-1.out");
     eprintln!(
         "slurm test: task 1 cancelled after {cancelled_after} replicates; resubmitted log:\n{log}"
@@ -286,6 +297,9 @@ fn slurm_ensembles_equal_local_ones() {
         log.contains(" resumed") && !log.contains(" 0 resumed"),
         "{log}"
     );
+    assert_eq!(s.read("long-cl/logs/merge.status").trim(), "0");
+    // And once more with --wait: nothing left to build, the same files.
+    run_ok(&conf, &work, &cat(&[&slurm_args, &["--submit", "--wait"]]));
     assert_same(&work.join("long-local"), &work.join("long-cl"), &STAT_FILES);
 }
 

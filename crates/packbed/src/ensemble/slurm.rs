@@ -633,7 +633,8 @@ pub fn submit(plan: &Plan) -> Result<Submitted> {
     Ok(Submitted { array, merge })
 }
 
-/// One job of `squeue`: id (`123`, `123_4`, `123_[0-9]`), state, reason.
+/// One job of `squeue`: id (`123`, `123_4`, `123_[0-9]`), state, reason,
+/// working directory.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct QueuedJob {
     /// The job id as `squeue` shows it.
@@ -642,18 +643,26 @@ pub struct QueuedJob {
     pub state: String,
     /// E.g. `Dependency`, `DependencyNeverSatisfied`, `None`.
     pub reason: String,
+    /// The job's working directory: `DIR` for the jobs of `packbed slurm`,
+    /// which submits from there.
+    pub dir: String,
 }
 
-/// Parses `squeue -h -o '%i|%T|%r'`.
+/// The `squeue -o` format [`parse_squeue`] reads.
+const SQUEUE_FORMAT: &str = "%i|%T|%r|%Z";
+
+/// Parses `squeue -h -o '%i|%T|%r|%Z'`.
 pub fn parse_squeue(text: &str) -> Vec<QueuedJob> {
     text.lines()
         .filter_map(|l| {
-            let mut f = l.trim().splitn(3, '|');
+            let mut f = l.trim().splitn(4, '|');
             let id = f.next()?.trim();
+            let mut next = || f.next().unwrap_or("").trim().to_string();
             (!id.is_empty()).then(|| QueuedJob {
                 id: id.to_string(),
-                state: f.next().unwrap_or("").trim().to_string(),
-                reason: f.next().unwrap_or("").trim().to_string(),
+                state: next(),
+                reason: next(),
+                dir: next(),
             })
         })
         .collect()
@@ -669,8 +678,47 @@ fn is_job(id: &str, job: &str) -> bool {
 
 /// The jobs of this user in the queue (pending, running, completing).
 pub fn queue() -> Result<Vec<QueuedJob>> {
-    let out = slurm_command("squeue", &["-h", "--me", "-o", "%i|%T|%r"], Path::new("."))?;
+    let out = slurm_command(
+        "squeue",
+        &["-h", "--me", "-o", SQUEUE_FORMAT],
+        Path::new("."),
+    )?;
     Ok(parse_squeue(&out))
+}
+
+/// Makes way for a new submission into `plan.out`: cancels the merge jobs of
+/// earlier submissions there that can never run (a task had failed:
+/// `DependencyNeverSatisfied`) and returns their ids; refuses while other
+/// jobs of earlier submissions there are queued or running, since two tasks
+/// writing one shard would spoil it.
+pub fn clear_queue(plan: &Plan) -> Result<Vec<String>> {
+    let Ok(real) = fs::canonicalize(&plan.out) else {
+        return Ok(Vec::new());
+    };
+    let ours: Vec<QueuedJob> = queue()?
+        .into_iter()
+        .filter(|j| Path::new(&j.dir) == real || Path::new(&j.dir) == plan.out)
+        .collect();
+    let (dead, live): (Vec<_>, Vec<_>) = ours
+        .into_iter()
+        .partition(|j| j.reason == "DependencyNeverSatisfied");
+    if !live.is_empty() {
+        let ids: Vec<&str> = live.iter().map(|j| j.id.as_str()).collect();
+        return Err(Error::setting(
+            "out",
+            format!(
+                "jobs of an earlier submission into {} are still queued or running ({}): wait for them, or scancel them, then run again",
+                plan.out.display(),
+                ids.join(", ")
+            ),
+        ));
+    }
+    let mut cancelled = Vec::new();
+    for j in dead {
+        cancel(&j.id)?;
+        cancelled.push(j.id);
+    }
+    Ok(cancelled)
 }
 
 /// Cancels a job.
@@ -897,9 +945,10 @@ mod tests {
     #[test]
     fn squeue_lines() {
         let q = parse_squeue(
-            "12_[2-3]|PENDING|JobArrayTaskLimit\n12_1|RUNNING|None\n13|PENDING|DependencyNeverSatisfied\n\n",
+            "12_[2-3]|PENDING|JobArrayTaskLimit|/s/a\n12_1|RUNNING|None|/s/a\n13|PENDING|DependencyNeverSatisfied|/s/a b|c\n\n",
         );
         assert_eq!(q.len(), 3);
+        assert_eq!(q[2].dir, "/s/a b|c");
         assert!(is_job(&q[0].id, "12") && is_job(&q[1].id, "12"));
         assert!(!is_job(&q[2].id, "12") && !is_job("123_1", "12"));
         assert_eq!(q[2].reason, "DependencyNeverSatisfied");
