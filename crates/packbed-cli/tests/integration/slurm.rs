@@ -42,8 +42,12 @@ fn cluster() -> Option<String> {
                 .expect("the script names SLURM_CONF");
             Some(conf.to_string())
         }
-        Some(3) if !required => {
-            eprintln!("SKIP: slurm test: {}", stderr.trim());
+        // 3: no root or no packages; 1: the daemons did not come up.
+        Some(_) if !required => {
+            eprintln!(
+                "SKIP: slurm test: {} (set PACKBED_REQUIRE_SLURM=1 to make this a failure)",
+                stderr.trim()
+            );
             None
         }
         _ => panic!(
