@@ -39,7 +39,7 @@ pub struct SlurmArgs {
     #[arg(long, value_name = "C", allow_negative_numbers = true, value_parser = at_least_one)]
     pub cpus_per_task: Option<usize>,
     /// Memory of each job (`sbatch --mem`), e.g. 4G.
-    #[arg(long, value_name = "M")]
+    #[arg(long, value_name = "MEM")]
     pub mem: Option<String>,
     /// Account to charge (`sbatch --account`).
     #[arg(long, value_name = "A")]

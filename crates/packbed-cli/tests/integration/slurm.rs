@@ -308,7 +308,7 @@ fn slurm_ensembles_equal_local_ones() {
 }
 
 #[test]
-fn slurm_refuses_bad_requests() {
+fn slurm_writes_scripts_and_refuses_bad_requests() {
     let s = Scratch::new();
     // No Slurm needed: these fail before anything is submitted or written.
     let o = packbed(
@@ -440,4 +440,82 @@ fn slurm_refuses_bad_requests() {
     );
     assert_eq!(o.code, 2, "{}", o.stderr);
     assert!(o.stderr.contains("different config"), "{}", o.stderr);
+    let o = packbed(
+        &s.work,
+        &cat(&[
+            &["slurm"],
+            SMALL,
+            &["--runs", "4", "--tasks", "4", "--out", "plan"],
+        ]),
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    std::fs::create_dir_all(s.path("plan/shards/0")).unwrap();
+    s.ok(&cat(&[
+        &["ensemble"],
+        &[
+            "plan/config.toml",
+            "--shard",
+            "0/4",
+            "--out",
+            "plan/shards/0",
+            "-q",
+        ],
+    ]));
+    let o = packbed(
+        &s.work,
+        &cat(&[
+            &["slurm"],
+            SMALL,
+            &["--runs", "4", "--tasks", "2", "--out", "plan"],
+        ]),
+    );
+    assert_eq!(o.code, 2, "{}", o.stderr);
+    assert!(o.stderr.contains("shards of 4 tasks"), "{}", o.stderr);
+    // A PSD table relative to the config file: config.toml names it by its
+    // absolute path, so that the tasks find it from DIR.
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let psd = std::fs::read_to_string(examples.join("psd.csv")).unwrap();
+    s.input("psd.csv", &psd);
+    s.input(
+        "psd.toml",
+        "dim = 2\n[fill]\ncount = 50\n[[species]]\nsize = { table = \"psd.csv\" }\n",
+    );
+    s.ok(&[
+        "slurm",
+        "../inputs/psd.toml",
+        "--runs",
+        "2",
+        "--tasks",
+        "2",
+        "--out",
+        "psd",
+    ]);
+    let toml = s.read("psd/config.toml");
+    let table = s.inputs.join("psd.csv").canonicalize().unwrap();
+    let named = toml
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("table = "))
+        .unwrap_or_else(|| panic!("no table in\n{toml}"));
+    assert_eq!(
+        Path::new(named.trim_matches('"')).canonicalize().unwrap(),
+        table,
+        "{toml}"
+    );
+    // A task runs it from anywhere.
+    let elsewhere = s.inputs.clone();
+    let dir = s.path("psd");
+    let config = dir.join("config.toml");
+    let shard = dir.join("shards/1");
+    crate::common::ok(
+        &elsewhere,
+        &[
+            "ensemble",
+            config.to_str().unwrap(),
+            "--shard",
+            "1/2",
+            "--out",
+            shard.to_str().unwrap(),
+            "-q",
+        ],
+    );
 }
