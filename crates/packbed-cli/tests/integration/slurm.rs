@@ -124,6 +124,14 @@ fn wait_for(limit: Duration, what: &str, mut cond: impl FnMut() -> bool) {
     }
 }
 
+/// Whether this user has no jobs in the queue.
+fn queue_empty(conf: &str) -> impl FnMut() -> bool + '_ {
+    move || {
+        let q = client(conf, "squeue", &["-h", "--me", "-o", "%i"]);
+        q.status.success() && q.stdout.iter().all(|b| b.is_ascii_whitespace())
+    }
+}
+
 fn finish(child: Child) -> (i32, String, String) {
     let out = child.wait_with_output().unwrap();
     (
@@ -273,11 +281,12 @@ fn slurm_ensembles_equal_local_ones() {
     assert!(stderr.contains("logs/task-1.out"), "{stderr}");
     assert!(!stderr.contains("task 0 "), "{stderr}");
     assert!(!work.join("long-cl/ensemble.csv").exists());
-    let q = client(&conf, "squeue", &["-h", "--me", "-o", "%i"]);
-    assert!(
-        String::from_utf8_lossy(&q.stdout).trim().is_empty(),
-        "jobs left in the queue: {}",
-        String::from_utf8_lossy(&q.stdout)
+    // The merge, which could never run, is cancelled (Slurm may take a
+    // moment to drop it from the queue).
+    wait_for(
+        Duration::from_secs(30),
+        "an empty queue",
+        queue_empty(&conf),
     );
     // The resubmission resumes the replicates task 1 finished; a second
     // submission while its jobs are in the queue is refused.
@@ -289,10 +298,11 @@ fn slurm_ensembles_equal_local_ones() {
     let again_err = String::from_utf8_lossy(&again.stderr);
     assert_eq!(again.status.code(), Some(2), "{again_err}");
     assert!(again_err.contains("still queued or running"), "{again_err}");
-    wait_for(Duration::from_secs(180), "the resubmitted jobs", || {
-        let q = client(&conf, "squeue", &["-h", "--me", "-o", "%i"]);
-        q.status.success() && q.stdout.iter().all(|b| b.is_ascii_whitespace())
-    });
+    wait_for(
+        Duration::from_secs(180),
+        "the resubmitted jobs",
+        queue_empty(&conf),
+    );
     let log = s.read("long-cl/logs/task-1.out");
     eprintln!(
         "slurm test: task 1 cancelled after {cancelled_after} replicates; resubmitted log:\n{log}"
