@@ -1,5 +1,6 @@
 //! The `packbed` command: argument parsing and dispatch onto the `packbed` library.
-//! Every user error ends here as one line `packbed: error: …` and exit code 2.
+//! Every user error ends here as one line `packbed: error: …` and exit code 2
+//! (a failed Slurm job of `packbed slurm --wait`: exit code 1).
 
 mod analyze;
 mod bench;
@@ -9,6 +10,7 @@ mod overrides;
 mod progress;
 mod render;
 mod run;
+mod slurm;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -41,6 +43,8 @@ enum Command {
     Ensemble(ensemble::EnsembleArgs),
     /// Join the outputs of ensemble shards into the result of a single run.
     Merge(ensemble::MergeArgs),
+    /// Write (and submit) a Slurm job array of ensemble shards and their merge.
+    Slurm(slurm::SlurmArgs),
     /// Measure deposition throughput on a bed of equal spheres (or discs).
     Bench(bench::BenchArgs),
     /// Print a commented configuration file (the default bed).
@@ -61,6 +65,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render::render(args),
         Command::Ensemble(args) => ensemble::ensemble(args),
         Command::Merge(args) => ensemble::merge(args),
+        Command::Slurm(args) => slurm::slurm(args),
         Command::Bench(args) => bench::bench(args),
         Command::Example => {
             print!("{EXAMPLE_CONFIG}");
@@ -69,6 +74,11 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.downcast_ref::<slurm::JobsFailed>().is_some() => {
+            // The input was fine, a job on the cluster failed: exit code 1.
+            eprintln!("packbed: error: {e}");
+            ExitCode::FAILURE
+        }
         Err(e) => {
             eprintln!(
                 "packbed: error: {}",

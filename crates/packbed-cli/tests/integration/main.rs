@@ -10,3 +10,4 @@ mod files;
 mod fragment;
 mod python;
 mod render;
+mod slurm;

@@ -22,8 +22,8 @@
 //!
 //! Modules: [`replicates`] (running them, resume), [`manifest`] (what
 //! identifies an ensemble directory, shards), [`merge`] (joining shards),
-//! [`write`] (the statistics files and plots), and [`stats`], [`tables`],
-//! [`plots`], [`seeds`], [`sweep`].
+//! [`write`] (the statistics files and plots), [`slurm`] (job scripts for a
+//! Slurm cluster), and [`stats`], [`tables`], [`plots`], [`seeds`], [`sweep`].
 
 pub(crate) mod manifest;
 pub(crate) mod merge;
@@ -31,6 +31,7 @@ pub(crate) mod merge;
 pub(crate) mod plots;
 pub(crate) mod replicates;
 pub mod seeds;
+pub mod slurm;
 pub mod stats;
 pub mod sweep;
 pub mod tables;

@@ -1,0 +1,531 @@
+//! `packbed slurm` on a real single-node Slurm, started on this machine by
+//! `scripts/slurm-test-cluster.sh` (root, Debian's `slurm-wlm` and `munge`).
+//! Where it cannot be started the test says why and is skipped, unless
+//! `PACKBED_REQUIRE_SLURM=1` (as in `.ci/run`), which makes that a failure.
+//!
+//! Every `packbed slurm ... --submit --wait` result is compared byte for byte
+//! with `packbed ensemble` of the same settings: a plain ensemble, a sweep,
+//! and an ensemble whose task was cancelled mid-run and then resubmitted.
+
+use crate::common::{packbed, Scratch};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+/// Fast beds, as in the ensemble tests: 2D, radii 20 and 10, 8 large diameters.
+const SMALL: &[&str] = &["--dim", "2", "--radii", "20,10", "--box", "diameters=8"];
+
+const STAT_FILES: [&str; 4] = [
+    "ensemble.json",
+    "ensemble.csv",
+    "histograms.csv",
+    "ensemble.md",
+];
+
+/// The cluster's `SLURM_CONF`, or `None` (test skipped) when Slurm cannot run here.
+fn cluster() -> Option<String> {
+    let required = std::env::var("PACKBED_REQUIRE_SLURM").is_ok_and(|v| v == "1");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scripts/slurm-test-cluster.sh");
+    let out = Command::new("bash")
+        .arg(&script)
+        .stdin(Stdio::null())
+        .output()
+        .expect("bash runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    match out.status.code() {
+        Some(0) => {
+            let stdout = String::from_utf8_lossy(&out.stdout);
+            let conf = stdout
+                .lines()
+                .rev()
+                .find_map(|l| l.strip_prefix("SLURM_CONF="))
+                .expect("the script names SLURM_CONF");
+            Some(conf.to_string())
+        }
+        // 3: no root or no packages; 1: the daemons did not come up.
+        Some(_) if !required => {
+            eprintln!(
+                "SKIP: slurm test: {} (set PACKBED_REQUIRE_SLURM=1 to make this a failure)",
+                stderr.trim()
+            );
+            None
+        }
+        _ => panic!(
+            "cannot start Slurm ({}{}):\n{stderr}",
+            script.display(),
+            if required {
+                "; PACKBED_REQUIRE_SLURM=1 makes that a failure"
+            } else {
+                ""
+            }
+        ),
+    }
+}
+
+/// A Slurm client command (`squeue`, `scancel`) for the test cluster.
+fn client(conf: &str, program: &str, args: &[&str]) -> Output {
+    Command::new(program)
+        .args(args)
+        .env("SLURM_CONF", conf)
+        .stdin(Stdio::null())
+        .output()
+        .unwrap()
+}
+
+/// `packbed` with the test cluster's `SLURM_CONF`.
+fn packbed_cmd(conf: &str, dir: &Path, args: &[&str]) -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_packbed"));
+    c.args(args)
+        .current_dir(dir)
+        .env("SLURM_CONF", conf)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    c
+}
+
+fn run_ok(conf: &str, dir: &Path, args: &[&str]) -> String {
+    let start = Instant::now();
+    let out = packbed_cmd(conf, dir, args).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "{args:?}: {:?}\n{stdout}\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    eprintln!(
+        "slurm test: {:?} took {:.1} s",
+        args.first(),
+        start.elapsed().as_secs_f64()
+    );
+    stdout
+}
+
+fn cat<'a>(parts: &[&[&'a str]]) -> Vec<&'a str> {
+    parts.iter().flat_map(|p| p.iter().copied()).collect()
+}
+
+fn assert_same(a: &Path, b: &Path, files: &[&str]) {
+    for f in files {
+        let (x, y) = (a.join(f), b.join(f));
+        let bx = std::fs::read(&x).unwrap_or_else(|e| panic!("{}: {e}", x.display()));
+        let by = std::fs::read(&y).unwrap_or_else(|e| panic!("{}: {e}", y.display()));
+        assert!(bx == by, "{} and {} differ", x.display(), y.display());
+    }
+}
+
+/// Waits for `cond` up to `limit`, polling every 0.2 s.
+fn wait_for(limit: Duration, what: &str, mut cond: impl FnMut() -> bool) {
+    let start = Instant::now();
+    while !cond() {
+        assert!(start.elapsed() < limit, "timed out waiting for {what}");
+        std::thread::sleep(Duration::from_millis(200));
+    }
+}
+
+/// Whether this user has no jobs in the queue.
+fn queue_empty(conf: &str) -> impl FnMut() -> bool + '_ {
+    move || {
+        let q = client(conf, "squeue", &["-h", "--me", "-o", "%i"]);
+        q.status.success() && q.stdout.iter().all(|b| b.is_ascii_whitespace())
+    }
+}
+
+fn finish(child: Child) -> (i32, String, String) {
+    let out = child.wait_with_output().unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn slurm_ensembles_equal_local_ones() {
+    let Some(conf) = cluster() else {
+        return;
+    };
+    let s = Scratch::new();
+    let work = s.work.clone();
+
+    // 1. A plain ensemble: 6 replicates in 3 array tasks.
+    let local = work.join("local");
+    run_ok(
+        &conf,
+        &work,
+        &cat(&[
+            &["ensemble"],
+            SMALL,
+            &["--runs", "6", "--out", "local", "-q"],
+        ]),
+    );
+    let out = run_ok(
+        &conf,
+        &work,
+        &cat(&[
+            &["slurm"],
+            SMALL,
+            &[
+                "--runs", "6", "--tasks", "3", "--out", "cl", "--time", "10:00",
+            ],
+            &["--submit", "--wait"],
+        ]),
+    );
+    assert!(out.contains("submitted array job"), "{out}");
+    let cl = work.join("cl");
+    assert_same(&local, &cl, &STAT_FILES);
+    for k in 0..3 {
+        assert!(cl.join(format!("shards/{k}/manifest.json")).exists());
+        assert_eq!(s.read(&format!("cl/logs/task-{k}.status")).trim(), "0");
+    }
+    let script = s.read("cl/array.sh");
+    assert!(script.contains("#SBATCH --array=0-2\n"), "{script}");
+    assert!(script.contains("#SBATCH --time=10:00\n"), "{script}");
+
+    // 2. A sweep: every value's replicates sharded; sweep.csv and every
+    // value's statistics the same as a local run's.
+    let sweep = s.input(
+        "sweep.toml",
+        "dim = 2\n[box]\ndiameters = 6\n[[species]]\nradius = 20\n[[species]]\nradius = 10\n[sweep]\nparameter = \"ratio\"\nvalues = [[1, 1], [1, 2]]\n",
+    );
+    let sweep = sweep.to_str().unwrap();
+    run_ok(
+        &conf,
+        &work,
+        &["ensemble", sweep, "--runs", "4", "--out", "sw-local", "-q"],
+    );
+    run_ok(
+        &conf,
+        &work,
+        &[
+            "slurm", sweep, "--runs", "4", "--tasks", "2", "--out", "sw-cl", "--submit", "--wait",
+        ],
+    );
+    assert_same(
+        &work.join("sw-local"),
+        &work.join("sw-cl"),
+        &["sweep.csv", "sweep.md"],
+    );
+    let values: Vec<PathBuf> = std::fs::read_dir(work.join("sw-local/sweep"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert_eq!(values.len(), 2);
+    for v in values {
+        let name = v.file_name().unwrap();
+        assert_same(&v, &work.join("sw-cl/sweep").join(name), &STAT_FILES);
+    }
+
+    // 3. A task cancelled mid-run: `--wait` names it and its log, exits 1,
+    // and cancels the merge that can no longer run; the same command again
+    // resumes, and the result equals the local one.
+    let long: &[&str] = &[
+        "--dim",
+        "2",
+        "--radii",
+        "20,10",
+        "--box",
+        "diameters=400",
+        "--runs",
+        "8",
+    ];
+    run_ok(
+        &conf,
+        &work,
+        &cat(&[&["ensemble"], long, &["--out", "long-local", "-q"]]),
+    );
+    let slurm_args = cat(&[&["slurm"], long, &["--tasks", "2", "--out", "long-cl"]]);
+    let child = packbed_cmd(&conf, &work, &cat(&[&slurm_args, &["--submit", "--wait"]]))
+        .spawn()
+        .unwrap();
+    let shard1 = work.join("long-cl/shards/1/runs");
+    let done_in_shard1 = || {
+        std::fs::read_dir(&shard1)
+            .map(|d| {
+                d.flatten()
+                    .filter(|e| e.path().join("summary.json").exists())
+                    .count()
+            })
+            .unwrap_or(0)
+    };
+    // Task 1 has replicates 1, 3, 5, 7: cancel it once the first is done.
+    wait_for(Duration::from_secs(120), "task 1's first replicate", || {
+        done_in_shard1() >= 1
+    });
+    let q = client(&conf, "squeue", &["-h", "--me", "-o", "%i|%T"]);
+    let q = String::from_utf8_lossy(&q.stdout).into_owned();
+    let task1 = q
+        .lines()
+        .filter_map(|l| l.split_once('|'))
+        .find(|(id, st)| id.ends_with("_1") && *st == "RUNNING")
+        .map(|(id, _)| id.to_string())
+        .unwrap_or_else(|| panic!("task 1 is not running: {q}"));
+    let cancelled_after = done_in_shard1();
+    assert!(
+        cancelled_after < 4,
+        "task 1 finished before it could be cancelled"
+    );
+    let c = client(&conf, "scancel", &[&task1]);
+    assert!(c.status.success(), "scancel {task1}");
+    let (code, stdout, stderr) = finish(child);
+    eprintln!(
+        "slurm test: after scancel {task1}, --wait said: {}",
+        stderr.trim()
+    );
+    assert_eq!(code, 1, "{stdout}\n{stderr}");
+    assert!(
+        stderr.contains("task 1 did not finish") || stderr.contains("task 1 failed"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("logs/task-1.out"), "{stderr}");
+    assert!(!stderr.contains("task 0 "), "{stderr}");
+    assert!(!work.join("long-cl/ensemble.csv").exists());
+    // The merge, which could never run, is cancelled (Slurm may take a
+    // moment to drop it from the queue).
+    wait_for(
+        Duration::from_secs(30),
+        "an empty queue",
+        queue_empty(&conf),
+    );
+    // The resubmission resumes the replicates task 1 finished; a second
+    // submission while its jobs are in the queue is refused.
+    let out = run_ok(&conf, &work, &cat(&[&slurm_args, &["--submit"]]));
+    assert!(out.contains("resuming"), "{out}");
+    let again = packbed_cmd(&conf, &work, &cat(&[&slurm_args, &["--submit"]]))
+        .output()
+        .unwrap();
+    let again_err = String::from_utf8_lossy(&again.stderr);
+    assert_eq!(again.status.code(), Some(2), "{again_err}");
+    assert!(again_err.contains("still queued or running"), "{again_err}");
+    wait_for(
+        Duration::from_secs(180),
+        "the resubmitted jobs",
+        queue_empty(&conf),
+    );
+    let log = s.read("long-cl/logs/task-1.out");
+    eprintln!(
+        "slurm test: task 1 cancelled after {cancelled_after} replicates; resubmitted log:\n{log}"
+    );
+    assert!(
+        log.contains(" resumed") && !log.contains(" 0 resumed"),
+        "{log}"
+    );
+    assert_eq!(s.read("long-cl/logs/merge.status").trim(), "0");
+    // And once more with --wait: nothing left to build, the same files.
+    run_ok(&conf, &work, &cat(&[&slurm_args, &["--submit", "--wait"]]));
+    assert_same(&work.join("long-local"), &work.join("long-cl"), &STAT_FILES);
+}
+
+#[test]
+fn slurm_writes_scripts_and_refuses_bad_requests() {
+    let s = Scratch::new();
+    // No Slurm needed: these fail before anything is submitted or written.
+    let o = packbed(
+        &s.work,
+        &cat(&[
+            &["slurm"],
+            SMALL,
+            &["--runs", "2", "--tasks", "3", "--out", "x"],
+        ]),
+    );
+    assert_eq!(o.code, 2, "{}", o.stderr);
+    assert!(
+        o.stderr.contains("--tasks") && o.stderr.contains("3 tasks for 2 replicates"),
+        "{}",
+        o.stderr
+    );
+    assert_eq!(o.stderr.lines().count(), 1, "{}", o.stderr);
+    assert!(!s.path("x").exists());
+    let o = packbed(
+        &s.work,
+        &cat(&[
+            &["slurm"],
+            SMALL,
+            &["--runs", "2", "--tasks", "0", "--out", "x"],
+        ]),
+    );
+    assert_eq!(o.code, 2, "{}", o.stderr);
+    assert!(!s.path("x").exists());
+    // sbatch missing: an empty PATH.
+    let out = Command::new(env!("CARGO_BIN_EXE_packbed"))
+        .args(cat(&[
+            &["slurm"],
+            SMALL,
+            &["--runs", "2", "--tasks", "2", "--out", "x", "--submit"],
+        ]))
+        .current_dir(&s.work)
+        .env("PATH", "")
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("sbatch is not on PATH"), "{stderr}");
+    assert!(!s.path("x").exists());
+    // An output directory that cannot be made.
+    std::fs::write(s.path("file"), "x").unwrap();
+    let o = packbed(
+        &s.work,
+        &cat(&[
+            &["slurm"],
+            SMALL,
+            &["--runs", "2", "--tasks", "2", "--out", "file/sub"],
+        ]),
+    );
+    assert_eq!(o.code, 2, "{}", o.stderr);
+    assert!(o.stderr.contains("file"), "{}", o.stderr);
+    // Without --submit: the scripts, which bash accepts, and how to submit them.
+    let o = s.ok(&cat(&[
+        &["slurm"],
+        SMALL,
+        &[
+            "--runs",
+            "4",
+            "--tasks",
+            "2",
+            "--out",
+            "plan",
+            "--partition",
+            "short",
+            "--mem",
+            "2G",
+        ],
+        &[
+            "--account",
+            "a1",
+            "--cpus-per-task",
+            "2",
+            "--time",
+            "0:30:00",
+            "--sbatch-arg=--qos=low",
+        ],
+    ]));
+    assert!(
+        o.stdout.contains("sbatch --dependency=afterok:"),
+        "{}",
+        o.stdout
+    );
+    for f in ["array.sh", "merge.sh"] {
+        let st = Command::new("bash")
+            .arg("-n")
+            .arg(s.path(&format!("plan/{f}")))
+            .status()
+            .unwrap();
+        assert!(st.success(), "bash -n {f}");
+    }
+    let a = s.read("plan/array.sh");
+    for d in [
+        "--array=0-1",
+        "--partition=short",
+        "--mem=2G",
+        "--account=a1",
+        "--cpus-per-task=2",
+        "--time=0:30:00",
+        "--qos=low",
+    ] {
+        assert!(a.contains(&format!("#SBATCH {d}\n")), "{d} missing:\n{a}");
+    }
+    let m = s.read("plan/merge.sh");
+    for d in [
+        "--partition=short",
+        "--mem=2G",
+        "--account=a1",
+        "--time=0:30:00",
+        "--qos=low",
+    ] {
+        assert!(m.contains(&format!("#SBATCH {d}\n")), "{d} missing:\n{m}");
+    }
+    assert!(s.path("plan/config.toml").exists());
+    // Another config into the same directory is refused; another task count too.
+    let o = packbed(
+        &s.work,
+        &cat(&[
+            &["slurm"],
+            SMALL,
+            &[
+                "--seed", "5", "--runs", "4", "--tasks", "2", "--out", "plan",
+            ],
+        ]),
+    );
+    assert_eq!(o.code, 2, "{}", o.stderr);
+    assert!(o.stderr.contains("different config"), "{}", o.stderr);
+    let o = packbed(
+        &s.work,
+        &cat(&[
+            &["slurm"],
+            SMALL,
+            &["--runs", "4", "--tasks", "4", "--out", "plan"],
+        ]),
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    std::fs::create_dir_all(s.path("plan/shards/0")).unwrap();
+    s.ok(&cat(&[
+        &["ensemble"],
+        &[
+            "plan/config.toml",
+            "--shard",
+            "0/4",
+            "--out",
+            "plan/shards/0",
+            "-q",
+        ],
+    ]));
+    let o = packbed(
+        &s.work,
+        &cat(&[
+            &["slurm"],
+            SMALL,
+            &["--runs", "4", "--tasks", "2", "--out", "plan"],
+        ]),
+    );
+    assert_eq!(o.code, 2, "{}", o.stderr);
+    assert!(o.stderr.contains("shards of 4 tasks"), "{}", o.stderr);
+    // A PSD table relative to the config file: config.toml names it by its
+    // absolute path, so that the tasks find it from DIR.
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let psd = std::fs::read_to_string(examples.join("psd.csv")).unwrap();
+    s.input("psd.csv", &psd);
+    s.input(
+        "psd.toml",
+        "dim = 2\n[fill]\ncount = 50\n[[species]]\nsize = { table = \"psd.csv\" }\n",
+    );
+    s.ok(&[
+        "slurm",
+        "../inputs/psd.toml",
+        "--runs",
+        "2",
+        "--tasks",
+        "2",
+        "--out",
+        "psd",
+    ]);
+    let toml = s.read("psd/config.toml");
+    let table = s.inputs.join("psd.csv").canonicalize().unwrap();
+    let named = toml
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("table = "))
+        .unwrap_or_else(|| panic!("no table in\n{toml}"));
+    assert_eq!(
+        Path::new(named.trim_matches('"')).canonicalize().unwrap(),
+        table,
+        "{toml}"
+    );
+    // A task runs it from anywhere.
+    let elsewhere = s.inputs.clone();
+    let dir = s.path("psd");
+    let config = dir.join("config.toml");
+    let shard = dir.join("shards/1");
+    crate::common::ok(
+        &elsewhere,
+        &[
+            "ensemble",
+            config.to_str().unwrap(),
+            "--shard",
+            "1/2",
+            "--out",
+            shard.to_str().unwrap(),
+            "-q",
+        ],
+    );
+}

@@ -1,0 +1,1009 @@
+//! Ensembles on a Slurm cluster: a job array of shards and a merge job.
+//!
+//! `packbed slurm` writes into its output directory `DIR`:
+//! - `config.toml`: the resolved config (file and command-line overrides),
+//!   the one every task runs;
+//! - `array.sh`: the job array; task `K` runs
+//!   `packbed ensemble DIR/config.toml --runs N --shard K/M --out DIR/shards/K`;
+//! - `merge.sh`: `packbed merge DIR/shards/* --out DIR`, submitted to run after
+//!   every task succeeded (`--dependency=afterok:ARRAY`);
+//! - `logs/task-K.out`, `logs/merge.out`: what the jobs printed, and
+//!   `logs/task-K.status`, `logs/merge.status`: their exit codes, written by
+//!   the scripts themselves, so that waiting for the jobs needs no Slurm
+//!   accounting (`sacct`), only `squeue`;
+//! - `manifest.json`: the manifest of the whole ensemble, written before any
+//!   job runs, so that the merge may write into `DIR` and a resubmission with
+//!   another config is refused up front.
+//!
+//! Resubmitting into `DIR` resumes: every task resumes its shard (the
+//! replicates done are skipped, [`super::run`]) and the merge joins them.
+//! Script text, job-id parsing and the checks are pure functions here; running
+//! `sbatch`, `squeue` and `scancel` is in the few functions at the end.
+
+use super::manifest::{check_out, config_key, write_manifest, Manifest, MANIFEST};
+use super::{Shard, MAX_RUNS};
+use crate::config::{Config, EnsembleConfig, SizeConfig};
+use crate::error::{Error, Result};
+use std::fmt::Write as _;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::Duration;
+
+/// The resolved config the tasks run.
+pub const CONFIG_FILE: &str = "config.toml";
+/// The job-array script.
+pub const ARRAY_SCRIPT: &str = "array.sh";
+/// The merge script.
+pub const MERGE_SCRIPT: &str = "merge.sh";
+/// Directory of the shards' output directories (`shards/K`).
+pub const SHARDS_DIR: &str = "shards";
+/// Directory of the jobs' logs and exit statuses.
+pub const LOGS_DIR: &str = "logs";
+
+/// Options of `sbatch` the scripts carry: those of `packbed slurm`, which
+/// the array and the merge share (the merge takes one CPU).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Resources {
+    /// `--partition`.
+    pub partition: Option<String>,
+    /// `--time`, e.g. `1:00:00`.
+    pub time: Option<String>,
+    /// `--cpus-per-task` of the array tasks (their `--jobs`); default 1.
+    pub cpus_per_task: Option<u32>,
+    /// `--mem`, e.g. `4G`.
+    pub mem: Option<String>,
+    /// `--account`.
+    pub account: Option<String>,
+    /// Further `sbatch` options, one option each, e.g. `--qos=short`.
+    pub extra: Vec<String>,
+}
+
+/// What `packbed slurm` arranges: everything the scripts are made of.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    /// Absolute path of the `packbed` binary the jobs run.
+    pub binary: PathBuf,
+    /// Absolute output directory `DIR`.
+    pub out: PathBuf,
+    /// Replicates (per sweep value).
+    pub runs: u64,
+    /// Array tasks `M` (shards), `1 <= M <= runs`.
+    pub tasks: u64,
+    /// The `sbatch` options.
+    pub resources: Resources,
+}
+
+/// The `sbatch` options the scripts set themselves.
+const OWN_OPTIONS: [&str; 7] = [
+    "--array",
+    "--output",
+    "--error",
+    "--dependency",
+    "--parsable",
+    "--wait",
+    "--job-name",
+];
+
+/// `text` as one shell word: single-quoted, a `'` as `'\''`.
+pub fn shell_quote(text: &str) -> String {
+    let safe = !text.is_empty()
+        && text
+            .bytes()
+            .all(|b| b.is_ascii_alphanumeric() || b"/._-+=:,@%".contains(&b));
+    if safe {
+        text.to_string()
+    } else {
+        format!("'{}'", text.replace('\'', r"'\''"))
+    }
+}
+
+/// A value that may stand in an `#SBATCH` line: Slurm splits those lines at
+/// blanks and reads `%` in file names as a pattern (`%a` the task index).
+fn check_directive(setting: &'static str, value: &str, percent: bool) -> Result<()> {
+    let bad = value.chars().find(|&c| {
+        c.is_whitespace() || c.is_control() || "\"'\\".contains(c) || (!percent && c == '%')
+    });
+    match bad {
+        Some(c) => Err(Error::setting(
+            setting,
+            format!(
+                "`{value}` holds {}, which an #SBATCH line of a job script cannot carry",
+                match c {
+                    ' ' => "a blank".to_string(),
+                    '%' => "`%` (a Slurm file-name pattern)".to_string(),
+                    c if c.is_control() || c.is_whitespace() => "a control character".to_string(),
+                    c => format!("`{c}`"),
+                }
+            ),
+        )),
+        None if value.is_empty() => Err(Error::setting(setting, "must not be empty")),
+        None => Ok(()),
+    }
+}
+
+impl Plan {
+    /// Checks the plan: `1 <= tasks <= runs`, an absolute `DIR` that
+    /// `#SBATCH --output` can name, resource values that fit `#SBATCH` lines.
+    pub fn check(&self) -> Result<()> {
+        if self.runs == 0 {
+            return Err(Error::setting("runs", "must be at least 1"));
+        }
+        if self.runs > MAX_RUNS {
+            return Err(Error::setting(
+                "runs",
+                format!(
+                    "at most {MAX_RUNS} replicates per ensemble, got {}",
+                    self.runs
+                ),
+            ));
+        }
+        if self.tasks == 0 {
+            return Err(Error::setting("tasks", "must be at least 1"));
+        }
+        if self.tasks > self.runs {
+            return Err(Error::setting(
+                "tasks",
+                format!(
+                    "{} tasks for {} replicates: every task needs at least one replicate; use --tasks {} or fewer",
+                    self.tasks, self.runs, self.runs
+                ),
+            ));
+        }
+        if !self.out.is_absolute() {
+            return Err(Error::setting(
+                "out",
+                format!("{}: must be an absolute path", self.out.display()),
+            ));
+        }
+        let out = self.out.to_str().ok_or_else(|| {
+            Error::setting("out", format!("{}: not valid UTF-8", self.out.display()))
+        })?;
+        check_directive("out", out, false)?;
+        let r = &self.resources;
+        for (setting, value) in [
+            ("partition", &r.partition),
+            ("time", &r.time),
+            ("mem", &r.mem),
+            ("account", &r.account),
+        ] {
+            if let Some(v) = value {
+                check_directive(setting, v, false)?;
+            }
+        }
+        if r.cpus_per_task == Some(0) {
+            return Err(Error::setting("cpus-per-task", "must be at least 1"));
+        }
+        for a in &r.extra {
+            check_directive("sbatch-arg", a, true)?;
+            if !a.starts_with('-') {
+                return Err(Error::setting(
+                    "sbatch-arg",
+                    format!("`{a}` is not an sbatch option (give one option each, e.g. --sbatch-arg=--qos=short)"),
+                ));
+            }
+            let name = a.split('=').next().unwrap_or(a);
+            if OWN_OPTIONS.contains(&name) || ["-a", "-o", "-e", "-d", "-W", "-J"].contains(&name) {
+                return Err(Error::setting(
+                    "sbatch-arg",
+                    format!("`{a}`: packbed slurm sets {name} itself"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// `DIR/config.toml`.
+    pub fn config_path(&self) -> PathBuf {
+        self.out.join(CONFIG_FILE)
+    }
+
+    /// `DIR/array.sh`.
+    pub fn array_path(&self) -> PathBuf {
+        self.out.join(ARRAY_SCRIPT)
+    }
+
+    /// `DIR/merge.sh`.
+    pub fn merge_path(&self) -> PathBuf {
+        self.out.join(MERGE_SCRIPT)
+    }
+
+    /// `DIR/shards/K`.
+    pub fn shard_dir(&self, k: u64) -> PathBuf {
+        self.out.join(SHARDS_DIR).join(k.to_string())
+    }
+
+    /// The log of task `K`.
+    pub fn task_log(&self, k: u64) -> PathBuf {
+        self.out.join(LOGS_DIR).join(format!("task-{k}.out"))
+    }
+
+    /// The exit status file of task `K`.
+    pub fn task_status(&self, k: u64) -> PathBuf {
+        self.out.join(LOGS_DIR).join(format!("task-{k}.status"))
+    }
+
+    /// The log of the merge.
+    pub fn merge_log(&self) -> PathBuf {
+        self.out.join(LOGS_DIR).join("merge.out")
+    }
+
+    /// The exit status file of the merge.
+    pub fn merge_status(&self) -> PathBuf {
+        self.out.join(LOGS_DIR).join("merge.status")
+    }
+
+    /// A job name from the directory's name: `packbed-NAME`.
+    fn job_name(&self, suffix: &str) -> String {
+        let base: String = self
+            .out
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default()
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || "-_.".contains(c) {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .take(40)
+            .collect();
+        format!("packbed-{base}{suffix}")
+    }
+
+    /// `#SBATCH` lines of the resources (`cpus`: whether to ask for `--cpus-per-task`).
+    fn resource_lines(&self, cpus: bool) -> String {
+        let r = &self.resources;
+        let mut s = String::new();
+        let mut line = |opt: &str, v: &Option<String>| {
+            if let Some(v) = v {
+                let _ = writeln!(s, "#SBATCH --{opt}={v}");
+            }
+        };
+        line("partition", &r.partition);
+        line("account", &r.account);
+        line("time", &r.time);
+        line("mem", &r.mem);
+        if cpus {
+            line("cpus-per-task", &r.cpus_per_task.map(|c| c.to_string()));
+        }
+        for a in &r.extra {
+            let _ = writeln!(s, "#SBATCH {a}");
+        }
+        s
+    }
+
+    /// The variables both scripts start with.
+    fn preamble(&self) -> String {
+        format!(
+            "set -u\nDIR={}\nPACKBED={}\n",
+            shell_quote(&self.out.to_string_lossy()),
+            shell_quote(&self.binary.to_string_lossy())
+        )
+    }
+
+    /// The text of `array.sh`.
+    pub fn array_script(&self) -> String {
+        let (n, m) = (self.runs, self.tasks);
+        let out = self.out.display();
+        format!(
+            "#!/bin/bash
+# packbed ensemble of {n} replicates (per sweep value) in {m} Slurm array tasks.
+# Task K runs the replicates i with i mod {m} == K into DIR/shards/K; merge.sh
+# then joins the shards. Submit by hand: sbatch array.sh, then
+# sbatch --dependency=afterok:ARRAY_JOB_ID merge.sh. Resubmitting resumes.
+#SBATCH --job-name={name}
+#SBATCH --array=0-{last}
+#SBATCH --output={out}/{LOGS_DIR}/task-%a.out
+{resources}
+{preamble}K=\"$SLURM_ARRAY_TASK_ID\"
+rm -f \"$DIR/{LOGS_DIR}/task-$K.status\"
+\"$PACKBED\" ensemble \"$DIR/{CONFIG_FILE}\" --runs {n} --shard \"$K/{m}\" \\
+    --out \"$DIR/{SHARDS_DIR}/$K\" --jobs \"${{SLURM_CPUS_PER_TASK:-1}}\" --no-pictures
+status=$?
+# The exit status, for `packbed slurm --wait` (no Slurm accounting needed).
+echo \"$status\" > \"$DIR/{LOGS_DIR}/task-$K.status\"
+exit \"$status\"
+",
+            name = self.job_name(""),
+            last = m - 1,
+            resources = self.resource_lines(true),
+            preamble = self.preamble(),
+        )
+    }
+
+    /// The text of `merge.sh`.
+    pub fn merge_script(&self) -> String {
+        let out = self.out.display();
+        format!(
+            "#!/bin/bash
+# Joins the {m} shards of array.sh into the ensemble files of DIR, the same
+# bytes as one `packbed ensemble` would write. Submit after the array:
+# sbatch --dependency=afterok:ARRAY_JOB_ID merge.sh
+#SBATCH --job-name={name}
+#SBATCH --output={out}/{LOGS_DIR}/merge.out
+{resources}
+{preamble}rm -f \"$DIR/{LOGS_DIR}/merge.status\"
+\"$PACKBED\" merge \"$DIR\"/{SHARDS_DIR}/* --out \"$DIR\"
+status=$?
+echo \"$status\" > \"$DIR/{LOGS_DIR}/merge.status\"
+exit \"$status\"
+",
+            m = self.tasks,
+            name = self.job_name("-merge"),
+            resources = self.resource_lines(false),
+            preamble = self.preamble(),
+        )
+    }
+}
+
+/// The config as the tasks get it: PSD tables made absolute (they are
+/// relative to the config file, which moves into `DIR`), the replicate count
+/// stored as `[ensemble] runs`.
+fn task_config(config: &Config, runs: u64) -> Result<Config> {
+    let mut c = config.clone();
+    c.ensemble = Some(EnsembleConfig { runs });
+    for s in &mut c.species {
+        if let Some(SizeConfig { table: Some(t), .. }) = &mut s.size {
+            if t.is_relative() {
+                *t = std::path::absolute(&*t).map_err(|e| Error::Io {
+                    path: t.clone(),
+                    source: e,
+                })?;
+            }
+        }
+    }
+    Ok(c)
+}
+
+/// The TOML text of `config.toml`, checked to read back as the same config.
+pub fn config_text(config: &Config, runs: u64) -> Result<(String, Config)> {
+    let c = task_config(config, runs)?;
+    let body = toml::to_string(&c)
+        .map_err(|e| Error::config(format!("cannot write the config as TOML: {e}")))?;
+    let text = format!(
+        "# The config of this ensemble as packbed slurm resolved it (config file and\n# command-line options); every array task runs it.\n{body}"
+    );
+    let back = Config::from_toml(&text, CONFIG_FILE)?;
+    if config_key(&back) != config_key(&c) {
+        return Err(Error::Impossible(
+            "the config does not read back the same from TOML (a bug in packbed, please report it)"
+                .into(),
+        ));
+    }
+    Ok((text, back))
+}
+
+/// What [`prepare`] wrote.
+#[derive(Clone, Debug)]
+pub struct Prepared {
+    /// The files written (config, scripts, manifest).
+    pub files: Vec<PathBuf>,
+    /// Replicates of earlier submissions found done in the shards.
+    pub resumed: bool,
+}
+
+/// Checks `plan` and `DIR` and writes the config, the scripts, the manifest
+/// and the `shards/` and `logs/` directories. Nothing is written when a check
+/// fails: a `DIR` that is not new, empty or an ensemble of this config, shards
+/// of another task count, a directory that cannot be written.
+pub fn prepare(config: &Config, plan: &Plan) -> Result<Prepared> {
+    plan.check()?;
+    super::validate(config)?;
+    let (text, task) = config_text(config, plan.runs)?;
+    let manifest = Manifest {
+        packbed_version: env!("CARGO_PKG_VERSION").into(),
+        runs: plan.runs,
+        shard: Shard::ALL,
+        config: config_key(&task),
+    };
+    check_out(&plan.out, &manifest)?;
+    let shards = plan.out.join(SHARDS_DIR);
+    let mut resumed = false;
+    if let Ok(entries) = fs::read_dir(&shards) {
+        for e in entries.flatten() {
+            let d = e.path();
+            if !d.join(MANIFEST).exists() {
+                continue;
+            }
+            let m = Manifest::read(&d)?;
+            if m.shard.count != plan.tasks {
+                return Err(Error::setting(
+                    "tasks",
+                    format!(
+                        "{} holds shards of {} tasks; resume with --tasks {}, or use a new output directory",
+                        plan.out.display(),
+                        m.shard.count,
+                        m.shard.count
+                    ),
+                ));
+            }
+            resumed = true;
+        }
+    }
+    crate::output::check_out_dir(&plan.out)?;
+    write_manifest(&plan.out, &manifest)?;
+    for d in [shards, plan.out.join(LOGS_DIR)] {
+        fs::create_dir_all(&d).map_err(|e| Error::Io { path: d, source: e })?;
+    }
+    let files = vec![
+        (plan.config_path(), text),
+        (plan.array_path(), plan.array_script()),
+        (plan.merge_path(), plan.merge_script()),
+    ];
+    for (path, text) in &files {
+        crate::output::write_file(path, text.as_bytes())?;
+    }
+    for script in [plan.array_path(), plan.merge_path()] {
+        make_executable(&script)?;
+    }
+    let mut written: Vec<PathBuf> = files.into_iter().map(|(p, _)| p).collect();
+    written.push(plan.out.join(MANIFEST));
+    Ok(Prepared {
+        files: written,
+        resumed,
+    })
+}
+
+#[cfg(unix)]
+fn make_executable(path: &Path) -> Result<()> {
+    use std::os::unix::fs::PermissionsExt;
+    fs::set_permissions(path, fs::Permissions::from_mode(0o755)).map_err(|e| Error::Io {
+        path: path.to_path_buf(),
+        source: e,
+    })
+}
+
+#[cfg(not(unix))]
+fn make_executable(_: &Path) -> Result<()> {
+    Ok(())
+}
+
+/// The job id in what `sbatch` printed: `Submitted batch job 123`, or with
+/// `--parsable` `123` or `123;cluster`.
+pub fn parse_job_id(stdout: &str) -> Option<String> {
+    let line = stdout.lines().map(str::trim).rfind(|l| !l.is_empty())?;
+    let word = line
+        .strip_prefix("Submitted batch job")
+        .map(str::trim)
+        .unwrap_or(line);
+    let id = word.split(';').next()?.trim();
+    (!id.is_empty() && id.bytes().all(|b| b.is_ascii_digit())).then(|| id.to_string())
+}
+
+/// What ended a task or the merge, from its status file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Ended {
+    /// Exit status 0.
+    Ok,
+    /// A nonzero exit status.
+    Failed(i32),
+    /// No status: killed (time limit, `scancel`, node failure) or never started.
+    NoStatus,
+}
+
+/// What the status file `path` says.
+pub fn ended(path: &Path) -> Ended {
+    match fs::read_to_string(path)
+        .ok()
+        .and_then(|t| t.trim().parse::<i32>().ok())
+    {
+        Some(0) => Ended::Ok,
+        Some(s) => Ended::Failed(s),
+        None => Ended::NoStatus,
+    }
+}
+
+/// A task or the merge that did not succeed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Failure {
+    /// `task 3` or `the merge`.
+    pub what: String,
+    /// How it ended.
+    pub ended: Ended,
+    /// Its log file.
+    pub log: PathBuf,
+}
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let how = match self.ended {
+            Ended::Ok => "succeeded".to_string(),
+            Ended::Failed(s) => format!("failed with exit status {s}"),
+            Ended::NoStatus => "did not finish (cancelled, killed or never started)".to_string(),
+        };
+        write!(f, "{} {how}; log: {}", self.what, self.log.display())
+    }
+}
+
+/// The tasks of `plan` that did not succeed, by their status files.
+pub fn failed_tasks(plan: &Plan) -> Vec<Failure> {
+    (0..plan.tasks)
+        .filter_map(|k| {
+            let e = ended(&plan.task_status(k));
+            (e != Ended::Ok).then(|| Failure {
+                what: format!("task {k}"),
+                ended: e,
+                log: plan.task_log(k),
+            })
+        })
+        .collect()
+}
+
+/// Removes the status files of earlier submissions, before submitting again.
+pub fn clear_statuses(plan: &Plan) -> Result<()> {
+    let mut paths: Vec<PathBuf> = (0..plan.tasks).map(|k| plan.task_status(k)).collect();
+    paths.push(plan.merge_status());
+    for p in paths {
+        match fs::remove_file(&p) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                return Err(Error::Io { path: p, source: e })
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+// ---- Running Slurm's commands -------------------------------------------
+
+/// Whether `program` is an executable file on `PATH`.
+pub fn on_path(program: &str) -> bool {
+    let Some(path) = std::env::var_os("PATH") else {
+        return false;
+    };
+    std::env::split_paths(&path).any(|d| {
+        let p = d.join(program);
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            p.metadata()
+                .map(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
+                .unwrap_or(false)
+        }
+        #[cfg(not(unix))]
+        {
+            p.is_file()
+        }
+    })
+}
+
+/// Runs a Slurm command and returns its standard output, or an error with
+/// the first line it wrote to standard error.
+fn slurm_command(program: &str, args: &[&str], dir: &Path) -> Result<String> {
+    let out = Command::new(program)
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .output()
+        .map_err(|e| Error::Impossible(format!("cannot run {program}: {e}")))?;
+    if !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
+        let first = err
+            .lines()
+            .map(str::trim)
+            .find(|l| !l.is_empty())
+            .unwrap_or("no message");
+        return Err(Error::Impossible(format!(
+            "{program} {} failed ({}): {first}",
+            args.join(" "),
+            out.status
+        )));
+    }
+    Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+/// The job ids of a submission.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Submitted {
+    /// The job array.
+    pub array: String,
+    /// The merge job, held until every task of the array succeeded.
+    pub merge: String,
+}
+
+/// Submits `array.sh`, then `merge.sh` depending on it (`afterok`).
+pub fn submit(plan: &Plan) -> Result<Submitted> {
+    clear_statuses(plan)?;
+    let sbatch = |args: &[&str]| -> Result<String> {
+        let out = slurm_command("sbatch", args, &plan.out)?;
+        parse_job_id(&out).ok_or_else(|| {
+            Error::Impossible(format!(
+                "sbatch printed no job id: `{}`",
+                out.trim().replace('\n', " ")
+            ))
+        })
+    };
+    let array_path = plan.array_path();
+    let array = sbatch(&["--parsable", &array_path.to_string_lossy()])?;
+    let merge_path = plan.merge_path();
+    let merge = sbatch(&[
+        "--parsable",
+        &format!("--dependency=afterok:{array}"),
+        &merge_path.to_string_lossy(),
+    ])
+    .map_err(|e| {
+        Error::Impossible(format!(
+            "{e} (the array job {array} is submitted; submit merge.sh by hand: sbatch --dependency=afterok:{array} {})",
+            merge_path.display()
+        ))
+    })?;
+    Ok(Submitted { array, merge })
+}
+
+/// One job of `squeue`: id (`123`, `123_4`, `123_[0-9]`), state, reason,
+/// working directory.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct QueuedJob {
+    /// The job id as `squeue` shows it.
+    pub id: String,
+    /// E.g. `PENDING`, `RUNNING`.
+    pub state: String,
+    /// E.g. `Dependency`, `DependencyNeverSatisfied`, `None`.
+    pub reason: String,
+    /// The job's working directory: `DIR` for the jobs of `packbed slurm`,
+    /// which submits from there.
+    pub dir: String,
+}
+
+/// The `squeue -o` format [`parse_squeue`] reads.
+const SQUEUE_FORMAT: &str = "%i|%T|%r|%Z";
+
+/// Parses `squeue -h -o '%i|%T|%r|%Z'`.
+pub fn parse_squeue(text: &str) -> Vec<QueuedJob> {
+    text.lines()
+        .filter_map(|l| {
+            let mut f = l.trim().splitn(4, '|');
+            let id = f.next()?.trim();
+            let mut next = || f.next().unwrap_or("").trim().to_string();
+            (!id.is_empty()).then(|| QueuedJob {
+                id: id.to_string(),
+                state: next(),
+                reason: next(),
+                dir: next(),
+            })
+        })
+        .collect()
+}
+
+/// Whether the squeue id `id` belongs to job (or job array) `job`.
+fn is_job(id: &str, job: &str) -> bool {
+    id == job
+        || id
+            .strip_prefix(job)
+            .is_some_and(|rest| rest.starts_with('_'))
+}
+
+/// The jobs of this user in the queue (pending, running, completing).
+pub fn queue() -> Result<Vec<QueuedJob>> {
+    let out = slurm_command(
+        "squeue",
+        &["-h", "--me", "-o", SQUEUE_FORMAT],
+        Path::new("."),
+    )?;
+    Ok(parse_squeue(&out))
+}
+
+/// Makes way for a new submission into `plan.out`: cancels the merge jobs of
+/// earlier submissions there that can never run (a task had failed:
+/// `DependencyNeverSatisfied`) and returns their ids; refuses while other
+/// jobs of earlier submissions there are queued or running, since two tasks
+/// writing one shard would spoil it.
+pub fn clear_queue(plan: &Plan) -> Result<Vec<String>> {
+    let Ok(real) = fs::canonicalize(&plan.out) else {
+        return Ok(Vec::new());
+    };
+    let ours: Vec<QueuedJob> = queue()?
+        .into_iter()
+        .filter(|j| Path::new(&j.dir) == real || Path::new(&j.dir) == plan.out)
+        .collect();
+    let (dead, live): (Vec<_>, Vec<_>) = ours
+        .into_iter()
+        .partition(|j| j.reason == "DependencyNeverSatisfied");
+    if !live.is_empty() {
+        let ids: Vec<&str> = live.iter().map(|j| j.id.as_str()).collect();
+        return Err(Error::setting(
+            "out",
+            format!(
+                "jobs of an earlier submission into {} are still queued or running ({}): wait for them, or scancel them, then run again",
+                plan.out.display(),
+                ids.join(", ")
+            ),
+        ));
+    }
+    let mut cancelled = Vec::new();
+    for j in dead {
+        cancel(&j.id)?;
+        cancelled.push(j.id);
+    }
+    Ok(cancelled)
+}
+
+/// Cancels a job.
+pub fn cancel(job: &str) -> Result<()> {
+    slurm_command("scancel", &[job], Path::new(".")).map(drop)
+}
+
+/// How a waited-for submission ended.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum WaitOutcome {
+    /// Every task and the merge succeeded.
+    Done,
+    /// These tasks (or the merge) did not succeed; the merge job, if still
+    /// held, was cancelled.
+    Failed(Vec<Failure>),
+}
+
+/// Waits until the array and the merge of `jobs` have left the queue,
+/// polling `squeue` every `poll`, and reads their status files. A merge that
+/// can never run (a task failed) is cancelled rather than waited for.
+pub fn wait(plan: &Plan, jobs: &Submitted, poll: Duration) -> Result<WaitOutcome> {
+    let mut squeue_errors = 0;
+    let mut grace = 0;
+    loop {
+        let q = match queue() {
+            Ok(q) => {
+                squeue_errors = 0;
+                q
+            }
+            // A busy controller may time out now and then.
+            Err(e) => {
+                squeue_errors += 1;
+                if squeue_errors > 10 {
+                    return Err(e);
+                }
+                std::thread::sleep(poll);
+                continue;
+            }
+        };
+        let array_queued = q.iter().any(|j| is_job(&j.id, &jobs.array));
+        let merge_queued = q.iter().any(|j| j.id == jobs.merge);
+        if !array_queued {
+            let failed = failed_tasks(plan);
+            // Status files on a shared file system may show up a little late.
+            if !failed.is_empty() && grace < 3 {
+                grace += 1;
+                std::thread::sleep(poll.max(Duration::from_secs(1)));
+                continue;
+            }
+            if !failed.is_empty() {
+                if merge_queued {
+                    cancel(&jobs.merge)?;
+                }
+                return Ok(WaitOutcome::Failed(failed));
+            }
+            if !merge_queued {
+                return Ok(match ended(&plan.merge_status()) {
+                    Ended::Ok => WaitOutcome::Done,
+                    e => WaitOutcome::Failed(vec![Failure {
+                        what: "the merge".into(),
+                        ended: e,
+                        log: plan.merge_log(),
+                    }]),
+                });
+            }
+        }
+        std::thread::sleep(poll);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plan(out: &Path) -> Plan {
+        Plan {
+            binary: PathBuf::from("/opt/pack bed/bin/packbed"),
+            out: out.to_path_buf(),
+            runs: 10,
+            tasks: 4,
+            resources: Resources {
+                partition: Some("short".into()),
+                time: Some("1:00:00".into()),
+                cpus_per_task: Some(2),
+                mem: Some("4G".into()),
+                account: Some("proj42".into()),
+                extra: vec!["--qos=low".into(), "--mail-type=END,FAIL".into()],
+            },
+        }
+    }
+
+    #[test]
+    fn quoting() {
+        assert_eq!(shell_quote("/a/b-c_d.e"), "/a/b-c_d.e");
+        assert_eq!(shell_quote("a b"), "'a b'");
+        assert_eq!(shell_quote("it's"), r"'it'\''s'");
+        assert_eq!(shell_quote(""), "''");
+        assert_eq!(shell_quote("$HOME;rm"), "'$HOME;rm'");
+    }
+
+    #[test]
+    fn array_script_names_everything() {
+        let p = plan(Path::new("/scratch/u/cake"));
+        let s = p.array_script();
+        assert!(s.starts_with("#!/bin/bash\n"), "{s}");
+        for line in [
+            "#SBATCH --array=0-3\n",
+            "#SBATCH --output=/scratch/u/cake/logs/task-%a.out\n",
+            "#SBATCH --partition=short\n",
+            "#SBATCH --time=1:00:00\n",
+            "#SBATCH --cpus-per-task=2\n",
+            "#SBATCH --mem=4G\n",
+            "#SBATCH --account=proj42\n",
+            "#SBATCH --qos=low\n",
+            "#SBATCH --mail-type=END,FAIL\n",
+            "#SBATCH --job-name=packbed-cake\n",
+            "DIR=/scratch/u/cake\n",
+            "PACKBED='/opt/pack bed/bin/packbed'\n",
+            "--runs 10 --shard \"$K/4\"",
+            "--out \"$DIR/shards/$K\"",
+            "\"$DIR/config.toml\"",
+        ] {
+            assert!(s.contains(line), "no {line:?} in\n{s}");
+        }
+        // Slurm reads #SBATCH lines only before the first command.
+        let lines: Vec<&str> = s.lines().collect();
+        let first_command = lines
+            .iter()
+            .position(|l| !l.is_empty() && !l.starts_with('#'))
+            .unwrap();
+        let last_directive = lines
+            .iter()
+            .rposition(|l| l.starts_with("#SBATCH"))
+            .unwrap();
+        assert!(last_directive < first_command, "{s}");
+    }
+
+    #[test]
+    fn merge_script_names_everything() {
+        let p = plan(Path::new("/scratch/u/cake"));
+        let s = p.merge_script();
+        for line in [
+            "#SBATCH --output=/scratch/u/cake/logs/merge.out\n",
+            "#SBATCH --partition=short\n",
+            "#SBATCH --time=1:00:00\n",
+            "#SBATCH --mem=4G\n",
+            "#SBATCH --account=proj42\n",
+            "#SBATCH --qos=low\n",
+            "\"$PACKBED\" merge \"$DIR\"/shards/* --out \"$DIR\"\n",
+        ] {
+            assert!(s.contains(line), "no {line:?} in\n{s}");
+        }
+        assert!(!s.contains("--array"), "{s}");
+        assert!(!s.contains("cpus-per-task"), "{s}");
+    }
+
+    #[test]
+    fn scripts_pass_bash_n() {
+        if !on_path("bash") {
+            eprintln!("SKIP: no bash");
+            return;
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let mut p = plan(dir.path());
+        p.binary = PathBuf::from("/weird dir/it's \"here\"/$packbed");
+        for (name, text) in [("a.sh", p.array_script()), ("m.sh", p.merge_script())] {
+            let path = dir.path().join(name);
+            fs::write(&path, text).unwrap();
+            let st = Command::new("bash").arg("-n").arg(&path).status().unwrap();
+            assert!(st.success(), "bash -n {name}");
+        }
+        // And the quoted binary path survives the shell unchanged.
+        let probe = format!("{}echo \"$PACKBED\"\n", p.preamble());
+        let out = Command::new("bash").arg("-c").arg(probe).output().unwrap();
+        assert_eq!(
+            String::from_utf8(out.stdout).unwrap().trim_end(),
+            "/weird dir/it's \"here\"/$packbed"
+        );
+    }
+
+    #[test]
+    fn checks() {
+        let ok = plan(Path::new("/scratch/x"));
+        assert!(ok.check().is_ok());
+        let msg = |p: Plan| p.check().unwrap_err().to_string();
+        let mut p = ok.clone();
+        p.tasks = 11;
+        assert!(msg(p).starts_with("tasks: 11 tasks for 10 replicates"));
+        let mut p = ok.clone();
+        p.tasks = 0;
+        assert!(msg(p).starts_with("tasks:"));
+        let mut p = ok.clone();
+        p.out = PathBuf::from("rel/dir");
+        assert!(msg(p).starts_with("out:"));
+        let mut p = ok.clone();
+        p.out = PathBuf::from("/a b/c");
+        assert!(msg(p).contains("a blank"));
+        let mut p = ok.clone();
+        p.out = PathBuf::from("/a%b");
+        assert!(msg(p).contains('%'));
+        let mut p = ok.clone();
+        p.resources.time = Some("1:00\n#SBATCH --x".into());
+        assert!(msg(p).starts_with("time:"));
+        let mut p = ok.clone();
+        p.resources.extra = vec!["--array=0-9".into()];
+        assert!(msg(p).starts_with("sbatch-arg:"));
+        let mut p = ok.clone();
+        p.resources.extra = vec!["qos=low".into()];
+        assert!(msg(p).starts_with("sbatch-arg:"));
+    }
+
+    #[test]
+    fn job_ids() {
+        assert_eq!(
+            parse_job_id("Submitted batch job 123\n").as_deref(),
+            Some("123")
+        );
+        assert_eq!(parse_job_id("123\n").as_deref(), Some("123"));
+        assert_eq!(parse_job_id("4567;cluster1\n").as_deref(), Some("4567"));
+        assert_eq!(parse_job_id(""), None);
+        assert_eq!(parse_job_id("sbatch: error: nope"), None);
+    }
+
+    #[test]
+    fn squeue_lines() {
+        let q = parse_squeue(
+            "12_[2-3]|PENDING|JobArrayTaskLimit|/s/a\n12_1|RUNNING|None|/s/a\n13|PENDING|DependencyNeverSatisfied|/s/a b|c\n\n",
+        );
+        assert_eq!(q.len(), 3);
+        assert_eq!(q[2].dir, "/s/a b|c");
+        assert!(is_job(&q[0].id, "12") && is_job(&q[1].id, "12"));
+        assert!(!is_job(&q[2].id, "12") && !is_job("123_1", "12"));
+        assert_eq!(q[2].reason, "DependencyNeverSatisfied");
+    }
+
+    #[test]
+    fn config_round_trips_and_prepare_writes() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("ens");
+        let mut config = Config {
+            dim: 2,
+            seed: 7,
+            ..Config::default()
+        };
+        let p = Plan {
+            out: out.clone(),
+            runs: 3,
+            tasks: 2,
+            ..plan(&out)
+        };
+        let prepared = prepare(&config, &p).unwrap();
+        assert_eq!(prepared.files.len(), 4);
+        let back = Config::from_file(&p.config_path()).unwrap();
+        assert_eq!(back.dim, 2);
+        assert_eq!(back.seed, 7);
+        assert_eq!(back.ensemble, Some(EnsembleConfig { runs: 3 }));
+        assert!(out.join("shards").is_dir() && out.join("logs").is_dir());
+        // Again into the same directory: fine (resume).
+        prepare(&config, &p).unwrap();
+        // Another config: refused, naming the difference.
+        config.seed = 8;
+        let e = prepare(&config, &p).unwrap_err().to_string();
+        assert!(e.contains("different config") && e.contains("seed"), "{e}");
+        // A status file says how a task ended.
+        fs::write(p.task_status(0), "0\n").unwrap();
+        fs::write(p.task_status(1), "143\n").unwrap();
+        let f = failed_tasks(&p);
+        assert_eq!(f.len(), 1);
+        assert_eq!(f[0].ended, Ended::Failed(143));
+        assert!(f[0].to_string().contains("logs/task-1.out"), "{}", f[0]);
+        clear_statuses(&p).unwrap();
+        assert_eq!(failed_tasks(&p).len(), 2);
+    }
+
+    #[test]
+    fn nothing_written_on_bad_plan() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("ens");
+        let p = Plan {
+            out: out.clone(),
+            runs: 3,
+            tasks: 5,
+            ..plan(&out)
+        };
+        assert!(prepare(&Config::default(), &p).is_err());
+        assert!(!out.exists());
+    }
+}
