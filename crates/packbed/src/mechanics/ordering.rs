@@ -2,8 +2,9 @@
 //! body graph by coordinate bisection.
 //!
 //! A bed's bond network is a geometric graph (bonds join touching bodies), so
-//! cutting it at the median of its longest extent splits it in halves joined
-//! only through a thin layer of bodies; ordering both halves first (each in the
+//! cutting it at the median of one axis (of the axis whose cut leaves the
+//! fewest bodies touching the other half) splits it in halves joined only
+//! through a thin layer of bodies; ordering both halves first (each in the
 //! same way) and that layer last keeps the Cholesky factor's fill near the
 //! optimum for planar and spatial meshes (George 1973; Lipton, Rose & Tarjan
 //! 1979). Measured on periodic beds of equal spheres it roughly halves the
@@ -12,7 +13,7 @@
 //! on bodies; each body's unknowns stay together, which the supernodal
 //! factorisation turns into dense blocks.
 
-use crate::math::{Real, Vector};
+use crate::math::Vector;
 
 /// Subgraphs at most this large are ordered as they come.
 const LEAF: usize = 32;
@@ -47,43 +48,33 @@ pub fn nested_dissection<const D: usize>(
             order.extend(nodes);
             continue;
         }
-        let axis = longest_axis(points, &nodes);
-        let mut nodes = nodes;
+        // Each axis cut at its median; the one with the smallest separator
+        // wins (the first axis on a tie). The longest extent is not always
+        // it: across a periodic side a cut needs a second plane at the seam,
+        // so a thick periodic slab is best cut first through its height.
+        let mut best: Option<Cut> = None;
+        for axis in 0..D {
+            let cut = Cut::new(
+                points,
+                offsets,
+                neighbours,
+                &nodes,
+                axis,
+                &mut label,
+                &mut next_label,
+            );
+            if best.as_ref().is_none_or(|b| cut.sep.len() < b.sep.len()) {
+                best = Some(cut);
+            }
+        }
+        let Cut {
+            nodes,
+            sep,
+            keep_low,
+            keep_high,
+        } = best.expect("D >= 1 axes");
         let half = nodes.len() / 2;
-        nodes.select_nth_unstable_by(half, |&a, &b| {
-            points[a as usize][axis].total_cmp(&points[b as usize][axis])
-        });
         let (low, high) = nodes.split_at(half);
-        let (la, lb) = (next_label, next_label + 1);
-        next_label += 2;
-        for &v in low {
-            label[v as usize] = la;
-        }
-        for &v in high {
-            label[v as usize] = lb;
-        }
-        let touches = |v: u32, other: u32, label: &[u32]| {
-            let v = v as usize;
-            neighbours[offsets[v]..offsets[v + 1]]
-                .iter()
-                .any(|&u| label[u as usize] == other)
-        };
-        // The smaller of the two one-sided separators.
-        let sep_high: Vec<u32> = high
-            .iter()
-            .copied()
-            .filter(|&v| touches(v, la, &label))
-            .collect();
-        let sep_low: Vec<u32> = low
-            .iter()
-            .copied()
-            .filter(|&v| touches(v, lb, &label))
-            .collect();
-        let (sep, keep_low, keep_high) = if sep_low.len() < sep_high.len() {
-            (sep_low, false, true)
-        } else {
-            (sep_high, true, false)
-        };
         for &v in &sep {
             label[v as usize] = u32::MAX;
         }
@@ -106,24 +97,69 @@ pub fn nested_dissection<const D: usize>(
     order
 }
 
-fn longest_axis<const D: usize>(points: &[Vector<D>], nodes: &[u32]) -> usize {
-    let mut lo = [Real::INFINITY; D];
-    let mut hi = [Real::NEG_INFINITY; D];
-    for &v in nodes {
-        let p = &points[v as usize];
-        for k in 0..D {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
+/// One bisection: `nodes` split at the median of `axis` (the low half first),
+/// and the smaller one-sided separator (the nodes of one half with a
+/// neighbour in the other).
+struct Cut {
+    nodes: Vec<u32>,
+    sep: Vec<u32>,
+    /// Whether a half is kept whole (the separator came from the other).
+    keep_low: bool,
+    keep_high: bool,
+}
+
+impl Cut {
+    fn new<const D: usize>(
+        points: &[Vector<D>],
+        offsets: &[usize],
+        neighbours: &[u32],
+        nodes: &[u32],
+        axis: usize,
+        label: &mut [u32],
+        next_label: &mut u32,
+    ) -> Cut {
+        let mut nodes = nodes.to_vec();
+        let half = nodes.len() / 2;
+        nodes.select_nth_unstable_by(half, |&a, &b| {
+            points[a as usize][axis]
+                .total_cmp(&points[b as usize][axis])
+                .then(a.cmp(&b))
+        });
+        let (low, high) = nodes.split_at(half);
+        let (la, lb) = (*next_label, *next_label + 1);
+        *next_label += 2;
+        for &v in low {
+            label[v as usize] = la;
+        }
+        for &v in high {
+            label[v as usize] = lb;
+        }
+        let touches = |v: u32, other: u32| {
+            let v = v as usize;
+            neighbours[offsets[v]..offsets[v + 1]]
+                .iter()
+                .any(|&u| label[u as usize] == other)
+        };
+        let sep_high: Vec<u32> = high.iter().copied().filter(|&v| touches(v, la)).collect();
+        let sep_low: Vec<u32> = low.iter().copied().filter(|&v| touches(v, lb)).collect();
+        let (sep, keep_low, keep_high) = if sep_low.len() < sep_high.len() {
+            (sep_low, false, true)
+        } else {
+            (sep_high, true, false)
+        };
+        Cut {
+            nodes,
+            sep,
+            keep_low,
+            keep_high,
         }
     }
-    (0..D)
-        .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))
-        .unwrap_or(0)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::Real;
 
     #[test]
     fn a_grid_is_ordered_once_each_with_the_middle_column_last() {
