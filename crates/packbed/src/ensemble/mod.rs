@@ -188,6 +188,22 @@ fn points(config: &Config) -> Result<Vec<Point>> {
     }
 }
 
+/// Refuses a replicate count of 0 or above [`MAX_RUNS`].
+pub fn check_runs(runs: u64) -> Result<()> {
+    if runs == 0 {
+        return Err(crate::error::Error::setting("runs", "must be at least 1"));
+    }
+    if runs > MAX_RUNS {
+        return Err(crate::error::Error::setting(
+            "runs",
+            format!(
+                "at most {MAX_RUNS} replicates per ensemble, got {runs} (their summaries are held in memory for the statistics)"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Validates a config for an ensemble (every sweep value) without running it.
 pub fn validate(config: &Config) -> Result<()> {
     points(config).map(drop)

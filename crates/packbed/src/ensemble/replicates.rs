@@ -3,9 +3,7 @@
 
 use super::manifest::{check_out, config_key, io_err, write_manifest, Manifest, MANIFEST};
 use super::write::{write_point, write_sweep};
-use super::{
-    points, run_dir, seeds, worker_threads, Options, Outcome, PointResult, Tick, MAX_RUNS,
-};
+use super::{points, run_dir, seeds, worker_threads, Options, Outcome, PointResult, Tick};
 use crate::config::Config;
 use crate::error::{Error, Result};
 use crate::io::Staging;
@@ -89,18 +87,7 @@ pub fn run(
     progress: &(dyn Fn(Tick) + Sync),
 ) -> Result<Outcome> {
     let start = Instant::now();
-    if opts.runs == 0 {
-        return Err(Error::setting("runs", "must be at least 1"));
-    }
-    if opts.runs > MAX_RUNS {
-        return Err(Error::setting(
-            "runs",
-            format!(
-                "at most {MAX_RUNS} replicates per ensemble, got {} (their summaries are held in memory for the statistics)",
-                opts.runs
-            ),
-        ));
-    }
+    super::check_runs(opts.runs)?;
     if opts.jobs == Some(0) {
         return Err(Error::setting("jobs", "must be at least 1"));
     }

@@ -21,7 +21,7 @@
 //! `sbatch`, `squeue` and `scancel` is in the few functions at the end.
 
 use super::manifest::{check_out, config_key, write_manifest, Manifest, MANIFEST};
-use super::{Shard, MAX_RUNS};
+use super::Shard;
 use crate::config::{Config, EnsembleConfig, SizeConfig};
 use crate::error::{Error, Result};
 use std::fmt::Write as _;
@@ -126,18 +126,7 @@ impl Plan {
     /// Checks the plan: `1 <= tasks <= runs`, an absolute `DIR` that
     /// `#SBATCH --output` can name, resource values that fit `#SBATCH` lines.
     pub fn check(&self) -> Result<()> {
-        if self.runs == 0 {
-            return Err(Error::setting("runs", "must be at least 1"));
-        }
-        if self.runs > MAX_RUNS {
-            return Err(Error::setting(
-                "runs",
-                format!(
-                    "at most {MAX_RUNS} replicates per ensemble, got {}",
-                    self.runs
-                ),
-            ));
-        }
+        super::check_runs(self.runs)?;
         if self.tasks == 0 {
             return Err(Error::setting("tasks", "must be at least 1"));
         }
