@@ -8,10 +8,12 @@
 //! triangular solve reads the whole factor (hundreds of MB). That is why the
 //! Woodbury update is kept in this half-solved form, `Y = L⁻¹ P W`.
 
+use super::supernodal::{self, NotPositive, Tree};
 use crate::math::Real;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
 use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
+use faer::sparse::SparseColMatRef;
 use faer::{Conj, MatMut, Par};
 
 /// A sparse vector with sorted indices.
@@ -57,6 +59,7 @@ pub struct Factor {
     /// Supernode of each permuted row, and each supernode's parent (`usize::MAX`: a root).
     supernode_of: Vec<usize>,
     parent: Vec<usize>,
+    tree: Tree,
     par: Par,
 }
 
@@ -78,7 +81,7 @@ impl Factor {
                 *row = k;
             }
         }
-        let parent = (0..s.n_supernodes())
+        let parent: Vec<usize> = (0..s.n_supernodes())
             .map(|k| {
                 s.supernode(k)
                     .pattern()
@@ -86,7 +89,9 @@ impl Factor {
                     .map_or(usize::MAX, |&row| supernode_of[row])
             })
             .collect();
+        let tree = Tree::new(s, &parent);
         Some(Factor {
+            tree,
             symbolic,
             values: Vec::new(),
             fwd,
@@ -95,6 +100,16 @@ impl Factor {
             parent,
             par,
         })
+    }
+
+    /// Factors `a` (original order, lower triangle; the pattern analysed)
+    /// into the kept values.
+    pub fn factorize(&mut self, a: SparseColMatRef<'_, usize, Real>) -> Result<(), NotPositive> {
+        self.values.resize(self.symbolic.len_val(), 0.0);
+        let SymbolicCholeskyRaw::Supernodal(s) = self.symbolic.raw() else {
+            unreachable!("Factor::new accepts supernodal only")
+        };
+        supernodal::factorize(s, &self.tree, a, &self.inv, &mut self.values, self.par)
     }
 
     fn supernodal(&self) -> SupernodalLltRef<'_, usize, Real> {
@@ -187,11 +202,9 @@ impl Factor {
 
 #[cfg(test)]
 mod tests {
+    use super::super::supernodal::tests::analysed;
     use super::*;
-    use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams};
-    use faer::sparse::linalg::SupernodalThreshold;
-    use faer::sparse::{SparseColMat, Triplet};
-    use faer::Side;
+    use faer::sparse::Triplet;
 
     /// A grid Laplacian plus a diagonal shift (lower triangle), factored.
     fn grid_factor(side: usize) -> Factor {
@@ -209,31 +222,9 @@ mod tests {
                 }
             }
         }
-        let a = SparseColMat::<usize, Real>::try_new_from_triplets(n, n, &t).unwrap();
-        let params = CholeskySymbolicParams {
-            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-            ..Default::default()
-        };
-        let symbolic =
-            factorize_symbolic_cholesky(a.symbolic(), Side::Lower, Default::default(), params)
-                .unwrap();
+        let (a, symbolic) = analysed(n, &t);
         let mut f = Factor::new(symbolic, Par::Seq).unwrap();
-        f.values.resize(f.symbolic.len_val(), 0.0);
-        let mut mem = MemBuffer::new(
-            f.symbolic
-                .factorize_numeric_llt_scratch::<Real>(Par::Seq, Default::default()),
-        );
-        f.symbolic
-            .factorize_numeric_llt(
-                &mut f.values,
-                a.as_ref(),
-                Side::Lower,
-                Default::default(),
-                Par::Seq,
-                MemStack::new(&mut mem),
-                Default::default(),
-            )
-            .unwrap();
+        f.factorize(a.as_ref()).unwrap();
         f
     }
 

@@ -13,6 +13,7 @@ pub mod network;
 pub mod ordering;
 pub mod solver;
 pub mod spring;
+mod supernodal;
 
 use crate::analysis::Contacts;
 use crate::bed::Bed;

@@ -26,14 +26,12 @@ use super::network::BondGeometry;
 use super::spring::{self, body_dofs};
 use crate::error::{Error, Result};
 use crate::math::{Real, Vector};
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
+use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Par, Side};
 
 /// Ground spring stiffness relative to `k_n` (spec: `1e-9 k_n`).
@@ -46,6 +44,12 @@ pub const GROUND: Real = 1e-9;
 /// bed, 100 breaks: 89 s with 96 columns (three factorisations), 49 s with 384
 /// (none), the same bonds broken.
 const MAX_RANK: usize = 384;
+
+/// How many parts faer splits a large dense block into: fixed, not the
+/// number of threads, because the split decides the order of its sums and
+/// the results must not depend on the machine (rayon runs the parts on
+/// however many threads there are).
+const DENSE_DEGREE: usize = 8;
 
 /// Relative residual at which the conjugate gradient stops.
 const TOLERANCE: Real = 1e-10;
@@ -72,14 +76,14 @@ pub struct Solver<'a, const D: usize> {
     /// Bonds present in the current matrix.
     alive: Vec<bool>,
     pattern: SymbolicSparseColMat<usize>,
-    argsort: Argsort<usize>,
+    /// Where each of [`values`]' values goes in `pattern`.
+    slot: Vec<usize>,
     factor: Factor,
     /// `Y = L⁻¹ P W` of the bonds removed since the last factorisation.
     y: Vec<SparseVec>,
     /// Dense `S = I − Yᵀ Y` and its Cholesky factor (lower, row-major).
     s: Vec<Vec<Real>>,
     s_factor: Option<Vec<Vec<Real>>>,
-    par: Par,
     /// The last right-hand side and `L⁻¹ P` of it: loads change rarely.
     base: Option<(Vec<Real>, Vec<Real>)>,
     /// Zeroed scratch of the sparse forward solve.
@@ -117,13 +121,13 @@ impl<'a, const D: usize> Solver<'a, D> {
                 ground[b * m + c] = GROUND * springs.kn * lever;
             }
         }
-        let pairs = entries::<D>(bonds, reach.len());
-        let (pattern, argsort) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs)
-            .map_err(|_| internal("assembled"))?;
+        let (pattern, slot) = layout::<D>(bonds, reach.len());
         let alive = vec![true; bonds.len()];
-        let values = values::<D>(bonds, &alive, &ground, springs);
-        let matrix = SparseColMat::new_from_argsort(pattern.clone(), &argsort, &values)
-            .map_err(|_| internal("assembled"))?;
+        let matrix = assemble(
+            &pattern,
+            &slot,
+            &values::<D>(bonds, &alive, &ground, springs),
+        );
         // Nested dissection of the bodies (ordering.rs): measured on periodic
         // beds of equal spheres it gives a smaller factor than the minimum
         // degree order of the whole matrix in 2D (31 against 35 million
@@ -139,7 +143,7 @@ impl<'a, const D: usize> Solver<'a, D> {
         let symbolic =
             factorize_symbolic_cholesky(matrix.symbolic(), Side::Lower, ordering, params)
                 .map_err(|_| internal("ordered"))?;
-        let par = Par::rayon(0);
+        let par = Par::rayon(DENSE_DEGREE);
         let factor = Factor::new(symbolic, par).ok_or_else(|| internal("ordered (supernodes)"))?;
         let mut solver = Solver {
             bonds,
@@ -147,12 +151,11 @@ impl<'a, const D: usize> Solver<'a, D> {
             ground,
             alive,
             pattern,
-            argsort,
+            slot,
             factor,
             y: Vec::new(),
             s: Vec::new(),
             s_factor: None,
-            par,
             base: None,
             work: vec![0.0; n],
             factorisations: 0,
@@ -179,24 +182,9 @@ impl<'a, const D: usize> Solver<'a, D> {
     /// Factors the current matrix, forgetting the removed bonds' columns.
     fn refactor(&mut self) -> Result<()> {
         let values = values::<D>(self.bonds, &self.alive, &self.ground, self.springs);
-        let matrix = SparseColMat::new_from_argsort(self.pattern.clone(), &self.argsort, &values)
-            .map_err(|_| internal("assembled"))?;
-        let f = &mut self.factor;
-        f.values.resize(f.symbolic.len_val(), 0.0);
-        let mut mem = MemBuffer::new(
-            f.symbolic
-                .factorize_numeric_llt_scratch::<Real>(self.par, Default::default()),
-        );
-        f.symbolic
-            .factorize_numeric_llt(
-                &mut f.values,
-                matrix.as_ref(),
-                Side::Lower,
-                LltRegularization::default(),
-                self.par,
-                MemStack::new(&mut mem),
-                Default::default(),
-            )
+        let matrix = assemble(&self.pattern, &self.slot, &values);
+        self.factor
+            .factorize(matrix.as_ref())
             .map_err(|_| internal("factored (not positive definite)"))?;
         self.y.clear();
         self.s.clear();
@@ -405,6 +393,77 @@ fn entries<const D: usize>(bonds: &[BondGeometry<D>], bodies: usize) -> Vec<Pair
         }
     }
     out
+}
+
+/// The matrix's lower triangle as a pattern, and the slot in it of each
+/// entry [`entries`] lists (and [`values`] fills) in turn. Built block by
+/// block from each body's bonded bodies, where faer's sort of the entries
+/// (ten million for a 3D bed of 2·10⁴ spheres) took half a second.
+fn layout<const D: usize>(
+    bonds: &[BondGeometry<D>],
+    bodies: usize,
+) -> (SymbolicSparseColMat<usize>, Vec<usize>) {
+    let m = body_dofs(D);
+    // Column body `b` holds `b` itself, then the higher bodies bonded to it.
+    let mut lists: Vec<Vec<usize>> = (0..bodies).map(|b| vec![b]).collect();
+    for g in bonds {
+        if let Some(j) = g.j {
+            let (i, j) = (g.i as usize, j as usize);
+            if i != j {
+                lists[i.min(j)].push(i.max(j));
+            }
+        }
+    }
+    for l in &mut lists {
+        l[1..].sort_unstable();
+        l.dedup();
+    }
+    let mut col_ptr = Vec::with_capacity(bodies * m + 1);
+    col_ptr.push(0);
+    let mut row_idx = Vec::new();
+    for (bj, l) in lists.iter().enumerate() {
+        for c in 0..m {
+            for &bi in l {
+                let first = if bi == bj { c } else { 0 };
+                row_idx.extend((first..m).map(|a| bi * m + a));
+            }
+            col_ptr.push(row_idx.len());
+        }
+    }
+    let slot = entries::<D>(bonds, bodies)
+        .iter()
+        .map(|&Pair { row, col }| {
+            let (bi, a, bj, c) = (row / m, row % m, col / m, col % m);
+            let offset = if bi == bj {
+                a - c
+            } else {
+                let p = lists[bj][1..]
+                    .binary_search(&bi)
+                    .expect("every bonded pair is listed");
+                (m - c) + p * m + a
+            };
+            col_ptr[col] + offset
+        })
+        .collect();
+    let n = bodies * m;
+    (
+        SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx),
+        slot,
+    )
+}
+
+/// The matrix of `values` laid out by [`layout`] (repeated entries summed in
+/// their order).
+fn assemble(
+    pattern: &SymbolicSparseColMat<usize>,
+    slot: &[usize],
+    values: &[Real],
+) -> SparseColMat<usize, Real> {
+    let mut v = vec![0.0; pattern.row_idx().len()];
+    for (&k, x) in slot.iter().zip(values) {
+        v[k] += x;
+    }
+    SparseColMat::new(pattern.clone(), v)
 }
 
 /// Visits the lower-triangle entries of block `(bi, bj)` (or of its
