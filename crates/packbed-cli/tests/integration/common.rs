@@ -172,3 +172,14 @@ pub fn svg_texts(svg: &str) -> Vec<String> {
         .filter_map(|t| Some(t.split_once('>')?.1.split('<').next()?.to_string()))
         .collect()
 }
+
+/// Fast ensemble beds: 2D, radii 20 and 10 in a square of 8 large diameters.
+pub const SMALL: &[&str] = &["--dim", "2", "--radii", "20,10", "--box", "diameters=8"];
+
+/// The statistics files every ensemble writes.
+pub const STAT_FILES: [&str; 4] = [
+    "ensemble.json",
+    "ensemble.csv",
+    "histograms.csv",
+    "ensemble.md",
+];

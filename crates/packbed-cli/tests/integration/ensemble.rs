@@ -1,18 +1,8 @@
 //! Integration tests of `packbed ensemble` and `packbed merge`: each runs the
 //! built binary in a fresh temporary directory.
 
-use crate::common::{assert_user_error, png_size, svg_texts, Scratch};
+use crate::common::{assert_user_error, png_size, svg_texts, Scratch, SMALL, STAT_FILES};
 use serde_json::Value;
-
-/// Fast beds: 2D, radii 20 and 10 in a square of 8 large diameters.
-const SMALL: &[&str] = &["--dim", "2", "--radii", "20,10", "--box", "diameters=8"];
-
-const STAT_FILES: [&str; 4] = [
-    "ensemble.json",
-    "ensemble.csv",
-    "histograms.csv",
-    "ensemble.md",
-];
 
 fn args<'a>(head: &[&'a str], tail: &[&'a str]) -> Vec<&'a str> {
     let mut v = vec!["ensemble"];

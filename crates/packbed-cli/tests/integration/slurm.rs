@@ -7,20 +7,10 @@
 //! with `packbed ensemble` of the same settings: a plain ensemble, a sweep,
 //! and an ensemble whose task was cancelled mid-run and then resubmitted.
 
-use crate::common::{packbed, Scratch};
+use crate::common::{packbed, Scratch, SMALL, STAT_FILES};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
-
-/// Fast beds, as in the ensemble tests: 2D, radii 20 and 10, 8 large diameters.
-const SMALL: &[&str] = &["--dim", "2", "--radii", "20,10", "--box", "diameters=8"];
-
-const STAT_FILES: [&str; 4] = [
-    "ensemble.json",
-    "ensemble.csv",
-    "histograms.csv",
-    "ensemble.md",
-];
 
 /// The cluster's `SLURM_CONF`, or `None` (test skipped) when Slurm cannot run here.
 fn cluster() -> Option<String> {
