@@ -121,28 +121,25 @@ impl<'a, const D: usize> Solver<'a, D> {
                 ground[b * m + c] = GROUND * springs.kn * lever;
             }
         }
-        let (pattern, slot) = layout::<D>(bonds, reach.len());
-        let alive = vec![true; bonds.len()];
-        let matrix = assemble(
-            &pattern,
-            &slot,
-            &values::<D>(bonds, &alive, &ground, springs),
+        // Nested dissection of the bodies (ordering.rs), not the minimum
+        // degree order of the whole matrix: measured on periodic beds of equal
+        // spheres it gives a smaller factor in 2D (31 against 35 million
+        // entries at 10⁵ discs) and a faster one in 3D. The order (METIS in
+        // 3D, a few tenths of a second) and the pattern do not need each
+        // other, so one is built beside the other.
+        let ((pattern, slot), (fwd, inv)) = rayon::join(
+            || layout::<D>(bonds, reach.len()),
+            || dof_order::<D>(bonds, reference),
         );
-        // Nested dissection of the bodies (ordering.rs): measured on periodic
-        // beds of equal spheres it gives a smaller factor than the minimum
-        // degree order of the whole matrix in 2D (31 against 35 million
-        // entries at 10⁵ discs) and a faster one in 3D slabs (2·10⁴ spheres
-        // on a 30 × 30 diameter floor: first solve 29 s against 68 s).
-        let (fwd, inv) = dof_order::<D>(bonds, reference);
+        let alive = vec![true; bonds.len()];
         let ordering = SymmetricOrdering::Custom(PermRef::new_checked(&fwd, &inv, n));
         // Supernodal always: the sparse forward solve walks its supernodes.
         let params = CholeskySymbolicParams {
             supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
             ..Default::default()
         };
-        let symbolic =
-            factorize_symbolic_cholesky(matrix.symbolic(), Side::Lower, ordering, params)
-                .map_err(|_| internal("ordered"))?;
+        let symbolic = factorize_symbolic_cholesky(pattern.as_ref(), Side::Lower, ordering, params)
+            .map_err(|_| internal("ordered"))?;
         let par = Par::rayon(DENSE_DEGREE);
         let factor = Factor::new(symbolic, par).ok_or_else(|| internal("ordered (supernodes)"))?;
         let mut solver = Solver {
@@ -598,7 +595,7 @@ fn dof_order<const D: usize>(
             fill[j as usize] += 1;
         }
     }
-    let order = super::ordering::nested_dissection(reference, &offsets, &neighbours);
+    let order = super::ordering::elimination_order(reference, &offsets, &neighbours);
     let m = body_dofs(D);
     let mut fwd = Vec::with_capacity(nb * m);
     for &b in &order {
