@@ -6,7 +6,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use packbed::analysis::orientation::AngleFrom;
 use packbed::check_box_hint;
-use packbed::config::AnalysisConfig;
+use packbed::config::{AnalysisConfig, LengthUnit};
 use packbed::io::read::BoxHint;
 use packbed::output::text;
 use std::path::PathBuf;
@@ -42,6 +42,13 @@ pub struct AnalyzeArgs {
     /// (as the source study did).
     #[arg(long, value_enum, value_name = "FROM", default_value = "vertical")]
     pub chain_angle_from: AngleFromArg,
+    /// Density of the solid in kg/m³ (with --length-unit): the specific cake
+    /// resistance and the solids' mass per area.
+    #[arg(long, value_name = "KG_PER_M3")]
+    pub solid_density: Option<f64>,
+    /// The length of one unit of the bed file's lengths: permeabilities in m².
+    #[arg(long, value_enum, value_name = "UNIT")]
+    pub length_unit: Option<LengthUnitArg>,
     #[command(flatten)]
     pub measures: crate::overrides::MeasuresArg,
     #[command(flatten)]
@@ -60,6 +67,30 @@ pub enum AngleFromArg {
     Horizontal,
 }
 
+/// `--length-unit`: the library's [`LengthUnit`] for clap.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LengthUnitArg {
+    /// Metre.
+    M,
+    /// Millimetre.
+    Mm,
+    /// Micrometre.
+    Um,
+    /// Nanometre.
+    Nm,
+}
+
+impl From<LengthUnitArg> for LengthUnit {
+    fn from(u: LengthUnitArg) -> Self {
+        match u {
+            LengthUnitArg::M => LengthUnit::Metre,
+            LengthUnitArg::Mm => LengthUnit::Millimetre,
+            LengthUnitArg::Um => LengthUnit::Micrometre,
+            LengthUnitArg::Nm => LengthUnit::Nanometre,
+        }
+    }
+}
+
 /// Runs `packbed analyze`.
 pub fn analyze(args: AnalyzeArgs) -> Result<()> {
     let settings = AnalysisConfig {
@@ -71,11 +102,15 @@ pub fn analyze(args: AnalyzeArgs) -> Result<()> {
             AngleFromArg::Horizontal => AngleFrom::Horizontal,
         },
         measures: args.measures.list.clone(),
+        solid_density: args.solid_density,
+        length_unit: args.length_unit.map(LengthUnit::from),
     };
     if let Err(e) = settings.check() {
         // The library names the settings; say the options that set them.
         let m = e.message();
         let m = m.replace("analysis.contact_tol", "--contact-tol");
+        let m = m.replace("analysis.solid_density", "--solid-density");
+        let m = m.replace("analysis.length_unit", "--length-unit");
         bail!("{}", m.replace("analysis.large_radius", "--large"));
     }
     // Refuse a bad export list or output folder before any work.

@@ -1,6 +1,7 @@
 //! Measures of a bed's structure. Every measure takes a [`Bed`] (built by packbed
 //! or read from a file) and never reaches back into the deposition engine.
 
+pub mod cake;
 mod cells;
 pub mod contacts;
 mod disjoint_paths;
@@ -20,6 +21,7 @@ pub use crate::config::{Measure, Measures};
 use crate::math::Real;
 use serde::Serialize;
 
+pub use cake::{CakeOptions, CakeRegion, CakeSummary};
 pub use contacts::{
     coordination, find_contacts, overlaps, Contact, Contacts, Overlaps, WallContact,
 };
@@ -38,6 +40,10 @@ pub struct Summary {
     /// Measures the caller left out (`[analysis] measures`); absent when none.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub measures_left_out: Vec<&'static str>,
+    /// Filter cake properties: porosity, `d32`, specific surface, Kozeny–Carman
+    /// permeability (with the packing measure).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cake: Option<CakeSummary>,
     /// Packing fractions (absent when left out).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub packing: Option<PackingSummary>,
@@ -136,6 +142,8 @@ pub struct AnalysisOptions {
     pub angle_from: orientation::AngleFrom,
     /// The measures to compute.
     pub measures: Measures,
+    /// Solid density and length unit of the cake properties.
+    pub cake: CakeOptions,
 }
 
 pub use crate::config::BULK_MIN_BODIES;
@@ -148,6 +156,7 @@ impl Default for AnalysisOptions {
             bulk_min_bodies: BULK_MIN_BODIES,
             angle_from: orientation::AngleFrom::Vertical,
             measures: Measures::all(),
+            cake: CakeOptions::default(),
         }
     }
 }
@@ -212,7 +221,9 @@ pub fn analyze_timed<const D: usize>(
         contacts::find_contacts(bed, opts.contact_tol)
     });
     let z = times.time("coordination", || contacts::coordination(bed, &contacts));
-    let volumes = times.time("packing/volumes", || packing::particle_volumes(bed));
+    let (volumes, surfaces) = times.time("packing/volumes", || {
+        packing::particle_volumes_and_surfaces(bed)
+    });
     let region = packing::bulk_region(bed);
     let in_bulk: Vec<bool> = times.time("coordination/bulk", || match &region {
         Some(reg) => bed.centres.iter().map(|c| reg.contains(c)).collect(),
@@ -257,6 +268,13 @@ pub fn analyze_timed<const D: usize>(
             profile::profile_of(bed, 0.25 * d_max, &volumes)
         }),
     });
+    let cake = packing.as_ref().map(|p| {
+        times.time("cake", || {
+            let bulk = region.as_ref().zip(p.bulk);
+            let height = packing::surface_height(bed);
+            cake::cake(bed, &volumes, &surfaces, bulk, height, &opts.cake)
+        })
+    });
     let percolation = want(Measure::Percolation)
         .then(|| percolation::percolation_timed(bed, &contacts, &opts.percolation, times));
     let voids = want(Measure::Voids).then(|| {
@@ -272,6 +290,7 @@ pub fn analyze_timed<const D: usize>(
     });
     let summary = Summary {
         measures_left_out: opts.measures.left_out(),
+        cake,
         packing,
         coordination,
         percolation,
@@ -296,6 +315,10 @@ impl crate::config::AnalysisConfig {
                 .measures
                 .as_deref()
                 .map_or_else(Measures::all, Measures::of),
+            cake: CakeOptions {
+                solid_density: self.solid_density,
+                metres_per_unit: self.length_unit.map(|u| u.metres()),
+            },
             ..AnalysisOptions::new(self.contact_tol, self.large_radius)
         }
     }

@@ -219,13 +219,34 @@ pub fn bulk_fraction<const D: usize>(bed: &Bed<D>) -> Option<Real> {
 /// the doubly cut part is subtracted twice, a tiny error that is documented here
 /// rather than hidden.
 pub fn particle_volumes<const D: usize>(bed: &Bed<D>) -> Vec<Real> {
+    union_shares(bed, false).0
+}
+
+/// Each particle's share of the solid volume and of the solid surface (area in
+/// 2D, perimeter): the surface of a bead of a chain is its sphere less the caps
+/// cut off by the same power planes as [`particle_volumes`], so that a body's
+/// shares add up to its union's volume and surface.
+pub fn particle_volumes_and_surfaces<const D: usize>(bed: &Bed<D>) -> (Vec<Real>, Vec<Real>) {
+    let (volumes, surfaces) = union_shares(bed, true);
+    (volumes, surfaces.unwrap_or_default())
+}
+
+/// Volumes and, when asked, surfaces of the beads' shares of their unions.
+fn union_shares<const D: usize>(bed: &Bed<D>, surfaces: bool) -> (Vec<Real>, Option<Vec<Real>>) {
+    let positive = |r: Real, f: fn(Real) -> Real| if r > 0.0 { f(r) } else { 0.0 };
     let mut volumes: Vec<Real> = bed
         .radii
         .iter()
-        .map(|&r| if r > 0.0 { ball_volume::<D>(r) } else { 0.0 })
+        .map(|&r| positive(r, ball_volume::<D>))
         .collect();
+    let mut areas: Option<Vec<Real>> = surfaces.then(|| {
+        bed.radii
+            .iter()
+            .map(|&r| positive(r, sphere_surface::<D>))
+            .collect()
+    });
     if !has_shared_body(bed) {
-        return volumes;
+        return (volumes, areas);
     }
     // Planes (unit normal, signed distance from the bead's centre) cutting each bead.
     let mut planes: Vec<Vec<(Vector<D>, Real)>> = vec![Vec::new(); bed.len()];
@@ -259,13 +280,45 @@ pub fn particle_volumes<const D: usize>(bed: &Bed<D>) -> Vec<Real> {
     for i in 0..bed.len() {
         if swallowed[i] {
             volumes[i] = 0.0;
+            if let Some(a) = areas.as_mut() {
+                a[i] = 0.0;
+            }
             continue;
         }
         let r = bed.radii[i];
         let cut: Real = planes[i].iter().map(|&(_, t)| cap_volume::<D>(r, t)).sum();
         volumes[i] = (volumes[i] - cut).max(0.0);
+        if let Some(a) = areas.as_mut() {
+            let cut: Real = planes[i].iter().map(|&(_, t)| cap_surface::<D>(r, t)).sum();
+            a[i] = (a[i] - cut).max(0.0);
+        }
     }
-    volumes
+    (volumes, areas)
+}
+
+/// Surface of a ball of radius `r` (perimeter of a disc in 2D).
+pub fn sphere_surface<const D: usize>(r: Real) -> Real {
+    match D {
+        2 => 2.0 * PI * r,
+        3 => 4.0 * PI * r * r,
+        _ => unreachable!("packbed works in 2 or 3 dimensions"),
+    }
+}
+
+/// Surface (arc length in 2D) of the part of a sphere of radius `r` beyond a
+/// plane at signed distance `t` from its centre.
+pub fn cap_surface<const D: usize>(r: Real, t: Real) -> Real {
+    if !(r > 0.0) || t >= r {
+        return 0.0;
+    }
+    if t <= -r {
+        return sphere_surface::<D>(r);
+    }
+    match D {
+        2 => 2.0 * r * (t / r).clamp(-1.0, 1.0).acos(),
+        3 => 2.0 * PI * r * (r - t),
+        _ => unreachable!("packbed works in 2 or 3 dimensions"),
+    }
 }
 
 /// True when two particles share a body id (only then can beads overlap).

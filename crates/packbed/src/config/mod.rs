@@ -216,6 +216,43 @@ pub struct AnalysisConfig {
     /// contacts are always found.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub measures: Option<Vec<Measure>>,
+    /// Density of the solid in kg/m³: the specific cake resistance and the
+    /// solids' mass per area (needs `length_unit`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solid_density: Option<Real>,
+    /// The length of one unit of the bed's lengths (`m`, `mm`, `um`, `nm`):
+    /// permeabilities in m² and the cake resistance in m/kg.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub length_unit: Option<LengthUnit>,
+}
+
+/// The length of one unit of a bed's lengths (`[analysis] length_unit`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum LengthUnit {
+    /// Metre.
+    #[serde(rename = "m")]
+    Metre,
+    /// Millimetre.
+    #[serde(rename = "mm")]
+    Millimetre,
+    /// Micrometre (`um` or `µm`).
+    #[serde(rename = "um", alias = "µm", alias = "μm")]
+    Micrometre,
+    /// Nanometre.
+    #[serde(rename = "nm")]
+    Nanometre,
+}
+
+impl LengthUnit {
+    /// Metres per unit.
+    pub fn metres(self) -> Real {
+        match self {
+            LengthUnit::Metre => 1.0,
+            LengthUnit::Millimetre => 1e-3,
+            LengthUnit::Micrometre => 1e-6,
+            LengthUnit::Nanometre => 1e-9,
+        }
+    }
 }
 
 /// A set of measures (a copyable value for the analysis options).
@@ -332,6 +369,8 @@ impl Default for AnalysisConfig {
             bulk_min_bodies: default_bulk_min_bodies(),
             chain_angle_from: AngleFrom::Vertical,
             measures: None,
+            solid_density: None,
+            length_unit: None,
         }
     }
 }
@@ -348,6 +387,16 @@ impl AnalysisConfig {
         }
         if let Some(r) = self.large_radius {
             positive(r, "analysis.large_radius")?;
+        }
+        if let Some(rho) = self.solid_density {
+            positive(rho, "analysis.solid_density")?;
+            if self.length_unit.is_none() {
+                return Err(Error::config(
+                    "analysis.solid_density (kg/m³) needs analysis.length_unit, the length of \
+                     one unit of the bed (m, mm, um or nm), to give the cake resistance in m/kg"
+                        .to_string(),
+                ));
+            }
         }
         Ok(())
     }

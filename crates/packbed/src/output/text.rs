@@ -172,6 +172,56 @@ fn opt3(v: Option<f64>) -> String {
     v.map_or("-".into(), |x| format!("{x:.3}"))
 }
 
+/// Three significant digits in scientific notation, `-` for none.
+fn sci(v: Option<f64>) -> String {
+    v.map_or("-".into(), |x| format!("{x:.3e}"))
+}
+
+/// The cake properties: the bulk values (the whole cake's when the bed has no
+/// bulk region), then the cake resistance when a solid density was given.
+fn cake_text(c: &crate::analysis::CakeSummary) -> String {
+    let mut t = String::new();
+    let (where_, porosity, d32, surface, k) = match (c.porosity, c.d32) {
+        (Some(e), Some(d)) => ("bulk", e, d, c.specific_surface, c.k_kozeny_carman),
+        _ => (
+            "whole cake",
+            c.whole.porosity,
+            c.whole.d32,
+            Some(c.whole.specific_surface),
+            c.whole.k_kozeny_carman,
+        ),
+    };
+    let _ = write!(
+        t,
+        "  cake ({where_}): porosity {porosity:.4}, d32 {}, specific surface {} per length",
+        length(d32),
+        sci(surface)
+    );
+    if k.is_some() {
+        let _ = write!(t, ", Kozeny-Carman k {}", sci(k));
+    }
+    let _ = writeln!(
+        t,
+        "; height {}, solids {} per floor area",
+        length(c.height),
+        length(c.solids_per_area)
+    );
+    if let (Some(a), Some(m)) = (c.specific_resistance, c.solids_mass_per_area) {
+        let from = match c.specific_resistance_from {
+            Some("network") => "network k",
+            _ => "Kozeny-Carman k",
+        };
+        let _ = writeln!(
+            t,
+            "  cake resistance: {a:.3e} m/kg (from the {from}), solids {m:.4e} kg/m²"
+        );
+    }
+    if let Some(note) = c.note {
+        let _ = writeln!(t, "    ({note})");
+    }
+    t
+}
+
 /// One line per measure, shared by `run` and `analyze`; `names` are the
 /// species names by index where known.
 pub fn measures_text(a: &Summary, names: &[String]) -> String {
@@ -191,6 +241,9 @@ pub fn measures_text(a: &Summary, names: &[String]) -> String {
             .unwrap_or_else(|| format!("species {i}"))
     };
     let mut t = String::new();
+    if let Some(c) = &a.cake {
+        t.push_str(&cake_text(c));
+    }
     if let Some(p) = &a.packing {
         let r = &p.regions;
         let _ = writeln!(
