@@ -10,6 +10,7 @@ mod maxflow;
 pub mod orientation;
 pub mod packing;
 pub mod percolation;
+pub mod pores;
 pub mod profile;
 pub mod regions;
 pub mod segregation;

@@ -226,7 +226,9 @@ pub type Gen = Vector<6>;
 
 mod lsq;
 pub(crate) mod normal;
+pub mod predicates;
 mod rotation;
+pub mod sparse;
 
 pub use lsq::{least_squares_qr, nnls, nnls_gen, nnls_qr, solve_pivoted, MAX_GEN_COLUMNS};
 pub use rotation::{moment, rotate};

@@ -7,13 +7,10 @@
 //! by a sparse Cholesky factorisation ([`solver`]), and bonds are broken one
 //! by one, strongest first, until a count or the failure of the bed.
 
-pub(crate) mod factor;
 pub mod loads;
 pub mod network;
-pub mod ordering;
 pub mod solver;
 pub mod spring;
-mod supernodal;
 
 use crate::analysis::Contacts;
 use crate::bed::Bed;

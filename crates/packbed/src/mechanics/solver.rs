@@ -21,10 +21,10 @@
 //! the symbolic analysis of the first factorisation (the pattern never
 //! changes: a broken bond keeps its entries, as zeros).
 
-use super::factor::{Factor, SparseVec};
 use super::network::BondGeometry;
 use super::spring::{self, body_dofs};
 use crate::error::{Error, Result};
+use crate::math::sparse::factor::{Factor, SparseVec};
 use crate::math::{Real, Vector};
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
@@ -595,7 +595,7 @@ fn dof_order<const D: usize>(
             fill[j as usize] += 1;
         }
     }
-    let order = super::ordering::elimination_order(reference, &offsets, &neighbours);
+    let order = crate::math::sparse::ordering::elimination_order(reference, &offsets, &neighbours);
     let m = body_dofs(D);
     let mut fwd = Vec::with_capacity(nb * m);
     for &b in &order {

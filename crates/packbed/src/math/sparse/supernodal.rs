@@ -433,7 +433,7 @@ pub(super) mod tests {
     use faer::Side;
 
     /// The matrix of the lower triangle `t` and its supernodal analysis.
-    pub(in crate::mechanics) fn analysed(
+    pub(in crate::math::sparse) fn analysed(
         n: usize,
         t: &[Triplet<usize, usize, Real>],
     ) -> (SparseColMat<usize, Real>, SymbolicCholesky<usize>) {

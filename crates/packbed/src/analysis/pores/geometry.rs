@@ -1,0 +1,1634 @@
+//! Pore-network geometry of a regular (power) triangulation of spheres (3D) or
+//! discs (2D).
+//!
+//! A pore is a cell of the triangulation (tetrahedron / triangle) whose node is
+//! the power centre of its weighted vertices; a throat is a facet shared by two
+//! cells (triangle / edge). This module computes, per cell and per throat, the
+//! quantities needed by the flow model of Chareyre et al. (2012), as used in
+//! Yade's flow engine.
+//!
+//! Conventions shared by every function:
+//! * Inputs are plain `f64` arrays; radii are expected to be `>= 0`.
+//! * Every computation is done in a local frame (origin at the first vertex,
+//!   lengths divided by the largest offset component) so results do not
+//!   depend on the absolute position or scale of the cell beyond rounding,
+//!   and tiny or huge cells neither underflow nor overflow in intermediate
+//!   products.
+//! * No function returns NaN. Degenerate or non-finite inputs give the finite
+//!   fallback documented on each function; a true result that exceeds the `f64`
+//!   range saturates at `±f64::MAX`.
+//! * Sphere/disc "sectors": the part of a vertex sphere inside a tetrahedron is
+//!   taken to be the sector `r³ Ω / 3` (Ω = solid angle at that vertex), and in
+//!   2D the part of a disc inside a triangle is `½ r² θ`. This is exact only
+//!   when the sphere does not reach the face opposite its centre and the spheres
+//!   do not overlap inside the cell; otherwise void volumes are approximations
+//!   (and are clamped at zero).
+
+/// Volume (area in 2D) of a cell and its void part.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CellVolume {
+    /// Volume of the tetrahedron (area of the triangle in 2D).
+    pub volume: f64,
+    /// `volume` minus the vertex sphere sectors (disc sectors in 2D), `>= 0`.
+    pub void_volume: f64,
+    /// True when the sectors exceeded the cell volume and `void_volume` was
+    /// clamped to zero, or when the cell was too degenerate to measure.
+    pub clamped: bool,
+}
+
+/// Geometry of the throat between two pores.
+///
+/// In 2D every quantity is per unit depth: `fluid_area` is a length,
+/// `void_volume` an area and `solid_surface` a length.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Throat {
+    /// Distance between the two power centres (not floored here).
+    pub length: f64,
+    /// Facet area not covered by the vertex spheres' great-circle sectors.
+    pub fluid_area: f64,
+    /// Void volume of the region spanned by the facet and the two power centres.
+    pub void_volume: f64,
+    /// Sphere surface inside that region.
+    pub solid_surface: f64,
+    /// `void_volume / solid_surface`, or 0 when there is no solid surface.
+    pub hydraulic_radius: f64,
+}
+
+/// Relative tolerance under which a cell (tetrahedron or triangle) is treated
+/// as flat: the power centre then lies ~1/FLAT_TOL cell sizes away and
+/// carries no useful information.
+const FLAT_TOL: f64 = 1e-10;
+
+type V3 = [f64; 3];
+type V2 = [f64; 2];
+
+fn sub3(a: V3, b: V3) -> V3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn add3(a: V3, b: V3) -> V3 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+fn scale3(a: V3, s: f64) -> V3 {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+fn dot3(a: V3, b: V3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn cross3(a: V3, b: V3) -> V3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+fn norm3(a: V3) -> f64 {
+    dot3(a, a).sqrt()
+}
+fn sub2(a: V2, b: V2) -> V2 {
+    [a[0] - b[0], a[1] - b[1]]
+}
+fn dot2(a: V2, b: V2) -> f64 {
+    a[0] * b[0] + a[1] * b[1]
+}
+fn cross2(a: V2, b: V2) -> f64 {
+    a[0] * b[1] - a[1] * b[0]
+}
+fn norm2(a: V2) -> f64 {
+    dot2(a, a).sqrt()
+}
+
+/// Maps NaN to 0 and infinities to `±f64::MAX`, the last line of defence for
+/// the "never NaN, always finite" contract.
+fn fin(x: f64) -> f64 {
+    if x.is_nan() {
+        0.0
+    } else {
+        x.clamp(-f64::MAX, f64::MAX)
+    }
+}
+
+fn sign(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// Offsets of `pts[1..]` from `pts[0]`, divided by the largest offset
+/// component, plus that scale. `None` when an input is not finite or all points coincide,
+/// since no frame exists then.
+fn frame3<const N: usize>(pts: &[V3; N]) -> Option<(f64, [V3; N])> {
+    if !pts.iter().flatten().all(|x| x.is_finite()) {
+        return None;
+    }
+    let mut d = [[0.0; 3]; N];
+    let mut l: f64 = 0.0;
+    for (di, p) in d.iter_mut().zip(pts) {
+        *di = sub3(*p, pts[0]);
+        // Max-norm: a Euclidean norm would square, and underflow or overflow
+        // at the very scales this frame exists to handle.
+        l = di.iter().fold(l, |m, x| m.max(x.abs()));
+    }
+    if !(l.is_finite() && l > 0.0) {
+        return None;
+    }
+    for di in d.iter_mut() {
+        *di = scale3(*di, 1.0 / l);
+    }
+    Some((l, d))
+}
+
+fn frame2<const N: usize>(pts: &[V2; N]) -> Option<(f64, [V2; N])> {
+    if !pts.iter().flatten().all(|x| x.is_finite()) {
+        return None;
+    }
+    let mut d = [[0.0; 2]; N];
+    let mut l: f64 = 0.0;
+    for (di, p) in d.iter_mut().zip(pts) {
+        *di = sub2(*p, pts[0]);
+        // Max-norm: a Euclidean norm would square, and underflow or overflow
+        // at the very scales this frame exists to handle.
+        l = di.iter().fold(l, |m, x| m.max(x.abs()));
+    }
+    if !(l.is_finite() && l > 0.0) {
+        return None;
+    }
+    for di in d.iter_mut() {
+        *di = [di[0] / l, di[1] / l];
+    }
+    Some((l, d))
+}
+
+/// Radii in the frame of scale `l`; `None` if any radius is not finite.
+fn scaled_radii<const N: usize>(r: &[f64; N], l: f64) -> Option<[f64; N]> {
+    if r.iter().all(|x| x.is_finite()) {
+        Some(r.map(|x| x / l))
+    } else {
+        None
+    }
+}
+
+/// For a cell with vertex offsets `d` (vertex 0 at the origin) and radii `r`,
+/// returns `(q, w)` with `2 d_i·q = |d_i|² − r_i² + r_0²` (q = power centre)
+/// and `d_i·w = r_0 − r_i`. Any point `y` with `|y − d_i| − r_i` equal for all
+/// i and equal to `|y| − r_0 = ρ` satisfies `y = q + ρ w`: subtracting the
+/// squared tangency equations cancels the quadratic terms.
+fn power_and_slope_3d(d: &[V3; 3], r: &[f64; 4]) -> Option<(V3, V3)> {
+    let det = dot3(d[0], cross3(d[1], d[2]));
+    let size = norm3(d[0]) * norm3(d[1]) * norm3(d[2]);
+    if det.abs() <= FLAT_TOL * size {
+        return None;
+    }
+    // Cramer's rule through the cofactor rows of the matrix with rows d_i.
+    let cof = [cross3(d[1], d[2]), cross3(d[2], d[0]), cross3(d[0], d[1])];
+    let solve = |rhs: [f64; 3]| -> V3 {
+        let mut x = [0.0; 3];
+        for (ci, bi) in cof.iter().zip(rhs) {
+            x = add3(x, scale3(*ci, bi));
+        }
+        scale3(x, 1.0 / det)
+    };
+    let mut rq = [0.0; 3];
+    let mut rw = [0.0; 3];
+    for i in 0..3 {
+        rq[i] = 0.5 * (dot3(d[i], d[i]) - (r[i + 1] - r[0]) * (r[i + 1] + r[0]));
+        rw[i] = r[0] - r[i + 1];
+    }
+    Some((solve(rq), solve(rw)))
+}
+
+fn power_and_slope_2d(d: &[V2; 2], r: &[f64; 3]) -> Option<(V2, V2)> {
+    let det = cross2(d[0], d[1]);
+    let size = norm2(d[0]) * norm2(d[1]);
+    if det.abs() <= FLAT_TOL * size {
+        return None;
+    }
+    let solve = |b: [f64; 2]| -> V2 {
+        [
+            (b[0] * d[1][1] - b[1] * d[0][1]) / det,
+            (d[0][0] * b[1] - d[1][0] * b[0]) / det,
+        ]
+    };
+    let rq = [
+        0.5 * (dot2(d[0], d[0]) - (r[1] - r[0]) * (r[1] + r[0])),
+        0.5 * (dot2(d[1], d[1]) - (r[2] - r[0]) * (r[2] + r[0])),
+    ];
+    let rw = [r[0] - r[1], r[0] - r[2]];
+    Some((solve(rq), solve(rw)))
+}
+
+/// Smallest strictly positive real root of `a x² + b x + c`, using the
+/// cancellation-free form of the quadratic formula. A slightly negative
+/// discriminant is rounding noise around a double root and is treated as zero.
+fn smallest_positive_root(a: f64, b: f64, c: f64) -> Option<f64> {
+    let mut disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        if disc >= -1e-12 * (b * b + (4.0 * a * c).abs()) {
+            disc = 0.0;
+        } else {
+            return None;
+        }
+    }
+    let qq = -0.5 * (b + disc.sqrt().copysign(b));
+    let r1 = (qq != 0.0).then(|| c / qq);
+    let r2 = (a != 0.0).then(|| qq / a);
+    [r1, r2]
+        .into_iter()
+        .flatten()
+        .filter(|x| x.is_finite() && *x > 0.0)
+        .fold(None, |best: Option<f64>, x| {
+            Some(best.map_or(x, |b| b.min(x)))
+        })
+}
+
+/// `(|q| − r0)(|q| + r0)`: the power of the power centre, factored so that it
+/// stays accurate when the orthogonal sphere is tiny.
+fn power_value(qn: f64, r0: f64) -> f64 {
+    (qn - r0) * (qn + r0)
+}
+
+/// Radius of the circle tangent externally to the circles `(0, r0)`,
+/// `(d0, r1)`, `(d1, r2)` in frame units; 0 when there is none.
+fn apollonius_2d_scaled(d: &[V2; 2], r: &[f64; 3]) -> f64 {
+    let Some((q, w)) = power_and_slope_2d(d, r) else {
+        return 0.0;
+    };
+    let a = dot2(w, w) - 1.0;
+    let b = 2.0 * (dot2(q, w) - r[0]);
+    let c = power_value(norm2(q), r[0]);
+    smallest_positive_root(a, b, c).unwrap_or(0.0)
+}
+
+/// Solid angle subtended at the origin by the triangle `(a, b, c)`
+/// (Van Oosterom & Strackee 1983), in `[0, 2π]`. The atan2 form keeps the
+/// correct branch for angles above π, where the plain atan form would wrap.
+fn solid_angle(a: V3, b: V3, c: V3) -> f64 {
+    let (la, lb, lc) = (norm3(a), norm3(b), norm3(c));
+    let num = dot3(a, cross3(b, c)).abs();
+    let den = la * lb * lc + dot3(a, b) * lc + dot3(a, c) * lb + dot3(b, c) * la;
+    2.0 * num.atan2(den)
+}
+
+/// Angle between two 2D vectors in `[0, π]`; atan2 rather than acos because
+/// acos loses all precision near 0 and π.
+fn angle2(u: V2, v: V2) -> f64 {
+    cross2(u, v).abs().atan2(dot2(u, v))
+}
+
+fn angle3(u: V3, v: V3) -> f64 {
+    norm3(cross3(u, v)).atan2(dot3(u, v))
+}
+
+/// Power centre of four weighted points (weights `r²`): the point `p` with
+/// `|p − c_i|² − r_i²` equal for all i, and that common value (the squared
+/// radius of the orthogonal sphere, negative when `p` lies inside all spheres).
+///
+/// `None` when the centres are (nearly) coplanar (relative volume below
+/// `1e-10`), when two or more of them coincide so that they span no volume,
+/// or when an input is not finite.
+pub fn power_centre_3d(c: &[[f64; 3]; 4], r: &[f64; 4]) -> Option<([f64; 3], f64)> {
+    let (l, d) = frame3(c)?;
+    let rs = scaled_radii(r, l)?;
+    let (q, _) = power_and_slope_3d(&[d[1], d[2], d[3]], &rs)?;
+    let p = add3(c[0], scale3(q, l)).map(fin);
+    Some((p, fin(power_value(norm3(q), rs[0]) * l * l)))
+}
+
+/// 2D analogue of [`power_centre_3d`] for three weighted points; `None` when
+/// the centres are (nearly) collinear or an input is not finite.
+pub fn power_centre_2d(c: &[[f64; 2]; 3], r: &[f64; 3]) -> Option<([f64; 2], f64)> {
+    let (l, d) = frame2(c)?;
+    let rs = scaled_radii(r, l)?;
+    let (q, _) = power_and_slope_2d(&[d[1], d[2]], &rs)?;
+    let p = [fin(c[0][0] + q[0] * l), fin(c[0][1] + q[1] * l)];
+    Some((p, fin(power_value(norm2(q), rs[0]) * l * l)))
+}
+
+/// Pore body radius: radius ρ of the sphere externally tangent to the four
+/// vertex spheres (`|x − c_i| = ρ + r_i`, Apollonius' problem).
+///
+/// The centre is `x = p + ρ w` (see [`power_centre_3d`]), leaving a quadratic
+/// in ρ. Of its roots the smallest strictly positive one is returned: in a
+/// well-shaped cell that is the sphere filling the gap between the four
+/// spheres, while a second positive root is a larger sphere touching them
+/// from outside the cell. Returns 0.0 when no root is positive (the spheres
+/// overlap enough to close the pore), when the cell is flat (see
+/// [`power_centre_3d`]), or when an input is not finite.
+pub fn pore_body_radius_3d(c: &[[f64; 3]; 4], r: &[f64; 4]) -> f64 {
+    let Some((l, d)) = frame3(c) else {
+        return 0.0;
+    };
+    let Some(rs) = scaled_radii(r, l) else {
+        return 0.0;
+    };
+    let Some((q, w)) = power_and_slope_3d(&[d[1], d[2], d[3]], &rs) else {
+        return 0.0;
+    };
+    let a = dot3(w, w) - 1.0;
+    let b = 2.0 * (dot3(q, w) - rs[0]);
+    let cc = power_value(norm3(q), rs[0]);
+    fin(smallest_positive_root(a, b, cc).unwrap_or(0.0) * l)
+}
+
+/// 2D pore body radius: the circle externally tangent to the three discs, with
+/// the same root rule and fallbacks as [`pore_body_radius_3d`] (0.0 for
+/// collinear centres or no positive root).
+pub fn pore_body_radius_2d(c: &[[f64; 2]; 3], r: &[f64; 3]) -> f64 {
+    let Some((l, d)) = frame2(c) else {
+        return 0.0;
+    };
+    let Some(rs) = scaled_radii(r, l) else {
+        return 0.0;
+    };
+    fin(apollonius_2d_scaled(&[d[1], d[2]], &rs) * l)
+}
+
+/// Volume of the tetrahedron and its void volume, `volume − Σ r_i³ Ω_i / 3`
+/// (the sector assumption of the module docs), clamped at 0 with
+/// `clamped = true`.
+///
+/// A flat cell has zero volume and its void is clamped (unless all radii are
+/// zero). Coincident centres or non-finite inputs give
+/// `{ volume: 0, void_volume: 0, clamped: true }`.
+pub fn cell_volumes_3d(c: &[[f64; 3]; 4], r: &[f64; 4]) -> CellVolume {
+    const DEGENERATE: CellVolume = CellVolume {
+        volume: 0.0,
+        void_volume: 0.0,
+        clamped: true,
+    };
+    let Some((l, d)) = frame3(c) else {
+        return DEGENERATE;
+    };
+    let Some(rs) = scaled_radii(r, l) else {
+        return DEGENERATE;
+    };
+    let volume = dot3(d[1], cross3(d[2], d[3])).abs() / 6.0;
+    let mut sectors = 0.0;
+    for (i, [j, k, m]) in [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]]
+        .into_iter()
+        .enumerate()
+    {
+        let om = solid_angle(sub3(d[j], d[i]), sub3(d[k], d[i]), sub3(d[m], d[i]));
+        sectors += rs[i].powi(3) * om / 3.0;
+    }
+    let void = volume - sectors;
+    let l3 = l * l * l;
+    CellVolume {
+        volume: fin(volume * l3),
+        void_volume: fin(void.max(0.0) * l3),
+        clamped: void < 0.0,
+    }
+}
+
+/// Area of the triangle and its void area, `area − Σ ½ r_i² θ_i` with θ_i
+/// the triangle's angle at vertex i, clamped at 0 with `clamped = true`.
+/// Fallbacks as in [`cell_volumes_3d`].
+pub fn cell_volumes_2d(c: &[[f64; 2]; 3], r: &[f64; 3]) -> CellVolume {
+    const DEGENERATE: CellVolume = CellVolume {
+        volume: 0.0,
+        void_volume: 0.0,
+        clamped: true,
+    };
+    let Some((l, d)) = frame2(c) else {
+        return DEGENERATE;
+    };
+    let Some(rs) = scaled_radii(r, l) else {
+        return DEGENERATE;
+    };
+    let area = cross2(d[1], d[2]).abs() / 2.0;
+    let mut sectors = 0.0;
+    for i in 0..3 {
+        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+        sectors += 0.5 * rs[i] * rs[i] * angle2(sub2(d[j], d[i]), sub2(d[k], d[i]));
+    }
+    let void = area - sectors;
+    let l2 = l * l;
+    CellVolume {
+        volume: fin(area * l2),
+        void_volume: fin(void.max(0.0) * l2),
+        clamped: void < 0.0,
+    }
+}
+
+/// Constriction radius of a throat facet with vertex spheres `(c_i, r_i)`:
+/// the circle in the facet plane externally tangent to the three great
+/// circles, i.e. the 2D Apollonius problem in that plane, with the
+/// smallest-positive-root rule of [`pore_body_radius_3d`].
+///
+/// Returns 0.0 when no root is positive (the spheres close the throat), when
+/// the centres are (nearly) collinear, or when an input is not finite.
+pub fn constriction_radius_3d(c: &[[f64; 3]; 3], r: &[f64; 3]) -> f64 {
+    let Some((l, d)) = frame3(c) else {
+        return 0.0;
+    };
+    let Some(rs) = scaled_radii(r, l) else {
+        return 0.0;
+    };
+    // In-plane orthonormal basis (e1 along d1); the 2D solver rejects
+    // near-collinear triangles, so only exact degeneracy needs a guard here.
+    let n1 = norm3(d[1]);
+    if n1 == 0.0 {
+        return 0.0;
+    }
+    let e1 = scale3(d[1], 1.0 / n1);
+    let x2 = dot3(d[2], e1);
+    let y2 = norm3(sub3(d[2], scale3(e1, x2)));
+    if y2 == 0.0 {
+        return 0.0;
+    }
+    fin(apollonius_2d_scaled(&[[n1, 0.0], [x2, y2]], &rs) * l)
+}
+
+/// 2D constriction: half the gap between the two discs,
+/// `(|c_0 − c_1| − r_0 − r_1) / 2`, clamped at 0 when they touch or overlap
+/// (and 0.0 for non-finite inputs).
+pub fn constriction_radius_2d(c: &[[f64; 2]; 2], r: &[f64; 2]) -> f64 {
+    let Some((l, d)) = frame2(c) else {
+        // Coincident centres: the discs overlap unless both radii are 0,
+        // and then the gap is 0 as well.
+        return 0.0;
+    };
+    let Some(rs) = scaled_radii(r, l) else {
+        return 0.0;
+    };
+    fin((0.5 * (norm2(d[1]) - rs[0] - rs[1])).max(0.0) * l)
+}
+
+/// Totals of one tetrahedron (triangle in 2D) of the throat region, in frame
+/// units, already multiplied by its side sign.
+#[derive(Clone, Copy)]
+struct RegionTotals {
+    volume: f64,
+    sectors: f64,
+    surface: f64,
+}
+
+impl RegionTotals {
+    const ZERO: RegionTotals = RegionTotals {
+        volume: 0.0,
+        sectors: 0.0,
+        surface: 0.0,
+    };
+
+    /// `self − other`, taken as one subtraction per field so that swapping the
+    /// two power centres negates the totals exactly and the throat is
+    /// bit-for-bit symmetric.
+    fn minus(self, other: RegionTotals) -> RegionTotals {
+        RegionTotals {
+            volume: self.volume - other.volume,
+            sectors: self.sectors - other.sectors,
+            surface: self.surface - other.surface,
+        }
+    }
+}
+
+/// Combines the per-side totals and applies the module's sign rule; see
+/// [`throat_3d`].
+fn finish_throat(t: RegionTotals, length: f64, fluid_area: f64, l: f64, dim: i32) -> Throat {
+    // Orient the region so its volume is non-negative; then the void and the
+    // solid surface are the oriented totals, clamped at 0. A region whose
+    // signed volume cancels exactly is oriented by its surface instead, so the
+    // result stays symmetric in p1, p2.
+    let key = if t.volume != 0.0 { t.volume } else { t.surface };
+    let orient = if key >= 0.0 { 1.0 } else { -1.0 };
+    let void = (orient * (t.volume - t.sectors)).max(0.0);
+    let surface = (orient * t.surface).max(0.0);
+    let rh = if surface > 0.0 { void / surface } else { 0.0 };
+    let rh = if rh.is_finite() { rh } else { 0.0 };
+    Throat {
+        length: fin(length * l),
+        fluid_area: fin(fluid_area * l.powi(dim - 1)),
+        void_volume: fin(void * l.powi(dim)),
+        solid_surface: fin(surface * l.powi(dim - 1)),
+        hydraulic_radius: fin(rh * l),
+    }
+}
+
+const DEGENERATE_THROAT: Throat = Throat {
+    length: 0.0,
+    fluid_area: 0.0,
+    void_volume: 0.0,
+    solid_surface: 0.0,
+    hydraulic_radius: 0.0,
+};
+
+/// Throat between pores with power centres `p1`, `p2` through the facet with
+/// vertex spheres `(c_v, r_v)`, v = 0, 1, 2 (Chareyre et al. 2012).
+///
+/// * `length = |p1 − p2|`.
+/// * `fluid_area` = facet triangle area − Σ ½ r_v² θ_v (θ_v the triangle's
+///   angle at c_v), clamped at 0.
+/// * The region is made of the tetrahedra `T1 = (p1, c_0, c_1, c_2)` and
+///   `T2 = (p2, c_0, c_1, c_2)`. Each contributes its volume `V_t`, its sphere
+///   sectors `Σ r_v³ Ω_v / 3` and its solid surface `Σ r_v² Ω_v`.
+///
+/// Sign rule: with `n = (c_1 − c_0) × (c_2 − c_0)` and `s_t = sign(n·(p_t − c_0))`
+/// the side of the facet each power centre is on, every quantity is totalled
+/// as `X = s_1 X(T1) − s_2 X(T2)`. When `p1` and `p2` are on opposite sides this
+/// is `±(X(T1) + X(T2))`, the union; on the same side it is `±(X(T1) − X(T2))`,
+/// the difference (the region between two power centres of which one lies
+/// outside its own cell). The overall sign is then fixed so that the region
+/// volume is non-negative (by the surface if the volume cancels exactly), and
+/// `void_volume = max(±(V − sectors), 0)`,
+/// `solid_surface = max(±surface, 0)`. This equals the absolute values of the
+/// totals whenever the oriented void and surface are non-negative, which holds
+/// for opposite sides and for nested same-side tetrahedra as long as the
+/// sector assumption holds; a negative oriented void means the sectors
+/// over-cover the region, and 0 is a better answer there than its magnitude. The result is symmetric in `p1`, `p2`. A power centre exactly in the
+/// facet plane (`s_t = 0`) spans a flat tetrahedron and contributes nothing.
+///
+/// `hydraulic_radius = void_volume / solid_surface`, or 0.0 when there is no
+/// solid surface (zero radii or a flat region). A collinear facet gives zero
+/// area and no side, hence zero volume/surface. Non-finite inputs or all
+/// points coincident give an all-zero throat.
+pub fn throat_3d(p1: [f64; 3], p2: [f64; 3], c: &[[f64; 3]; 3], r: &[f64; 3]) -> Throat {
+    let Some((l, d)) = frame3(&[c[0], c[1], c[2], p1, p2]) else {
+        return DEGENERATE_THROAT;
+    };
+    let Some(rs) = scaled_radii(r, l) else {
+        return DEGENERATE_THROAT;
+    };
+    let f = [d[0], d[1], d[2]];
+    let n = cross3(f[1], f[2]);
+    let collinear = norm3(n) <= FLAT_TOL * norm3(f[1]) * norm3(f[2]);
+
+    let mut fluid = 0.5 * norm3(n);
+    for v in 0..3 {
+        let (j, k) = ((v + 1) % 3, (v + 2) % 3);
+        fluid -= 0.5 * rs[v] * rs[v] * angle3(sub3(f[j], f[v]), sub3(f[k], f[v]));
+    }
+    let fluid = if collinear { 0.0 } else { fluid.max(0.0) };
+
+    let side = |p: V3| -> RegionTotals {
+        let h = dot3(n, p);
+        let s = if collinear { 0.0 } else { sign(h) };
+        let mut t = RegionTotals::ZERO;
+        if s == 0.0 {
+            return t;
+        }
+        t.volume = s * h.abs() / 6.0;
+        for v in 0..3 {
+            let (j, k) = ((v + 1) % 3, (v + 2) % 3);
+            let om = solid_angle(sub3(p, f[v]), sub3(f[j], f[v]), sub3(f[k], f[v]));
+            t.sectors += s * rs[v].powi(3) * om / 3.0;
+            t.surface += s * rs[v] * rs[v] * om;
+        }
+        t
+    };
+    let t = side(d[3]).minus(side(d[4]));
+    finish_throat(t, norm3(sub3(d[3], d[4])), fluid, l, 3)
+}
+
+/// 2D analogue of [`throat_3d`] (per unit depth) for the edge `(c_0, c_1)`:
+/// `fluid_area` is the gap length `|c_0 − c_1| − r_0 − r_1` clamped at 0; the
+/// region is the triangles `(p_t, c_0, c_1)` with disc sectors `½ r² θ` and
+/// solid perimeter `Σ r θ`; same sign rule (side of the line through the
+/// edge), same fallbacks.
+pub fn throat_2d(p1: [f64; 2], p2: [f64; 2], c: &[[f64; 2]; 2], r: &[f64; 2]) -> Throat {
+    let Some((l, d)) = frame2(&[c[0], c[1], p1, p2]) else {
+        return DEGENERATE_THROAT;
+    };
+    let Some(rs) = scaled_radii(r, l) else {
+        return DEGENERATE_THROAT;
+    };
+    let e = d[1];
+    let fluid = (norm2(e) - rs[0] - rs[1]).max(0.0);
+    let side = |p: V2| -> RegionTotals {
+        let h = cross2(e, p);
+        let s = sign(h);
+        let mut t = RegionTotals::ZERO;
+        if s == 0.0 {
+            return t;
+        }
+        t.volume = s * h.abs() / 2.0;
+        let th0 = angle2(p, e);
+        let th1 = angle2(sub2(p, e), [-e[0], -e[1]]);
+        t.sectors = s * 0.5 * (rs[0] * rs[0] * th0 + rs[1] * rs[1] * th1);
+        t.surface = s * (rs[0] * th0 + rs[1] * th1);
+        t
+    };
+    let t = side(d[2]).minus(side(d[3]));
+    finish_throat(t, norm2(sub2(d[2], d[3])), fluid, l, 2)
+}
+
+/// Hydraulic conductance of a throat, `g = A R_h² / (2 μ L)`
+/// (Chareyre et al. 2012); per unit depth in 2D.
+///
+/// The caller is expected to floor `length`; a non-positive or non-finite
+/// `length` or `viscosity` is treated as an invalid throat and gives 0.0.
+pub fn conductance(fluid_area: f64, hydraulic_radius: f64, length: f64, viscosity: f64) -> f64 {
+    if !(length > 0.0 && length.is_finite() && viscosity > 0.0 && viscosity.is_finite()) {
+        return 0.0;
+    }
+    fin(fluid_area * hydraulic_radius * hydraulic_radius / (2.0 * viscosity * length))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_xoshiro::Xoshiro256PlusPlus as StdRng;
+    use std::f64::consts::PI;
+
+    fn rel_close(a: f64, b: f64, tol: f64) -> bool {
+        a == b || (a - b).abs() <= tol * a.abs().max(b.abs())
+    }
+
+    #[track_caller]
+    fn assert_rel(a: f64, b: f64, tol: f64) {
+        assert!(rel_close(a, b, tol), "{a} vs {b} (rel tol {tol})");
+    }
+
+    fn dist3(a: V3, b: V3) -> f64 {
+        norm3(sub3(a, b))
+    }
+
+    /// Regular tetrahedron with the given edge, shifted to `origin`.
+    fn regular_tet(edge: f64, origin: V3) -> [V3; 4] {
+        let s = edge / (2.0 * 2f64.sqrt());
+        [[1., 1., 1.], [1., -1., -1.], [-1., 1., -1.], [-1., -1., 1.]]
+            .map(|v| add3(origin, scale3(v, s)))
+    }
+
+    fn equilateral(edge: f64, origin: V2) -> [V2; 3] {
+        [
+            [0.0, 0.0],
+            [edge, 0.0],
+            [0.5 * edge, 0.5 * 3f64.sqrt() * edge],
+        ]
+        .map(|v| [v[0] + origin[0], v[1] + origin[1]])
+    }
+
+    /// Distance from `x` to the plane through `a, b, c`.
+    fn plane_dist(x: V3, a: V3, b: V3, c: V3) -> f64 {
+        let n = cross3(sub3(b, a), sub3(c, a));
+        dot3(n, sub3(x, a)).abs() / norm3(n)
+    }
+
+    /// Distance from `x` to the line through `a, b`.
+    fn line_dist(x: V2, a: V2, b: V2) -> f64 {
+        cross2(sub2(b, a), sub2(x, a)).abs() / norm2(sub2(b, a))
+    }
+
+    // ---- independent numerical solver: Newton with partial pivoting ----
+
+    fn gauss_solve<const N: usize>(mut a: [[f64; N]; N], mut b: [f64; N]) -> Option<[f64; N]> {
+        for col in 0..N {
+            let piv = (col..N).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
+            if a[piv][col].abs() < 1e-300 {
+                return None;
+            }
+            a.swap(col, piv);
+            b.swap(col, piv);
+            for row in col + 1..N {
+                let f = a[row][col] / a[col][col];
+                let pivot_row = a[col];
+                for (ak, pk) in a[row].iter_mut().zip(pivot_row).skip(col) {
+                    *ak -= f * pk;
+                }
+                b[row] -= f * b[col];
+            }
+        }
+        let mut x = [0.0; N];
+        for row in (0..N).rev() {
+            let s: f64 = (row + 1..N).map(|k| a[row][k] * x[k]).sum();
+            x[row] = (b[row] - s) / a[row][row];
+        }
+        Some(x)
+    }
+
+    fn newton<const N: usize>(
+        mut z: [f64; N],
+        f: impl Fn(&[f64; N]) -> ([f64; N], [[f64; N]; N]),
+    ) -> Option<[f64; N]> {
+        for _ in 0..100 {
+            let (fz, jac) = f(&z);
+            if fz.iter().all(|v| v.abs() < 1e-15) {
+                return Some(z);
+            }
+            let dz = gauss_solve(jac, fz.map(|v| -v))?;
+            for (zi, di) in z.iter_mut().zip(dz) {
+                *zi += di;
+            }
+        }
+        let (fz, _) = f(&z);
+        fz.iter().all(|v| v.abs() < 1e-12).then_some(z)
+    }
+
+    /// Tangent sphere by Newton on `|x − c_i| − r_i − ρ = 0`, started at the
+    /// vertex centroid, independent of the closed form.
+    fn newton_tangent_3d(c: &[V3; 4], r: &[f64; 4]) -> Option<f64> {
+        let g = scale3(c.iter().fold([0.0; 3], |s, x| add3(s, *x)), 0.25);
+        let rho0 = (0..4).map(|i| dist3(g, c[i]) - r[i]).sum::<f64>() / 4.0;
+        let z = newton([g[0], g[1], g[2], rho0], |z| {
+            let x = [z[0], z[1], z[2]];
+            let mut fz = [0.0; 4];
+            let mut j = [[0.0; 4]; 4];
+            for i in 0..4 {
+                let dv = sub3(x, c[i]);
+                let n = norm3(dv);
+                fz[i] = n - r[i] - z[3];
+                j[i] = [dv[0] / n, dv[1] / n, dv[2] / n, -1.0];
+            }
+            (fz, j)
+        })?;
+        Some(z[3])
+    }
+
+    fn newton_tangent_2d(c: &[V2; 3], r: &[f64; 3]) -> Option<f64> {
+        let g = [
+            (c[0][0] + c[1][0] + c[2][0]) / 3.0,
+            (c[0][1] + c[1][1] + c[2][1]) / 3.0,
+        ];
+        let rho0 = (0..3).map(|i| norm2(sub2(g, c[i])) - r[i]).sum::<f64>() / 3.0;
+        let z = newton([g[0], g[1], rho0], |z| {
+            let mut fz = [0.0; 3];
+            let mut j = [[0.0; 3]; 3];
+            for i in 0..3 {
+                let dv = sub2([z[0], z[1]], c[i]);
+                let n = norm2(dv);
+                fz[i] = n - r[i] - z[2];
+                j[i] = [dv[0] / n, dv[1] / n, -1.0];
+            }
+            (fz, j)
+        })?;
+        Some(z[2])
+    }
+
+    /// Constriction by Newton in 3D: three tangency equations plus the
+    /// facet-plane equation.
+    fn newton_constriction_3d(c: &[V3; 3], r: &[f64; 3]) -> Option<f64> {
+        let g = scale3(add3(add3(c[0], c[1]), c[2]), 1.0 / 3.0);
+        let n = cross3(sub3(c[1], c[0]), sub3(c[2], c[0]));
+        let rho0 = (0..3).map(|i| dist3(g, c[i]) - r[i]).sum::<f64>() / 3.0;
+        let z = newton([g[0], g[1], g[2], rho0], |z| {
+            let x = [z[0], z[1], z[2]];
+            let mut fz = [0.0; 4];
+            let mut j = [[0.0; 4]; 4];
+            for i in 0..3 {
+                let dv = sub3(x, c[i]);
+                let m = norm3(dv);
+                fz[i] = m - r[i] - z[3];
+                j[i] = [dv[0] / m, dv[1] / m, dv[2] / m, -1.0];
+            }
+            fz[3] = dot3(n, sub3(x, c[0]));
+            j[3] = [n[0], n[1], n[2], 0.0];
+            (fz, j)
+        })?;
+        Some(z[3])
+    }
+
+    // ---- random well-shaped cells ----
+
+    /// Perturbed regular tetrahedron (edge ≈ 1) with non-overlapping radii:
+    /// each radius is a fraction `f_i` of half its nearest-neighbour distance.
+    fn tet_cell(pert: &[f64], f: &[f64], origin: V3) -> ([V3; 4], [f64; 4]) {
+        let mut c = regular_tet(1.0, origin);
+        for (i, ci) in c.iter_mut().enumerate() {
+            *ci = add3(*ci, [pert[3 * i], pert[3 * i + 1], pert[3 * i + 2]]);
+        }
+        let mut r = [0.0; 4];
+        for i in 0..4 {
+            let m = (0..4)
+                .filter(|&j| j != i)
+                .map(|j| dist3(c[i], c[j]))
+                .fold(f64::INFINITY, f64::min);
+            r[i] = f[i] * 0.5 * m;
+        }
+        (c, r)
+    }
+
+    fn tri_cell(pert: &[f64], f: &[f64], origin: V2) -> ([V2; 3], [f64; 3]) {
+        let mut c = equilateral(1.0, origin);
+        for (i, ci) in c.iter_mut().enumerate() {
+            *ci = [ci[0] + pert[2 * i], ci[1] + pert[2 * i + 1]];
+        }
+        let mut r = [0.0; 3];
+        for i in 0..3 {
+            let m = (0..3)
+                .filter(|&j| j != i)
+                .map(|j| norm2(sub2(c[i], c[j])))
+                .fold(f64::INFINITY, f64::min);
+            r[i] = f[i] * 0.5 * m;
+        }
+        (c, r)
+    }
+
+    // ---- hand-solved cases ----
+
+    #[test]
+    fn regular_tet_of_touching_spheres_pore_radius() {
+        for &r in &[1.0, 0.37, 2.5e3] {
+            let c = regular_tet(2.0 * r, [3.0, -1.0, 0.5]);
+            assert_rel(
+                pore_body_radius_3d(&c, &[r; 4]),
+                r * (1.5f64.sqrt() - 1.0),
+                1e-13,
+            );
+        }
+    }
+
+    #[test]
+    fn touching_circles_constriction_in_tilted_plane() {
+        let r = 0.8;
+        let t = equilateral(2.0 * r, [0.0, 0.0]);
+        // Embed in a tilted plane through an arbitrary point.
+        let e1 = scale3([1.0, 2.0, -0.5], 1.0 / norm3([1.0, 2.0, -0.5]));
+        let e2u = cross3(e1, [0.3, -0.2, 1.0]);
+        let e2 = scale3(e2u, 1.0 / norm3(e2u));
+        let c = t.map(|p| add3([1.0, 5.0, -2.0], add3(scale3(e1, p[0]), scale3(e2, p[1]))));
+        let want = r * (2.0 / 3f64.sqrt() - 1.0);
+        assert_rel(constriction_radius_3d(&c, &[r; 3]), want, 1e-13);
+    }
+
+    #[test]
+    fn touching_discs_pore_radius_2d() {
+        let r = 1.7;
+        let c = equilateral(2.0 * r, [-4.0, 9.0]);
+        assert_rel(
+            pore_body_radius_2d(&c, &[r; 3]),
+            r * (2.0 / 3f64.sqrt() - 1.0),
+            1e-13,
+        );
+    }
+
+    #[test]
+    fn equal_weights_power_centre_is_circumcentre() {
+        let c = regular_tet(2.0, [1.0, 2.0, 3.0]);
+        let (p, pw) = power_centre_3d(&c, &[0.4; 4]).unwrap();
+        for (pi, want) in p.iter().zip([1.0, 2.0, 3.0]) {
+            assert!((pi - want).abs() < 1e-14);
+        }
+        // Circumradius of the regular tetrahedron: edge·√(3/8).
+        assert_rel(pw, 1.5 - 0.16, 1e-13);
+
+        let t = equilateral(3.0, [1.0, -1.0]);
+        let (p2, pw2) = power_centre_2d(&t, &[0.7; 3]).unwrap();
+        assert!((p2[0] - 2.5).abs() < 1e-14 && (p2[1] - (-1.0 + 3f64.sqrt() / 2.0)).abs() < 1e-14);
+        assert_rel(pw2, 3.0 - 0.49, 1e-13);
+    }
+
+    #[test]
+    fn regular_tet_volume_and_void_closed_form() {
+        let a = 1.3;
+        let cv = cell_volumes_3d(&regular_tet(a, [0.2, 0.1, -7.0]), &[a / 2.0; 4]);
+        let vol = a.powi(3) / (6.0 * 2f64.sqrt());
+        // Vertex solid angle of the regular tetrahedron: arccos(23/27).
+        let sectors = 4.0 * (a / 2.0).powi(3) * (23.0f64 / 27.0).acos() / 3.0;
+        assert_rel(cv.volume, vol, 1e-13);
+        assert_rel(cv.void_volume, vol - sectors, 1e-12);
+        assert!(!cv.clamped);
+    }
+
+    #[test]
+    fn constriction_2d_is_half_gap() {
+        let c = [[0.0, 1.0], [3.0, 5.0]];
+        assert_rel(constriction_radius_2d(&c, &[1.0, 2.5]), 0.75, 1e-15);
+        assert_eq!(constriction_radius_2d(&c, &[2.5, 2.5]), 0.0);
+        assert_eq!(constriction_radius_2d(&c, &[3.0, 2.5]), 0.0);
+    }
+
+    #[test]
+    fn zero_radii_reduce_to_plain_geometry() {
+        let c = [
+            [0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [0.0, 3.0, 0.0],
+            [0.0, 0.0, 4.0],
+        ];
+        // Circumsphere of this corner tetrahedron is centred at (1, 1.5, 2).
+        let want_r = (1.0f64 + 2.25 + 4.0).sqrt();
+        assert_rel(pore_body_radius_3d(&c, &[0.0; 4]), want_r, 1e-14);
+        let cv = cell_volumes_3d(&c, &[0.0; 4]);
+        assert_rel(cv.volume, 4.0, 1e-15);
+        assert_eq!(cv.void_volume, cv.volume);
+        // Circumcircle of the right triangle: half the hypotenuse.
+        assert_rel(
+            constriction_radius_3d(&[c[0], c[1], c[2]], &[0.0; 3]),
+            13f64.sqrt() / 2.0,
+            1e-14,
+        );
+        let t = throat_3d(
+            [1.0, 1.0, 1.0],
+            [1.0, 1.0, -1.0],
+            &[c[0], c[1], c[2]],
+            &[0.0; 3],
+        );
+        assert_rel(t.fluid_area, 3.0, 1e-15);
+        assert_rel(t.void_volume, 2.0, 1e-15);
+        assert_eq!(t.solid_surface, 0.0);
+        assert_eq!(t.hydraulic_radius, 0.0);
+    }
+
+    #[test]
+    fn poiseuille_tube_check_of_formula() {
+        for &(a, l, mu) in &[(1.0, 1.0, 1.0), (0.3, 7.0, 1e-3), (2e-4, 1e-2, 0.89)] {
+            let g = conductance(PI * a * a, a / 2.0, l, mu);
+            assert_rel(g, PI * a.powi(4) / (8.0 * mu * l), 1e-14);
+        }
+    }
+
+    // ---- sign rule ----
+
+    /// Per-tetrahedron void and surface from the public cell function: a
+    /// zero-radius sphere at the power centre adds no sector.
+    fn tet_parts(p: V3, c: &[V3; 3], r: &[f64; 3]) -> (f64, f64) {
+        let cv = cell_volumes_3d(&[p, c[0], c[1], c[2]], &[0.0, r[0], r[1], r[2]]);
+        let mut surf = 0.0;
+        for v in 0..3 {
+            let (j, k) = ((v + 1) % 3, (v + 2) % 3);
+            let om = solid_angle(sub3(p, c[v]), sub3(c[j], c[v]), sub3(c[k], c[v]));
+            surf += r[v] * r[v] * om;
+        }
+        (cv.void_volume, surf)
+    }
+
+    #[test]
+    fn sign_rule_sum_and_difference() {
+        let c = [[0.0, 0.0, 0.0], [1.0, 0.1, 0.0], [0.3, 0.9, 0.05]];
+        let r = [0.2, 0.15, 0.25];
+        let g = scale3(add3(add3(c[0], c[1]), c[2]), 1.0 / 3.0);
+        let n = cross3(sub3(c[1], c[0]), sub3(c[2], c[0]));
+        let up = add3(g, scale3(n, 0.6 / norm3(n)));
+        let down = add3(g, add3(scale3(n, -0.4 / norm3(n)), [0.05, -0.02, 0.0]));
+        let low = add3(g, scale3(n, 0.3 / norm3(n)));
+        let (v_up, s_up) = tet_parts(up, &c, &r);
+        let (v_down, s_down) = tet_parts(down, &c, &r);
+        let (v_low, s_low) = tet_parts(low, &c, &r);
+
+        let t = throat_3d(up, down, &c, &r);
+        assert_rel(t.void_volume, v_up + v_down, 1e-12);
+        assert_rel(t.solid_surface, s_up + s_down, 1e-12);
+        assert_rel(t.hydraulic_radius, t.void_volume / t.solid_surface, 1e-15);
+        let t2 = throat_3d(up, low, &c, &r);
+        assert_rel(t2.void_volume, v_up - v_low, 1e-12);
+        assert_rel(t2.solid_surface, s_up - s_low, 1e-12);
+        for (a, b) in [(up, down), (down, up), (up, low), (low, up)] {
+            let x = throat_3d(a, b, &c, &r);
+            let y = throat_3d(b, a, &c, &r);
+            assert_eq!(x, y);
+            assert!(x.void_volume > 0.0 && x.solid_surface > 0.0);
+        }
+        assert_rel(t.length, dist3(up, down), 1e-15);
+    }
+
+    // ---- Monte Carlo ----
+
+    fn in_tet(x: V3, t: &[V3; 4]) -> bool {
+        let vol = |a: V3, b: V3, c: V3, d: V3| dot3(sub3(b, a), cross3(sub3(c, a), sub3(d, a)));
+        let s = vol(t[0], t[1], t[2], t[3]).signum();
+        vol(x, t[1], t[2], t[3]) * s >= 0.0
+            && vol(t[0], x, t[2], t[3]) * s >= 0.0
+            && vol(t[0], t[1], x, t[3]) * s >= 0.0
+            && vol(t[0], t[1], t[2], x) * s >= 0.0
+    }
+
+    fn in_tri(x: V2, t: &[V2; 3]) -> bool {
+        let s = cross2(sub2(t[1], t[0]), sub2(t[2], t[0])).signum();
+        (0..3).all(|i| cross2(sub2(t[(i + 1) % 3], t[i]), sub2(x, t[i])) * s >= 0.0)
+    }
+
+    fn tet_volume(t: &[V3; 4]) -> f64 {
+        dot3(sub3(t[1], t[0]), cross3(sub3(t[2], t[0]), sub3(t[3], t[0]))).abs() / 6.0
+    }
+
+    fn tri_area(t: &[V2; 3]) -> f64 {
+        cross2(sub2(t[1], t[0]), sub2(t[2], t[0])).abs() / 2.0
+    }
+
+    /// Uniform point in a simplex: normalised exponentials are Dirichlet(1,…,1).
+    fn bary<const N: usize>(rng: &mut StdRng) -> [f64; N] {
+        let e = [0.0; N].map(|_: f64| -(1.0 - rng.random::<f64>()).ln());
+        let s: f64 = e.iter().sum();
+        e.map(|x| x / s)
+    }
+
+    fn sample_tet(rng: &mut StdRng, t: &[V3; 4]) -> V3 {
+        let b = bary::<4>(rng);
+        (0..4).fold([0.0; 3], |s, i| add3(s, scale3(t[i], b[i])))
+    }
+
+    fn sample_tri(rng: &mut StdRng, t: &[V2; 3]) -> V2 {
+        let b = bary::<3>(rng);
+        (0..3).fold([0.0; 2], |s, i| {
+            [s[0] + b[i] * t[i][0], s[1] + b[i] * t[i][1]]
+        })
+    }
+
+    /// Void volume of `t` minus `hole` (if any) by sampling `t` uniformly.
+    fn mc_void_3d(
+        rng: &mut StdRng,
+        t: &[V3; 4],
+        hole: Option<&[V3; 4]>,
+        balls: &[(V3, f64)],
+        n: usize,
+    ) -> f64 {
+        let mut hits = 0usize;
+        for _ in 0..n {
+            let x = sample_tet(rng, t);
+            let in_hole = hole.is_some_and(|h| in_tet(x, h));
+            if !in_hole && balls.iter().all(|(c, r)| dist3(x, *c) > *r) {
+                hits += 1;
+            }
+        }
+        tet_volume(t) * hits as f64 / n as f64
+    }
+
+    /// Uniform point on the cap of `axis` (unit) with half-angle `alpha`.
+    fn sample_cap(rng: &mut StdRng, axis: V3, alpha: f64) -> V3 {
+        let z = 1.0 - rng.random::<f64>() * (1.0 - alpha.cos());
+        let phi = 2.0 * PI * rng.random::<f64>();
+        let s = (1.0 - z * z).sqrt();
+        let helper = if axis[0].abs() < 0.9 {
+            [1.0, 0.0, 0.0]
+        } else {
+            [0.0, 1.0, 0.0]
+        };
+        let u = cross3(axis, helper);
+        let u = scale3(u, 1.0 / norm3(u));
+        let v = cross3(axis, u);
+        add3(
+            scale3(axis, z),
+            add3(scale3(u, s * phi.cos()), scale3(v, s * phi.sin())),
+        )
+    }
+
+    /// Sphere surface and sphere volume inside `region`, by sampling each
+    /// sphere (and ball) only within the cap around the cone of `hull` at its
+    /// centre: `region ⊂ hull` and `hull` is convex, so nothing is missed, and
+    /// the samples are not wasted on the far side of the sphere.
+    fn mc_solid_3d(
+        rng: &mut StdRng,
+        hull: &[V3; 4],
+        balls: &[(usize, f64)],
+        region: impl Fn(V3) -> bool,
+        n: usize,
+    ) -> (f64, f64) {
+        let (mut surface, mut volume) = (0.0, 0.0);
+        for &(i, r) in balls {
+            let c = hull[i];
+            let dirs: Vec<V3> = (0..4)
+                .filter(|&j| j != i)
+                .map(|j| {
+                    let e = sub3(hull[j], c);
+                    scale3(e, 1.0 / norm3(e))
+                })
+                .collect();
+            let sum = dirs.iter().fold([0.0; 3], |s, x| add3(s, *x));
+            let axis = scale3(sum, 1.0 / norm3(sum));
+            let alpha = dirs.iter().map(|e| angle3(axis, *e)).fold(0.0, f64::max);
+            assert!(alpha < 0.5 * PI, "cap must be convex");
+            let cap = 2.0 * PI * (1.0 - alpha.cos());
+            let mut hits_s = 0usize;
+            let mut hits_v = 0usize;
+            for _ in 0..n {
+                let u = sample_cap(rng, axis, alpha);
+                hits_s += region(add3(c, scale3(u, r))) as usize;
+                let rho = r * rng.random::<f64>().cbrt();
+                hits_v += region(add3(c, scale3(u, rho))) as usize;
+            }
+            surface += cap * r * r * hits_s as f64 / n as f64;
+            volume += cap * r.powi(3) / 3.0 * hits_v as f64 / n as f64;
+        }
+        (surface, volume)
+    }
+
+    /// Checks the sector assumption: each sphere stays on its side of the
+    /// face opposite its centre.
+    fn sectors_exact_3d(t: &[V3; 4], r: &[f64; 4]) -> bool {
+        (0..4).all(|i| {
+            let o: Vec<V3> = (0..4).filter(|&j| j != i).map(|j| t[j]).collect();
+            r[i] <= plane_dist(t[i], o[0], o[1], o[2])
+        })
+    }
+
+    const MC_N: usize = 600_000;
+
+    #[test]
+    fn cell_void_3d_monte_carlo() {
+        let mut rng = StdRng::seed_from_u64(0x5eed_0001);
+        let touching = (regular_tet(1.0, [0.0; 3]), [0.5; 4]);
+        let mut cases = vec![touching];
+        for _ in 0..3 {
+            let pert: Vec<f64> = (0..12).map(|_| rng.random_range(-0.15..0.15)).collect();
+            let f: Vec<f64> = (0..4).map(|_| rng.random_range(0.5..0.95)).collect();
+            cases.push(tet_cell(&pert, &f, [1.0, 2.0, 3.0]));
+        }
+        for (c, r) in cases {
+            assert!(sectors_exact_3d(&c, &r));
+            let balls: Vec<(V3, f64)> = (0..4).map(|i| (c[i], r[i])).collect();
+            let mc = mc_void_3d(&mut rng, &c, None, &balls, MC_N);
+            let cv = cell_volumes_3d(&c, &r);
+            assert!(!cv.clamped);
+            assert_rel(cv.void_volume, mc, 0.01);
+        }
+    }
+
+    #[test]
+    fn cell_void_2d_monte_carlo() {
+        let mut rng = StdRng::seed_from_u64(0x5eed_0002);
+        let mut cases = vec![(equilateral(1.0, [0.0; 2]), [0.5; 3])];
+        for _ in 0..3 {
+            let pert: Vec<f64> = (0..6).map(|_| rng.random_range(-0.15..0.15)).collect();
+            let f: Vec<f64> = (0..3).map(|_| rng.random_range(0.5..0.95)).collect();
+            cases.push(tri_cell(&pert, &f, [-2.0, 1.0]));
+        }
+        for (c, r) in cases {
+            for i in 0..3 {
+                assert!(r[i] <= line_dist(c[i], c[(i + 1) % 3], c[(i + 2) % 3]));
+            }
+            let hits = (0..MC_N)
+                .filter(|_| {
+                    let x = sample_tri(&mut rng, &c);
+                    (0..3).all(|i| norm2(sub2(x, c[i])) > r[i])
+                })
+                .count();
+            let mc = tri_area(&c) * hits as f64 / MC_N as f64;
+            assert_rel(cell_volumes_2d(&c, &r).void_volume, mc, 0.01);
+        }
+    }
+
+    /// A facet with two power centres: `up` above it, `down` below it, and
+    /// `low` above it on the segment from the facet centroid to `up`.
+    fn throat_case() -> ([V3; 3], [f64; 3], V3, V3, V3) {
+        let c = [[0.0, 0.0, 0.0], [1.0, 0.1, 0.0], [0.35, 0.9, 0.05]];
+        let r = [0.3, 0.25, 0.2];
+        let g = scale3(add3(add3(c[0], c[1]), c[2]), 1.0 / 3.0);
+        let n = cross3(sub3(c[1], c[0]), sub3(c[2], c[0]));
+        let nu = scale3(n, 1.0 / norm3(n));
+        let up = add3(g, add3(scale3(nu, 0.7), [0.05, -0.03, 0.0]));
+        let down = add3(g, add3(scale3(nu, -0.5), [-0.04, 0.02, 0.01]));
+        let low = add3(g, scale3(sub3(up, g), 0.75));
+        (c, r, up, down, low)
+    }
+
+    fn tet_of(p: V3, c: &[V3; 3]) -> [V3; 4] {
+        [p, c[0], c[1], c[2]]
+    }
+
+    #[test]
+    fn throat_3d_opposite_sides_monte_carlo() {
+        let mut rng = StdRng::seed_from_u64(0x5eed_0003);
+        let (c, r, up, down, _) = throat_case();
+        let (t1, t2) = (tet_of(up, &c), tet_of(down, &c));
+        let rr = [0.0, r[0], r[1], r[2]];
+        assert!(sectors_exact_3d(&t1, &rr) && sectors_exact_3d(&t2, &rr));
+        let balls: Vec<(V3, f64)> = (0..3).map(|i| (c[i], r[i])).collect();
+        let void = mc_void_3d(&mut rng, &t1, None, &balls, MC_N)
+            + mc_void_3d(&mut rng, &t2, None, &balls, MC_N);
+        let idx: Vec<(usize, f64)> = (0..3).map(|i| (i + 1, r[i])).collect();
+        let (mut surf, mut solid) = (0.0, 0.0);
+        for t in [&t1, &t2] {
+            let (s, v) = mc_solid_3d(&mut rng, t, &idx, |x| in_tet(x, t), MC_N);
+            surf += s;
+            solid += v;
+        }
+        let t = throat_3d(up, down, &c, &r);
+        assert_rel(t.void_volume, void, 0.01);
+        assert_rel(t.solid_surface, surf, 0.01);
+        let region = tet_volume(&t1) + tet_volume(&t2);
+        assert_rel(region - t.void_volume, solid, 0.01);
+    }
+
+    #[test]
+    fn throat_3d_same_side_monte_carlo() {
+        let mut rng = StdRng::seed_from_u64(0x5eed_0004);
+        let (c, r, up, _, low) = throat_case();
+        let (t1, t2) = (tet_of(up, &c), tet_of(low, &c));
+        let rr = [0.0, r[0], r[1], r[2]];
+        assert!(sectors_exact_3d(&t1, &rr) && sectors_exact_3d(&t2, &rr));
+        let balls: Vec<(V3, f64)> = (0..3).map(|i| (c[i], r[i])).collect();
+        let void = mc_void_3d(&mut rng, &t1, Some(&t2), &balls, MC_N);
+        let idx: Vec<(usize, f64)> = (0..3).map(|i| (i + 1, r[i])).collect();
+        let in_region = |x| in_tet(x, &t1) && !in_tet(x, &t2);
+        let (surf, solid) = mc_solid_3d(&mut rng, &t1, &idx, in_region, MC_N);
+        let region = tet_volume(&t1) - tet_volume(&t2);
+        for t in [throat_3d(up, low, &c, &r), throat_3d(low, up, &c, &r)] {
+            assert_rel(t.void_volume, void, 0.01);
+            assert_rel(t.solid_surface, surf, 0.01);
+            assert_rel(region - t.void_volume, solid, 0.01);
+        }
+    }
+
+    /// Cases with two externally tangent solutions (a small disc/sphere
+    /// between two big ones: one tangent circle on each side of it). Newton
+    /// from two starts finds both; the closed form must return the smaller.
+    #[test]
+    fn smallest_positive_root_is_chosen() {
+        let c = [[-1.0, 0.0], [1.0, 0.0], [0.0, 0.5]];
+        let r = [0.9, 0.9, 0.05];
+        let newton2 = |y0: f64| {
+            let z = newton([0.0, y0, 0.1], |z| {
+                let mut fz = [0.0; 3];
+                let mut j = [[0.0; 3]; 3];
+                for i in 0..3 {
+                    let dv = sub2([z[0], z[1]], c[i]);
+                    let m = norm2(dv);
+                    fz[i] = m - r[i] - z[2];
+                    j[i] = [dv[0] / m, dv[1] / m, -1.0];
+                }
+                (fz, j)
+            });
+            z.unwrap()[2]
+        };
+        let (lo, hi) = (newton2(0.3), newton2(1.2));
+        assert!(lo > 0.0 && hi > 1.5 * lo, "{lo} {hi}");
+        assert_rel(pore_body_radius_2d(&c, &r), lo, 1e-12);
+
+        let c3 = [
+            [-1.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 0.5, 0.3],
+            [0.0, 0.5, -0.3],
+        ];
+        let r3 = [0.9, 0.9, 0.05, 0.05];
+        let newton3 = |y0: f64| {
+            let z = newton([0.0, y0, 0.0, 0.1], |z| {
+                let mut fz = [0.0; 4];
+                let mut j = [[0.0; 4]; 4];
+                for i in 0..4 {
+                    let dv = sub3([z[0], z[1], z[2]], c3[i]);
+                    let m = norm3(dv);
+                    fz[i] = m - r3[i] - z[3];
+                    j[i] = [dv[0] / m, dv[1] / m, dv[2] / m, -1.0];
+                }
+                (fz, j)
+            });
+            z.unwrap()[3]
+        };
+        let (lo, hi) = (newton3(0.3), newton3(1.2));
+        assert!(lo > 0.0 && hi > 1.5 * lo, "{lo} {hi}");
+        assert_rel(pore_body_radius_3d(&c3, &r3), lo, 1e-12);
+        let f = [c3[0], c3[1], c3[2]];
+        let fr = [r3[0], r3[1], r3[2]];
+        let in_plane = newton_constriction_3d(&f, &fr).unwrap();
+        assert_rel(constriction_radius_3d(&f, &fr), in_plane, 1e-9);
+    }
+
+    #[test]
+    fn throat_2d_monte_carlo() {
+        let mut rng = StdRng::seed_from_u64(0x5eed_0005);
+        let c = [[0.0, 0.0], [1.0, 0.2]];
+        let r = [0.35, 0.3];
+        let up = [0.45, 0.8];
+        let down = [0.6, -0.5];
+        let low = [0.48, 0.55];
+        for (p1, p2, same_side) in [(up, down, false), (up, low, true)] {
+            let t1 = [p1, c[0], c[1]];
+            let t2 = [p2, c[0], c[1]];
+            for t in [&t1, &t2] {
+                assert!(r[0] <= line_dist(c[0], t[0], c[1]) && r[1] <= line_dist(c[1], t[0], c[0]));
+            }
+            let outside = |x: V2| (0..2).all(|i| norm2(sub2(x, c[i])) > r[i]);
+            let mut void = 0.0;
+            let region_parts = if same_side {
+                vec![(t1, Some(t2))]
+            } else {
+                vec![(t1, None), (t2, None)]
+            };
+            for (t, hole) in region_parts {
+                let hits = (0..MC_N)
+                    .filter(|_| {
+                        let x = sample_tri(&mut rng, &t);
+                        outside(x) && !hole.is_some_and(|h| in_tri(x, &h))
+                    })
+                    .count();
+                void += tri_area(&t) * hits as f64 / MC_N as f64;
+            }
+            let in_region = |x: V2| {
+                if same_side {
+                    in_tri(x, &t1) && !in_tri(x, &t2)
+                } else {
+                    in_tri(x, &t1) || in_tri(x, &t2)
+                }
+            };
+            let mut perim = 0.0;
+            for i in 0..2 {
+                let hits = (0..MC_N)
+                    .filter(|_| {
+                        let a = 2.0 * PI * rng.random::<f64>();
+                        in_region([c[i][0] + r[i] * a.cos(), c[i][1] + r[i] * a.sin()])
+                    })
+                    .count();
+                perim += 2.0 * PI * r[i] * hits as f64 / MC_N as f64;
+            }
+            let t = throat_2d(p1, p2, &c, &r);
+            assert_rel(t.void_volume, void, 0.01);
+            assert_rel(t.solid_surface, perim, 0.01);
+            assert_rel(t.fluid_area, norm2(sub2(c[1], c[0])) - 0.65, 1e-14);
+            assert_eq!(t, throat_2d(p2, p1, &c, &r));
+        }
+    }
+
+    // ---- degenerate inputs ----
+
+    fn all_finite_throat(t: &Throat) -> bool {
+        [
+            t.length,
+            t.fluid_area,
+            t.void_volume,
+            t.solid_surface,
+            t.hydraulic_radius,
+        ]
+        .iter()
+        .all(|x| x.is_finite())
+    }
+
+    fn check_all_finite_3d(c: &[V3; 4], r: &[f64; 4]) {
+        if let Some((p, pw)) = power_centre_3d(c, r) {
+            assert!(p.iter().all(|x| x.is_finite()) && pw.is_finite());
+        }
+        assert!(pore_body_radius_3d(c, r).is_finite());
+        let cv = cell_volumes_3d(c, r);
+        assert!(cv.volume.is_finite() && cv.void_volume.is_finite());
+        let f = [c[0], c[1], c[2]];
+        let fr = [r[0], r[1], r[2]];
+        assert!(constriction_radius_3d(&f, &fr).is_finite());
+        let t = throat_3d(c[3], c[0], &f, &fr);
+        assert!(all_finite_throat(&t), "{t:?}");
+        let t = throat_3d(c[3], [-c[3][0], c[3][1], -c[3][2]], &f, &fr);
+        assert!(all_finite_throat(&t), "{t:?}");
+        let g = conductance(t.fluid_area, t.hydraulic_radius, t.length, 1e-3);
+        assert!(g.is_finite());
+    }
+
+    fn check_all_finite_2d(c: &[V2; 3], r: &[f64; 3]) {
+        if let Some((p, pw)) = power_centre_2d(c, r) {
+            assert!(p.iter().all(|x| x.is_finite()) && pw.is_finite());
+        }
+        assert!(pore_body_radius_2d(c, r).is_finite());
+        let cv = cell_volumes_2d(c, r);
+        assert!(cv.volume.is_finite() && cv.void_volume.is_finite());
+        assert!(constriction_radius_2d(&[c[0], c[1]], &[r[0], r[1]]).is_finite());
+        let t = throat_2d(c[2], [c[2][0], -c[2][1]], &[c[0], c[1]], &[r[0], r[1]]);
+        assert!(all_finite_throat(&t), "{t:?}");
+        let t = throat_2d(c[2], c[0], &[c[0], c[1]], &[r[0], r[1]]);
+        assert!(all_finite_throat(&t), "{t:?}");
+    }
+
+    #[test]
+    fn coplanar_and_collinear_cells() {
+        let c = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.4, 0.3, 0.0],
+        ];
+        let r = [0.2; 4];
+        assert!(power_centre_3d(&c, &r).is_none());
+        assert_eq!(pore_body_radius_3d(&c, &r), 0.0);
+        let cv = cell_volumes_3d(&c, &r);
+        assert_eq!(cv.volume, 0.0);
+        assert_eq!(cv.void_volume, 0.0);
+        assert!(cv.clamped);
+        check_all_finite_3d(&c, &r);
+        // Power centre in the facet plane: flat tetrahedron, no contribution.
+        let f = [c[0], c[1], c[2]];
+        let t = throat_3d(c[3], [0.3, 0.3, 0.5], &f, &[0.2; 3]);
+        let (v, s) = tet_parts([0.3, 0.3, 0.5], &f, &[0.2; 3]);
+        assert_rel(t.void_volume, v, 1e-13);
+        assert_rel(t.solid_surface, s, 1e-13);
+
+        let line = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0], [2.0, 2.0, 2.0]];
+        assert_eq!(constriction_radius_3d(&line, &[0.1; 3]), 0.0);
+        let t = throat_3d([0.0, 1.0, 0.0], [0.0, -1.0, 0.0], &line, &[0.1; 3]);
+        assert_eq!(t.fluid_area, 0.0);
+        assert_eq!(t.void_volume, 0.0);
+        assert!(all_finite_throat(&t));
+
+        let c2 = [[0.0, 0.0], [1.0, 1.0], [3.0, 3.0]];
+        assert!(power_centre_2d(&c2, &[0.1; 3]).is_none());
+        assert_eq!(pore_body_radius_2d(&c2, &[0.1; 3]), 0.0);
+        check_all_finite_2d(&c2, &[0.1; 3]);
+    }
+
+    #[test]
+    fn coincident_and_non_finite_inputs() {
+        let same = [[1.0, 2.0, 3.0]; 4];
+        assert!(power_centre_3d(&same, &[1.0; 4]).is_none());
+        check_all_finite_3d(&same, &[1.0; 4]);
+        check_all_finite_2d(&[[1.0, 1.0]; 3], &[1.0; 3]);
+        let bad = [f64::NAN, f64::INFINITY, -f64::INFINITY];
+        for x in bad {
+            let mut c = regular_tet(1.0, [0.0; 3]);
+            c[1][2] = x;
+            check_all_finite_3d(&c, &[0.3; 4]);
+            check_all_finite_3d(&regular_tet(1.0, [0.0; 3]), &[0.3, x, 0.3, 0.3]);
+            let mut t = equilateral(1.0, [0.0; 2]);
+            t[2][0] = x;
+            check_all_finite_2d(&t, &[0.3; 3]);
+            check_all_finite_2d(&equilateral(1.0, [0.0; 2]), &[x, 0.3, 0.3]);
+            assert!(
+                throat_3d([x; 3], [0.0; 3], &[[1.0, 0.0, 0.0]; 3], &[0.1; 3]).void_volume == 0.0
+            );
+            assert!(conductance(x, 1.0, 1.0, 1.0).is_finite());
+            assert!(conductance(1.0, 1.0, x, 1.0).is_finite());
+        }
+        assert_eq!(conductance(1.0, 1.0, 0.0, 1.0), 0.0);
+        assert_eq!(conductance(1.0, 1.0, 1.0, 0.0), 0.0);
+    }
+
+    #[test]
+    fn touching_overlapping_and_zero_radii() {
+        let c = regular_tet(1.0, [0.0; 3]);
+        for r in [
+            [0.0; 4],
+            [0.5; 4],
+            [0.6; 4],
+            [0.0, 0.5, 0.5, 0.5],
+            [2.0; 4],
+            [1e-300; 4],
+        ] {
+            check_all_finite_3d(&c, &r);
+        }
+        // Overlap so strong that the spheres cover the whole cell: no pore.
+        assert_eq!(pore_body_radius_3d(&c, &[0.7; 4]), 0.0);
+        assert!(cell_volumes_3d(&c, &[2.0; 4]).clamped);
+        let t = equilateral(1.0, [0.0; 2]);
+        for r in [[0.0; 3], [0.5; 3], [0.6; 3], [2.0; 3]] {
+            check_all_finite_2d(&t, &r);
+        }
+        assert_eq!(pore_body_radius_2d(&t, &[0.6; 3]), 0.0);
+    }
+
+    #[test]
+    fn huge_and_tiny_scales() {
+        for s in [1e-300, 1e-200, 1e-150, 1e150, 1e200, 1e300] {
+            let c = regular_tet(s, [0.0; 3]);
+            check_all_finite_3d(&c, &[0.5 * s; 4]);
+            let c = regular_tet(s, [s * 3.0, -s, 0.0]);
+            check_all_finite_3d(&c, &[0.3 * s; 4]);
+            check_all_finite_2d(&equilateral(s, [s, 0.0]), &[0.5 * s; 3]);
+            // Radii stay exact where volumes would over/underflow.
+            let want = 0.5 * s * (1.5f64.sqrt() - 1.0);
+            assert_rel(
+                pore_body_radius_3d(&regular_tet(s, [0.0; 3]), &[0.5 * s; 4]),
+                want,
+                1e-12,
+            );
+        }
+        let v = cell_volumes_3d(&regular_tet(1e300, [0.0; 3]), &[0.0; 4]);
+        assert_eq!(v.volume, f64::MAX);
+    }
+
+    // ---- property tests ----
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(200))]
+
+        #[test]
+        fn pore_radius_3d_matches_newton(
+            pert in prop::collection::vec(-0.15f64..0.15, 12),
+            f in prop::collection::vec(0.1f64..0.95, 4),
+            ox in -10.0f64..10.0,
+        ) {
+            let (c, r) = tet_cell(&pert, &f, [ox, -ox, 0.5 * ox]);
+            let num = newton_tangent_3d(&c, &r).expect("Newton failed");
+            prop_assert!(num > 0.0);
+            let got = pore_body_radius_3d(&c, &r);
+            prop_assert!(rel_close(got, num, 1e-9), "{} vs {}", got, num);
+        }
+
+        #[test]
+        fn pore_radius_2d_matches_newton(
+            pert in prop::collection::vec(-0.15f64..0.15, 6),
+            f in prop::collection::vec(0.1f64..0.95, 3),
+            ox in -10.0f64..10.0,
+        ) {
+            let (c, r) = tri_cell(&pert, &f, [ox, 2.0 * ox]);
+            let num = newton_tangent_2d(&c, &r).expect("Newton failed");
+            prop_assert!(num > 0.0);
+            let got = pore_body_radius_2d(&c, &r);
+            prop_assert!(rel_close(got, num, 1e-9), "{} vs {}", got, num);
+        }
+
+        #[test]
+        fn constriction_3d_matches_newton(
+            pert in prop::collection::vec(-0.15f64..0.15, 12),
+            f in prop::collection::vec(0.1f64..0.95, 4),
+        ) {
+            let (c, r) = tet_cell(&pert, &f, [0.3, 0.2, -0.1]);
+            let (fc, fr) = ([c[1], c[2], c[3]], [r[1], r[2], r[3]]);
+            let num = newton_constriction_3d(&fc, &fr).expect("Newton failed");
+            prop_assert!(num > 0.0);
+            let got = constriction_radius_3d(&fc, &fr);
+            prop_assert!(rel_close(got, num, 1e-9), "{} vs {}", got, num);
+        }
+
+        #[test]
+        fn power_centre_has_equal_powers(
+            pert in prop::collection::vec(-0.15f64..0.15, 12),
+            f in prop::collection::vec(0.0f64..0.95, 4),
+        ) {
+            let (c, r) = tet_cell(&pert, &f, [1.0, 1.0, 1.0]);
+            let (p, pw) = power_centre_3d(&c, &r).unwrap();
+            for i in 0..4 {
+                let pi = dot3(sub3(p, c[i]), sub3(p, c[i])) - r[i] * r[i];
+                prop_assert!((pi - pw).abs() < 1e-12);
+            }
+            let (t, tr) = tri_cell(&pert[..6], &f[..3], [2.0, 0.0]);
+            let (p, pw) = power_centre_2d(&t, &tr).unwrap();
+            for i in 0..3 {
+                let d = sub2(p, t[i]);
+                prop_assert!((dot2(d, d) - tr[i] * tr[i] - pw).abs() < 1e-12);
+            }
+        }
+
+        /// Spherical excess: Ω at a vertex = Σ (dihedral angles at its three
+        /// edges) − π, so Σ_i Ω_i = 2 Σ_edges φ_e − 4π; and Σ θ = π in 2D.
+        #[test]
+        fn solid_angle_sum_identity(
+            pts in prop::collection::vec(-1.0f64..1.0, 12),
+        ) {
+            let c: [V3; 4] = std::array::from_fn(|i| [pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]]);
+            let vol = tet_volume(&c);
+            let size = (0..4).flat_map(|i| (0..4).map(move |j| (i, j)))
+                .map(|(i, j)| dist3(c[i], c[j])).fold(0.0, f64::max);
+            prop_assume!(vol > 1e-3 * size.powi(3));
+            let mut sum_omega = 0.0;
+            for i in 0..4 {
+                let e: Vec<V3> = (0..4).filter(|&j| j != i).map(|j| sub3(c[j], c[i])).collect();
+                sum_omega += solid_angle(e[0], e[1], e[2]);
+            }
+            let mut sum_dihedral = 0.0;
+            for i in 0..4 {
+                for j in i + 1..4 {
+                    let kl: Vec<usize> = (0..4).filter(|&m| m != i && m != j).collect();
+                    let e = sub3(c[j], c[i]);
+                    let perp = |x: V3| {
+                        let v = sub3(x, c[i]);
+                        sub3(v, scale3(e, dot3(v, e) / dot3(e, e)))
+                    };
+                    sum_dihedral += angle3(perp(c[kl[0]]), perp(c[kl[1]]));
+                }
+            }
+            prop_assert!((sum_omega - (2.0 * sum_dihedral - 4.0 * PI)).abs() < 1e-9);
+
+            let t = [[pts[0], pts[1]], [pts[2], pts[3]], [pts[4], pts[5]]];
+            prop_assume!(tri_area(&t) > 1e-6);
+            let sum_theta: f64 = (0..3)
+                .map(|i| angle2(sub2(t[(i + 1) % 3], t[i]), sub2(t[(i + 2) % 3], t[i])))
+                .sum();
+            prop_assert!((sum_theta - PI).abs() < 1e-12);
+        }
+
+        #[test]
+        fn scaling_laws(
+            pert in prop::collection::vec(-0.15f64..0.15, 12),
+            f in prop::collection::vec(0.1f64..0.7, 4),
+            log_s in -3.0f64..3.0,
+            h in prop::collection::vec(0.3f64..1.0, 2),
+        ) {
+            let s = 10f64.powf(log_s);
+            let (c, r) = tet_cell(&pert, &f, [0.2, -0.3, 0.1]);
+            let cs = c.map(|x| scale3(x, s));
+            let rs = r.map(|x| x * s);
+            let close = |a: f64, b: f64, k: i32| rel_close(a * s.powi(k), b, 1e-12);
+            prop_assert!(close(pore_body_radius_3d(&c, &r), pore_body_radius_3d(&cs, &rs), 1));
+            let (v0, v1) = (cell_volumes_3d(&c, &r), cell_volumes_3d(&cs, &rs));
+            prop_assert!(close(v0.volume, v1.volume, 3) && close(v0.void_volume, v1.void_volume, 3));
+            let (f0, fr) = ([c[0], c[1], c[2]], [r[0], r[1], r[2]]);
+            let (f1, fr1) = ([cs[0], cs[1], cs[2]], [rs[0], rs[1], rs[2]]);
+            prop_assert!(close(constriction_radius_3d(&f0, &fr), constriction_radius_3d(&f1, &fr1), 1));
+            let n = cross3(sub3(c[1], c[0]), sub3(c[2], c[0]));
+            let g = scale3(add3(add3(c[0], c[1]), c[2]), 1.0 / 3.0);
+            let p1 = add3(g, scale3(n, h[0] / norm3(n)));
+            let p2 = add3(g, scale3(n, -h[1] / norm3(n)));
+            let t0 = throat_3d(p1, p2, &f0, &fr);
+            let t1 = throat_3d(scale3(p1, s), scale3(p2, s), &f1, &fr1);
+            prop_assert!(close(t0.length, t1.length, 1));
+            prop_assert!(close(t0.fluid_area, t1.fluid_area, 2));
+            prop_assert!(close(t0.void_volume, t1.void_volume, 3));
+            prop_assert!(close(t0.solid_surface, t1.solid_surface, 2));
+            prop_assert!(close(t0.hydraulic_radius, t1.hydraulic_radius, 1));
+            let mu = 1e-3;
+            let g0 = conductance(t0.fluid_area, t0.hydraulic_radius, t0.length, mu);
+            let g1 = conductance(t1.fluid_area, t1.hydraulic_radius, t1.length, mu);
+            prop_assert!(g0 > 0.0 && close(g0, g1, 3));
+
+            // 2D: radii ~ s, areas ~ s², conductance per unit depth ~ s².
+            let (tc, tr) = tri_cell(&pert[..6], &f[..3], [0.1, 0.4]);
+            let tcs = tc.map(|x| [x[0] * s, x[1] * s]);
+            let trs = tr.map(|x| x * s);
+            prop_assert!(close(pore_body_radius_2d(&tc, &tr), pore_body_radius_2d(&tcs, &trs), 1));
+            let (a0, a1) = (cell_volumes_2d(&tc, &tr), cell_volumes_2d(&tcs, &trs));
+            prop_assert!(close(a0.volume, a1.volume, 2) && close(a0.void_volume, a1.void_volume, 2));
+            let e0 = [tc[0], tc[1]];
+            let e1 = [tcs[0], tcs[1]];
+            let q1 = tc[2];
+            let q2 = [tc[0][0] + tc[1][0] - tc[2][0], tc[0][1] + tc[1][1] - tc[2][1]];
+            let u0 = throat_2d(q1, q2, &e0, &[tr[0], tr[1]]);
+            let u1 = throat_2d([q1[0] * s, q1[1] * s], [q2[0] * s, q2[1] * s], &e1, &[trs[0], trs[1]]);
+            prop_assert!(close(u0.void_volume, u1.void_volume, 2));
+            prop_assert!(close(u0.solid_surface, u1.solid_surface, 1));
+            prop_assert!(close(u0.hydraulic_radius, u1.hydraulic_radius, 1));
+            let g0 = conductance(u0.fluid_area, u0.hydraulic_radius, u0.length, mu);
+            let g1 = conductance(u1.fluid_area, u1.hydraulic_radius, u1.length, mu);
+            prop_assert!(close(g0, g1, 2));
+        }
+    }
+}

@@ -1,0 +1,428 @@
+//! The pore network of a bed: the cells (pores) and shared facets (throats) of
+//! the regular triangulation of its particles, each once.
+//!
+//! Periodic sides: the particles within a margin of each side are copied one
+//! period over, the whole set is triangulated, and a cell is kept when the
+//! vertex that comes first by (particle, image shift) is an original particle.
+//! The translates of a cell all pick the same vertex, so exactly one of them
+//! is kept; a throat to a translate records the shift.
+//!
+//! Side walls: the particles within the margin are mirrored in each wall, so
+//! that the wall is a plane of symmetry of the pore space, and a cell is kept
+//! when its power centre lies in the box. Throats to cells outside are walls
+//! (no flow); `spec/pores.md` leaves the treatment to us and ARCHITECTURE.md
+//! records its measured effect.
+//!
+//! The margin is checked, not trusted: a pore in the part of the bed that is
+//! asked for must have an orthogonal sphere that no point beyond the margin
+//! can reach (`gap² > R² + r_max²`), else the margin doubles and the network
+//! is built again.
+
+use super::geometry;
+use super::triangulation::{Triangulation, NONE};
+use crate::bed::Bed;
+use crate::error::{Error, Result};
+use crate::math::Real;
+use std::collections::HashMap;
+
+/// Which particle a point of the triangulation is, and which image of it:
+/// per side axis the number of periods it is shifted by (periodic sides), or
+/// −1 / +1 for its mirror image in the low / high wall (walls).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Site {
+    /// Index of the particle in the bed.
+    pub particle: u32,
+    /// Image per side axis (x, then y in 3D; the unused entry is 0).
+    pub image: [i8; 2],
+}
+
+/// A pore: one cell of the triangulation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pore<const D: usize> {
+    /// The cell's vertices (the first `D + 1` entries): particles and images.
+    pub sites: [Site; 4],
+    /// Power centre: the node of the pore.
+    pub centre: [Real; D],
+    /// Power radius squared of the orthogonal sphere (`|p − c|² − r²`).
+    pub power: Real,
+    /// Volume of the cell (area in 2D).
+    pub volume: Real,
+    /// Its void volume: the cell less the vertex spheres' sectors.
+    pub void_volume: Real,
+    /// Radius of the largest sphere touching the four vertex spheres.
+    pub body_radius: Real,
+}
+
+/// A throat: the facet between two pores.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Throat {
+    /// The two pores (indices into [`Network::pores`]).
+    pub pores: [u32; 2],
+    /// Where the second pore is: its kept cell shifted by these periods.
+    pub shift: [i8; 2],
+    /// The facet's particles (the first `D` entries).
+    pub particles: [u32; 3],
+    /// Radius of the largest circle in the facet that touches its spheres
+    /// (half the gap of the two discs in 2D).
+    pub constriction_radius: Real,
+    /// Length, fluid area, void volume, solid surface and hydraulic radius.
+    pub geometry: geometry::Throat,
+}
+
+/// The pores and throats of a bed.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Network<const D: usize> {
+    /// Every pore once.
+    pub pores: Vec<Pore<D>>,
+    /// Every throat once.
+    pub throats: Vec<Throat>,
+    /// Particles with no cell (their sphere sits inside others').
+    pub hidden: Vec<u32>,
+    /// The margin of images the network was built with.
+    pub margin: Real,
+    /// Points triangulated (particles and their images).
+    pub points: usize,
+}
+
+/// Builds the network of `bed`; pores whose power centre height lies in
+/// `check_z` must be exact (the margin grows until they are).
+pub fn network<const D: usize>(bed: &Bed<D>, check_z: (Real, Real)) -> Result<Network<D>> {
+    let r_max = bed.r_max();
+    let mut margin = 4.0 * r_max;
+    for _ in 0..4 {
+        let (sites, points, weights) = sites_with_images(bed, margin);
+        let t = Triangulation::new(&points, &weights);
+        if let Some(net) = assemble(bed, &t, &sites, margin, check_z)? {
+            return Ok(net);
+        }
+        margin *= 2.0;
+    }
+    Err(Error::Impossible(format!(
+        "pores: the pore network needs images beyond {} of the sides; the bed is too sparse \
+         for a pore network",
+        crate::math::display_length(margin / 2.0)
+    )))
+}
+
+/// The particles and their images within `margin` of the sides.
+fn sites_with_images<const D: usize>(
+    bed: &Bed<D>,
+    margin: Real,
+) -> (Vec<Site>, Vec<[f64; D]>, Vec<f64>) {
+    let n = bed.len();
+    let mut sites = Vec::with_capacity(n + n / 4);
+    let mut points = Vec::with_capacity(n + n / 4);
+    let mut weights = Vec::with_capacity(n + n / 4);
+    for i in 0..n {
+        sites.push(Site {
+            particle: i as u32,
+            image: [0; 2],
+        });
+        points.push(bed.centres[i].0);
+        weights.push(bed.radii[i] * bed.radii[i]);
+    }
+    let sides = D - 1;
+    let size = bed.container.size;
+    // Periods needed on each side axis (a narrow box needs several).
+    let reach: Vec<i32> = (0..sides)
+        .map(|a| {
+            if bed.container.periodic {
+                (margin / size[a]).ceil().max(1.0) as i32
+            } else {
+                1
+            }
+        })
+        .collect();
+    let counts: Vec<i32> = reach.iter().map(|&k| 2 * k + 1).collect();
+    let combos: i32 = counts.iter().product();
+    for i in 0..n {
+        let c = bed.centres[i].0;
+        for code in 0..combos {
+            let mut image = [0i8; 2];
+            let mut rest = code;
+            for a in 0..sides {
+                image[a] = (rest % counts[a] - reach[a]) as i8;
+                rest /= counts[a];
+            }
+            if image == [0; 2] {
+                continue;
+            }
+            let mut p = c;
+            let mut inside = true;
+            for a in 0..sides {
+                let s = image[a];
+                p[a] = if bed.container.periodic {
+                    c[a] + Real::from(s) * size[a]
+                } else {
+                    match s {
+                        -1 => -c[a],
+                        1 => 2.0 * size[a] - c[a],
+                        _ => c[a],
+                    }
+                };
+                inside &= p[a] >= -margin && p[a] <= size[a] + margin;
+            }
+            if inside {
+                sites.push(Site {
+                    particle: i as u32,
+                    image,
+                });
+                points.push(p);
+                weights.push(bed.radii[i] * bed.radii[i]);
+            }
+        }
+    }
+    (sites, points, weights)
+}
+
+/// The network from a triangulation of the sites, or `None` when a pore that
+/// must be exact could be reached from beyond the margin.
+fn assemble<const D: usize>(
+    bed: &Bed<D>,
+    t: &Triangulation<D>,
+    sites: &[Site],
+    margin: Real,
+    check_z: (Real, Real),
+) -> Result<Option<Network<D>>> {
+    let periodic = bed.container.periodic;
+    let size = bed.container.size;
+    let w_max = bed.r_max() * bed.r_max();
+    let v_n = D + 1;
+    let mut pore_of = vec![NONE; t.slots()];
+    let mut pores: Vec<Pore<D>> = Vec::new();
+    let mut cell_of_pore: Vec<u32> = Vec::new();
+    // Pores that must be exact: their links to translates must all be found.
+    let mut checked: Vec<bool> = Vec::new();
+    let mut by_key: HashMap<[Site; 4], u32> = HashMap::new();
+    for c in t.input_cells() {
+        let v = t.vertices(c);
+        let (centre, power) = power_centre(t, v);
+        let keep = if periodic {
+            anchor(sites, v).image == [0; 2]
+        } else {
+            (0..D - 1).all(|a| centre[a] >= 0.0 && centre[a] < size[a])
+        };
+        if !keep {
+            continue;
+        }
+        let z = centre[D - 1];
+        let must = z >= check_z.0 && z <= check_z.1;
+        if must {
+            for a in 0..D - 1 {
+                let gap = (centre[a] + margin).min(size[a] + margin - centre[a]);
+                if !(gap > 0.0 && gap * gap > power + w_max) {
+                    return Ok(None);
+                }
+            }
+        }
+        let mut key = [Site {
+            particle: u32::MAX,
+            image: [0; 2],
+        }; 4];
+        for k in 0..v_n {
+            key[k] = sites[v[k] as usize];
+        }
+        let id = pores.len() as u32;
+        if periodic {
+            by_key.insert(canonical(&key, v_n).0, id);
+        }
+        pore_of[c as usize] = id;
+        cell_of_pore.push(c);
+        checked.push(must);
+        pores.push(measure_pore(t, v, key, centre, power));
+    }
+    let mut throats = Vec::new();
+    for (a, &c) in cell_of_pore.iter().enumerate() {
+        let a = a as u32;
+        for i in 0..v_n {
+            let n = t.neighbours(c)[i];
+            if n == NONE || !t.is_input_cell(n) {
+                continue;
+            }
+            let (b, shift) = if pore_of[n as usize] != NONE {
+                (pore_of[n as usize], [0i8; 2])
+            } else if periodic {
+                let v = t.vertices(n);
+                let mut key = [Site {
+                    particle: u32::MAX,
+                    image: [0; 2],
+                }; 4];
+                for k in 0..v_n {
+                    key[k] = sites[v[k] as usize];
+                }
+                let (key, shift) = canonical(&key, v_n);
+                match by_key.get(&key) {
+                    Some(&b) => (b, shift),
+                    // Its kept translate was cut by the margin.
+                    None if checked[a as usize] => return Ok(None),
+                    None => continue,
+                }
+            } else {
+                continue;
+            };
+            if (a, [0i8; 2]) >= (b, shift) {
+                continue;
+            }
+            throats.push(measure_throat(t, c, n, i, a, b, shift, sites));
+        }
+    }
+    Ok(Some(Network {
+        pores,
+        throats,
+        hidden: t
+            .hidden()
+            .iter()
+            .filter(|&&h| sites[h as usize].image == [0; 2])
+            .copied()
+            .collect(),
+        margin,
+        points: t.input_len(),
+    }))
+}
+
+/// The vertex of a cell that comes first by (particle, image).
+fn anchor(sites: &[Site], v: &[u32]) -> Site {
+    v.iter()
+        .map(|&x| sites[x as usize])
+        .min()
+        .expect("a cell has vertices")
+}
+
+/// The cell's sites moved so that its anchor is an original particle, sorted,
+/// and the shift that was taken off.
+fn canonical(key: &[Site; 4], v_n: usize) -> ([Site; 4], [i8; 2]) {
+    let shift = key[..v_n].iter().min().expect("a cell has vertices").image;
+    let mut out = *key;
+    for s in out[..v_n].iter_mut() {
+        for a in 0..2 {
+            s.image[a] -= shift[a];
+        }
+    }
+    out[..v_n].sort_unstable();
+    (out, shift)
+}
+
+fn coords<const D: usize>(t: &Triangulation<D>, v: &[u32]) -> ([[f64; D]; 4], [f64; 4]) {
+    let mut c = [[0.0; D]; 4];
+    let mut r = [0.0; 4];
+    for (k, &x) in v.iter().enumerate() {
+        c[k] = *t.point(x);
+        r[k] = t.weight(x).sqrt();
+    }
+    (c, r)
+}
+
+/// Power centre and power radius squared of the cell with vertices `v`.
+fn power_centre<const D: usize>(t: &Triangulation<D>, v: &[u32]) -> ([f64; D], f64) {
+    let (c, r) = coords(t, v);
+    let mut out = [0.0; D];
+    let power = match D {
+        2 => {
+            let (p, w) = geometry::power_centre_2d(
+                &[to2(&c[0]), to2(&c[1]), to2(&c[2])],
+                &[r[0], r[1], r[2]],
+            )
+            .unwrap_or(([f64::INFINITY; 2], f64::INFINITY));
+            out[..2].copy_from_slice(&p);
+            w
+        }
+        _ => {
+            let (p, w) =
+                geometry::power_centre_3d(&[to3(&c[0]), to3(&c[1]), to3(&c[2]), to3(&c[3])], &r)
+                    .unwrap_or(([f64::INFINITY; 3], f64::INFINITY));
+            out[..3].copy_from_slice(&p);
+            w
+        }
+    };
+    (out, power)
+}
+
+fn to2<const D: usize>(p: &[f64; D]) -> [f64; 2] {
+    [p[0], p[1]]
+}
+
+fn to3<const D: usize>(p: &[f64; D]) -> [f64; 3] {
+    [p[0], p[1], p[2]]
+}
+
+fn measure_pore<const D: usize>(
+    t: &Triangulation<D>,
+    v: &[u32],
+    sites: [Site; 4],
+    centre: [f64; D],
+    power: f64,
+) -> Pore<D> {
+    let (c, r) = coords(t, v);
+    let (cell, body_radius) = match D {
+        2 => {
+            let c2 = [to2(&c[0]), to2(&c[1]), to2(&c[2])];
+            let r2 = [r[0], r[1], r[2]];
+            (
+                geometry::cell_volumes_2d(&c2, &r2),
+                geometry::pore_body_radius_2d(&c2, &r2),
+            )
+        }
+        _ => {
+            let c3 = [to3(&c[0]), to3(&c[1]), to3(&c[2]), to3(&c[3])];
+            (
+                geometry::cell_volumes_3d(&c3, &r),
+                geometry::pore_body_radius_3d(&c3, &r),
+            )
+        }
+    };
+    Pore {
+        sites,
+        centre,
+        power,
+        volume: cell.volume,
+        void_volume: cell.void_volume,
+        body_radius,
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn measure_throat<const D: usize>(
+    t: &Triangulation<D>,
+    c: u32,
+    n: u32,
+    i: usize,
+    a: u32,
+    b: u32,
+    shift: [i8; 2],
+    sites: &[Site],
+) -> Throat {
+    let v = t.vertices(c);
+    let facet: Vec<u32> = (0..D + 1).filter(|&k| k != i).map(|k| v[k]).collect();
+    let mut particles = [u32::MAX; 3];
+    for (k, &x) in facet.iter().enumerate() {
+        particles[k] = sites[x as usize].particle;
+    }
+    let (p1, _) = power_centre(t, v);
+    let (p2, _) = power_centre(t, t.vertices(n));
+    let (fc, fr) = coords(t, &facet);
+    let (constriction_radius, geometry) = match D {
+        2 => {
+            let c2 = [to2(&fc[0]), to2(&fc[1])];
+            let r2 = [fr[0], fr[1]];
+            (
+                geometry::constriction_radius_2d(&c2, &r2),
+                geometry::throat_2d(to2(&p1), to2(&p2), &c2, &r2),
+            )
+        }
+        _ => {
+            let c3 = [to3(&fc[0]), to3(&fc[1]), to3(&fc[2])];
+            let r3 = [fr[0], fr[1], fr[2]];
+            (
+                geometry::constriction_radius_3d(&c3, &r3),
+                geometry::throat_3d(to3(&p1), to3(&p2), &c3, &r3),
+            )
+        }
+    };
+    Throat {
+        pores: [a, b],
+        shift,
+        particles,
+        constriction_radius,
+        geometry,
+    }
+}

@@ -1,0 +1,616 @@
+//! The regular (power, weighted Delaunay) triangulation of weighted points in
+//! 2D and 3D: one Bowyer–Watson engine for both dimensions.
+//!
+//! Points are inserted along a Hilbert curve; each is located by a stochastic
+//! visibility walk from the last cell made (a straight walk can cycle in a
+//! regular triangulation, a randomised one cannot), the cells whose orthogonal
+//! sphere it conflicts with are removed and the cavity is closed with cells on
+//! its boundary facets. The predicates are exact (`math::predicates`) and the
+//! power test is symbolically perturbed by point index, so lattices and other
+//! degenerate inputs give a valid triangulation: every cell positively
+//! oriented, every facet locally regular.
+//!
+//! The engine starts from a simplex of far points of weight 0 that holds every
+//! input point; cells with one of those corners are not part of the result.
+//! Near the convex hull of the input this can differ from the triangulation of
+//! the input alone; the pore space is only ever read well inside it (periodic
+//! images, mirror images and the bulk slab keep the hull away).
+
+use crate::math::predicates::{
+    orient2d, orient3d, power_test_2d_perturbed, power_test_3d_perturbed,
+};
+
+/// No neighbour (only across the facets of the far simplex).
+pub const NONE: u32 = u32::MAX;
+
+/// A regular triangulation of weighted points in `D` dimensions.
+#[derive(Clone, Debug)]
+pub struct Triangulation<const D: usize> {
+    /// The points: the input, then the `D + 1` far corners.
+    points: Vec<[f64; D]>,
+    /// Weight of each point (radius squared for a sphere).
+    weights: Vec<f64>,
+    /// Number of input points.
+    input: usize,
+    /// Vertices of each cell, positively oriented; only the first `D + 1` are used.
+    cells: Vec<[u32; 4]>,
+    /// The neighbour across the facet opposite each vertex.
+    adjacent: Vec<[u32; 4]>,
+    /// False for a slot freed by an insertion and not yet reused.
+    alive: Vec<bool>,
+    free: Vec<u32>,
+    /// Input points that have no cell (their sphere lies within the power
+    /// cells of others: only possible where spheres overlap).
+    hidden: Vec<u32>,
+}
+
+/// Work space of one insertion, kept between insertions to avoid allocation.
+#[derive(Default)]
+struct Scratch {
+    /// Per cell: the insertion that last visited it, and whether it conflicted.
+    visit: Vec<(u32, bool)>,
+    /// Per point: the insertion that last marked it (hidden-vertex check).
+    mark: Vec<u32>,
+    stack: Vec<u32>,
+    conflict: Vec<u32>,
+    /// Boundary facets: (removed cell, index of the vertex q replaces, outer cell).
+    boundary: Vec<(u32, usize, u32)>,
+    /// Ridges of the new cells waiting for their partner: (key, cell, facet).
+    ridges: Vec<([u32; 2], u32, usize)>,
+    created: Vec<u32>,
+}
+
+impl<const D: usize> Triangulation<D> {
+    /// Vertices per cell.
+    pub const V: usize = D + 1;
+
+    /// The regular triangulation of `points` with `weights` (radius squared).
+    /// Every coordinate and weight must be finite.
+    pub fn new(points: &[[f64; D]], weights: &[f64]) -> Self {
+        assert!(
+            D == 2 || D == 3,
+            "packbed triangulates in 2 or 3 dimensions"
+        );
+        assert_eq!(points.len(), weights.len());
+        let input = points.len();
+        let mut t = Triangulation {
+            points: points.to_vec(),
+            weights: weights.to_vec(),
+            input,
+            cells: Vec::new(),
+            adjacent: Vec::new(),
+            alive: Vec::new(),
+            free: Vec::new(),
+            hidden: Vec::new(),
+        };
+        t.add_far_simplex();
+        let order = super::hilbert::order(points);
+        let mut scratch = Scratch {
+            mark: vec![0; t.points.len()],
+            ..Scratch::default()
+        };
+        let mut rng = 0x9E37_79B9_7F4A_7C15u64;
+        let mut last = 0u32;
+        for (k, &p) in order.iter().enumerate() {
+            last = t.insert(p, last, k as u32 + 1, &mut scratch, &mut rng);
+        }
+        t.hidden.sort_unstable();
+        t
+    }
+
+    /// Number of input points.
+    pub fn input_len(&self) -> usize {
+        self.input
+    }
+
+    /// The input points with no cell, in index order.
+    pub fn hidden(&self) -> &[u32] {
+        &self.hidden
+    }
+
+    /// Coordinates of point `i`.
+    pub fn point(&self, i: u32) -> &[f64; D] {
+        &self.points[i as usize]
+    }
+
+    /// Weight of point `i`.
+    pub fn weight(&self, i: u32) -> f64 {
+        self.weights[i as usize]
+    }
+
+    /// Number of cell slots (alive or not); cell ids are below it.
+    pub fn slots(&self) -> usize {
+        self.cells.len()
+    }
+
+    /// The vertices of cell `c` (the first `D + 1` entries).
+    pub fn vertices(&self, c: u32) -> &[u32] {
+        &self.cells[c as usize][..Self::V]
+    }
+
+    /// The neighbours of cell `c`, opposite each vertex.
+    pub fn neighbours(&self, c: u32) -> &[u32] {
+        &self.adjacent[c as usize][..Self::V]
+    }
+
+    /// True when `c` is a cell of the triangulation of the input: alive and
+    /// without a far corner.
+    pub fn is_input_cell(&self, c: u32) -> bool {
+        self.alive[c as usize] && self.vertices(c).iter().all(|&v| (v as usize) < self.input)
+    }
+
+    /// The cells of the input points' triangulation.
+    pub fn input_cells(&self) -> impl Iterator<Item = u32> + '_ {
+        (0..self.cells.len() as u32).filter(move |&c| self.is_input_cell(c))
+    }
+
+    /// The far simplex: `D + 1` points of weight 0 whose hull holds the input
+    /// with room to spare, so that the first cell is valid.
+    fn add_far_simplex(&mut self) {
+        let mut lo = [f64::INFINITY; D];
+        let mut hi = [f64::NEG_INFINITY; D];
+        let mut w_max = 0.0f64;
+        for (p, &w) in self.points.iter().zip(&self.weights) {
+            for k in 0..D {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+            w_max = w_max.max(w);
+        }
+        if self.points.is_empty() {
+            lo = [0.0; D];
+            hi = [1.0; D];
+        }
+        let extent = (0..D)
+            .map(|k| hi[k] - lo[k])
+            .fold(w_max.sqrt(), f64::max)
+            .max(1.0);
+        // Far enough that a hull cell of the input is rarely cut by a corner,
+        // near enough that lifted coordinates stay well inside f64's range.
+        let s = 1e3 * extent;
+        let mut corner = [[0.0; D]; 4];
+        for (k, c) in corner.iter_mut().enumerate().take(D + 1) {
+            for a in 0..D {
+                let centre = 0.5 * (lo[a] + hi[a]);
+                // Corner k sits at -s on every axis but axis k-1 (corner 0 all -s),
+                // where it sits at +D·s: a right simplex around the box.
+                c[a] = if k >= 1 && a == k - 1 {
+                    centre + (D as f64 + 1.0) * s
+                } else {
+                    centre - s
+                };
+            }
+        }
+        let first = self.points.len() as u32;
+        let mut v = [0u32; 4];
+        for (k, c) in corner.iter().enumerate().take(D + 1) {
+            self.points.push(*c);
+            self.weights.push(0.0);
+            v[k] = first + k as u32;
+        }
+        if self.orient_of(&v) < 0 {
+            v.swap(0, 1);
+        }
+        self.cells.push(v);
+        self.adjacent.push([NONE; 4]);
+        self.alive.push(true);
+    }
+
+    /// Orientation of the cell with these vertices.
+    fn orient_of(&self, v: &[u32; 4]) -> i8 {
+        let p = |k: usize| &self.points[v[k] as usize];
+        orient::<D>([p(0), p(1), p(2), p(if D == 3 { 3 } else { 0 })])
+    }
+
+    /// True when point `q` conflicts with cell `c` (lies inside its orthogonal
+    /// sphere in the power sense, ties broken by the perturbation).
+    fn conflicts(&self, c: u32, q: u32) -> bool {
+        let v = &self.cells[c as usize];
+        power_test::<D>(&self.points, &self.weights, v, q) > 0
+    }
+
+    /// The cell that contains point `q`, by a stochastic visibility walk from `start`.
+    fn locate(&self, q: u32, start: u32, rng: &mut u64) -> u32 {
+        let qp = &self.points[q as usize];
+        let mut c = start;
+        let mut from = NONE;
+        'walk: loop {
+            let v = &self.cells[c as usize];
+            let offset = (next_random(rng) % Self::V as u64) as usize;
+            for k in 0..Self::V {
+                let i = (offset + k) % Self::V;
+                let n = self.adjacent[c as usize][i];
+                if n == from || n == NONE {
+                    continue;
+                }
+                let mut p = [qp; 4];
+                for (j, pj) in p.iter_mut().enumerate().take(Self::V) {
+                    if j != i {
+                        *pj = &self.points[v[j] as usize];
+                    }
+                }
+                if D == 2 {
+                    p[3] = p[0];
+                }
+                if orient::<D>(p) < 0 {
+                    from = c;
+                    c = n;
+                    continue 'walk;
+                }
+            }
+            return c;
+        }
+    }
+
+    /// Inserts point `q`, searching from cell `start`; returns a cell to start
+    /// the next search from.
+    fn insert(&mut self, q: u32, start: u32, stamp: u32, s: &mut Scratch, rng: &mut u64) -> u32 {
+        let c0 = self.locate(q, start, rng);
+        if !self.conflicts(c0, q) {
+            self.hidden.push(q);
+            return c0;
+        }
+        if s.visit.len() < self.cells.len() {
+            s.visit.resize(self.cells.len(), (0, false));
+        }
+        s.stack.clear();
+        s.conflict.clear();
+        s.boundary.clear();
+        s.visit[c0 as usize] = (stamp, true);
+        s.stack.push(c0);
+        while let Some(c) = s.stack.pop() {
+            s.conflict.push(c);
+            for i in 0..Self::V {
+                let n = self.adjacent[c as usize][i];
+                let inside = n != NONE && {
+                    let seen = s.visit[n as usize];
+                    if seen.0 == stamp {
+                        seen.1
+                    } else {
+                        let hit = self.conflicts(n, q);
+                        s.visit[n as usize] = (stamp, hit);
+                        if hit {
+                            s.stack.push(n);
+                        }
+                        hit
+                    }
+                };
+                if !inside {
+                    s.boundary.push((c, i, n));
+                }
+            }
+        }
+        // Vertices of the removed cells that are on no boundary facet leave the
+        // triangulation: q's sphere covers their power cell.
+        for &(c, i, _) in &s.boundary {
+            for (j, &x) in self.cells[c as usize].iter().enumerate().take(Self::V) {
+                if j != i {
+                    s.mark[x as usize] = stamp;
+                }
+            }
+        }
+        for &c in &s.conflict {
+            for &x in &self.cells[c as usize][..Self::V] {
+                if s.mark[x as usize] != stamp {
+                    s.mark[x as usize] = stamp;
+                    if (x as usize) < self.input {
+                        self.hidden.push(x);
+                    }
+                }
+            }
+        }
+        // New cells take slots freed by earlier insertions only, so that an
+        // outer cell's link to a removed cell is never mistaken for a new one.
+        s.created.clear();
+        s.ridges.clear();
+        for b in 0..s.boundary.len() {
+            let (old, i, outer) = s.boundary[b];
+            let mut v = self.cells[old as usize];
+            v[i] = q;
+            let nc = match self.free.pop() {
+                Some(slot) => {
+                    self.cells[slot as usize] = v;
+                    self.adjacent[slot as usize] = [NONE; 4];
+                    self.alive[slot as usize] = true;
+                    slot
+                }
+                None => {
+                    self.cells.push(v);
+                    self.adjacent.push([NONE; 4]);
+                    self.alive.push(true);
+                    s.visit.push((0, false));
+                    (self.cells.len() - 1) as u32
+                }
+            };
+            self.adjacent[nc as usize][i] = outer;
+            if outer != NONE {
+                let back = self.adjacent[outer as usize][..Self::V]
+                    .iter()
+                    .position(|&x| x == old)
+                    .expect("the cell beyond a boundary facet links back to the removed cell");
+                self.adjacent[outer as usize][back] = nc;
+            }
+            // The facets through q: the ridge is the boundary facet less one vertex.
+            for k in 0..Self::V {
+                if k == i {
+                    continue;
+                }
+                let mut key = [NONE; 2];
+                let mut m = 0;
+                for (j, &x) in v.iter().enumerate().take(Self::V) {
+                    if j != i && j != k {
+                        key[m] = x;
+                        m += 1;
+                    }
+                }
+                if key[1] != NONE && key[0] > key[1] {
+                    key.swap(0, 1);
+                }
+                match s.ridges.iter().position(|r| r.0 == key) {
+                    Some(at) => {
+                        let (_, other, facet) = s.ridges.swap_remove(at);
+                        self.adjacent[nc as usize][k] = other;
+                        self.adjacent[other as usize][facet] = nc;
+                    }
+                    None => s.ridges.push((key, nc, k)),
+                }
+            }
+            s.created.push(nc);
+        }
+        debug_assert!(s.ridges.is_empty(), "the cavity's boundary is closed");
+        for &c in &s.conflict {
+            self.alive[c as usize] = false;
+            self.free.push(c);
+        }
+        s.created[0]
+    }
+}
+
+/// Orientation of `D + 1` points (the fourth ignored in 2D).
+pub(crate) fn orient<const D: usize>(p: [&[f64; D]; 4]) -> i8 {
+    match D {
+        2 => orient2d([p[0][0], p[0][1]], [p[1][0], p[1][1]], [p[2][0], p[2][1]]),
+        _ => orient3d(
+            [p[0][0], p[0][1], p[0][2]],
+            [p[1][0], p[1][1], p[1][2]],
+            [p[2][0], p[2][1], p[2][2]],
+            [p[3][0], p[3][1], p[3][2]],
+        ),
+    }
+}
+
+/// The perturbed power test of point `q` against the cell with vertices `v`:
+/// positive when `q` conflicts.
+pub(crate) fn power_test<const D: usize>(
+    points: &[[f64; D]],
+    weights: &[f64],
+    v: &[u32; 4],
+    q: u32,
+) -> i8 {
+    let p = |i: u32| &points[i as usize];
+    let qp = p(q);
+    match D {
+        2 => {
+            let at = |i: u32| [p(i)[0], p(i)[1]];
+            power_test_2d_perturbed(
+                [at(v[0]), at(v[1]), at(v[2])],
+                [
+                    weights[v[0] as usize],
+                    weights[v[1] as usize],
+                    weights[v[2] as usize],
+                ],
+                [v[0] as u64, v[1] as u64, v[2] as u64],
+                [qp[0], qp[1]],
+                weights[q as usize],
+                q as u64,
+            )
+        }
+        _ => {
+            let at = |i: u32| [p(i)[0], p(i)[1], p(i)[2]];
+            power_test_3d_perturbed(
+                [at(v[0]), at(v[1]), at(v[2]), at(v[3])],
+                [
+                    weights[v[0] as usize],
+                    weights[v[1] as usize],
+                    weights[v[2] as usize],
+                    weights[v[3] as usize],
+                ],
+                [v[0] as u64, v[1] as u64, v[2] as u64, v[3] as u64],
+                [qp[0], qp[1], qp[2]],
+                weights[q as usize],
+                q as u64,
+            )
+        }
+    }
+}
+
+/// xorshift64*: the walk's coin, seeded the same for every triangulation so
+/// that the result never depends on anything but the input.
+fn next_random(state: &mut u64) -> u64 {
+    *state ^= *state >> 12;
+    *state ^= *state << 25;
+    *state ^= *state >> 27;
+    state.wrapping_mul(0x2545_F491_4F6C_DD1D)
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Brute force: every input cell positively oriented, links symmetric,
+    /// every facet locally regular, and no input point (not hidden) inside any
+    /// input cell's orthogonal sphere.
+    pub(crate) fn check_regular<const D: usize>(t: &Triangulation<D>) -> Result<(), String> {
+        let v_n = D + 1;
+        let mut is_vertex = vec![false; t.input_len()];
+        for c in t.input_cells() {
+            let v = t.cells[c as usize];
+            if t.orient_of(&v) <= 0 {
+                return Err(format!("cell {c} {v:?} is not positively oriented"));
+            }
+            for i in 0..v_n {
+                let n = t.adjacent[c as usize][i];
+                if n == NONE {
+                    continue;
+                }
+                if !t.alive[n as usize] {
+                    return Err(format!("cell {c} links to a dead cell"));
+                }
+                let back = t.adjacent[n as usize][..v_n].iter().position(|&x| x == c);
+                let Some(j) = back else {
+                    return Err(format!("cell {n} does not link back to {c}"));
+                };
+                let far = t.cells[n as usize][j];
+                if t.conflicts(c, far) {
+                    return Err(format!("facet {i} of cell {c} is not locally regular"));
+                }
+            }
+            for q in 0..t.input_len() as u32 {
+                if !v[..v_n].contains(&q) && t.conflicts(c, q) && !t.hidden.contains(&q) {
+                    return Err(format!("point {q} lies in the orthosphere of cell {c}"));
+                }
+            }
+        }
+        for c in 0..t.slots() {
+            if t.alive[c] {
+                for &x in &t.cells[c][..v_n] {
+                    if (x as usize) < t.input_len() {
+                        is_vertex[x as usize] = true;
+                    }
+                }
+            }
+        }
+        for (q, &is) in is_vertex.iter().enumerate() {
+            if !is && !t.hidden.contains(&(q as u32)) {
+                return Err(format!("point {q} is neither a vertex nor hidden"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Sum of the input cells' volumes (areas in 2D).
+    pub(crate) fn total_volume<const D: usize>(t: &Triangulation<D>) -> f64 {
+        t.input_cells()
+            .map(|c| {
+                let v = t.vertices(c);
+                let p = |k: usize| t.point(v[k]);
+                let e = |k: usize| -> [f64; 3] {
+                    let mut d = [0.0; 3];
+                    for a in 0..D {
+                        d[a] = p(k)[a] - p(0)[a];
+                    }
+                    d
+                };
+                let (a, b) = (e(1), e(2));
+                if D == 2 {
+                    0.5 * (a[0] * b[1] - a[1] * b[0])
+                } else {
+                    let c3 = e(3);
+                    (a[0] * (b[1] * c3[2] - b[2] * c3[1]) - a[1] * (b[0] * c3[2] - b[2] * c3[0])
+                        + a[2] * (b[0] * c3[1] - b[1] * c3[0]))
+                        / 6.0
+                }
+            })
+            .sum()
+    }
+
+    fn lattice<const D: usize>(n: usize, fcc: bool) -> (Vec<[f64; D]>, Vec<f64>) {
+        let mut pts = Vec::new();
+        let total = n.pow(D as u32);
+        for i in 0..total {
+            let mut p = [0.0; D];
+            let mut r = i;
+            for a in 0..D {
+                p[a] = (r % n) as f64;
+                r /= n;
+            }
+            pts.push(p);
+            if fcc && D == 3 && p.iter().all(|&x| x < (n - 1) as f64) {
+                for shift in [[0.5, 0.5, 0.0], [0.5, 0.0, 0.5], [0.0, 0.5, 0.5]] {
+                    let mut q = p;
+                    for a in 0..D {
+                        q[a] += shift[a];
+                    }
+                    pts.push(q);
+                }
+            }
+        }
+        let w = vec![0.1; pts.len()];
+        (pts, w)
+    }
+
+    #[test]
+    fn lattices_tile_their_hull() {
+        for n in [2usize, 3, 5] {
+            let (p, w) = lattice::<3>(n, false);
+            let t = Triangulation::new(&p, &w);
+            check_regular(&t).unwrap();
+            let side = (n - 1) as f64;
+            assert!((total_volume(&t) - side.powi(3)).abs() < 1e-9, "n = {n}");
+            let (p, w) = lattice::<2>(n, false);
+            let t = Triangulation::new(&p, &w);
+            check_regular(&t).unwrap();
+            assert!((total_volume(&t) - side * side).abs() < 1e-9);
+        }
+        // Face-centred cubic points (inside the cubes of a 4³ lattice).
+        let (p, w) = lattice::<3>(4, true);
+        let t = Triangulation::new(&p, &w);
+        check_regular(&t).unwrap();
+        assert!((total_volume(&t) - 27.0).abs() < 1e-9);
+        assert!(t.hidden().is_empty());
+    }
+
+    #[test]
+    fn a_sphere_inside_anothers_power_cell_is_hidden() {
+        // A big sphere at the origin and a small one near its centre.
+        let mut p = vec![[0.0, 0.0, 0.0], [0.1, 0.0, 0.0]];
+        let mut w = vec![4.0, 0.01];
+        for k in 0..20 {
+            let a = k as f64;
+            p.push([
+                5.0 * (a * 0.7).cos(),
+                5.0 * (a * 1.3).sin(),
+                5.0 * (a * 0.3).cos(),
+            ]);
+            w.push(0.25);
+        }
+        let t = Triangulation::new(&p, &w);
+        check_regular(&t).unwrap();
+        assert_eq!(t.hidden(), &[1]);
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+        #[test]
+        fn random_weighted_points_are_regular_3d(
+            pts in prop::collection::vec(([0.0f64..10.0, 0.0f64..10.0, 0.0f64..10.0], 0.0f64..1.0), 5..120)
+        ) {
+            let p: Vec<[f64; 3]> = pts.iter().map(|(x, _)| *x).collect();
+            let w: Vec<f64> = pts.iter().map(|x| x.1).collect();
+            let t = Triangulation::new(&p, &w);
+            prop_assert_eq!(check_regular(&t), Ok(()));
+        }
+
+        #[test]
+        fn random_weighted_points_are_regular_2d(
+            pts in prop::collection::vec(([0.0f64..10.0, 0.0f64..10.0], 0.0f64..1.0), 4..150)
+        ) {
+            let p: Vec<[f64; 2]> = pts.iter().map(|(x, _)| *x).collect();
+            let w: Vec<f64> = pts.iter().map(|x| x.1).collect();
+            let t = Triangulation::new(&p, &w);
+            prop_assert_eq!(check_regular(&t), Ok(()));
+        }
+
+        #[test]
+        fn integer_grids_with_few_weights_are_regular(
+            pts in prop::collection::vec(([0u8..4, 0u8..4, 0u8..4], 0u8..3), 5..60)
+        ) {
+            // Many cospherical and coplanar points, repeated points and equal weights.
+            let p: Vec<[f64; 3]> = pts.iter().map(|(x, _)| x.map(f64::from)).collect();
+            let w: Vec<f64> = pts.iter().map(|x| x.1 as f64 * 0.05).collect();
+            let t = Triangulation::new(&p, &w);
+            prop_assert_eq!(check_regular(&t), Ok(()));
+        }
+    }
+}
