@@ -104,6 +104,7 @@ pub fn analyze(args: AnalyzeArgs) -> Result<()> {
         measures: args.measures.list.clone(),
         solid_density: args.solid_density,
         length_unit: args.length_unit.map(LengthUnit::from),
+        flow: Default::default(),
     };
     if let Err(e) = settings.check() {
         // The library names the settings; say the options that set them.

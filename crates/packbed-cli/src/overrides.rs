@@ -72,8 +72,9 @@ pub struct Overrides {
 /// `--measures`, shared with `packbed analyze`.
 #[derive(Debug, Default, Args)]
 pub struct MeasuresArg {
-    /// Measures to compute, e.g. packing,coordination (default all: packing,
-    /// coordination, percolation, voids, orientation, segregation).
+    /// Measures to compute, e.g. packing,coordination (default: packing,
+    /// coordination, percolation, voids, orientation, segregation; add pores
+    /// and permeability for the pore space, or all).
     #[arg(long = "measures", value_name = "LIST", value_parser = measure_list)]
     pub list: Option<MeasureList>,
 }

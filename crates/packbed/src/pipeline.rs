@@ -72,6 +72,7 @@ fn analyse<const D: usize>(
         deposit_seconds: deposit.deposit_seconds,
         analysis_seconds: t.elapsed().as_secs_f64(),
         total_seconds: start.elapsed().as_secs_f64(),
+        triangulation_seconds: analysis.triangulation_seconds,
     };
     let mut summary = RunSummary::new(config, bed, deposit, &analysis, timing);
     summary.fragmentation = fragmentation;
@@ -197,6 +198,7 @@ fn analyze_read<const D: usize>(
     let timing = AnalyzeTiming {
         read_seconds,
         analysis_seconds: t.elapsed().as_secs_f64(),
+        triangulation_seconds: analysis.triangulation_seconds,
     };
     let recorded = AnalyzeSettings {
         contact_tol: settings.contact_tol,

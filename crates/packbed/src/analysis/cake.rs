@@ -59,6 +59,9 @@ pub struct CakeSummary {
     pub specific_resistance_from: Option<&'static str>,
     /// The same properties over the whole cake up to `height`.
     pub whole: CakeRegion,
+    /// The solid density the resistance was computed with.
+    #[serde(skip)]
+    pub solid_density_used: Option<Real>,
     /// What the numbers mean where they differ from a filter cake's (2D).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub note: Option<&'static str>,
@@ -143,9 +146,31 @@ pub fn cake<const D: usize>(
         specific_resistance: resistance,
         specific_resistance_from: resistance.map(|_| "kozeny_carman"),
         whole,
+        solid_density_used: options.solid_density,
         note: (D == 2).then_some(
             "2D: areas and perimeters per unit depth; no Kozeny-Carman permeability (a relation for 3D beds)",
         ),
+    }
+}
+
+impl CakeSummary {
+    /// Takes the network's permeability along z (the direction of filtration)
+    /// for the specific cake resistance, when one can be given.
+    pub fn use_network_k(&mut self, k_z: Real) {
+        if self.specific_resistance.is_none() {
+            return;
+        }
+        let m = self
+            .k_kozeny_carman_m2
+            .zip(self.k_kozeny_carman)
+            .map(|(m2, k)| m2 / k);
+        let (Some(m2_per_unit), Some(porosity), Some(rho)) =
+            (m, self.porosity, self.solid_density_used)
+        else {
+            return;
+        };
+        self.specific_resistance = specific_resistance(k_z * m2_per_unit, rho, porosity);
+        self.specific_resistance_from = self.specific_resistance.map(|_| "network");
     }
 }
 

@@ -63,6 +63,21 @@ pub struct Summary {
     /// Size segregation (absent when left out).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub segregation: Option<Segregation>,
+    /// Pores and constrictions of the bulk slab (absent when left out).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pores: Option<pores::PoresSummary>,
+    /// Permeability of the pore network (absent when left out).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub permeability: Option<pores::PermeabilitySummary>,
+    /// Why `pores` or `permeability` is absent although asked for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pores_note: Option<String>,
+    /// The pore network's tables for the files (not in `summary.json`).
+    #[serde(skip)]
+    pub pore_tables: Option<std::sync::Arc<pores::PoreTables>>,
+    /// Wall time of the triangulation (reported under `timing`).
+    #[serde(skip)]
+    pub triangulation_seconds: Option<f64>,
 }
 
 /// `packing.*` keys of `summary.json`.
@@ -145,6 +160,8 @@ pub struct AnalysisOptions {
     pub measures: Measures,
     /// Solid density and length unit of the cake properties.
     pub cake: CakeOptions,
+    /// The flow through the pore network.
+    pub flow: pores::FlowOptions,
 }
 
 pub use crate::config::BULK_MIN_BODIES;
@@ -156,8 +173,9 @@ impl Default for AnalysisOptions {
             percolation: PercolationOptions::default(),
             bulk_min_bodies: BULK_MIN_BODIES,
             angle_from: orientation::AngleFrom::Vertical,
-            measures: Measures::all(),
+            measures: Measures::default_set(),
             cake: CakeOptions::default(),
+            flow: pores::FlowOptions::default(),
         }
     }
 }
@@ -269,11 +287,21 @@ pub fn analyze_timed<const D: usize>(
             profile::profile_of(bed, 0.25 * d_max, &volumes)
         }),
     });
-    let cake = packing.as_ref().map(|p| {
+    let mut cake = packing.as_ref().map(|p| {
         times.time("cake", || {
             let bulk = region.as_ref().zip(p.bulk);
             let height = packing::surface_height(bed);
             cake::cake(bed, &volumes, &surfaces, bulk, height, &opts.cake)
+        })
+    });
+    let pore_space = (want(Measure::Pores) || want(Measure::Permeability)).then(|| {
+        times.time("pores", || {
+            pore_measures(
+                bed,
+                opts,
+                region.as_ref().filter(|_| bulk_ok),
+                cake.as_mut(),
+            )
         })
     });
     let percolation = want(Measure::Percolation)
@@ -302,7 +330,20 @@ pub fn analyze_timed<const D: usize>(
                 segregation::segregation(bed, d_max, &volumes)
             })
         }),
+        ..Summary::default()
     };
+    let mut summary = summary;
+    match pore_space {
+        Some(Ok(space)) => {
+            summary.triangulation_seconds = Some(space.triangulation_seconds);
+            summary.pores = want(Measure::Pores).then_some(space.pores);
+            summary.permeability = space.permeability;
+            summary.pores_note = space.note;
+            summary.pore_tables = Some(std::sync::Arc::new(space.tables));
+        }
+        Some(Err(why)) => summary.pores_note = Some(why),
+        None => {}
+    }
     (contacts, summary)
 }
 
@@ -315,11 +356,12 @@ impl crate::config::AnalysisConfig {
             measures: self
                 .measures
                 .as_deref()
-                .map_or_else(Measures::all, Measures::of),
+                .map_or_else(Measures::default_set, Measures::of),
             cake: CakeOptions {
                 solid_density: self.solid_density,
                 metres_per_unit: self.length_unit.map(|u| u.metres()),
             },
+            flow: self.flow.options(),
             ..AnalysisOptions::new(self.contact_tol, self.large_radius)
         }
     }
@@ -336,6 +378,43 @@ impl crate::bed::AnyBed {
     pub fn analyze(&self, options: &AnalysisOptions) -> (Contacts, Summary) {
         crate::bed::each_dim!(self, b => analyze_with(b, options))
     }
+}
+
+/// The pore space and, when asked, the permeability; the cake's specific
+/// resistance then comes from the network's `k_z`. `Err` says why there is none.
+fn pore_measures<const D: usize>(
+    bed: &Bed<D>,
+    opts: &AnalysisOptions,
+    bulk: Option<&packing::Region<D>>,
+    cake: Option<&mut CakeSummary>,
+) -> Result<pores::PoreSpace, String> {
+    let z = D - 1;
+    let slab = match (opts.flow.slab, bulk) {
+        (Some(s), _) => s,
+        (None, Some(region)) => (region.lo[z], region.hi[z]),
+        (None, None) => {
+            let d = 2.0 * bed.r_max();
+            return Err(format!(
+                "the bed has no bulk slab for the pores and the permeability (it needs at least \
+                 {} bodies at least {} from the floor and the sides and {} below the surface): \
+                 a taller or wider box would do, or [analysis.flow] slab",
+                opts.bulk_min_bodies,
+                crate::math::display_length(2.0 * d),
+                crate::math::display_length(3.0 * d)
+            ));
+        }
+    };
+    let d32 = cake.as_ref().and_then(|c| c.d32);
+    let k_kc = cake.as_ref().and_then(|c| c.k_kozeny_carman);
+    let flow = opts
+        .measures
+        .has(Measure::Permeability)
+        .then_some(&opts.flow);
+    let space = pores::pore_space(bed, slab, flow, d32, k_kc).map_err(|e| e.to_string())?;
+    if let (Some(c), Some(k)) = (cake, space.permeability.as_ref().and_then(|p| p.k_z)) {
+        c.use_network_k(k);
+    }
+    Ok(space)
 }
 
 /// Coordination numbers: overall, in the bulk and per species.
@@ -553,6 +632,6 @@ mod tests {
         };
         let (c_none, s_none) = analyze_with(&bed, &none);
         assert_eq!(c_none, c_all);
-        assert_eq!(s_none.measures_left_out.len(), Measure::ALL.len());
+        assert_eq!(s_none.measures_left_out.len(), Measure::DEFAULT.len());
     }
 }

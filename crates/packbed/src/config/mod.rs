@@ -212,7 +212,7 @@ pub struct AnalysisConfig {
     /// Chain angles from the `vertical` (default) or the `horizontal`.
     #[serde(default, skip_serializing_if = "AngleFrom::is_vertical")]
     pub chain_angle_from: AngleFrom,
-    /// The measures to compute (default: all of [`Measure::ALL`]); the
+    /// The measures to compute (default: [`Measure::DEFAULT`], all but the pore space); the
     /// contacts are always found.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub measures: Option<Vec<Measure>>,
@@ -224,6 +224,90 @@ pub struct AnalysisConfig {
     /// permeabilities in m² and the cake resistance in m/kg.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub length_unit: Option<LengthUnit>,
+    /// `[analysis.flow]`: the flow through the pore network.
+    #[serde(default, skip_serializing_if = "FlowConfig::is_default")]
+    pub flow: FlowConfig,
+}
+
+/// `[analysis.flow]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FlowConfig {
+    /// Fluid viscosity (default 1; `k` does not depend on it).
+    #[serde(default = "default_viscosity")]
+    pub viscosity: Real,
+    /// Axes to drive the flow along, of `x`, `y`, `z` (default: z, and x and y
+    /// on periodic beds).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axes: Option<Vec<FlowAxis>>,
+    /// The flow region `[z_lo, z_hi]` (default: the bulk slab).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slab: Option<[Real; 2]>,
+}
+
+/// An axis of `[analysis.flow] axes`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FlowAxis {
+    /// Along x.
+    X,
+    /// Along y (3D).
+    Y,
+    /// Along z, through the cake.
+    Z,
+}
+
+fn default_viscosity() -> Real {
+    1.0
+}
+
+impl Default for FlowConfig {
+    fn default() -> Self {
+        FlowConfig {
+            viscosity: default_viscosity(),
+            axes: None,
+            slab: None,
+        }
+    }
+}
+
+impl FlowConfig {
+    /// True when nothing is set, so that configs which do not use it keep
+    /// their serialised form.
+    pub fn is_default(&self) -> bool {
+        *self == FlowConfig::default()
+    }
+
+    /// The options of the flow.
+    pub fn options(&self) -> crate::analysis::pores::FlowOptions {
+        crate::analysis::pores::FlowOptions {
+            viscosity: self.viscosity,
+            axes: self
+                .axes
+                .as_ref()
+                .map(|list| [FlowAxis::X, FlowAxis::Y, FlowAxis::Z].map(|a| list.contains(&a))),
+            slab: self.slab.map(|s| (s[0], s[1])),
+        }
+    }
+
+    fn check(&self) -> Result<()> {
+        positive(self.viscosity, "analysis.flow.viscosity")?;
+        if let Some(axes) = &self.axes {
+            if axes.is_empty() {
+                return Err(Error::config(
+                    "analysis.flow.axes is empty: name at least one of x, y, z",
+                ));
+            }
+        }
+        if let Some([lo, hi]) = self.slab {
+            if !(lo.is_finite() && hi.is_finite() && hi > lo) {
+                return Err(Error::config(format!(
+                    "analysis.flow.slab must be [z_lo, z_hi] with z_lo < z_hi, got [{lo}, {hi}]"
+                )));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// The length of one unit of a bed's lengths (`[analysis] length_unit`).
@@ -265,6 +349,13 @@ impl Measures {
         Measures::of(&Measure::ALL)
     }
 
+    /// The measures of a run that chooses none: all but the pore space, whose
+    /// triangulation and flow solve cost more than the rest together on a
+    /// large bed (BENCHMARKS.md) and are asked for by name.
+    pub fn default_set() -> Measures {
+        Measures::of(&Measure::DEFAULT)
+    }
+
     /// These measures.
     pub fn of(list: &[Measure]) -> Measures {
         Measures(list.iter().fold(0, |bits, m| bits | m.bit()))
@@ -275,9 +366,10 @@ impl Measures {
         self.0 & m.bit() != 0
     }
 
-    /// The names of the measures not in the set, in summary order.
+    /// The names of the default measures not in the set, in summary order
+    /// (the measures asked for by name are not "left out" when absent).
     pub fn left_out(self) -> Vec<&'static str> {
-        Measure::ALL
+        Measure::DEFAULT
             .into_iter()
             .filter(|&m| !self.has(m))
             .map(Measure::name)
@@ -287,7 +379,7 @@ impl Measures {
 
 impl Default for Measures {
     fn default() -> Self {
-        Measures::all()
+        Measures::default_set()
     }
 }
 
@@ -309,11 +401,27 @@ pub enum Measure {
     Orientation,
     /// `segregation.*`: size segregation.
     Segregation,
+    /// `pores.*`: the pores and constrictions of the regular triangulation.
+    Pores,
+    /// `permeability.*`: Stokes flow through the pore network.
+    Permeability,
 }
 
 impl Measure {
     /// Every measure, in the order of `summary.json`.
-    pub const ALL: [Measure; 6] = [
+    pub const ALL: [Measure; 8] = [
+        Measure::Packing,
+        Measure::Coordination,
+        Measure::Percolation,
+        Measure::Voids,
+        Measure::Orientation,
+        Measure::Segregation,
+        Measure::Pores,
+        Measure::Permeability,
+    ];
+
+    /// The measures computed when none are chosen.
+    pub const DEFAULT: [Measure; 6] = [
         Measure::Packing,
         Measure::Coordination,
         Measure::Percolation,
@@ -331,6 +439,8 @@ impl Measure {
             Measure::Voids => "voids",
             Measure::Orientation => "orientation",
             Measure::Segregation => "segregation",
+            Measure::Pores => "pores",
+            Measure::Permeability => "permeability",
         }
     }
 
@@ -371,6 +481,7 @@ impl Default for AnalysisConfig {
             measures: None,
             solid_density: None,
             length_unit: None,
+            flow: FlowConfig::default(),
         }
     }
 }
@@ -388,6 +499,7 @@ impl AnalysisConfig {
         if let Some(r) = self.large_radius {
             positive(r, "analysis.large_radius")?;
         }
+        self.flow.check()?;
         if let Some(rho) = self.solid_density {
             positive(rho, "analysis.solid_density")?;
             if self.length_unit.is_none() {

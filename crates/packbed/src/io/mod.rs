@@ -7,6 +7,7 @@ pub mod atomic;
 pub mod export;
 mod finite;
 pub mod fragmentation;
+pub mod pores;
 pub mod read;
 pub mod summary;
 pub mod tables;

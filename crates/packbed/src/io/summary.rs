@@ -139,6 +139,9 @@ pub struct Timing {
     pub analysis_seconds: f64,
     /// The whole run, file writing included up to the summary itself.
     pub total_seconds: f64,
+    /// The regular triangulation and pore network (part of the analysis).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub triangulation_seconds: Option<f64>,
 }
 
 /// One entry of `species`.
@@ -264,6 +267,9 @@ pub struct AnalyzeTiming {
     pub read_seconds: f64,
     /// Analysis.
     pub analysis_seconds: f64,
+    /// The regular triangulation and pore network (part of the analysis).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub triangulation_seconds: Option<f64>,
 }
 
 impl AnalyzeSummary {

@@ -122,8 +122,24 @@ fn extra_files<const D: usize>(
     extras: &RunExtras,
 ) -> Result<Vec<(String, Vec<u8>)>> {
     let mut out = Vec::new();
+    if let Some(t) = &measures.pore_tables {
+        use crate::io::pores::{write_network_vtp, write_pores, write_throats, PORE_FILES};
+        let size: Vec<f64> = bed.container.size.0.to_vec();
+        type Writer<'a> = &'a dyn Fn(&mut dyn std::io::Write) -> std::io::Result<()>;
+        let writers: [Writer; 3] = [&|w| write_pores(w, t), &|w| write_throats(w, t), &|w| {
+            write_network_vtp(w, t, &size)
+        }];
+        for (name, write) in PORE_FILES.iter().zip(writers) {
+            let mut buf = Vec::new();
+            write(&mut buf).map_err(|e| Error::Io {
+                path: (*name).into(),
+                source: e,
+            })?;
+            out.push((name.to_string(), buf));
+        }
+    }
     if extras.pictures {
-        out = pictures(bed, contacts, measures, contact_tol, angle_from)?;
+        out.extend(pictures(bed, contacts, measures, contact_tol, angle_from)?);
     }
     if !extras.exports.is_empty() {
         let z = coordination(bed, contacts);

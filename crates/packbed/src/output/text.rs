@@ -287,6 +287,42 @@ pub fn measures_text(a: &Summary, names: &[String]) -> String {
             .collect();
         let _ = writeln!(t, "    by species: {}", per.join(", "));
     }
+    if let Some(p) = &a.pores {
+        let _ = writeln!(
+            t,
+            "  pores (slab z {}–{}): {} pores, body radius median {} (by void volume {}); {} constrictions, radius median {}, d_c35 {}; network porosity {:.4}",
+            length(p.slab[0]),
+            length(p.slab[1]),
+            p.body_radius.count,
+            length(p.body_radius.p50),
+            length(p.body_radius.by_void_volume.p50),
+            p.constriction_radius.count,
+            length(p.constriction_radius.p50),
+            length(p.d_c35),
+            p.network_porosity
+        );
+    }
+    if let Some(k) = &a.permeability {
+        let axes: Vec<String> = k
+            .axes
+            .iter()
+            .map(|f| format!("k_{} {:.4e}", f.axis, f.k))
+            .collect();
+        let mut line = format!("  permeability: {}", axes.join(", "));
+        if let Some(r) = k.k_over_kozeny_carman {
+            let _ = write!(line, "; {r:.3} × Kozeny-Carman");
+        }
+        if let Some(r) = k.k_over_d32_squared {
+            let _ = write!(line, ", k/d32² {r:.4e}");
+        }
+        if let Some(r) = k.anisotropy {
+            let _ = write!(line, ", anisotropy k_z/k_side {r:.3}");
+        }
+        let _ = writeln!(t, "{line}");
+    }
+    if let Some(why) = &a.pores_note {
+        let _ = writeln!(t, "  pores: none ({why})");
+    }
     if let Some(c) = &a.percolation {
         t.push_str(&percolation_text(c));
     }

@@ -1,8 +1,417 @@
 //! The pore space of a bed (`spec/pores.md`): the regular triangulation of the
 //! particle centres weighted by their squared radii, its cells (pores) and
-//! facets (throats).
+//! facets (throats), their sizes, and the permeability from the Stokes flow
+//! through the network.
 
+pub mod flow;
 pub mod geometry;
 mod hilbert;
 pub mod network;
 pub mod triangulation;
+
+use crate::bed::Bed;
+use crate::math::Real;
+use serde::Serialize;
+use std::time::Instant;
+
+pub use flow::{AxisFlow, Flow};
+pub use network::Network;
+
+/// Settings of the pore space and flow (`[analysis.flow]`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FlowOptions {
+    /// Fluid viscosity `μ`.
+    pub viscosity: Real,
+    /// The axes to drive the flow along (x, y, z); `None`: z, and x and y on
+    /// periodic beds.
+    pub axes: Option<[bool; 3]>,
+    /// The flow region `[z_lo, z_hi]`; `None`: the bulk slab.
+    pub slab: Option<(Real, Real)>,
+}
+
+impl Default for FlowOptions {
+    fn default() -> Self {
+        FlowOptions {
+            viscosity: 1.0,
+            axes: None,
+            slab: None,
+        }
+    }
+}
+
+/// Percentiles of a size distribution.
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct SizeDistribution {
+    /// Number of pores or throats.
+    pub count: u64,
+    /// Mean by number.
+    pub mean: Real,
+    /// 10th, 35th, 50th and 90th percentiles by number.
+    pub p10: Real,
+    /// The size 35 % of them are smaller than (by number).
+    pub p35: Real,
+    /// Median by number.
+    pub p50: Real,
+    /// 90th percentile by number.
+    pub p90: Real,
+    /// The same percentiles weighted by void volume.
+    pub by_void_volume: Percentiles,
+}
+
+/// Volume-weighted percentiles.
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct Percentiles {
+    /// 10th percentile.
+    pub p10: Real,
+    /// 35th percentile.
+    pub p35: Real,
+    /// Median.
+    pub p50: Real,
+    /// 90th percentile.
+    pub p90: Real,
+}
+
+/// `pores.*` keys of `summary.json`: the pores and throats of the slab.
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct PoresSummary {
+    /// The slab `[z_lo, z_hi]` the pores are counted in (power centres).
+    pub slab: [Real; 2],
+    /// Pore body radius (largest sphere touching the cell's spheres).
+    pub body_radius: SizeDistribution,
+    /// Constriction radius of the throats between two pores of the slab.
+    pub constriction_radius: SizeDistribution,
+    /// Constriction diameter 35 % of the constrictions are smaller than
+    /// (by number): the granular filter design size `d_c35`.
+    pub d_c35: Real,
+    /// Void volume of the slab's cells over their volume: the network's
+    /// porosity, to hold against `cake.porosity`.
+    pub network_porosity: Real,
+    /// Pores and throats in the whole network (all heights).
+    pub network_pores: u64,
+    /// Throats in the whole network.
+    pub network_throats: u64,
+    /// Particles with no cell (inside others' power cells; overlaps only).
+    pub hidden_particles: u64,
+    /// Cells whose spheres' sectors exceeded the cell (void clamped at 0).
+    pub clamped_cells: u64,
+}
+
+/// `permeability.*` keys of `summary.json`.
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct PermeabilitySummary {
+    /// Along x (periodic beds), length².
+    pub k_x: Option<Real>,
+    /// Along y (3D periodic beds).
+    pub k_y: Option<Real>,
+    /// Along z, through the slab.
+    pub k_z: Option<Real>,
+    /// The mean of the axes computed over `d32²` (`cake.d32`).
+    pub k_over_d32_squared: Option<Real>,
+    /// The mean of the axes over the Kozeny–Carman `k` of the bulk.
+    pub k_over_kozeny_carman: Option<Real>,
+    /// `k_z` over the mean of `k_x` and `k_y` (periodic beds).
+    pub anisotropy: Option<Real>,
+    /// The fluid viscosity used.
+    pub viscosity: Real,
+    /// Each axis: permeability, flux, balance and pores solved.
+    pub axes: Vec<AxisFlow>,
+    /// Throats whose length was floored at 1e-3 of their spheres' mean radius.
+    pub throats_floored: u64,
+    /// The largest flux imbalance of the axes (inflow against outflow).
+    pub imbalance: Real,
+}
+
+/// A pore as written to `pores.csv` (the same for 2D and 3D).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PoreRow {
+    /// Particle ids of the vertices (`dim + 1` of them).
+    pub particles: Vec<u32>,
+    /// Image shifts of the vertices (periodic beds; mirror codes on walls).
+    pub images: Vec<[i8; 2]>,
+    /// Power centre.
+    pub centre: Vec<Real>,
+    /// Cell volume, void volume, body radius.
+    pub volume: Real,
+    /// Void volume of the cell.
+    pub void_volume: Real,
+    /// Pore body radius.
+    pub body_radius: Real,
+    /// True for the pores of the slab.
+    pub in_slab: bool,
+    /// Pressure along each solved axis (unit gradient).
+    pub pressure: Vec<Real>,
+}
+
+/// A throat as written to `throats.csv`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ThroatRow {
+    /// The two pores.
+    pub pores: [u32; 2],
+    /// Period shift of the second pore.
+    pub shift: [i8; 2],
+    /// Constriction radius.
+    pub constriction_radius: Real,
+    /// Hydraulic conductance.
+    pub conductance: Real,
+    /// Flux along each solved axis, first pore to second.
+    pub flux: Vec<Real>,
+}
+
+/// The pore network as tables for the files (`pores.csv`, `throats.csv`, the
+/// VTK network), free of the dimension.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PoreTables {
+    /// 2 or 3.
+    pub dim: usize,
+    /// Periodic sides (image shifts are periods) or walls (mirror images).
+    pub periodic: bool,
+    /// The solved axes, in the order of the pressure and flux columns.
+    pub axes: Vec<&'static str>,
+    /// Every pore.
+    pub pores: Vec<PoreRow>,
+    /// Every throat.
+    pub throats: Vec<ThroatRow>,
+}
+
+/// What the pore measures found: their summaries and the tables for the files.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PoreSpace {
+    /// `pores.*`.
+    pub pores: PoresSummary,
+    /// `permeability.*`, when asked for and solvable.
+    pub permeability: Option<PermeabilitySummary>,
+    /// Why the permeability is absent, when it is.
+    pub note: Option<String>,
+    /// The tables.
+    pub tables: PoreTables,
+    /// Wall time of the triangulation and network, seconds.
+    pub triangulation_seconds: f64,
+}
+
+/// Builds the pore network of `bed`, measures its pores and, when `flow` is
+/// set, solves the flow. `slab` is the flow region; `d32` and `k_kc` the
+/// cake's, for the ratios.
+pub fn pore_space<const D: usize>(
+    bed: &Bed<D>,
+    slab: (Real, Real),
+    flow: Option<&FlowOptions>,
+    d32: Option<Real>,
+    k_kc: Option<Real>,
+) -> crate::error::Result<PoreSpace> {
+    let t0 = Instant::now();
+    let net = network::network(bed, slab)?;
+    let triangulation_seconds = t0.elapsed().as_secs_f64();
+    let in_slab: Vec<bool> = net
+        .pores
+        .iter()
+        .map(|p| p.centre[D - 1] >= slab.0 && p.centre[D - 1] <= slab.1)
+        .collect();
+    let body: Vec<(Real, Real)> = net
+        .pores
+        .iter()
+        .zip(&in_slab)
+        .filter(|e| *e.1)
+        .map(|(p, _)| (p.body_radius, p.void_volume))
+        .collect();
+    let constriction: Vec<(Real, Real)> = net
+        .throats
+        .iter()
+        .filter(|t| in_slab[t.pores[0] as usize] && in_slab[t.pores[1] as usize])
+        .map(|t| (t.constriction_radius, t.geometry.void_volume))
+        .collect();
+    let (void, volume) = net
+        .pores
+        .iter()
+        .zip(&in_slab)
+        .filter(|e| *e.1)
+        .fold((0.0, 0.0), |acc, (p, _)| {
+            (acc.0 + p.void_volume, acc.1 + p.volume)
+        });
+    let constriction_dist = distribution(&constriction);
+    let pores = PoresSummary {
+        slab: [slab.0, slab.1],
+        body_radius: distribution(&body),
+        d_c35: 2.0 * constriction_dist.p35,
+        constriction_radius: constriction_dist,
+        network_porosity: if volume > 0.0 { void / volume } else { 0.0 },
+        network_pores: net.pores.len() as u64,
+        network_throats: net.throats.len() as u64,
+        hidden_particles: net.hidden.len() as u64,
+        clamped_cells: net
+            .pores
+            .iter()
+            .filter(|p| p.void_volume <= 0.0 && p.volume > 0.0)
+            .count() as u64,
+    };
+    let mut note = None;
+    let mut permeability = None;
+    let mut solved: Option<Flow> = None;
+    if let Some(options) = flow {
+        let axes = flow_axes::<D>(bed.container.periodic, options.axes);
+        let solved_flow = flow::solve(
+            &net,
+            &bed.container.size,
+            slab,
+            options.viscosity,
+            &bed.radii,
+            &axes,
+        );
+        match solved_flow {
+            Ok(f) => {
+                permeability = Some(permeability_summary::<D>(&f, options.viscosity, d32, k_kc));
+                solved = Some(f);
+            }
+            Err(flow::FlowError::NoPath(axis)) => {
+                note = Some(format!(
+                    "no open path through the slab along {axis}: the permeability is 0 or the \
+                     slab holds no connected pores"
+                ))
+            }
+            Err(flow::FlowError::Solver(e)) => {
+                return Err(crate::error::Error::Impossible(format!(
+                    "permeability: the pressure equations could not be solved ({e:?})"
+                )))
+            }
+        }
+    }
+    let tables = tables(bed, &net, &in_slab, solved.as_ref());
+    Ok(PoreSpace {
+        pores,
+        permeability,
+        note,
+        tables,
+        triangulation_seconds,
+    })
+}
+
+/// The axes to solve: those asked, else z and the periodic side axes.
+fn flow_axes<const D: usize>(periodic: bool, asked: Option<[bool; 3]>) -> Vec<usize> {
+    let z = D - 1;
+    match asked {
+        Some(a) => {
+            let mut out: Vec<usize> = (0..D - 1).filter(|&k| a[k]).collect();
+            if a[2] {
+                out.push(z);
+            }
+            out
+        }
+        None if periodic => (0..D).collect(),
+        None => vec![z],
+    }
+}
+
+fn permeability_summary<const D: usize>(
+    f: &Flow,
+    viscosity: Real,
+    d32: Option<Real>,
+    k_kc: Option<Real>,
+) -> PermeabilitySummary {
+    let get = |name: &str| f.axes.iter().find(|a| a.axis == name).map(|a| a.k);
+    let (k_x, k_y, k_z) = (get("x"), get("y"), get("z"));
+    let ks: Vec<Real> = f.axes.iter().map(|a| a.k).collect();
+    let mean = (!ks.is_empty()).then(|| ks.iter().sum::<Real>() / ks.len() as Real);
+    let sides: Vec<Real> = [k_x, k_y].into_iter().flatten().collect();
+    let anisotropy = k_z.filter(|_| !sides.is_empty()).and_then(|kz| {
+        let side = sides.iter().sum::<Real>() / sides.len() as Real;
+        (side > 0.0 && kz > 0.0).then(|| kz / side)
+    });
+    PermeabilitySummary {
+        k_x,
+        k_y: if D == 3 { k_y } else { None },
+        k_z,
+        k_over_d32_squared: mean
+            .zip(d32)
+            .filter(|e| e.1 > 0.0)
+            .map(|(k, d)| k / (d * d)),
+        k_over_kozeny_carman: mean.zip(k_kc).filter(|e| e.1 > 0.0).map(|(k, kc)| k / kc),
+        anisotropy,
+        viscosity,
+        axes: f.axes.clone(),
+        throats_floored: f.floored,
+        imbalance: f.axes.iter().map(|a| a.imbalance).fold(0.0, Real::max),
+    }
+}
+
+/// Percentiles by number and by weight of `(size, weight)` pairs.
+fn distribution(values: &[(Real, Real)]) -> SizeDistribution {
+    if values.is_empty() {
+        return SizeDistribution::default();
+    }
+    let mut v: Vec<(Real, Real)> = values.to_vec();
+    v.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let n = v.len();
+    let by_number = |q: Real| v[(((n - 1) as Real) * q).round() as usize].0;
+    let total: Real = v.iter().map(|e| e.1.max(0.0)).sum();
+    let by_weight = |q: Real| {
+        if total.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return 0.0;
+        }
+        let mut acc = 0.0;
+        for e in &v {
+            acc += e.1.max(0.0);
+            if acc >= q * total {
+                return e.0;
+            }
+        }
+        v[n - 1].0
+    };
+    SizeDistribution {
+        count: n as u64,
+        mean: v.iter().map(|e| e.0).sum::<Real>() / n as Real,
+        p10: by_number(0.10),
+        p35: by_number(0.35),
+        p50: by_number(0.50),
+        p90: by_number(0.90),
+        by_void_volume: Percentiles {
+            p10: by_weight(0.10),
+            p35: by_weight(0.35),
+            p50: by_weight(0.50),
+            p90: by_weight(0.90),
+        },
+    }
+}
+
+fn tables<const D: usize>(
+    bed: &Bed<D>,
+    net: &Network<D>,
+    in_slab: &[bool],
+    flow: Option<&Flow>,
+) -> PoreTables {
+    let pores = net
+        .pores
+        .iter()
+        .enumerate()
+        .map(|(i, p)| PoreRow {
+            particles: p.sites[..D + 1].iter().map(|s| s.particle).collect(),
+            images: p.sites[..D + 1].iter().map(|s| s.image).collect(),
+            centre: p.centre.to_vec(),
+            volume: p.volume,
+            void_volume: p.void_volume,
+            body_radius: p.body_radius,
+            in_slab: in_slab[i],
+            pressure: flow.map_or_else(Vec::new, |f| f.pressure.iter().map(|x| x[i]).collect()),
+        })
+        .collect();
+    let throats = net
+        .throats
+        .iter()
+        .enumerate()
+        .map(|(t, th)| ThroatRow {
+            pores: th.pores,
+            shift: th.shift,
+            constriction_radius: th.constriction_radius,
+            conductance: flow.map_or(0.0, |f| f.conductance[t]),
+            flux: flow.map_or_else(Vec::new, |f| f.throat_flux.iter().map(|x| x[t]).collect()),
+        })
+        .collect();
+    PoreTables {
+        dim: D,
+        periodic: bed.container.periodic,
+        axes: flow.map_or_else(Vec::new, |f| f.axes.iter().map(|a| a.axis).collect()),
+        pores,
+        throats,
+    }
+}
+
+#[cfg(test)]
+mod tests;

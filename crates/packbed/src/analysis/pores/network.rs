@@ -36,6 +36,15 @@ pub struct Site {
     pub image: [i8; 2],
 }
 
+impl Site {
+    /// The priority of the site in the perturbation: (particle, image)
+    /// lexicographically, which a translation by whole periods keeps.
+    pub fn rank(&self) -> u64 {
+        let code = |s: i8| u64::from((i16::from(s) + 128) as u8);
+        (u64::from(self.particle) << 16) | (code(self.image[0]) << 8) | code(self.image[1])
+    }
+}
+
 /// A pore: one cell of the triangulation.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Pore<const D: usize> {
@@ -91,7 +100,8 @@ pub fn network<const D: usize>(bed: &Bed<D>, check_z: (Real, Real)) -> Result<Ne
     let mut margin = 4.0 * r_max;
     for _ in 0..4 {
         let (sites, points, weights) = sites_with_images(bed, margin);
-        let t = Triangulation::new(&points, &weights);
+        let ranks: Vec<u64> = sites.iter().map(Site::rank).collect();
+        let t = Triangulation::with_ranks(&points, &weights, &ranks);
         if let Some(net) = assemble(bed, &t, &sites, margin, check_z)? {
             return Ok(net);
         }

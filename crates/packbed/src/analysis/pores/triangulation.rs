@@ -30,6 +30,8 @@ pub struct Triangulation<const D: usize> {
     points: Vec<[f64; D]>,
     /// Weight of each point (radius squared for a sphere).
     weights: Vec<f64>,
+    /// Priority of each point in the symbolic perturbation (distinct).
+    ranks: Vec<u64>,
     /// Number of input points.
     input: usize,
     /// Vertices of each cell, positively oriented; only the first `D + 1` are used.
@@ -67,15 +69,26 @@ impl<const D: usize> Triangulation<D> {
     /// The regular triangulation of `points` with `weights` (radius squared).
     /// Every coordinate and weight must be finite.
     pub fn new(points: &[[f64; D]], weights: &[f64]) -> Self {
+        let ranks: Vec<u64> = (0..points.len() as u64).collect();
+        Self::with_ranks(points, weights, &ranks)
+    }
+
+    /// The same with the priorities of the perturbation given: distinct, and
+    /// below `u64::MAX − 4`. Periodic images rank by (particle, image), an
+    /// order that a translation keeps, so that the translates of a degenerate
+    /// configuration (a lattice) are split into cells the same way.
+    pub fn with_ranks(points: &[[f64; D]], weights: &[f64], ranks: &[u64]) -> Self {
         assert!(
             D == 2 || D == 3,
             "packbed triangulates in 2 or 3 dimensions"
         );
         assert_eq!(points.len(), weights.len());
+        assert_eq!(points.len(), ranks.len());
         let input = points.len();
         let mut t = Triangulation {
             points: points.to_vec(),
             weights: weights.to_vec(),
+            ranks: ranks.to_vec(),
             input,
             cells: Vec::new(),
             adjacent: Vec::new(),
@@ -186,6 +199,7 @@ impl<const D: usize> Triangulation<D> {
         for (k, c) in corner.iter().enumerate().take(D + 1) {
             self.points.push(*c);
             self.weights.push(0.0);
+            self.ranks.push(u64::MAX - k as u64);
             v[k] = first + k as u32;
         }
         if self.orient_of(&v) < 0 {
@@ -206,7 +220,7 @@ impl<const D: usize> Triangulation<D> {
     /// sphere in the power sense, ties broken by the perturbation).
     fn conflicts(&self, c: u32, q: u32) -> bool {
         let v = &self.cells[c as usize];
-        power_test::<D>(&self.points, &self.weights, v, q) > 0
+        power_test::<D>(&self.points, &self.weights, &self.ranks, v, q) > 0
     }
 
     /// The cell that contains point `q`, by a stochastic visibility walk from `start`.
@@ -384,6 +398,7 @@ pub(crate) fn orient<const D: usize>(p: [&[f64; D]; 4]) -> i8 {
 pub(crate) fn power_test<const D: usize>(
     points: &[[f64; D]],
     weights: &[f64],
+    ranks: &[u64],
     v: &[u32; 4],
     q: u32,
 ) -> i8 {
@@ -399,10 +414,14 @@ pub(crate) fn power_test<const D: usize>(
                     weights[v[1] as usize],
                     weights[v[2] as usize],
                 ],
-                [v[0] as u64, v[1] as u64, v[2] as u64],
+                [
+                    ranks[v[0] as usize],
+                    ranks[v[1] as usize],
+                    ranks[v[2] as usize],
+                ],
                 [qp[0], qp[1]],
                 weights[q as usize],
-                q as u64,
+                ranks[q as usize],
             )
         }
         _ => {
@@ -415,10 +434,15 @@ pub(crate) fn power_test<const D: usize>(
                     weights[v[2] as usize],
                     weights[v[3] as usize],
                 ],
-                [v[0] as u64, v[1] as u64, v[2] as u64, v[3] as u64],
+                [
+                    ranks[v[0] as usize],
+                    ranks[v[1] as usize],
+                    ranks[v[2] as usize],
+                    ranks[v[3] as usize],
+                ],
                 [qp[0], qp[1], qp[2]],
                 weights[q as usize],
-                q as u64,
+                ranks[q as usize],
             )
         }
     }

@@ -1,0 +1,506 @@
+//! Stokes flow through the pore network: the pore-scale finite volume of
+//! Chareyre, Cortis, Catalano & Barthélemy (2012), one pressure per pore and
+//! one conductance per throat, and the permeability along each axis.
+//!
+//! The pressure is driven by a unit mean gradient along the axis, written
+//! `P = −x + p̃`. Along z the pores below and above the slab hold `P = −z` at
+//! their own height, so the slab between them sees exactly the unit gradient
+//! whatever their spread; along a periodic side axis `p̃` is periodic and a
+//! throat to a translate carries the jump of one period. Then the Darcy
+//! velocity is `k / μ` and `k = μ Q / A`.
+
+// `!(a > b)` is meant: a NaN must take the closed or zero branch.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use super::network::Network;
+use crate::math::sparse::{solve_spd, SpdError};
+use crate::math::{Real, Vector};
+use serde::Serialize;
+
+/// Throat lengths below this fraction of the mean radius of the throat's
+/// spheres are raised to it (power centres can coincide).
+pub const LENGTH_FLOOR: Real = 1e-3;
+
+/// A throat whose constriction is below this fraction of its spheres' mean
+/// radius is shut: the default contact tolerance.
+pub const SHUT: Real = 1e-6;
+
+/// A net flux below this fraction of the summed throat fluxes is rounding.
+const NOISE: Real = 1e-9;
+
+/// Throats with a conductance below this fraction of the median are closed.
+pub const CLOSED: Real = 1e-12;
+
+/// The permeability along one axis.
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct AxisFlow {
+    /// `x`, `y` or `z`.
+    pub axis: &'static str,
+    /// Permeability, length² (length per unit depth in 2D).
+    pub k: Real,
+    /// Flux through the slab under the unit gradient with `μ` = viscosity.
+    pub flux: Real,
+    /// |inflow − outflow| / inflow (z), or the same between the flux across
+    /// the periodic boundary and the mean flux (x, y).
+    pub imbalance: Real,
+    /// Pores whose pressure was solved for.
+    pub pores: u64,
+}
+
+/// The flow solution along the requested axes.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Flow {
+    /// One entry per axis, in the order asked.
+    pub axes: Vec<AxisFlow>,
+    /// Conductance of each throat of the network (0 for a closed throat).
+    pub conductance: Vec<Real>,
+    /// Pressure per pore along each axis (NaN-free; 0 off the slab).
+    pub pressure: Vec<Vec<Real>>,
+    /// Flux per throat along each axis (from its first pore to its second).
+    pub throat_flux: Vec<Vec<Real>>,
+    /// Throats whose length was floored.
+    pub floored: u64,
+}
+
+/// Why a flow could not be solved.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum FlowError {
+    /// The slab holds no pore with an open path between inlet and outlet.
+    NoPath(&'static str),
+    /// The linear system could not be factored.
+    Solver(SpdError),
+}
+
+/// The network the pressure equations are written on: pores whose power
+/// centres coincide (within [`LENGTH_FLOOR`]) are one node, as they are one
+/// vertex of the power diagram; a lattice's cospherical cells are split by the
+/// perturbation into tetrahedra that share their power centre, and the facets
+/// between them enclose no fluid.
+struct Nodes<const D: usize> {
+    /// Node of each pore, and the periods the pore lies from the node's centre.
+    of_pore: Vec<(u32, [i8; 2])>,
+    /// Centre of each node (its first pore's power centre).
+    centre: Vec<[Real; D]>,
+    /// True for the nodes in the slab.
+    in_slab: Vec<bool>,
+    /// (node a, node b, periods of b's image, conductance, throat).
+    links: Vec<(u32, u32, [i8; 2], Real, u32)>,
+}
+
+fn nodes<const D: usize>(
+    net: &Network<D>,
+    g: &[Real],
+    merge: &[bool],
+    slab: (Real, Real),
+) -> Nodes<D> {
+    let n = net.pores.len();
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    let mut offset = vec![[0i8; 2]; n];
+    for (t, th) in net.throats.iter().enumerate() {
+        if !merge[t] {
+            continue;
+        }
+        let (ra, oa) = root(&mut parent, &mut offset, th.pores[0] as usize);
+        let (rb, ob) = root(&mut parent, &mut offset, th.pores[1] as usize);
+        if ra == rb {
+            continue;
+        }
+        // b's image at shift s is where a is: b = a − s.
+        let s = th.shift;
+        parent[rb] = ra as u32;
+        offset[rb] = [oa[0] - s[0] - ob[0], oa[1] - s[1] - ob[1]];
+    }
+    let mut id = vec![u32::MAX; n];
+    let mut centre = Vec::new();
+    let mut in_slab = Vec::new();
+    let mut of_pore = Vec::with_capacity(n);
+    for p in 0..n {
+        let (r, o) = root(&mut parent, &mut offset, p);
+        if id[r] == u32::MAX {
+            id[r] = centre.len() as u32;
+            let c = net.pores[r].centre;
+            centre.push(c);
+            in_slab.push(c[D - 1] >= slab.0 && c[D - 1] <= slab.1);
+        }
+        of_pore.push((id[r], o));
+    }
+    let links = net
+        .throats
+        .iter()
+        .enumerate()
+        .filter(|&(t, _)| !merge[t] && g[t] > 0.0)
+        .map(|(t, th)| {
+            let (a, oa) = of_pore[th.pores[0] as usize];
+            let (b, ob) = of_pore[th.pores[1] as usize];
+            let shift = [ob[0] + th.shift[0] - oa[0], ob[1] + th.shift[1] - oa[1]];
+            (a, b, shift, g[t], t as u32)
+        })
+        .collect();
+    Nodes {
+        of_pore,
+        centre,
+        in_slab,
+        links,
+    }
+}
+
+/// The root of `p` and `p`'s offset from it, halving the path.
+fn root(parent: &mut [u32], offset: &mut [[i8; 2]], p: usize) -> (usize, [i8; 2]) {
+    let mut path = Vec::new();
+    let mut q = p;
+    while parent[q] as usize != q {
+        path.push(q);
+        q = parent[q] as usize;
+    }
+    // Offsets along the path, from the root down.
+    let mut acc = [0i8; 2];
+    for &x in path.iter().rev() {
+        acc = [acc[0] + offset[x][0], acc[1] + offset[x][1]];
+        offset[x] = acc;
+        parent[x] = q as u32;
+    }
+    (q, if p == q { [0; 2] } else { offset[p] })
+}
+
+/// Solves the flow along each axis of `axes` (0 = x, 1 = y, D−1 = z) through
+/// the pores whose power centre lies in the slab `[z_lo, z_hi]`.
+pub fn solve<const D: usize>(
+    net: &Network<D>,
+    size: &Vector<D>,
+    slab: (Real, Real),
+    viscosity: Real,
+    radii: &[Real],
+    axes: &[usize],
+) -> Result<Flow, FlowError> {
+    let z = D - 1;
+    let mut merge = vec![false; net.throats.len()];
+    let conductance: Vec<Real> = net
+        .throats
+        .iter()
+        .enumerate()
+        .map(|(t, th)| {
+            let mean_r = th.particles[..D]
+                .iter()
+                .map(|&p| radii[p as usize])
+                .sum::<Real>()
+                / D as Real;
+            let length = th.geometry.length;
+            if !(length >= LENGTH_FLOOR * mean_r) {
+                merge[t] = true;
+                return 0.0;
+            }
+            // Touching discs close the gap between them (no 3D facet closes:
+            // three touching spheres leave a hole of 0.155 radii).
+            if !(th.constriction_radius >= SHUT * mean_r) {
+                return 0.0;
+            }
+            let g = th.geometry.fluid_area * th.geometry.hydraulic_radius.powi(2)
+                / (2.0 * viscosity * length);
+            if g.is_finite() && g > 0.0 {
+                g
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    // A throat far narrower than a typical one carries nothing measurable but
+    // can spoil the factorisation (touching discs leave gaps of 1e-12): closed.
+    // Typical is the median: the cells over the loose top are huge.
+    let mut open: Vec<Real> = conductance.iter().copied().filter(|&g| g > 0.0).collect();
+    let typical = if open.is_empty() {
+        0.0
+    } else {
+        let mid = open.len() / 2;
+        *open.select_nth_unstable_by(mid, Real::total_cmp).1
+    };
+    let conductance: Vec<Real> = conductance
+        .into_iter()
+        .map(|g| if g > CLOSED * typical { g } else { 0.0 })
+        .collect();
+    let nodes = nodes(net, &conductance, &merge, slab);
+    let r2 = radii.iter().map(|r| r * r).sum::<Real>() / radii.len().max(1) as Real;
+    let mut flow = Flow {
+        floored: merge.iter().filter(|&&m| m).count() as u64,
+        ..Flow::default()
+    };
+    // The side axes share one matrix (every slab node free, one pinned per
+    // component); z has its own (the nodes beyond the slab fixed).
+    let sides: Vec<usize> = axes.iter().copied().filter(|&a| a != z).collect();
+    let mut results: Vec<(usize, AxisFlow, Vec<Real>, Vec<Real>)> = Vec::new();
+    if axes.contains(&z) {
+        for (f, p, q) in solve_axis(&nodes, net.throats.len(), size, slab, &[z])? {
+            results.push((z, f, p, q));
+        }
+    }
+    if !sides.is_empty() {
+        for (k, (f, p, q)) in solve_axis(&nodes, net.throats.len(), size, slab, &sides)?
+            .into_iter()
+            .enumerate()
+        {
+            results.push((sides[k], f, p, q));
+        }
+    }
+    for &a in axes {
+        let (_, mut f, p, q) = results
+            .iter()
+            .find(|r| r.0 == a)
+            .cloned()
+            .expect("every axis solved");
+        f.k *= viscosity;
+        // Below rounding of the sizes involved: no flow.
+        if !(f.k.abs() > NOISE * r2) {
+            f.k = 0.0;
+            f.flux = 0.0;
+        }
+        flow.axes.push(f);
+        // Each pore takes its node's pressure, less the periods it lies away
+        // along a side axis (P = −x + p̃).
+        let side = a < z;
+        flow.pressure.push(
+            nodes
+                .of_pore
+                .iter()
+                .map(|&(node, o)| {
+                    let shift = if side {
+                        Real::from(o[a]) * size[a]
+                    } else {
+                        0.0
+                    };
+                    finite(p[node as usize] - shift)
+                })
+                .collect(),
+        );
+        flow.throat_flux.push(q);
+    }
+    flow.conductance = conductance;
+    Ok(flow)
+}
+
+/// One axis' result: the flow, node pressures and throat fluxes.
+type AxisSolution = (AxisFlow, Vec<Real>, Vec<Real>);
+
+/// Solves along `axes` (all side axes, or z alone); returns per axis its
+/// permeability at unit viscosity, the node pressures and the throat fluxes.
+fn solve_axis<const D: usize>(
+    nodes: &Nodes<D>,
+    throats: usize,
+    size: &Vector<D>,
+    slab: (Real, Real),
+    axes: &[usize],
+) -> Result<Vec<AxisSolution>, FlowError> {
+    let z = D - 1;
+    let along_z = axes == [z];
+    let n_nodes = nodes.centre.len();
+    let in_slab = &nodes.in_slab;
+    // Nodes with a fixed pressure: along z those beyond the slab.
+    let fixed = |p: usize| along_z && !in_slab[p];
+    // Links that take part: both ends in the slab, or (along z) one end.
+    let open = |l: &(u32, u32, [i8; 2], Real, u32)| {
+        let (a, b) = (l.0 as usize, l.1 as usize);
+        (in_slab[a] || in_slab[b]) && (along_z || (in_slab[a] && in_slab[b]))
+    };
+    // Components of the free nodes: one that touches no fixed node is pinned.
+    let mut parent: Vec<u32> = (0..n_nodes as u32).collect();
+    let mut touches_fixed = vec![false; n_nodes];
+    for l in nodes.links.iter().filter(|l| open(l)) {
+        let (a, b) = (l.0 as usize, l.1 as usize);
+        match (fixed(a), fixed(b)) {
+            (false, false) => union(&mut parent, a, b),
+            (true, false) => touches_fixed[b] = true,
+            (false, true) => touches_fixed[a] = true,
+            (true, true) => {}
+        }
+    }
+    let mut root_fixed = vec![false; n_nodes];
+    for p in 0..n_nodes {
+        if in_slab[p] && !fixed(p) && touches_fixed[p] {
+            let r = find(&mut parent, p);
+            root_fixed[r] = true;
+        }
+    }
+    // Unknowns: free slab nodes, except one pinned per floating component.
+    let mut index = vec![u32::MAX; n_nodes];
+    let mut pinned_root = vec![false; n_nodes];
+    let mut points: Vec<Vector<D>> = Vec::new();
+    for p in 0..n_nodes {
+        if !in_slab[p] || fixed(p) {
+            continue;
+        }
+        let r = find(&mut parent, p);
+        if !root_fixed[r] && !pinned_root[r] {
+            pinned_root[r] = true;
+            continue;
+        }
+        index[p] = points.len() as u32;
+        points.push(Vector(nodes.centre[p]));
+    }
+    if along_z && !root_fixed.iter().any(|&f| f) {
+        return Err(FlowError::NoPath("z"));
+    }
+    let n = points.len();
+    let mut diag = vec![0.0; n];
+    let mut off: Vec<(u32, u32, Real)> = Vec::new();
+    let mut rhs = vec![vec![0.0; n]; axes.len()];
+    // Where b's image lies from a, along an axis.
+    let delta = |l: &(u32, u32, [i8; 2], Real, u32), axis: usize| -> Real {
+        let shift = if axis < z {
+            Real::from(l.2[axis]) * size[axis]
+        } else {
+            0.0
+        };
+        nodes.centre[l.1 as usize][axis] + shift - nodes.centre[l.0 as usize][axis]
+    };
+    for l in nodes.links.iter().filter(|l| open(l)) {
+        let (a, b, g) = (l.0 as usize, l.1 as usize, l.3);
+        if a == b {
+            // A node linked to its own image: no term, only a flux.
+            continue;
+        }
+        let (ia, ib) = (index[a], index[b]);
+        if ia != u32::MAX {
+            diag[ia as usize] += g;
+        }
+        if ib != u32::MAX {
+            diag[ib as usize] += g;
+        }
+        if ia != u32::MAX && ib != u32::MAX {
+            off.push((ia, ib, -g));
+        }
+        for (k, &axis) in axes.iter().enumerate() {
+            if along_z {
+                // A fixed neighbour holds P = −z at its own height.
+                if ia != u32::MAX && fixed(b) {
+                    rhs[k][ia as usize] -= g * nodes.centre[b][z];
+                }
+                if ib != u32::MAX && fixed(a) {
+                    rhs[k][ib as usize] -= g * nodes.centre[a][z];
+                }
+            } else {
+                // P = −x + p̃: the drop of x across the link drives p̃.
+                let d = delta(l, axis);
+                if ia != u32::MAX {
+                    rhs[k][ia as usize] -= g * d;
+                }
+                if ib != u32::MAX {
+                    rhs[k][ib as usize] += g * d;
+                }
+            }
+        }
+    }
+    let solution = solve_spd(&points, &diag, &off, &rhs).map_err(FlowError::Solver)?;
+    let floor_area: Real = (0..D - 1).map(|k| size[k]).product();
+    let thickness = slab.1 - slab.0;
+    let mut out = Vec::new();
+    for (k, &axis) in axes.iter().enumerate() {
+        // P of every node: solved, fixed, or pinned (p̃ = 0).
+        let pressure: Vec<Real> = (0..n_nodes)
+            .map(|p| {
+                let base = -nodes.centre[p][axis];
+                let solved = (index[p] != u32::MAX).then(|| solution[k][index[p] as usize]);
+                match (along_z, solved) {
+                    (true, Some(x)) => x,
+                    (false, Some(x)) => base + x,
+                    (true, None) if fixed(p) => base,
+                    (false, None) if in_slab[p] => base,
+                    _ => 0.0,
+                }
+            })
+            .collect();
+        let mut flux = vec![0.0; throats];
+        let (mut q_in, mut q_out, mut cut, mut moment) = (0.0, 0.0, 0.0, 0.0);
+        let mut circulating = 0.0;
+        for l in nodes.links.iter().filter(|l| open(l)) {
+            let (a, b, g) = (l.0 as usize, l.1 as usize, l.3);
+            // P of b's image: one period's drop of x per period of shift.
+            let image = if along_z {
+                0.0
+            } else {
+                Real::from(l.2[axis]) * size[axis]
+            };
+            let q = g * (pressure[a] - (pressure[b] - image));
+            flux[l.4 as usize] = q;
+            circulating += q.abs();
+            if along_z {
+                let below = |p: usize| nodes.centre[p][z] < slab.0;
+                if fixed(b) {
+                    if below(b) {
+                        q_in -= q;
+                    } else {
+                        q_out += q;
+                    }
+                } else if fixed(a) {
+                    if below(a) {
+                        q_in += q;
+                    } else {
+                        q_out -= q;
+                    }
+                }
+            } else {
+                cut += q * Real::from(l.2[axis]);
+                moment += q * delta(l, axis);
+            }
+        }
+        let (mut q, imbalance, area) = if along_z {
+            (0.5 * (q_in + q_out), relative(q_in, q_out), floor_area)
+        } else {
+            let q = moment / size[axis];
+            let area = if D == 3 {
+                size[1 - axis] * thickness
+            } else {
+                thickness
+            };
+            (q, relative(cut, q), area)
+        };
+        // A net flux at the rounding level of the fluxes that circulate is no
+        // flow at all (a pore space closed by contacts).
+        if !(q.abs() > NOISE * circulating) {
+            q = 0.0;
+        }
+        out.push((
+            AxisFlow {
+                axis: ["x", "y", "z"][if axis == z { 2 } else { axis }],
+                k: finite(q / area),
+                flux: finite(q),
+                imbalance: finite(imbalance),
+                pores: n as u64,
+            },
+            pressure.into_iter().map(finite).collect(),
+            flux.into_iter().map(finite).collect(),
+        ));
+    }
+    Ok(out)
+}
+
+fn relative(a: Real, b: Real) -> Real {
+    let scale = a.abs().max(b.abs());
+    if scale > 0.0 {
+        (a - b).abs() / scale
+    } else {
+        0.0
+    }
+}
+
+fn finite(x: Real) -> Real {
+    if x.is_finite() {
+        x
+    } else {
+        0.0
+    }
+}
+
+fn find(parent: &mut [u32], mut p: usize) -> usize {
+    while parent[p] as usize != p {
+        let up = parent[parent[p] as usize];
+        parent[p] = up;
+        p = up as usize;
+    }
+    p
+}
+
+fn union(parent: &mut [u32], a: usize, b: usize) {
+    let (ra, rb) = (find(parent, a), find(parent, b));
+    if ra != rb {
+        let (lo, hi) = (ra.min(rb), ra.max(rb));
+        parent[hi] = lo as u32;
+    }
+}

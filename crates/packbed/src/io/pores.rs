@@ -1,0 +1,345 @@
+//! The pore network's files: `pores.csv`, `throats.csv` and `network.vtp`
+//! (VTK polydata for ParaView: pores as points with their pressure, throats as
+//! lines with their flux). Numbers as in [`super::tables`]: the shortest text
+//! that reads back to the same bits.
+
+use super::tables::Num;
+use crate::analysis::pores::PoreTables;
+use std::io::{Error, ErrorKind, Write};
+
+/// The network's file names, in writing order.
+pub const PORE_FILES: [&str; 3] = ["pores.csv", "throats.csv", "network.vtp"];
+
+const AXES: [&str; 3] = ["x", "y", "z"];
+
+fn finite(v: f64, what: &str, id: usize) -> std::io::Result<Num> {
+    if v.is_finite() {
+        Ok(Num(v))
+    } else {
+        Err(Error::new(
+            ErrorKind::InvalidData,
+            format!("{what} of row {id} is {v}, not a finite number; refusing to write it"),
+        ))
+    }
+}
+
+/// Side axes whose image shifts are written: x (and y in 3D) on periodic beds.
+fn shift_axes(t: &PoreTables) -> usize {
+    if t.periodic {
+        t.dim - 1
+    } else {
+        0
+    }
+}
+
+/// Writes `pores.csv`: `id`, the vertices' particle ids `v0…`, on periodic
+/// beds their image shifts (`v0_sx`, `v0_sy`: periods along x and y), the
+/// power centre, volume, void volume, body radius, `in_slab` (1 for the pores
+/// of the flow region) and the pressure under each solved axis' unit gradient.
+pub fn write_pores(w: &mut dyn Write, t: &PoreTables) -> std::io::Result<()> {
+    let sides = shift_axes(t);
+    let mut header = String::from("id");
+    for v in 0..=t.dim {
+        header.push_str(&format!(",v{v}"));
+    }
+    for v in 0..=t.dim {
+        for axis in AXES.iter().take(sides) {
+            header.push_str(&format!(",v{v}_s{axis}"));
+        }
+    }
+    for axis in AXES.iter().take(t.dim) {
+        header.push_str(&format!(",{axis}"));
+    }
+    header.push_str(",volume,void_volume,body_radius,in_slab");
+    for axis in &t.axes {
+        header.push_str(&format!(",pressure_{axis}"));
+    }
+    writeln!(w, "{header}")?;
+    for (id, p) in t.pores.iter().enumerate() {
+        write!(w, "{id}")?;
+        for v in &p.particles {
+            write!(w, ",{v}")?;
+        }
+        for image in &p.images {
+            for s in image.iter().take(sides) {
+                write!(w, ",{s}")?;
+            }
+        }
+        for (k, c) in p.centre.iter().enumerate() {
+            write!(w, ",{}", finite(*c, AXES[k], id)?)?;
+        }
+        write!(
+            w,
+            ",{},{},{},{}",
+            finite(p.volume, "volume", id)?,
+            finite(p.void_volume, "void_volume", id)?,
+            finite(p.body_radius, "body_radius", id)?,
+            u8::from(p.in_slab)
+        )?;
+        for x in &p.pressure {
+            write!(w, ",{}", finite(*x, "pressure", id)?)?;
+        }
+        writeln!(w)?;
+    }
+    Ok(())
+}
+
+/// Writes `throats.csv`: `id,pore_a,pore_b`, on periodic beds the periods
+/// pore b's image lies across (`sx`, `sy`), the constriction radius, the
+/// conductance and the flux from a to b under each solved axis.
+pub fn write_throats(w: &mut dyn Write, t: &PoreTables) -> std::io::Result<()> {
+    let sides = shift_axes(t);
+    let mut header = String::from("id,pore_a,pore_b");
+    for axis in AXES.iter().take(sides) {
+        header.push_str(&format!(",s{axis}"));
+    }
+    header.push_str(",constriction_radius,conductance");
+    for axis in &t.axes {
+        header.push_str(&format!(",flux_{axis}"));
+    }
+    writeln!(w, "{header}")?;
+    for (id, th) in t.throats.iter().enumerate() {
+        write!(w, "{id},{},{}", th.pores[0], th.pores[1])?;
+        for s in th.shift.iter().take(sides) {
+            write!(w, ",{s}")?;
+        }
+        write!(
+            w,
+            ",{},{}",
+            finite(th.constriction_radius, "constriction_radius", id)?,
+            finite(th.conductance, "conductance", id)?
+        )?;
+        for q in &th.flux {
+            write!(w, ",{}", finite(*q, "flux", id)?)?;
+        }
+        writeln!(w)?;
+    }
+    Ok(())
+}
+
+/// Writes `network.vtp`: VTK XML polydata (ASCII). Pores are points (`z = 0`
+/// in 2D) with body radius, void volume and pressures; throats are lines with
+/// constriction radius, conductance and fluxes. A throat to a periodic image
+/// would cross the box: it ends at a copy of the pore at the image's place.
+pub fn write_network_vtp(w: &mut dyn Write, t: &PoreTables, size: &[f64]) -> std::io::Result<()> {
+    // Copies of pores for the throats that cross a periodic side.
+    let mut extra: Vec<(usize, [f64; 3])> = Vec::new();
+    let mut ends: Vec<(usize, usize)> = Vec::with_capacity(t.throats.len());
+    let at = |p: usize| -> [f64; 3] {
+        let c = &t.pores[p].centre;
+        [c[0], c[1], if t.dim == 3 { c[2] } else { 0.0 }]
+    };
+    for th in &t.throats {
+        let (a, b) = (th.pores[0] as usize, th.pores[1] as usize);
+        if th.shift == [0, 0] {
+            ends.push((a, b));
+        } else {
+            let mut p = at(b);
+            for k in 0..t.dim - 1 {
+                p[k] += f64::from(th.shift[k]) * size[k];
+            }
+            extra.push((b, p));
+            ends.push((a, t.pores.len() + extra.len() - 1));
+        }
+    }
+    let n_points = t.pores.len() + extra.len();
+    writeln!(w, "<?xml version=\"1.0\"?>")?;
+    writeln!(
+        w,
+        "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\">"
+    )?;
+    writeln!(w, "<PolyData>")?;
+    writeln!(
+        w,
+        "<Piece NumberOfPoints=\"{n_points}\" NumberOfVerts=\"0\" NumberOfLines=\"{}\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">",
+        ends.len()
+    )?;
+    writeln!(w, "<Points>")?;
+    writeln!(
+        w,
+        "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">"
+    )?;
+    for p in 0..t.pores.len() {
+        let c = at(p);
+        writeln!(
+            w,
+            "{} {} {}",
+            finite(c[0], "x", p)?,
+            finite(c[1], "y", p)?,
+            finite(c[2], "z", p)?
+        )?;
+    }
+    for (b, c) in &extra {
+        writeln!(
+            w,
+            "{} {} {}",
+            finite(c[0], "x", *b)?,
+            finite(c[1], "y", *b)?,
+            finite(c[2], "z", *b)?
+        )?;
+    }
+    writeln!(w, "</DataArray>")?;
+    writeln!(w, "</Points>")?;
+    // Point data: a copy carries its pore's values.
+    let pore_of = |i: usize| {
+        if i < t.pores.len() {
+            i
+        } else {
+            extra[i - t.pores.len()].0
+        }
+    };
+    writeln!(w, "<PointData>")?;
+    let point_array =
+        |w: &mut dyn Write, name: &str, f: &dyn Fn(usize) -> f64| -> std::io::Result<()> {
+            writeln!(
+                w,
+                "<DataArray type=\"Float64\" Name=\"{name}\" format=\"ascii\">"
+            )?;
+            for i in 0..n_points {
+                writeln!(w, "{}", finite(f(pore_of(i)), name, i)?)?;
+            }
+            writeln!(w, "</DataArray>")
+        };
+    point_array(w, "body_radius", &|p| t.pores[p].body_radius)?;
+    point_array(w, "void_volume", &|p| t.pores[p].void_volume)?;
+    point_array(w, "in_slab", &|p| f64::from(u8::from(t.pores[p].in_slab)))?;
+    for (k, axis) in t.axes.iter().enumerate() {
+        point_array(w, &format!("pressure_{axis}"), &|p| t.pores[p].pressure[k])?;
+    }
+    writeln!(w, "</PointData>")?;
+    writeln!(w, "<CellData>")?;
+    let line_array =
+        |w: &mut dyn Write, name: &str, f: &dyn Fn(usize) -> f64| -> std::io::Result<()> {
+            writeln!(
+                w,
+                "<DataArray type=\"Float64\" Name=\"{name}\" format=\"ascii\">"
+            )?;
+            for i in 0..t.throats.len() {
+                writeln!(w, "{}", finite(f(i), name, i)?)?;
+            }
+            writeln!(w, "</DataArray>")
+        };
+    line_array(w, "constriction_radius", &|i| {
+        t.throats[i].constriction_radius
+    })?;
+    line_array(w, "conductance", &|i| t.throats[i].conductance)?;
+    for (k, axis) in t.axes.iter().enumerate() {
+        line_array(w, &format!("flux_{axis}"), &|i| t.throats[i].flux[k])?;
+    }
+    writeln!(w, "</CellData>")?;
+    writeln!(w, "<Lines>")?;
+    writeln!(
+        w,
+        "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">"
+    )?;
+    for (a, b) in &ends {
+        writeln!(w, "{a} {b}")?;
+    }
+    writeln!(w, "</DataArray>")?;
+    writeln!(
+        w,
+        "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">"
+    )?;
+    for i in 0..ends.len() {
+        writeln!(w, "{}", 2 * (i + 1))?;
+    }
+    writeln!(w, "</DataArray>")?;
+    writeln!(w, "</Lines>")?;
+    writeln!(w, "</Piece>")?;
+    writeln!(w, "</PolyData>")?;
+    writeln!(w, "</VTKFile>")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::pores::{PoreRow, ThroatRow};
+
+    fn tables() -> PoreTables {
+        let pore = |x: f64| PoreRow {
+            particles: vec![0, 1, 2, 3],
+            images: vec![[0, 0], [1, 0], [0, 0], [0, -1]],
+            centre: vec![x, 1.0, 2.0],
+            volume: 1.5,
+            void_volume: 0.5,
+            body_radius: 0.25,
+            in_slab: true,
+            pressure: vec![-x],
+        };
+        PoreTables {
+            dim: 3,
+            periodic: true,
+            axes: vec!["x"],
+            pores: vec![pore(1.0), pore(9.0)],
+            throats: vec![
+                ThroatRow {
+                    pores: [0, 1],
+                    shift: [0, 0],
+                    constriction_radius: 0.1,
+                    conductance: 2.0,
+                    flux: vec![3.0],
+                },
+                ThroatRow {
+                    pores: [0, 1],
+                    shift: [-1, 0],
+                    constriction_radius: 0.2,
+                    conductance: 1.0,
+                    flux: vec![-0.5],
+                },
+            ],
+        }
+    }
+
+    fn text(f: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> String {
+        let mut buf = Vec::new();
+        f(&mut buf).unwrap();
+        String::from_utf8(buf).unwrap()
+    }
+
+    #[test]
+    fn tables_have_their_columns() {
+        let t = tables();
+        let pores = text(|w| write_pores(w, &t));
+        let mut lines = pores.lines();
+        assert_eq!(
+            lines.next().unwrap(),
+            "id,v0,v1,v2,v3,v0_sx,v0_sy,v1_sx,v1_sy,v2_sx,v2_sy,v3_sx,v3_sy,x,y,z,volume,void_volume,body_radius,in_slab,pressure_x"
+        );
+        assert_eq!(
+            lines.next().unwrap(),
+            "0,0,1,2,3,0,0,1,0,0,0,0,-1,1,1,2,1.5,0.5,0.25,1,-1"
+        );
+        let throats = text(|w| write_throats(w, &t));
+        let mut lines = throats.lines();
+        assert_eq!(
+            lines.next().unwrap(),
+            "id,pore_a,pore_b,sx,sy,constriction_radius,conductance,flux_x"
+        );
+        assert_eq!(lines.nth(1).unwrap(), "1,0,1,-1,0,0.2,1,-0.5");
+    }
+
+    #[test]
+    fn a_throat_across_the_side_ends_at_a_copy() {
+        let t = tables();
+        let vtp = text(|w| write_network_vtp(w, &t, &[10.0, 10.0, 20.0]));
+        assert!(vtp.contains("NumberOfPoints=\"3\""));
+        // The copy of pore 1 one period to the left.
+        assert!(vtp.contains("\n-1 1 2\n"));
+        assert!(vtp.contains("\n0 2\n"));
+        assert!(vtp.contains("Name=\"pressure_x\""));
+        // Well-formed enough for an XML reader: every DataArray closed.
+        assert_eq!(
+            vtp.matches("<DataArray").count(),
+            vtp.matches("</DataArray>").count()
+        );
+    }
+
+    #[test]
+    fn nan_is_refused() {
+        let mut t = tables();
+        t.pores[1].void_volume = f64::NAN;
+        let mut buf = Vec::new();
+        let e = write_pores(&mut buf, &t).unwrap_err();
+        assert!(e.to_string().contains("void_volume of row 1"), "{e}");
+    }
+}
