@@ -42,6 +42,10 @@ pub struct BenchArgs {
     /// percolation, …), the unique-chain enumeration included.
     #[arg(long)]
     pub analysis: bool,
+    /// Time the pore space instead (triangulation, network, flow along every
+    /// axis), after the contacts and packing it needs.
+    #[arg(long)]
+    pub pores: bool,
     /// Analyse this bed file (anything `packbed analyze` reads) instead of
     /// depositing one; implies `--analysis`.
     #[arg(long, value_name = "PATH")]
@@ -76,7 +80,9 @@ pub fn bench(args: BenchArgs) -> Result<()> {
             built.context("bench")?
         }
     };
-    if args.analysis || args.bed.is_some() {
+    if args.pores {
+        r.analysis = bench::time_pores(&bed);
+    } else if args.analysis || args.bed.is_some() {
         r.analysis = bench::time_analysis(&bed);
     }
     if args.json {

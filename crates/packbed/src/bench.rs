@@ -201,14 +201,29 @@ pub fn measured(bed: &AnyBed, seconds: Option<f64>) -> BenchResult {
 /// Seconds per analysis stage on `bed` with default settings, stages of the
 /// same name summed, in the order they first ran.
 pub fn time_analysis(bed: &AnyBed) -> Vec<(String, f64)> {
-    fn timed<const D: usize>(bed: &Bed<D>) -> StageTimes {
+    time_measures(bed, &AnalysisOptions::default())
+}
+
+/// Seconds per stage of the pore measures (triangulation, network, flow) on
+/// `bed`, after the contacts and packing they need.
+pub fn time_pores(bed: &AnyBed) -> Vec<(String, f64)> {
+    use crate::config::{Measure, Measures};
+    let options = AnalysisOptions {
+        measures: Measures::of(&[Measure::Packing, Measure::Pores, Measure::Permeability]),
+        ..AnalysisOptions::default()
+    };
+    time_measures(bed, &options)
+}
+
+fn time_measures(bed: &AnyBed, options: &AnalysisOptions) -> Vec<(String, f64)> {
+    fn timed<const D: usize>(bed: &Bed<D>, options: &AnalysisOptions) -> StageTimes {
         let mut times = StageTimes::default();
-        let _ = analyze_timed(bed, &AnalysisOptions::default(), &mut times);
+        let _ = analyze_timed(bed, options, &mut times);
         times
     }
     let times = match bed {
-        AnyBed::D2(b) => timed(b),
-        AnyBed::D3(b) => timed(b),
+        AnyBed::D2(b) => timed(b, options),
+        AnyBed::D3(b) => timed(b, options),
     };
     let mut out: Vec<(String, f64)> = Vec::new();
     for (name, t) in times.0 {

@@ -1091,9 +1091,10 @@ fn chosen_measures_leave_the_others_out_and_say_so() {
     assert!(!table.contains("coordination.mean"), "{table}");
     assert!(!table.contains("percolation."), "{table}");
 
+    // Porosity is part of the cake properties, not a measure of its own.
     assert_user_error(
         &s,
-        &["run", "--measures", "packing,pores"],
-        &["--measures", "pores"],
+        &["run", "--measures", "packing,porosity"],
+        &["--measures", "porosity", "pores", "permeability"],
     );
 }

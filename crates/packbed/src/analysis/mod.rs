@@ -295,14 +295,14 @@ pub fn analyze_timed<const D: usize>(
         })
     });
     let pore_space = (want(Measure::Pores) || want(Measure::Permeability)).then(|| {
-        times.time("pores", || {
-            pore_measures(
-                bed,
-                opts,
-                region.as_ref().filter(|_| bulk_ok),
-                cake.as_mut(),
-            )
-        })
+        pore_measures(
+            &contacts,
+            bed,
+            opts,
+            region.as_ref().filter(|_| bulk_ok),
+            cake.as_mut(),
+            times,
+        )
     });
     let percolation = want(Measure::Percolation)
         .then(|| percolation::percolation_timed(bed, &contacts, &opts.percolation, times));
@@ -383,11 +383,30 @@ impl crate::bed::AnyBed {
 /// The pore space and, when asked, the permeability; the cake's specific
 /// resistance then comes from the network's `k_z`. `Err` says why there is none.
 fn pore_measures<const D: usize>(
+    contacts: &Contacts,
     bed: &Bed<D>,
     opts: &AnalysisOptions,
     bulk: Option<&packing::Region<D>>,
     cake: Option<&mut CakeSummary>,
+    times: &mut StageTimes,
 ) -> Result<pores::PoreSpace, String> {
+    // The pore space is that of non-overlapping spheres (beads of one chain
+    // aside): a bed from DEM or a scan with overlaps is refused, naming a pair.
+    let overlap = contacts.pairs.iter().find(|c| {
+        let (i, j) = (c.i as usize, c.j as usize);
+        let r = bed.radii[i].min(bed.radii[j]);
+        bed.bodies[i] != bed.bodies[j] && -c.gap > contacts::OVERLAP_TOL * r
+    });
+    if let Some(c) = overlap {
+        let r = bed.radii[c.i as usize].min(bed.radii[c.j as usize]);
+        return Err(format!(
+            "particles {} and {} overlap by {:.3e} of the smaller radius; the pore space is \
+             defined for spheres that do not overlap (shrink or separate them first)",
+            c.i,
+            c.j,
+            -c.gap / r
+        ));
+    }
     let z = D - 1;
     let slab = match (opts.flow.slab, bulk) {
         (Some(s), _) => s,
@@ -410,7 +429,8 @@ fn pore_measures<const D: usize>(
         .measures
         .has(Measure::Permeability)
         .then_some(&opts.flow);
-    let space = pores::pore_space(bed, slab, flow, d32, k_kc).map_err(|e| e.to_string())?;
+    let space =
+        pores::pore_space_timed(bed, slab, flow, d32, k_kc, times).map_err(|e| e.to_string())?;
     if let (Some(c), Some(k)) = (cake, space.permeability.as_ref().and_then(|p| p.k_z)) {
         c.use_network_k(k);
     }

@@ -9,6 +9,7 @@ mod hilbert;
 pub mod network;
 pub mod triangulation;
 
+use super::StageTimes;
 use crate::bed::Bed;
 use crate::math::Real;
 use serde::Serialize;
@@ -198,8 +199,21 @@ pub fn pore_space<const D: usize>(
     d32: Option<Real>,
     k_kc: Option<Real>,
 ) -> crate::error::Result<PoreSpace> {
+    pore_space_timed(bed, slab, flow, d32, k_kc, &mut StageTimes::default())
+}
+
+/// [`pore_space`], timing its stages (`pores/triangulation`, `pores/network`,
+/// `pores/flow`) into `times`.
+pub fn pore_space_timed<const D: usize>(
+    bed: &Bed<D>,
+    slab: (Real, Real),
+    flow: Option<&FlowOptions>,
+    d32: Option<Real>,
+    k_kc: Option<Real>,
+    times: &mut StageTimes,
+) -> crate::error::Result<PoreSpace> {
     let t0 = Instant::now();
-    let net = network::network(bed, slab)?;
+    let net = network::network_timed(bed, slab, times)?;
     let triangulation_seconds = t0.elapsed().as_secs_f64();
     let in_slab: Vec<bool> = net
         .pores
@@ -248,6 +262,7 @@ pub fn pore_space<const D: usize>(
     let mut solved: Option<Flow> = None;
     if let Some(options) = flow {
         let axes = flow_axes::<D>(bed.container.periodic, options.axes);
+        let t = Instant::now();
         let solved_flow = flow::solve(
             &net,
             &bed.container.size,
@@ -256,6 +271,7 @@ pub fn pore_space<const D: usize>(
             &bed.radii,
             &axes,
         );
+        times.0.push(("pores/flow", t.elapsed().as_secs_f64()));
         match solved_flow {
             Ok(f) => {
                 permeability = Some(permeability_summary::<D>(&f, options.viscosity, d32, k_kc));

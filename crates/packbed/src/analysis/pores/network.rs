@@ -20,6 +20,7 @@
 
 use super::geometry;
 use super::triangulation::{Triangulation, NONE};
+use crate::analysis::StageTimes;
 use crate::bed::Bed;
 use crate::error::{Error, Result};
 use crate::math::Real;
@@ -96,13 +97,27 @@ pub struct Network<const D: usize> {
 /// Builds the network of `bed`; pores whose power centre height lies in
 /// `check_z` must be exact (the margin grows until they are).
 pub fn network<const D: usize>(bed: &Bed<D>, check_z: (Real, Real)) -> Result<Network<D>> {
+    network_timed(bed, check_z, &mut StageTimes::default())
+}
+
+/// [`network`], timing the triangulation and the assembly into `times`.
+pub fn network_timed<const D: usize>(
+    bed: &Bed<D>,
+    check_z: (Real, Real),
+    times: &mut StageTimes,
+) -> Result<Network<D>> {
     let r_max = bed.r_max();
     let mut margin = 4.0 * r_max;
     for _ in 0..4 {
         let (sites, points, weights) = sites_with_images(bed, margin);
         let ranks: Vec<u64> = sites.iter().map(Site::rank).collect();
-        let t = Triangulation::with_ranks(&points, &weights, &ranks);
-        if let Some(net) = assemble(bed, &t, &sites, margin, check_z)? {
+        let t = times.time("pores/triangulation", || {
+            Triangulation::with_ranks(&points, &weights, &ranks)
+        });
+        let net = times.time("pores/network", || {
+            assemble(bed, &t, &sites, margin, check_z)
+        })?;
+        if let Some(net) = net {
             return Ok(net);
         }
         margin *= 2.0;
@@ -322,29 +337,45 @@ fn coords<const D: usize>(t: &Triangulation<D>, v: &[u32]) -> ([[f64; D]; 4], [f
     (c, r)
 }
 
-/// Power centre and power radius squared of the cell with vertices `v`.
+/// Power centre and power radius squared of the cell with vertices `v`. A
+/// cell flat to rounding (a sliver the exact predicates still orient) has its
+/// power centre far off or nowhere: its centroid stands in, with the smallest
+/// power of a vertex there, so that nothing downstream meets an infinity.
 fn power_centre<const D: usize>(t: &Triangulation<D>, v: &[u32]) -> ([f64; D], f64) {
     let (c, r) = coords(t, v);
     let mut out = [0.0; D];
-    let power = match D {
-        2 => {
-            let (p, w) = geometry::power_centre_2d(
-                &[to2(&c[0]), to2(&c[1]), to2(&c[2])],
-                &[r[0], r[1], r[2]],
-            )
-            .unwrap_or(([f64::INFINITY; 2], f64::INFINITY));
-            out[..2].copy_from_slice(&p);
-            w
-        }
-        _ => {
-            let (p, w) =
-                geometry::power_centre_3d(&[to3(&c[0]), to3(&c[1]), to3(&c[2]), to3(&c[3])], &r)
-                    .unwrap_or(([f64::INFINITY; 3], f64::INFINITY));
-            out[..3].copy_from_slice(&p);
-            w
-        }
+    let found = match D {
+        2 => geometry::power_centre_2d(&[to2(&c[0]), to2(&c[1]), to2(&c[2])], &[r[0], r[1], r[2]])
+            .map(|(p, w)| {
+                out[..2].copy_from_slice(&p);
+                w
+            }),
+        _ => geometry::power_centre_3d(&[to3(&c[0]), to3(&c[1]), to3(&c[2]), to3(&c[3])], &r).map(
+            |(p, w)| {
+                out[..3].copy_from_slice(&p);
+                w
+            },
+        ),
     };
-    (out, power)
+    match found {
+        Some(w) if w.is_finite() && out.iter().all(|x| x.is_finite()) => (out, w),
+        _ => {
+            let n = v.len() as f64;
+            let mut centroid = [0.0; D];
+            for k in 0..v.len() {
+                for a in 0..D {
+                    centroid[a] += c[k][a] / n;
+                }
+            }
+            let power = (0..v.len())
+                .map(|k| {
+                    let d2: f64 = (0..D).map(|a| (centroid[a] - c[k][a]).powi(2)).sum();
+                    d2 - r[k] * r[k]
+                })
+                .fold(f64::INFINITY, f64::min);
+            (centroid, power)
+        }
+    }
 }
 
 fn to2<const D: usize>(p: &[f64; D]) -> [f64; 2] {

@@ -3,9 +3,10 @@
 //! the mechanics of `packbed fragment` (the stiffness matrix) and by the flow
 //! through the pore network (the pressure equations).
 
+pub mod amg;
 pub(crate) mod factor;
 pub mod ordering;
 mod spd;
 mod supernodal;
 
-pub use spd::{solve_spd, SpdError};
+pub use spd::{solve_spd, SpdError, DIRECT_LIMIT};

@@ -18,6 +18,24 @@ use faer::{Par, Side};
 /// answer's last bits) do not depend on the number of threads.
 const DENSE_DEGREE: usize = 8;
 
+/// Above this many unknowns the system is solved by conjugate gradients with
+/// a multigrid preconditioner (the direct factor's cost grows as n² in 3D);
+/// below, the direct factor is faster.
+pub const DIRECT_LIMIT: usize = 30_000;
+
+/// Relative residual the iterative solve reaches: fluxes then balance to
+/// about 1e-11.
+const TOLERANCE: Real = 1e-12;
+
+/// The iterative solve, `None` if the hierarchy cannot be built or CG stalls
+/// (the direct solve then decides).
+fn iterative(diag: &[Real], off: &[(u32, u32, Real)], rhs: &[Vec<Real>]) -> Option<Vec<Vec<Real>>> {
+    let mg = super::amg::Multigrid::new(super::amg::Csr::from_parts(diag, off))?;
+    rhs.iter()
+        .map(|b| mg.solve(b, TOLERANCE, 1000).map(|(x, _)| x))
+        .collect()
+}
+
 /// Why a system could not be solved.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SpdError {
@@ -40,6 +58,11 @@ pub fn solve_spd<const D: usize>(
     let n = diag.len();
     if n == 0 {
         return Ok(rhs.iter().map(|_| Vec::new()).collect());
+    }
+    if n > DIRECT_LIMIT {
+        if let Some(x) = iterative(diag, off, rhs) {
+            return Ok(x);
+        }
     }
     if off.is_empty() {
         // faer analyses a diagonal matrix as simplicial, which `Factor` does not take.
