@@ -162,8 +162,35 @@ pub fn power_test_3d_perturbed(
     wq: f64,
     rank_q: u64,
 ) -> Sign {
-    let s = power_det_sign_3d(&p, &w, q, wq);
     let o4 = orient3d(p[0], p[1], p[2], p[3]);
+    perturbed_3d(p, w, rank, q, wq, rank_q, o4)
+}
+
+/// [`power_test_3d_perturbed`] for `p` known to be positively oriented (the
+/// cells of a triangulation), which spares the orientation test.
+#[inline]
+pub fn power_test_3d_oriented(
+    p: [[f64; 3]; 4],
+    w: [f64; 4],
+    rank: [u64; 4],
+    q: [f64; 3],
+    wq: f64,
+    rank_q: u64,
+) -> Sign {
+    perturbed_3d(p, w, rank, q, wq, rank_q, 1)
+}
+
+#[inline]
+fn perturbed_3d(
+    p: [[f64; 3]; 4],
+    w: [f64; 4],
+    rank: [u64; 4],
+    q: [f64; 3],
+    wq: f64,
+    rank_q: u64,
+    o4: Sign,
+) -> Sign {
+    let s = power_det_sign_3d(&p, &w, q, wq);
     if s != 0 || o4 == 0 {
         return -s * o4;
     }
@@ -203,8 +230,34 @@ pub fn power_test_2d_perturbed(
     wq: f64,
     rank_q: u64,
 ) -> Sign {
-    let s = power_det_sign_2d(&p, &w, q, wq);
     let o3 = orient2d(p[0], p[1], p[2]);
+    perturbed_2d(p, w, rank, q, wq, rank_q, o3)
+}
+
+/// [`power_test_2d_perturbed`] for `p` known to be counter-clockwise.
+#[inline]
+pub fn power_test_2d_oriented(
+    p: [[f64; 2]; 3],
+    w: [f64; 3],
+    rank: [u64; 3],
+    q: [f64; 2],
+    wq: f64,
+    rank_q: u64,
+) -> Sign {
+    perturbed_2d(p, w, rank, q, wq, rank_q, 1)
+}
+
+#[inline]
+fn perturbed_2d(
+    p: [[f64; 2]; 3],
+    w: [f64; 3],
+    rank: [u64; 3],
+    q: [f64; 2],
+    wq: f64,
+    rank_q: u64,
+    o3: Sign,
+) -> Sign {
+    let s = power_det_sign_2d(&p, &w, q, wq);
     if s != 0 || o3 == 0 {
         return s * o3;
     }
@@ -1354,5 +1407,41 @@ mod tests {
         }
         let ns = t.elapsed().as_nanos() as f64 / reps as f64;
         println!("power_test_3d (exact fallback, degenerate): {ns:.1} ns/call (acc {acc})");
+    }
+
+    /// The oriented variants equal the perturbed tests wherever `p` is
+    /// positively oriented, on lattice points full of ties.
+    #[test]
+    fn oriented_variants_agree_with_the_perturbed_tests() {
+        let mut seed = 12345u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((seed >> 33) % 3) as f64
+        };
+        let (mut checked3, mut checked2) = (0, 0);
+        for k in 0..20000u64 {
+            let p: [[f64; 3]; 4] = [[next(), next(), next()], [next(), next(), next()], [next(), next(), next()], [next(), next(), next()]];
+            let q = [next(), next(), next()];
+            let w = [next() * 0.5, next() * 0.5, next() * 0.5, next() * 0.5];
+            let wq = next() * 0.5;
+            let rank = [k * 5, k * 5 + 3, k * 5 + 1, k * 5 + 4];
+            if orient3d(p[0], p[1], p[2], p[3]) > 0 {
+                checked3 += 1;
+                assert_eq!(
+                    power_test_3d_oriented(p, w, rank, q, wq, k * 5 + 2),
+                    power_test_3d_perturbed(p, w, rank, q, wq, k * 5 + 2)
+                );
+            }
+            let p2 = [[p[0][0], p[0][1]], [p[1][0], p[1][1]], [p[2][0], p[2][1]]];
+            if orient2d(p2[0], p2[1], p2[2]) > 0 {
+                checked2 += 1;
+                let r = [rank[0], rank[1], rank[2]];
+                assert_eq!(
+                    power_test_2d_oriented(p2, [w[0], w[1], w[2]], r, [q[0], q[1]], wq, k * 5 + 2),
+                    power_test_2d_perturbed(p2, [w[0], w[1], w[2]], r, [q[0], q[1]], wq, k * 5 + 2)
+                );
+            }
+        }
+        assert!(checked3 > 1000 && checked2 > 1000, "{checked3} {checked2}");
     }
 }
