@@ -107,7 +107,11 @@ pub fn network_timed<const D: usize>(
     times: &mut StageTimes,
 ) -> Result<Network<D>> {
     let r_max = bed.r_max();
-    let mut margin = 4.0 * r_max;
+    // Three largest diameters: a pore of the slab near a side and the cells
+    // beyond its facets must all be exact; two diameters fell short of that
+    // on a bed of 10^5 equal spheres (a neighbour's orthosphere reached past
+    // the images) and cost a second triangulation.
+    let mut margin = 6.0 * r_max;
     for _ in 0..4 {
         let (sites, points, weights) = sites_with_images(bed, margin);
         let ranks: Vec<u64> = sites.iter().map(Site::rank).collect();
