@@ -290,6 +290,46 @@ class Bed:
         with _Progress(progress, "") as p:
             return json.loads(self._bed.analyze(_settings(options), p))
 
+    def pores(self, *, progress: ProgressLike = None, **options: Any) -> Tuple["Any", "Any"]:
+        """The pore network of the bed as two ``pandas.DataFrame``: pores and throats.
+
+        The columns are those of ``pores.csv`` and ``throats.csv``: a pore's
+        vertices (particle ids, and their image shifts on periodic beds), its
+        power centre, volume, void volume, body radius, ``in_slab`` and its
+        pressure under each axis' unit gradient; a throat's two pores, the
+        image shift of the second, its constriction radius, conductance and
+        flux per axis. ``options`` are keys of ``[analysis]`` (``flow`` for
+        ``[analysis.flow]``: ``viscosity``, ``axes``, ``slab``). Raises
+        ``ImpossibleError`` when the bed has no bulk slab or its spheres
+        overlap, with the reason.
+        """
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("Bed.pores needs pandas: pip install pandas") from None
+        chosen = dict(options)
+        chosen.setdefault("measures", ["packing", "pores", "permeability"])
+        with _Progress(progress, "") as p:
+            _, pores, throats = self._bed.pores(_settings(chosen), p)
+        return pd.DataFrame(pores), pd.DataFrame(throats)
+
+    def permeability(self, *, progress: ProgressLike = None, **options: Any) -> Dict[str, Any]:
+        """The permeability of the bed's pore network, as ``summary.json``'s ``permeability``.
+
+        ``k_x``, ``k_y`` (periodic beds) and ``k_z`` in length units²,
+        ``k_over_d32_squared``, ``k_over_kozeny_carman``, ``anisotropy`` and
+        each axis' flux and balance; ``options`` as for :meth:`pores`.
+        Raises ``ImpossibleError`` when the bed has no pore space to measure.
+        """
+        chosen = dict(options)
+        chosen.setdefault("measures", ["packing", "permeability"])
+        with _Progress(progress, "") as p:
+            text, _, _ = self._bed.pores(_settings(chosen), p)
+        summary = json.loads(text)
+        if summary.get("permeability") is None:
+            raise ImpossibleError("permeability: " + str(summary.get("pores_note", "not computed")))
+        return summary["permeability"]
+
     def contacts(self, contact_tol: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Particle–particle contacts: arrays ``i`` < ``j`` (uint32) and ``gap`` (float64).
 

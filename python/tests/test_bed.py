@@ -220,3 +220,22 @@ def test_config_dict_and_toml_file_agree(tmp_path):
     other = packbed.deposit(toml, seed=10)
     assert not np.array_equal(other.positions[:5], from_file.positions[:5])
     assert packbed.resolve_config(toml, seed=10)["seed"] == 10
+
+
+def test_pores_and_permeability_match_the_command(tmp_path, run_cli):
+    args = ("--radii", "10", "--box", "160,160,700", "--periodic", "--count", "1200", "--seed", "2")
+    out = tmp_path / "cli"
+    run_cli("run", *args, "--measures", "packing,pores,permeability", "--out", str(out), "--quiet", "--no-pictures")
+    bed = packbed.deposit(dim=3, radii=10, box=[160, 160, 700], periodic=True, count=1200, seed=2)
+    pd = optional("pandas")
+    pores, throats = bed.pores()
+    pd.testing.assert_frame_equal(pores, pd.read_csv(out / "pores.csv"), check_dtype=False, check_exact=True)
+    pd.testing.assert_frame_equal(throats, pd.read_csv(out / "throats.csv"), check_dtype=False, check_exact=True)
+    summary = json.loads((out / "summary.json").read_text())
+    k = bed.permeability()
+    assert k == summary["permeability"]
+    assert k["k_x"] > 0 and k["k_y"] > 0 and k["k_z"] > 0
+    # A bed with no bulk slab says why.
+    small = packbed.deposit(dim=3, radii=10, count=20, seed=1)
+    with pytest.raises(packbed.ImpossibleError, match="bulk slab"):
+        small.permeability()

@@ -163,6 +163,50 @@ impl Bed {
         serde_json::to_string(&summary).map_err(|e| config_error(e.to_string()))
     }
 
+    /// The pore space with the analysis settings (`measures` given by the
+    /// caller): the measures (JSON text) and the columns of `pores.csv` and
+    /// `throats.csv` as dicts of numpy arrays; raises `ImpossibleError` with
+    /// the reason when the bed has no pore space to measure.
+    #[pyo3(signature = (settings_json, progress=None))]
+    #[allow(clippy::type_complexity)]
+    fn pores<'py>(
+        &self,
+        py: Python<'py>,
+        settings_json: &str,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<(String, Bound<'py, PyDict>, Bound<'py, PyDict>)> {
+        let settings = self.settings(settings_json)?;
+        let bed = self.bed();
+        let (_, summary) = detached::run(py, progress, |_| {
+            packbed::analyze_bed(bed, &settings).map_err(to_py)
+        })?;
+        let Some(tables) = summary.pore_tables.clone() else {
+            let why = summary
+                .pores_note
+                .clone()
+                .unwrap_or_else(|| "the pore measures were not asked for".into());
+            return Err(crate::errors::ImpossibleError::new_err(format!(
+                "pores: {why}"
+            )));
+        };
+        let dict = |columns: Vec<(String, packbed::analysis::pores::Column)>| -> PyResult<Bound<'py, PyDict>> {
+            let d = PyDict::new(py);
+            for (name, column) in columns {
+                match column {
+                    packbed::analysis::pores::Column::Int(v) => d.set_item(name, PyArray1::from_vec(py, v))?,
+                    packbed::analysis::pores::Column::Float(v) => d.set_item(name, PyArray1::from_vec(py, v))?,
+                }
+            }
+            Ok(d)
+        };
+        let json = serde_json::to_string(&summary).map_err(|e| config_error(e.to_string()))?;
+        Ok((
+            json,
+            dict(tables.pore_columns())?,
+            dict(tables.throat_columns())?,
+        ))
+    }
+
     /// Particle–particle contacts with the analysis settings: arrays i, j, gap.
     #[pyo3(signature = (settings_json))]
     #[allow(clippy::type_complexity)]

@@ -4,13 +4,11 @@
 //! that reads back to the same bits.
 
 use super::tables::Num;
-use crate::analysis::pores::PoreTables;
+use crate::analysis::pores::{Column, PoreTables};
 use std::io::{Error, ErrorKind, Write};
 
 /// The network's file names, in writing order.
 pub const PORE_FILES: [&str; 3] = ["pores.csv", "throats.csv", "network.vtp"];
-
-const AXES: [&str; 3] = ["x", "y", "z"];
 
 fn finite(v: f64, what: &str, id: usize) -> std::io::Result<Num> {
     if v.is_finite() {
@@ -23,13 +21,24 @@ fn finite(v: f64, what: &str, id: usize) -> std::io::Result<Num> {
     }
 }
 
-/// Side axes whose image shifts are written: x (and y in 3D) on periodic beds.
-fn shift_axes(t: &PoreTables) -> usize {
-    if t.periodic {
-        t.dim - 1
-    } else {
-        0
+/// Writes columns as CSV, row by row.
+fn write_columns(w: &mut dyn Write, columns: &[(String, Column)]) -> std::io::Result<()> {
+    let names: Vec<&str> = columns.iter().map(|c| c.0.as_str()).collect();
+    writeln!(w, "{}", names.join(","))?;
+    let rows = columns.first().map_or(0, |c| c.1.len());
+    for row in 0..rows {
+        for (k, (name, column)) in columns.iter().enumerate() {
+            if k > 0 {
+                write!(w, ",")?;
+            }
+            match column {
+                Column::Int(v) => write!(w, "{}", v[row])?,
+                Column::Float(v) => write!(w, "{}", finite(v[row], name, row)?)?,
+            }
+        }
+        writeln!(w)?;
     }
+    Ok(())
 }
 
 /// Writes `pores.csv`: `id`, the vertices' particle ids `v0…`, on periodic
@@ -37,84 +46,14 @@ fn shift_axes(t: &PoreTables) -> usize {
 /// power centre, volume, void volume, body radius, `in_slab` (1 for the pores
 /// of the flow region) and the pressure under each solved axis' unit gradient.
 pub fn write_pores(w: &mut dyn Write, t: &PoreTables) -> std::io::Result<()> {
-    let sides = shift_axes(t);
-    let mut header = String::from("id");
-    for v in 0..=t.dim {
-        header.push_str(&format!(",v{v}"));
-    }
-    for v in 0..=t.dim {
-        for axis in AXES.iter().take(sides) {
-            header.push_str(&format!(",v{v}_s{axis}"));
-        }
-    }
-    for axis in AXES.iter().take(t.dim) {
-        header.push_str(&format!(",{axis}"));
-    }
-    header.push_str(",volume,void_volume,body_radius,in_slab");
-    for axis in &t.axes {
-        header.push_str(&format!(",pressure_{axis}"));
-    }
-    writeln!(w, "{header}")?;
-    for (id, p) in t.pores.iter().enumerate() {
-        write!(w, "{id}")?;
-        for v in &p.particles {
-            write!(w, ",{v}")?;
-        }
-        for image in &p.images {
-            for s in image.iter().take(sides) {
-                write!(w, ",{s}")?;
-            }
-        }
-        for (k, c) in p.centre.iter().enumerate() {
-            write!(w, ",{}", finite(*c, AXES[k], id)?)?;
-        }
-        write!(
-            w,
-            ",{},{},{},{}",
-            finite(p.volume, "volume", id)?,
-            finite(p.void_volume, "void_volume", id)?,
-            finite(p.body_radius, "body_radius", id)?,
-            u8::from(p.in_slab)
-        )?;
-        for x in &p.pressure {
-            write!(w, ",{}", finite(*x, "pressure", id)?)?;
-        }
-        writeln!(w)?;
-    }
-    Ok(())
+    write_columns(w, &t.pore_columns())
 }
 
 /// Writes `throats.csv`: `id,pore_a,pore_b`, on periodic beds the periods
 /// pore b's image lies across (`sx`, `sy`), the constriction radius, the
 /// conductance and the flux from a to b under each solved axis.
 pub fn write_throats(w: &mut dyn Write, t: &PoreTables) -> std::io::Result<()> {
-    let sides = shift_axes(t);
-    let mut header = String::from("id,pore_a,pore_b");
-    for axis in AXES.iter().take(sides) {
-        header.push_str(&format!(",s{axis}"));
-    }
-    header.push_str(",constriction_radius,conductance");
-    for axis in &t.axes {
-        header.push_str(&format!(",flux_{axis}"));
-    }
-    writeln!(w, "{header}")?;
-    for (id, th) in t.throats.iter().enumerate() {
-        write!(w, "{id},{},{}", th.pores[0], th.pores[1])?;
-        for s in th.shift.iter().take(sides) {
-            write!(w, ",{s}")?;
-        }
-        write!(
-            w,
-            ",{},{}",
-            finite(th.constriction_radius, "constriction_radius", id)?,
-            finite(th.conductance, "conductance", id)?
-        )?;
-        for q in &th.flux {
-            write!(w, ",{}", finite(*q, "flux", id)?)?;
-        }
-        writeln!(w)?;
-    }
-    Ok(())
+    write_columns(w, &t.throat_columns())
 }
 
 /// Writes `network.vtp`: VTK XML polydata (ASCII). Pores are points (`z = 0`

@@ -1415,12 +1415,19 @@ mod tests {
     fn oriented_variants_agree_with_the_perturbed_tests() {
         let mut seed = 12345u64;
         let mut next = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((seed >> 33) % 3) as f64
         };
         let (mut checked3, mut checked2) = (0, 0);
         for k in 0..20000u64 {
-            let p: [[f64; 3]; 4] = [[next(), next(), next()], [next(), next(), next()], [next(), next(), next()], [next(), next(), next()]];
+            let p: [[f64; 3]; 4] = [
+                [next(), next(), next()],
+                [next(), next(), next()],
+                [next(), next(), next()],
+                [next(), next(), next()],
+            ];
             let q = [next(), next(), next()];
             let w = [next() * 0.5, next() * 0.5, next() * 0.5, next() * 0.5];
             let wq = next() * 0.5;

@@ -174,6 +174,95 @@ pub struct PoreTables {
     pub throats: Vec<ThroatRow>,
 }
 
+/// One column of a pore table.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Column {
+    /// Ids, counts, image shifts, flags.
+    Int(Vec<i64>),
+    /// Coordinates and measures.
+    Float(Vec<Real>),
+}
+
+impl Column {
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        match self {
+            Column::Int(v) => v.len(),
+            Column::Float(v) => v.len(),
+        }
+    }
+
+    /// True for no rows.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+const AXES: [&str; 3] = ["x", "y", "z"];
+
+impl PoreTables {
+    /// Side axes whose image shifts are reported: x (and y in 3D) on
+    /// periodic beds, none with walls.
+    fn shift_axes(&self) -> usize {
+        if self.periodic {
+            self.dim - 1
+        } else {
+            0
+        }
+    }
+
+    /// The columns of `pores.csv` (and of Python's `Bed.pores()`), in order.
+    pub fn pore_columns(&self) -> Vec<(String, Column)> {
+        let p = &self.pores;
+        let int = |f: &dyn Fn(&PoreRow) -> i64| Column::Int(p.iter().map(f).collect());
+        let float = |f: &dyn Fn(&PoreRow) -> Real| Column::Float(p.iter().map(f).collect());
+        let mut out = vec![("id".to_string(), Column::Int((0..p.len() as i64).collect()))];
+        for v in 0..=self.dim {
+            out.push((format!("v{v}"), int(&|r| i64::from(r.particles[v]))));
+        }
+        for v in 0..=self.dim {
+            for (a, axis) in AXES.iter().enumerate().take(self.shift_axes()) {
+                out.push((format!("v{v}_s{axis}"), int(&|r| i64::from(r.images[v][a]))));
+            }
+        }
+        for (a, axis) in AXES.iter().enumerate().take(self.dim) {
+            out.push((axis.to_string(), float(&|r| r.centre[a])));
+        }
+        out.push(("volume".into(), float(&|r| r.volume)));
+        out.push(("void_volume".into(), float(&|r| r.void_volume)));
+        out.push(("body_radius".into(), float(&|r| r.body_radius)));
+        out.push(("in_slab".into(), int(&|r| i64::from(r.in_slab))));
+        for (k, axis) in self.axes.iter().enumerate() {
+            out.push((format!("pressure_{axis}"), float(&|r| r.pressure[k])));
+        }
+        out
+    }
+
+    /// The columns of `throats.csv` (and of Python's `Bed.pores()`), in order.
+    pub fn throat_columns(&self) -> Vec<(String, Column)> {
+        let t = &self.throats;
+        let int = |f: &dyn Fn(&ThroatRow) -> i64| Column::Int(t.iter().map(f).collect());
+        let float = |f: &dyn Fn(&ThroatRow) -> Real| Column::Float(t.iter().map(f).collect());
+        let mut out = vec![
+            ("id".to_string(), Column::Int((0..t.len() as i64).collect())),
+            ("pore_a".into(), int(&|r| i64::from(r.pores[0]))),
+            ("pore_b".into(), int(&|r| i64::from(r.pores[1]))),
+        ];
+        for (a, axis) in AXES.iter().enumerate().take(self.shift_axes()) {
+            out.push((format!("s{axis}"), int(&|r| i64::from(r.shift[a]))));
+        }
+        out.push((
+            "constriction_radius".into(),
+            float(&|r| r.constriction_radius),
+        ));
+        out.push(("conductance".into(), float(&|r| r.conductance)));
+        for (k, axis) in self.axes.iter().enumerate() {
+            out.push((format!("flux_{axis}"), float(&|r| r.flux[k])));
+        }
+        out
+    }
+}
+
 /// What the pore measures found: their summaries and the tables for the files.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PoreSpace {
