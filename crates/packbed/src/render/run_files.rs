@@ -68,6 +68,25 @@ pub fn pictures<const D: usize>(
                 plots.push(("plot_regions", run_plots::regional_packing(&bars)));
             }
         }
+        if let Some(t) = &measures.pore_tables {
+            let body: Vec<Real> = t
+                .pores
+                .iter()
+                .filter(|p| p.in_slab)
+                .map(|p| p.body_radius)
+                .collect();
+            let constriction: Vec<Real> = t
+                .throats
+                .iter()
+                .filter(|th| {
+                    t.pores[th.pores[0] as usize].in_slab && t.pores[th.pores[1] as usize].in_slab
+                })
+                .map(|th| th.constriction_radius)
+                .collect();
+            if !body.is_empty() {
+                plots.push(("plot_pores", run_plots::pore_sizes(&body, &constriction)));
+            }
+        }
         let angles = run_plots::chain_angles(bed);
         if !angles.is_empty() {
             plots.push((

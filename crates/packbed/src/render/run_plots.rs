@@ -98,6 +98,65 @@ pub fn packing_profile(profile: &[(Real, Real)], slab: Real, bulk: Option<Real>)
     }
 }
 
+/// The pore body and constriction size distributions of the slab, cumulative
+/// by number (% smaller than a radius), one line each: the curves granular
+/// filter design reads `d_c35` from. `body` and `constriction` are radii.
+pub fn pore_sizes(body: &[Real], constriction: &[Real]) -> Plot {
+    let cumulative = |name: &str, values: &[Real]| {
+        let mut v: Vec<Real> = values.iter().copied().filter(|x| x.is_finite()).collect();
+        v.sort_by(Real::total_cmp);
+        let n = v.len().max(1) as Real;
+        // At most 400 points: a curve, not a scatter of 10^6 steps.
+        let step = v.len().div_ceil(400).max(1);
+        let mut points: Vec<(Real, Real)> = v
+            .iter()
+            .enumerate()
+            .step_by(step)
+            .map(|(i, &x)| (x, 100.0 * (i + 1) as Real / n))
+            .collect();
+        if let Some(&last) = v.last() {
+            points.push((last, 100.0));
+        }
+        Series {
+            name: format!("{name} ({} in the slab)", v.len()),
+            points,
+            errors: None,
+            markers: false,
+        }
+    };
+    // The axis ends at the 99.5th percentile: a few slivers' tangent spheres
+    // would otherwise squeeze the curves into the left tenth.
+    let mut all: Vec<Real> = body
+        .iter()
+        .chain(constriction)
+        .copied()
+        .filter(|x| x.is_finite())
+        .collect();
+    all.sort_by(Real::total_cmp);
+    let x_range = all
+        .get((all.len() as Real * 0.995) as usize)
+        .filter(|&&x| x > 0.0)
+        .map(|&x| (0.0, x));
+    let mut series = vec![
+        cumulative("pore bodies", body),
+        cumulative("constrictions", constriction),
+    ];
+    // The plot does not clip: the points past the axis are left out.
+    if let Some((_, hi)) = x_range {
+        for s in &mut series {
+            s.points.retain(|p| p.0 <= hi);
+        }
+    }
+    Plot {
+        title: "Pore and constriction sizes".into(),
+        x_label: "radius (length units)".into(),
+        y_label: "smaller than the radius (% by number)".into(),
+        data: PlotData::Lines { series },
+        y_range: Some((0.0, 100.0)),
+        x_range,
+    }
+}
+
 /// Regional packing bars: `(region name, value, standard deviation if any)`.
 pub fn regional_packing(regions: &[(String, Real, Option<Real>)]) -> Plot {
     let errors = regions
