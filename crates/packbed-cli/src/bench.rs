@@ -81,7 +81,11 @@ pub fn bench(args: BenchArgs) -> Result<()> {
         }
     };
     if args.pores {
-        r.analysis = bench::time_pores(&bed);
+        r.analysis = vec![(
+            "triangulation of the centres alone".to_string(),
+            bench::time_triangulation(&bed),
+        )];
+        r.analysis.extend(bench::time_pores(&bed));
     } else if args.analysis || args.bed.is_some() {
         r.analysis = bench::time_analysis(&bed);
     }

@@ -215,6 +215,25 @@ pub fn time_pores(bed: &AnyBed) -> Vec<(String, f64)> {
     time_measures(bed, &options)
 }
 
+/// Seconds to triangulate the bed's own centres weighted by r² (no images,
+/// no network): the same work as CGAL's `Regular_triangulation_3` on the same
+/// points, for `scripts/bench-cgal.sh` beside it.
+pub fn time_triangulation(bed: &AnyBed) -> f64 {
+    fn timed<const D: usize>(bed: &Bed<D>) -> f64 {
+        let points: Vec<[f64; D]> = bed.centres.iter().map(|c| c.0).collect();
+        let weights: Vec<f64> = bed.radii.iter().map(|r| r * r).collect();
+        let t = std::time::Instant::now();
+        let tri = crate::analysis::pores::triangulation::Triangulation::new(&points, &weights);
+        let seconds = t.elapsed().as_secs_f64();
+        std::hint::black_box(tri.slots());
+        seconds
+    }
+    match bed {
+        AnyBed::D2(b) => timed(b),
+        AnyBed::D3(b) => timed(b),
+    }
+}
+
 fn time_measures(bed: &AnyBed, options: &AnalysisOptions) -> Vec<(String, f64)> {
     fn timed<const D: usize>(bed: &Bed<D>, options: &AnalysisOptions) -> StageTimes {
         let mut times = StageTimes::default();
