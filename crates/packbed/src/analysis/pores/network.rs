@@ -244,13 +244,7 @@ fn assemble<const D: usize>(
                 }
             }
         }
-        let mut key = [Site {
-            particle: u32::MAX,
-            image: [0; 2],
-        }; 4];
-        for k in 0..v_n {
-            key[k] = sites[v[k] as usize];
-        }
+        let key = sites_of(sites, v);
         let id = pores.len() as u32;
         if periodic {
             by_key.insert(canonical(&key, v_n).0, id);
@@ -271,15 +265,7 @@ fn assemble<const D: usize>(
             let (b, shift) = if pore_of[n as usize] != NONE {
                 (pore_of[n as usize], [0i8; 2])
             } else if periodic {
-                let v = t.vertices(n);
-                let mut key = [Site {
-                    particle: u32::MAX,
-                    image: [0; 2],
-                }; 4];
-                for k in 0..v_n {
-                    key[k] = sites[v[k] as usize];
-                }
-                let (key, shift) = canonical(&key, v_n);
+                let (key, shift) = canonical(&sites_of(sites, t.vertices(n)), v_n);
                 match by_key.get(&key) {
                     Some(&b) => (b, shift),
                     // Its kept translate was cut by the margin.
@@ -307,6 +293,18 @@ fn assemble<const D: usize>(
         margin,
         points: t.input_len(),
     }))
+}
+
+/// The sites of a cell's vertices (unused entries past `D + 1` last).
+fn sites_of(sites: &[Site], v: &[u32]) -> [Site; 4] {
+    let mut key = [Site {
+        particle: u32::MAX,
+        image: [0; 2],
+    }; 4];
+    for (k, &x) in v.iter().enumerate() {
+        key[k] = sites[x as usize];
+    }
+    key
 }
 
 /// The vertex of a cell that comes first by (particle, image).

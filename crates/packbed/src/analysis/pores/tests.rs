@@ -202,7 +202,10 @@ fn bidisperse_beds_scale_with_d32_squared() {
         "[[species]]\nradius = 10\n[[species]]\nradius = 5",
     ));
     let r = mixed / equal;
-    assert!((0.75..1.25).contains(&r), "bidisperse {mixed}, equal {equal}");
+    assert!(
+        (0.75..1.25).contains(&r),
+        "bidisperse {mixed}, equal {equal}"
+    );
 }
 
 /// A bed with walls: the mirror images make the walls planes of symmetry;

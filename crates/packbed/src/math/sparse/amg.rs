@@ -173,11 +173,17 @@ impl Multigrid {
     pub fn new(a: Csr) -> Option<Multigrid> {
         let mut levels = Vec::new();
         let mut a = a;
-        while a.n() > COARSEST && levels.len() < 25 {
-            let (agg, count) = aggregate(&a);
+        let mut theta = THETA;
+        while a.n() > COARSEST && levels.len() < 40 {
+            let (agg, count) = aggregate(&a, theta);
             if count * 10 > a.n() * 9 {
-                // Coarsening stalled (no strong couplings left).
-                break;
+                // Coarsening stalled: weaker couplings count as strong, down
+                // to every coupling (then loose nodes are grouped anyway).
+                if theta == 0.0 {
+                    break;
+                }
+                theta = if theta > 1e-6 { theta / 8.0 } else { 0.0 };
+                continue;
             }
             let p = plain_prolongator(&agg, count);
             let coarse = galerkin(&a, &p);
@@ -297,13 +303,13 @@ fn gauss_seidel(a: &Csr, b: &[Real], x: &mut [Real], forward: bool) {
 /// Aggregates of strongly coupled nodes: a node whose strong neighbours are
 /// all free starts an aggregate with them; the rest join the aggregate they
 /// are most strongly coupled to; a node with no strong coupling stands alone.
-fn aggregate(a: &Csr) -> (Vec<u32>, usize) {
+fn aggregate(a: &Csr, theta: Real) -> (Vec<u32>, usize) {
     let n = a.n();
     const FREE: u32 = u32::MAX;
     let mut agg = vec![FREE; n];
     let strong = |i: usize, k: usize| {
         let j = a.col[k] as usize;
-        a.val[k].abs() >= THETA * (a.diag(i) * a.diag(j)).sqrt()
+        a.val[k] != 0.0 && a.val[k].abs() >= theta * (a.diag(i) * a.diag(j)).sqrt()
     };
     let mut count = 0u32;
     for i in 0..n {
@@ -326,6 +332,11 @@ fn aggregate(a: &Csr) -> (Vec<u32>, usize) {
         }
     }
     let first = agg.clone();
+    // Nodes with no strong tie to an aggregate are grouped eight at a time in
+    // index order: a group of unrelated nodes is still a valid coarse node
+    // (its Galerkin entry sums their equations), and a hierarchy never stalls
+    // on them (a network holds many pores cut off from the rest).
+    let mut loose = 0usize;
     for i in 0..n {
         if agg[i] != FREE {
             continue;
@@ -336,7 +347,10 @@ fn aggregate(a: &Csr) -> (Vec<u32>, usize) {
         agg[i] = match best {
             Some(k) => first[a.col[k] as usize],
             None => {
-                count += 1;
+                if loose % 8 == 0 {
+                    count += 1;
+                }
+                loose += 1;
                 count - 1
             }
         };
