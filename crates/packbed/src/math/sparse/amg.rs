@@ -347,7 +347,7 @@ fn aggregate(a: &Csr, theta: Real) -> (Vec<u32>, usize) {
         agg[i] = match best {
             Some(k) => first[a.col[k] as usize],
             None => {
-                if loose % 8 == 0 {
+                if loose.is_multiple_of(8) {
                     count += 1;
                 }
                 loose += 1;
