@@ -10,6 +10,7 @@ use super::packing::Region;
 use crate::bed::Bed;
 use crate::math::Real;
 use serde::Serialize;
+use std::f64::consts::PI;
 
 /// The Kozeny constant of the Carman–Kozeny relation `k = ε³ d² / (180 (1 − ε)²)`
 /// for beds of spheres (Carman 1937: 5 × 36).
@@ -202,22 +203,34 @@ fn sauter<const D: usize>(
     surfaces: &[Real],
     flagged: &[bool],
 ) -> Real {
-    let bodies = bed.bodies.iter().max().map_or(0, |&b| b as usize + 1);
-    let mut chosen = vec![false; bodies];
-    for (i, &f) in flagged.iter().enumerate() {
-        if f {
-            chosen[bed.bodies[i] as usize] = true;
-        }
-    }
-    let (mut v, mut s) = (0.0, 0.0);
+    // Body ids of a read bed need not be dense (a file may number them in
+    // the billions): a sorted list, not an array indexed by id.
+    let mut chosen: Vec<u32> = (0..bed.len())
+        .filter(|&i| flagged[i])
+        .map(|i| bed.bodies[i])
+        .collect();
+    chosen.sort_unstable();
+    chosen.dedup();
+    // Σ d³ / Σ d² (Σ d² / Σ d in 2D), each particle as the sphere of its
+    // volume and surface share; a whole sphere adds (2r)³ and (2r)² exactly,
+    // so that equal spheres give d32 = 2r to the last bit.
+    let (mut num, mut den) = (0.0, 0.0);
     for i in 0..bed.len() {
-        if chosen[bed.bodies[i] as usize] {
-            v += volumes[i];
-            s += surfaces[i];
+        if chosen.binary_search(&bed.bodies[i]).is_err() {
+            continue;
         }
+        let d = 2.0 * bed.radii[i];
+        let whole = surfaces[i] == super::packing::sphere_surface::<D>(bed.radii[i]);
+        let (a, b) = match (D, whole) {
+            (3, true) => (d * d * d, d * d),
+            (3, false) => (6.0 * volumes[i] / PI, surfaces[i] / PI),
+            (_, true) => (d * d, d),
+            (_, false) => (4.0 * volumes[i] / PI, surfaces[i] / PI),
+        };
+        num += a;
+        den += b;
     }
-    let shape = if D == 3 { 6.0 } else { 4.0 };
-    finite_or_zero(shape * v / s)
+    finite_or_zero(num / den)
 }
 
 fn finite_or_zero(x: Real) -> Real {

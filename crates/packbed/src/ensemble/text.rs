@@ -7,12 +7,20 @@ use crate::output::text::{count, file_names};
 use std::fmt::Write;
 use std::path::Path;
 
-/// Measures printed on screen, when present (every yes/no measure is added).
-const ON_SCREEN: [&str; 4] = [
+/// Measures printed on screen, when present (every yes/no measure is added),
+/// in the summary's order: the cake first.
+const ON_SCREEN: [&str; 11] = [
+    "cake.porosity",
+    "cake.d32",
+    "cake.k_kozeny_carman",
+    "cake.specific_resistance",
     "packing.global",
     "packing.bulk",
     "coordination.mean",
     "coordination.mean_bulk",
+    "pores.d_c35",
+    "permeability.k_x",
+    "permeability.k_z",
 ];
 
 /// A few lines for a person: what ran (`threads` for a run, `None` for a
