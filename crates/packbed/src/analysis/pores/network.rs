@@ -24,6 +24,7 @@ use crate::analysis::StageTimes;
 use crate::bed::Bed;
 use crate::error::{Error, Result};
 use crate::math::Real;
+use rayon::prelude::*;
 use std::collections::HashMap;
 
 /// Which particle a point of the triangulation is, and which image of it:
@@ -218,14 +219,20 @@ fn assemble<const D: usize>(
     let w_max = bed.r_max() * bed.r_max();
     let v_n = D + 1;
     let mut pore_of = vec![NONE; t.slots()];
-    let mut pores: Vec<Pore<D>> = Vec::new();
     let mut cell_of_pore: Vec<u32> = Vec::new();
     // Pores that must be exact: their links to translates must all be found.
     let mut checked: Vec<bool> = Vec::new();
     let mut by_key: HashMap<[Site; 4], u32> = HashMap::new();
-    for c in t.input_cells() {
+    // The geometry runs on every core, in cell order (the same bits whatever
+    // the thread count); the bookkeeping around it is serial.
+    let cells: Vec<u32> = t.input_cells().collect();
+    let centres: Vec<([f64; D], f64)> = cells
+        .par_iter()
+        .map(|&c| power_centre(t, t.vertices(c)))
+        .collect();
+    let mut kept: Vec<(u32, [Site; 4], [f64; D], f64)> = Vec::new();
+    for (&c, &(centre, power)) in cells.iter().zip(&centres) {
         let v = t.vertices(c);
-        let (centre, power) = power_centre(t, v);
         let keep = if periodic {
             anchor(sites, v).image == [0; 2]
         } else {
@@ -245,16 +252,20 @@ fn assemble<const D: usize>(
             }
         }
         let key = sites_of(sites, v);
-        let id = pores.len() as u32;
+        let id = kept.len() as u32;
         if periodic {
             by_key.insert(canonical(&key, v_n).0, id);
         }
         pore_of[c as usize] = id;
         cell_of_pore.push(c);
         checked.push(must);
-        pores.push(measure_pore(t, v, key, centre, power));
+        kept.push((c, key, centre, power));
     }
-    let mut throats = Vec::new();
+    let pores: Vec<Pore<D>> = kept
+        .par_iter()
+        .map(|&(c, key, centre, power)| measure_pore(t, t.vertices(c), key, centre, power))
+        .collect();
+    let mut links: Vec<(u32, u32, usize, u32, u32, [i8; 2])> = Vec::new();
     for (a, &c) in cell_of_pore.iter().enumerate() {
         let a = a as u32;
         for i in 0..v_n {
@@ -278,9 +289,13 @@ fn assemble<const D: usize>(
             if (a, [0i8; 2]) >= (b, shift) {
                 continue;
             }
-            throats.push(measure_throat(t, c, n, i, a, b, shift, sites));
+            links.push((c, n, i, a, b, shift));
         }
     }
+    let throats: Vec<Throat> = links
+        .par_iter()
+        .map(|&(c, n, i, a, b, shift)| measure_throat(t, c, n, i, a, b, shift, sites))
+        .collect();
     Ok(Some(Network {
         pores,
         throats,
