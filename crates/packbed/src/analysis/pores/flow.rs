@@ -17,8 +17,8 @@ use crate::math::sparse::{solve_spd, SpdError};
 use crate::math::{Real, Vector};
 use serde::Serialize;
 
-/// Throat lengths below this fraction of the mean radius of the throat's
-/// spheres are raised to it (power centres can coincide).
+/// A throat shorter than this fraction of the mean radius of its spheres
+/// joins its two pores into one node (their power centres coincide).
 pub const LENGTH_FLOOR: Real = 1e-3;
 
 /// A throat whose constriction is below this fraction of its spheres' mean
@@ -58,8 +58,8 @@ pub struct Flow {
     pub pressure: Vec<Vec<Real>>,
     /// Flux per throat along each axis (from its first pore to its second).
     pub throat_flux: Vec<Vec<Real>>,
-    /// Throats whose length was floored.
-    pub floored: u64,
+    /// Throats shorter than [`LENGTH_FLOOR`] whose pores were merged.
+    pub merged: u64,
 }
 
 /// Why a flow could not be solved.
@@ -220,7 +220,7 @@ pub fn solve<const D: usize>(
     let nodes = nodes(net, &conductance, &merge, slab);
     let r2 = radii.iter().map(|r| r * r).sum::<Real>() / radii.len().max(1) as Real;
     let mut flow = Flow {
-        floored: merge.iter().filter(|&&m| m).count() as u64,
+        merged: merge.iter().filter(|&&m| m).count() as u64,
         ..Flow::default()
     };
     // The side axes share one matrix (every slab node free, one pinned per

@@ -42,7 +42,8 @@ pub struct CellVolume {
 /// `void_volume` an area and `solid_surface` a length.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Throat {
-    /// Distance between the two power centres (not floored here).
+    /// Distance between the two power centres (the flow merges pores closer
+    /// than `flow::LENGTH_FLOOR` of their spheres' mean radius).
     pub length: f64,
     /// Facet area not covered by the vertex spheres' great-circle sectors.
     pub fluid_area: f64,

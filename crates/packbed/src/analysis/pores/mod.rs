@@ -116,8 +116,9 @@ pub struct PermeabilitySummary {
     pub viscosity: Real,
     /// Each axis: permeability, flux, balance and pores solved.
     pub axes: Vec<AxisFlow>,
-    /// Throats whose length was floored at 1e-3 of their spheres' mean radius.
-    pub throats_floored: u64,
+    /// Throats shorter than 1e-3 of their spheres' mean radius: their two
+    /// pores share a power centre and were solved as one node.
+    pub throats_merged: u64,
     /// The largest flux imbalance of the axes (inflow against outflow).
     pub imbalance: Real,
 }
@@ -432,7 +433,7 @@ fn permeability_summary<const D: usize>(
         anisotropy,
         viscosity,
         axes: f.axes.clone(),
-        throats_floored: f.floored,
+        throats_merged: f.merged,
         imbalance: f.axes.iter().map(|a| a.imbalance).fold(0.0, Real::max),
     }
 }

@@ -58,7 +58,7 @@ fn simple_cubic_array_against_zick_homsy() {
     assert!(k.imbalance < 1e-9);
     // Every cube is one pore of the power diagram: the perturbation's
     // tetrahedra share its centre and are merged.
-    assert!(k.throats_floored > 0);
+    assert!(k.throats_merged > 0);
 }
 
 /// A packbed bed of equal spheres with periodic sides.
