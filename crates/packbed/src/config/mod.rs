@@ -278,18 +278,6 @@ impl FlowConfig {
         *self == FlowConfig::default()
     }
 
-    /// The options of the flow.
-    pub fn options(&self) -> crate::analysis::pores::FlowOptions {
-        crate::analysis::pores::FlowOptions {
-            viscosity: self.viscosity,
-            axes: self
-                .axes
-                .as_ref()
-                .map(|list| [FlowAxis::X, FlowAxis::Y, FlowAxis::Z].map(|a| list.contains(&a))),
-            slab: self.slab.map(|s| (s[0], s[1])),
-        }
-    }
-
     fn check(&self) -> Result<()> {
         positive(self.viscosity, "analysis.flow.viscosity")?;
         if let Some(axes) = &self.axes {

@@ -40,6 +40,22 @@ impl Default for FlowOptions {
     }
 }
 
+impl crate::config::FlowConfig {
+    /// The options the flow runs with for this `[analysis.flow]` table (here,
+    /// not in `config`, so that the config floor imports nothing above it).
+    pub fn options(&self) -> FlowOptions {
+        use crate::config::FlowAxis;
+        FlowOptions {
+            viscosity: self.viscosity,
+            axes: self
+                .axes
+                .as_ref()
+                .map(|list| [FlowAxis::X, FlowAxis::Y, FlowAxis::Z].map(|a| list.contains(&a))),
+            slab: self.slab.map(|s| (s[0], s[1])),
+        }
+    }
+}
+
 /// Percentiles of a size distribution.
 #[derive(Clone, Debug, Default, Serialize, PartialEq)]
 pub struct SizeDistribution {
