@@ -5,20 +5,14 @@
 
 use super::tables::Num;
 use crate::analysis::pores::{Column, PoreTables};
-use std::io::{Error, ErrorKind, Write};
+use std::io::Write;
 
 /// The network's file names, in writing order.
 pub const PORE_FILES: [&str; 3] = ["pores.csv", "throats.csv", "network.vtp"];
 
+/// [`super::tables`]'s check of a number, as the text to write.
 fn finite(v: f64, what: &str, id: usize) -> std::io::Result<Num> {
-    if v.is_finite() {
-        Ok(Num(v))
-    } else {
-        Err(Error::new(
-            ErrorKind::InvalidData,
-            format!("{what} of row {id} is {v}, not a finite number; refusing to write it"),
-        ))
-    }
+    super::tables::finite(v, what, id).map(Num)
 }
 
 /// Writes columns as CSV, row by row.

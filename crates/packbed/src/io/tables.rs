@@ -29,7 +29,7 @@ impl fmt::Display for Num {
 
 /// A non-finite number would make the file unreadable for numpy and hide a bug;
 /// refuse it with the row it is in.
-fn finite(v: f64, what: &str, id: usize) -> std::io::Result<f64> {
+pub(crate) fn finite(v: f64, what: &str, id: usize) -> std::io::Result<f64> {
     if v.is_finite() {
         Ok(v)
     } else {
