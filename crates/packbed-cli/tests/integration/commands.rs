@@ -82,7 +82,7 @@ fn unreadable_psd_table_is_refused() {
         "[[species]]\nsize = { table = \"missing-psd.csv\" }\n",
         &["missing-psd.csv"],
     );
-    s.input("bad.csv", "radius,weight\n10,1\n12,abc\n");
+    s.input("bad.csv", "radius,number\n10,1\n12,abc\n");
     assert_config_refused(
         &s,
         "bad.toml",
@@ -974,7 +974,7 @@ fn errors_with_a_line_lead_with_file_and_line() {
     let typo = c.to_str().unwrap().to_string();
     assert_user_error(&s, &["run", &typo], &["radiu"]);
     assert_user_error(&s, &["ensemble", &typo, "--runs", "2"], &["radiu"]);
-    s.input("table.csv", "radius,weight\n10,1\nx,2\n");
+    s.input("table.csv", "radius,number\n10,1\nx,2\n");
     let p = s.input(
         "psd.toml",
         "dim = 2\n[[species]]\nsize = { table = \"table.csv\" }\n",

@@ -12,6 +12,7 @@ pub mod packing;
 pub mod percolation;
 pub mod pores;
 pub mod profile;
+pub mod psd;
 pub mod regions;
 pub mod segregation;
 pub mod validate;
@@ -38,13 +39,13 @@ pub use voids::{Void, VoidSummary};
 /// Every measure of a bed, laid out as in `summary.json`.
 #[derive(Clone, Debug, Default, Serialize, PartialEq)]
 pub struct Summary {
-    /// Measures the caller left out (`[analysis] measures`); absent when none.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub measures_left_out: Vec<&'static str>,
     /// Filter cake properties: porosity, `d32`, specific surface, Kozeny–Carman
     /// permeability (with the packing measure).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cake: Option<CakeSummary>,
+    /// Measures the caller left out (`[analysis] measures`); absent when none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub measures_left_out: Vec<&'static str>,
     /// Packing fractions (absent when left out).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub packing: Option<PackingSummary>,

@@ -10,7 +10,7 @@ pub use edit::{parse_numbers, BoxSpec, Edit, Overrides, SWEEP_PARAMETERS};
 use crate::container::Container;
 use crate::error::{Error, Result};
 use crate::math::{Real, Vector};
-use crate::species::{Orientation, Shape, SizeDist, Species};
+use crate::species::{Orientation, Shape, SizeDist, SizeTable, Species, Within};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -191,9 +191,16 @@ pub struct SizeConfig {
     /// Uniform: largest radius.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max: Option<Real>,
-    /// CSV file of `radius,weight` rows (relative to the config file).
+    /// A PSD table (relative to the config file): discrete sizes, sieve
+    /// classes or a cumulative curve, as its header says ([`SizeTable`]).
+    ///
+    /// [`SizeTable`]: crate::species::SizeTable
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub table: Option<PathBuf>,
+    /// How sizes spread within a class of a table: `log-uniform` (default) or
+    /// `uniform`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub within: Option<String>,
 }
 
 /// `[analysis]`.
@@ -316,6 +323,16 @@ pub enum LengthUnit {
 }
 
 impl LengthUnit {
+    /// The config name: `m`, `mm`, `um` or `nm`.
+    pub fn name(self) -> &'static str {
+        match self {
+            LengthUnit::Metre => "m",
+            LengthUnit::Millimetre => "mm",
+            LengthUnit::Micrometre => "um",
+            LengthUnit::Nanometre => "nm",
+        }
+    }
+
     /// Metres per unit.
     pub fn metres(self) -> Real {
         match self {
@@ -733,7 +750,7 @@ fn positive(v: Real, what: &str) -> Result<Real> {
 }
 
 impl SpeciesConfig {
-    fn resolve(&self, index: usize) -> Result<Species> {
+    fn resolve(&self, index: usize, metres_per_unit: Option<Real>) -> Result<Species> {
         let at = format!("species[{index}]");
         let size = match (&self.radius, &self.size) {
             (Some(_), Some(_)) => {
@@ -747,7 +764,7 @@ impl SpeciesConfig {
                 )))
             }
             (Some(r), None) => SizeDist::Fixed(positive(*r, &format!("{at}.radius"))?),
-            (None, Some(s)) => s.resolve(&at)?,
+            (None, Some(s)) => s.resolve(&at, metres_per_unit)?,
         };
         if !(self.ratio.is_finite() && self.ratio >= 0.0) {
             return Err(Error::config(format!(
@@ -814,7 +831,7 @@ impl SpeciesConfig {
 }
 
 impl SizeConfig {
-    fn resolve(&self, at: &str) -> Result<SizeDist> {
+    fn resolve(&self, at: &str, metres_per_unit: Option<Real>) -> Result<SizeDist> {
         let need = |v: Option<Real>, key: &str| -> Result<Real> {
             let v = v.ok_or_else(|| Error::config(format!("{at}.size: missing `{key}`")))?;
             if v.is_finite() && v >= 0.0 {
@@ -836,7 +853,21 @@ impl SizeConfig {
                     "{at}.size: `min`/`max` do not apply to a table (its rows bound it; leave out the rows you do not want)"
                 )));
             }
-            return SizeDist::read_table(t);
+            let within = match self.within.as_deref() {
+                None | Some("log-uniform") => Within::LogUniform,
+                Some("uniform") => Within::Uniform,
+                Some(w) => {
+                    return Err(Error::config(format!(
+                        "{at}.size.within: unknown `{w}` (expected log-uniform or uniform)"
+                    )))
+                }
+            };
+            return SizeTable::read(t, within, metres_per_unit).map(SizeDist::Table);
+        }
+        if self.within.is_some() {
+            return Err(Error::config(format!(
+                "{at}.size.within applies to a `table`'s classes only"
+            )));
         }
         let dist = self.dist.as_deref().ok_or_else(|| {
             Error::config(format!(
@@ -996,7 +1027,7 @@ impl Config {
             .species
             .iter()
             .enumerate()
-            .map(|(i, s)| s.resolve(i))
+            .map(|(i, s)| s.resolve(i, self.analysis.length_unit.map(LengthUnit::metres)))
             .collect::<Result<Vec<_>>>()?;
         let total: Real = species.iter().map(|s| s.ratio).sum();
         if total <= 0.0 {

@@ -8,6 +8,7 @@ pub mod export;
 mod finite;
 pub mod fragmentation;
 pub mod pores;
+pub mod psd;
 pub mod read;
 pub mod summary;
 pub mod tables;

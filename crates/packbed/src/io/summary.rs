@@ -4,6 +4,7 @@
 //! The keys listed in `spec/interfaces.md` are a contract with users' scripts:
 //! add keys freely, never rename one.
 
+use crate::analysis::psd::PsdSummary;
 use crate::analysis::{Overlaps, Summary};
 use crate::bed::Bed;
 use crate::config::{Config, Mode};
@@ -55,6 +56,10 @@ pub const SUMMARY_KEYS: &[&str] = &[
 pub struct RunSummary {
     /// Version of packbed that wrote the file.
     pub packbed_version: &'static str,
+    /// Every measure of the analysis (`cake.*` first, `packing.*`, …): what a
+    /// reader opens the file for, at its top.
+    #[serde(flatten)]
+    pub analysis: Summary,
     /// 2 or 3.
     pub dim: u8,
     /// Seed of the run.
@@ -66,9 +71,10 @@ pub struct RunSummary {
     pub container: BoxSummary,
     /// Particle counts.
     pub counts: Counts,
-    /// Every measure of the analysis (`packing.*`, `coordination.*`, …).
-    #[serde(flatten)]
-    pub analysis: Summary,
+    /// The size distribution placed against the one requested (runs whose
+    /// species draw from a distribution).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub psd: Option<PsdSummary>,
     /// Forces and breakage under load (with a `[fragmentation]` table).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fragmentation: Option<FragmentationSummary>,
@@ -188,6 +194,7 @@ impl RunSummary {
                 roof_overflows: report.roof_overflows,
             },
             analysis: analysis.clone(),
+            psd: crate::analysis::psd::size_distribution(bed),
             fragmentation: None,
             timing,
             species: species_summaries(bed),
@@ -207,6 +214,9 @@ impl RunSummary {
 pub struct AnalyzeSummary {
     /// Version of packbed that wrote the file.
     pub packbed_version: &'static str,
+    /// Every measure of the analysis (`cake.*` first, `packing.*`, …).
+    #[serde(flatten)]
+    pub analysis: Summary,
     /// The bed file analysed.
     pub source: String,
     /// 2 or 3.
@@ -220,9 +230,6 @@ pub struct AnalyzeSummary {
     pub settings: AnalyzeSettings,
     /// What the checks of the input found (the bed is analysed all the same).
     pub checks: Checks,
-    /// Every measure of the analysis (`packing.*`, `coordination.*`, …).
-    #[serde(flatten)]
-    pub analysis: Summary,
     /// Wall times.
     pub timing: AnalyzeTiming,
 }

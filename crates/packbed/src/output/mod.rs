@@ -5,8 +5,10 @@
 
 pub mod text;
 
+use crate::analysis::psd::PsdSummary;
 use crate::analysis::{coordination, Contacts};
 use crate::bed::Bed;
+use crate::config::LengthUnit;
 use crate::error::{Error, Result};
 use crate::io::summary::{AnalyzeSummary, RunSummary};
 use crate::io::{export, tables, Staging};
@@ -53,12 +55,17 @@ pub fn write_run_with<const D: usize>(
 ) -> Result<Vec<PathBuf>> {
     // Rendered before touching the disk: a bad value must not leave a directory.
     let json = summary.to_json()?;
+    let psd = summary
+        .psd
+        .as_ref()
+        .map(|p| (p, summary.config.analysis.length_unit));
     let files = extra_files(
         bed,
         contacts,
         &summary.analysis,
         summary.config.analysis.contact_tol,
         summary.config.analysis.chain_angle_from,
+        psd,
         extras,
     )?;
     stage_dir(dir, Some(bed), contacts, &files, &json)
@@ -83,6 +90,7 @@ pub fn write_analysis<const D: usize>(
         &summary.analysis,
         summary.settings.contact_tol,
         summary.settings.chain_angle_from,
+        None,
         extras,
     )?;
     stage_dir::<D>(dir, None, contacts, &files, &json)
@@ -119,9 +127,18 @@ fn extra_files<const D: usize>(
     measures: &crate::analysis::Summary,
     contact_tol: crate::math::Real,
     angle_from: crate::analysis::orientation::AngleFrom,
+    psd: Option<(&PsdSummary, Option<LengthUnit>)>,
     extras: &RunExtras,
 ) -> Result<Vec<(String, Vec<u8>)>> {
     let mut out = Vec::new();
+    if let Some((p, _)) = psd {
+        let mut buf = Vec::new();
+        crate::io::psd::write_psd(&mut buf, p).map_err(|e| Error::Io {
+            path: crate::io::psd::PSD_FILE.into(),
+            source: e,
+        })?;
+        out.push((crate::io::psd::PSD_FILE.to_string(), buf));
+    }
     if let Some(t) = &measures.pore_tables {
         use crate::io::pores::{write_network_vtp, write_pores, write_throats, PORE_FILES};
         let size: Vec<f64> = bed.container.size.0.to_vec();
@@ -140,6 +157,13 @@ fn extra_files<const D: usize>(
     }
     if extras.pictures {
         out.extend(pictures(bed, contacts, measures, contact_tol, angle_from)?);
+        #[cfg(feature = "render")]
+        if let Some((p, unit)) = psd {
+            out.extend(crate::render::run_files::psd_plot(
+                p,
+                unit.map(LengthUnit::name),
+            )?);
+        }
     }
     if !extras.exports.is_empty() {
         let z = coordination(bed, contacts);

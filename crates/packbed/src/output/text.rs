@@ -67,6 +67,22 @@ pub fn run_text(s: &RunSummary, out: &Path, files: &[PathBuf]) -> String {
             sp.name, sp.size, sp.ratio, sp.placed
         );
     }
+    if let Some(p) = &s.psd {
+        let unit = s
+            .config
+            .analysis
+            .length_unit
+            .map_or(String::new(), |u| format!(" {}", u.name()));
+        let d = |x: &crate::analysis::psd::PsdStats| {
+            format!("{} / {} / {}", length(x.d10), length(x.d50), length(x.d90))
+        };
+        let _ = writeln!(
+            t,
+            "  sizes by mass, d10 / d50 / d90: requested {}, placed {}{unit} (psd.csv)",
+            d(&p.requested),
+            d(&p.placed)
+        );
+    }
     let c = &s.counts;
     if s.mode == crate::config::Mode::Rsa {
         let _ = writeln!(

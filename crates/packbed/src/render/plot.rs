@@ -52,6 +52,12 @@ pub enum PlotData {
         /// The series.
         series: Vec<Series>,
     },
+    /// Lines through points over a logarithmic x axis (sizes spanning
+    /// decades, as size distributions are drawn); every x must be positive.
+    LogLines {
+        /// The series.
+        series: Vec<Series>,
+    },
 }
 
 /// A plot: data, title and axis labels (with units).
@@ -110,13 +116,17 @@ impl Plot {
                     }
                 }
             }
-            PlotData::Lines { series } => {
+            PlotData::Lines { series } | PlotData::LogLines { series } => {
+                let log = matches!(self.data, PlotData::LogLines { .. });
                 for s in series {
                     if s.points
                         .iter()
                         .any(|p| !p.0.is_finite() || !p.1.is_finite())
                     {
                         return bad("a point is not finite");
+                    }
+                    if log && s.points.iter().any(|p| p.0 <= 0.0) {
+                        return bad("a point on a logarithmic axis is not positive");
                     }
                     if let Some(e) = &s.errors {
                         if e.len() != s.points.len() || e.iter().any(|v| !v.is_finite()) {
@@ -238,19 +248,28 @@ impl Plot {
                     }
                 }
             }
-            PlotData::Lines { series } => {
-                let xticks = ticks(xr.0, xr.1, 7);
-                let xstep = tick_step(&xticks);
-                let xmap = |x: f64| left + (x - xr.0) / (xr.1 - xr.0) * (right - left);
-                for &t in &xticks {
-                    let x = xmap(t);
+            PlotData::Lines { series } | PlotData::LogLines { series } => {
+                let log = matches!(self.data, PlotData::LogLines { .. });
+                // A log axis keeps its range in decades (`ranges`).
+                let axis = |x: f64| if log { x.log10() } else { x };
+                let xmap = |x: f64| left + (axis(x) - xr.0) / (xr.1 - xr.0) * (right - left);
+                let labels: Vec<(f64, String)> = if log {
+                    log_ticks(xr.0, xr.1)
+                        .into_iter()
+                        .map(|t| (t, format_number(t)))
+                        .collect()
+                } else {
+                    let xticks = ticks(xr.0, xr.1, 7);
+                    let xstep = tick_step(&xticks);
+                    xticks.iter().map(|&t| (t, format_tick(t, xstep))).collect()
+                };
+                for (t, label) in &labels {
+                    let x = xmap(*t);
                     canvas.line(x, bottom, x, bottom + 0.3 * f, Rgb::BLACK, 1.0);
-                    canvas.text(
-                        x,
-                        xtick_y,
-                        &format_tick(t, xstep),
-                        TextStyle::new(small, Anchor::Middle),
-                    );
+                    if log {
+                        canvas.line(x, top, x, bottom, Rgb(235, 235, 235), 1.0);
+                    }
+                    canvas.text(x, xtick_y, label, TextStyle::new(small, Anchor::Middle));
                 }
                 for (g, s) in series.iter().enumerate() {
                     let c = colour::categorical(g);
@@ -314,7 +333,9 @@ impl Plot {
     fn legend_names(&self) -> Vec<String> {
         match &self.data {
             PlotData::Bars { groups, .. } => groups.iter().map(|g| g.name.clone()).collect(),
-            PlotData::Lines { series } => series.iter().map(|s| s.name.clone()).collect(),
+            PlotData::Lines { series } | PlotData::LogLines { series } => {
+                series.iter().map(|s| s.name.clone()).collect()
+            }
         }
     }
 
@@ -340,10 +361,12 @@ impl Plot {
                 x0 = 0.0;
                 x1 = 1.0;
             }
-            PlotData::Lines { series } => {
+            PlotData::Lines { series } | PlotData::LogLines { series } => {
+                let log = matches!(self.data, PlotData::LogLines { .. });
                 for s in series {
                     for (k, &(x, y)) in s.points.iter().enumerate() {
                         let e = s.errors.as_ref().map_or(0.0, |e| e[k].abs());
+                        let x = if log { x.log10() } else { x };
                         x0 = x0.min(x);
                         x1 = x1.max(x);
                         y0 = y0.min(y - e);
@@ -367,7 +390,11 @@ impl Plot {
             (lo, b + 0.05 * (b - a))
         };
         let is_bars = matches!(self.data, PlotData::Bars { .. });
-        let xr = self.x_range.unwrap_or_else(|| pad(x0, x1, false));
+        let xr = match (self.x_range, &self.data) {
+            (Some((a, b)), PlotData::LogLines { .. }) => (a.log10(), b.log10()),
+            (Some(r), _) => r,
+            (None, _) => pad(x0, x1, false),
+        };
         let yr = self.y_range.unwrap_or_else(|| pad(y0, y1, is_bars));
         // Round the y range out to whole ticks.
         let t = ticks(yr.0, yr.1, 6);
@@ -378,6 +405,31 @@ impl Plot {
             yr
         };
         (xr, yr)
+    }
+}
+
+/// Ticks of a logarithmic axis from `10^lo` to `10^hi`: 1, 2 and 5 times the
+/// powers of ten, or every digit where that gives fewer than three.
+pub fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let of = |digits: &[f64]| -> Vec<f64> {
+        let mut v = Vec::new();
+        let (a, b) = (lo.floor() as i32, hi.ceil() as i32);
+        for k in a..=b {
+            for &m in digits {
+                let t = m * 10f64.powi(k);
+                let l = t.log10();
+                if l >= lo - 1e-9 && l <= hi + 1e-9 {
+                    v.push(t);
+                }
+            }
+        }
+        v
+    };
+    let coarse = of(&[1.0, 2.0, 5.0]);
+    if coarse.len() >= 3 {
+        coarse
+    } else {
+        of(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0])
     }
 }
 

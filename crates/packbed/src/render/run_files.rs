@@ -4,6 +4,7 @@
 use super::run_plots;
 use super::{png_of, svg_of, RenderOptions};
 use crate::analysis::orientation::AngleFrom;
+use crate::analysis::psd::PsdSummary;
 use crate::analysis::{coordination, Contacts, Summary};
 use crate::bed::Bed;
 use crate::error::Result;
@@ -106,4 +107,20 @@ pub fn pictures<const D: usize>(
         }
     }
     Ok(out)
+}
+
+/// `plot_psd.png` and `.svg`: cumulative mass passing against size, the
+/// requested curve and the placed one.
+pub fn psd_plot(psd: &PsdSummary, unit: Option<&str>) -> Result<Vec<(String, Vec<u8>)>> {
+    let plot = run_plots::size_distribution(psd, unit);
+    Ok(vec![
+        (
+            "plot_psd.png".to_string(),
+            plot.to_png(PLOT_SIZE.0, PLOT_SIZE.1)?,
+        ),
+        (
+            "plot_psd.svg".to_string(),
+            plot.to_svg(PLOT_SIZE.0, PLOT_SIZE.1)?.into_bytes(),
+        ),
+    ])
 }

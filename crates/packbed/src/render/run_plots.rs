@@ -5,6 +5,7 @@
 
 use super::plot::{BarGroup, Plot, PlotData, Series};
 use crate::analysis::orientation::AngleFrom;
+use crate::analysis::psd::PsdSummary;
 use crate::bed::Bed;
 use crate::math::Real;
 
@@ -154,6 +155,39 @@ pub fn pore_sizes(body: &[Real], constriction: &[Real]) -> Plot {
         data: PlotData::Lines { series },
         y_range: Some((0.0, 100.0)),
         x_range,
+    }
+}
+
+/// The size distribution as sieve analyses draw it: mass % passing against
+/// diameter on a log axis, requested and placed (the roof cuts the coarse
+/// tail; fines that percolate down stay). `unit` names the length unit.
+pub fn size_distribution(psd: &PsdSummary, unit: Option<&str>) -> Plot {
+    let curve = |name: &str, pick: &dyn Fn(&crate::analysis::psd::PsdRow) -> Real| Series {
+        name: name.to_string(),
+        points: psd.table.iter().map(|r| (r.diameter, pick(r))).collect(),
+        errors: None,
+        markers: psd.table.len() <= 30,
+    };
+    let d50 = |d: Real| match unit {
+        Some(u) => format!("d50 {} {u}", crate::math::display_length(d)),
+        None => format!("d50 {}", crate::math::display_length(d)),
+    };
+    Plot {
+        title: "Size distribution by mass".into(),
+        x_label: format!("diameter ({})", unit.unwrap_or("length units")),
+        y_label: "finer than the diameter (% by mass)".into(),
+        data: PlotData::LogLines {
+            series: vec![
+                curve(&format!("requested ({})", d50(psd.requested.d50)), &|r| {
+                    r.requested_mass_percent_passing
+                }),
+                curve(&format!("placed ({})", d50(psd.placed.d50)), &|r| {
+                    r.placed_mass_percent_passing
+                }),
+            ],
+        },
+        y_range: Some((0.0, 100.0)),
+        x_range: None,
     }
 }
 

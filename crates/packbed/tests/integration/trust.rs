@@ -165,11 +165,11 @@ fn large_threshold_of_a_size_distribution_is_its_median() {
 
 #[test]
 fn median_of_a_psd_table_weighs_rows_in_order_of_radius() {
-    use packbed::species::SizeDist;
+    use packbed::species::{SizeDist, SizeTable, Within};
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("psd.csv");
-    std::fs::write(&path, "radius,weight\n30,1\n10,2\n20,1.5\n").unwrap();
-    let d = SizeDist::read_table(&path).unwrap();
+    std::fs::write(&path, "radius,number\n30,1\n10,2\n20,1.5\n").unwrap();
+    let d = SizeDist::Table(SizeTable::read(&path, Within::LogUniform, None).unwrap());
     // Weights by radius: 10 → 2/4.5 = 0.44, 20 → 0.78: the median is 20.
     assert_eq!(d.median(), 20.0);
     assert_eq!(SizeDist::Uniform { min: 2.0, max: 4.0 }.median(), 3.0);

@@ -440,29 +440,7 @@ fn sample_at_most(size: &SizeDist, room: Real, rng: &mut RunRng) -> Real {
     let (lo, hi) = size.bounds();
     match size {
         SizeDist::Fixed(r) => *r,
-        SizeDist::Table {
-            radii, cumulative, ..
-        } => {
-            let mut weights = Vec::with_capacity(radii.len());
-            let mut prev = 0.0;
-            for (&r, &c) in radii.iter().zip(cumulative) {
-                weights.push(if r <= room { c - prev } else { 0.0 });
-                prev = c;
-            }
-            let total: Real = weights.iter().sum();
-            if total > 0.0 {
-                let mut u: Real = rng.random::<Real>() * total;
-                for (&r, &w) in radii.iter().zip(&weights) {
-                    if w > 0.0 {
-                        if u < w {
-                            return r;
-                        }
-                        u -= w;
-                    }
-                }
-            }
-            lo
-        }
+        SizeDist::Table(t) => t.sample_at_most(room, rng).unwrap_or(lo),
         _ => {
             let top = room.min(hi);
             let u: Real = rng.random();

@@ -1,9 +1,12 @@
 //! Particle species: shape, size distribution and number ratio.
 
-use crate::error::{Error, Result};
 use crate::math::{display_length as length, normal, Real};
 use rand::RngExt;
-use std::path::{Path, PathBuf};
+
+mod passing;
+mod table;
+
+pub use table::{Basis, Layout, SizeClass, SizeTable, Within, ACCEPTED_HEADERS};
 
 /// Unbounded size distributions are truncated to their central part unless the
 /// config bounds them, so that every species has a finite largest radius (the
@@ -55,15 +58,8 @@ pub enum SizeDist {
         /// Largest radius.
         max: Real,
     },
-    /// A measured particle size distribution: radii with number weights.
-    Table {
-        /// The radii.
-        radii: Vec<Real>,
-        /// Cumulative weights, normalised so that the last is 1.
-        cumulative: Vec<Real>,
-        /// Where the table came from, for the summary.
-        source: PathBuf,
-    },
+    /// A measured particle size distribution ([`SizeTable`]).
+    Table(SizeTable),
 }
 
 impl SizeDist {
@@ -149,9 +145,7 @@ impl SizeDist {
             SizeDist::Fixed(r) => (*r, *r),
             SizeDist::Normal { lo, hi, .. } | SizeDist::Lognormal { lo, hi, .. } => (*lo, *hi),
             SizeDist::Uniform { min, max } => (*min, *max),
-            SizeDist::Table { radii, .. } => radii
-                .iter()
-                .fold((Real::INFINITY, 0.0), |(lo, hi), &r| (lo.min(r), hi.max(r))),
+            SizeDist::Table(t) => t.bounds(),
         }
     }
 
@@ -164,29 +158,7 @@ impl SizeDist {
             // the default symmetric window and moves with one-sided bounds.
             SizeDist::Normal { .. } | SizeDist::Lognormal { .. } => self.truncated_quantile(0.5),
             SizeDist::Uniform { min, max } => 0.5 * (min + max),
-            SizeDist::Table {
-                radii, cumulative, ..
-            } => {
-                // Rows may come in any order: weigh them in order of radius.
-                let mut rows: Vec<(Real, Real)> = radii
-                    .iter()
-                    .zip(cumulative)
-                    .scan(0.0, |prev, (&r, &c)| {
-                        let w = c - *prev;
-                        *prev = c;
-                        Some((r, w))
-                    })
-                    .collect();
-                rows.sort_by(|a, b| a.0.total_cmp(&b.0));
-                let mut acc = 0.0;
-                for &(r, w) in &rows {
-                    acc += w;
-                    if acc >= 0.5 {
-                        return r;
-                    }
-                }
-                rows.last().map_or(0.0, |x| x.0)
-            }
+            SizeDist::Table(t) => t.median(),
         }
     }
 
@@ -204,13 +176,7 @@ impl SizeDist {
                     rng.random_range(*min..=*max)
                 }
             }
-            SizeDist::Table {
-                radii, cumulative, ..
-            } => {
-                let u: Real = rng.random();
-                let i = cumulative.partition_point(|&c| c <= u);
-                radii[i.min(radii.len() - 1)]
-            }
+            SizeDist::Table(t) => t.sample(rng),
         }
     }
 
@@ -261,79 +227,8 @@ impl SizeDist {
                 window(lo, hi, SizeDist::lognormal_window(median, gsd), false)
             ),
             SizeDist::Uniform { min, max } => format!("r ~ uniform({min}, {max})"),
-            SizeDist::Table { source, radii, .. } => {
-                format!("r from {} ({} sizes)", source.display(), radii.len())
-            }
+            SizeDist::Table(t) => t.describe(),
         }
-    }
-
-    /// Reads a PSD table: CSV (or whitespace) rows `radius,weight`, optional header.
-    pub fn read_table(path: &Path) -> Result<SizeDist> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        let data_err = |line: usize, message: String| Error::Data {
-            path: path.to_path_buf(),
-            line,
-            message,
-        };
-        let mut radii = Vec::new();
-        let mut weights = Vec::new();
-        for (i, raw) in text.lines().enumerate() {
-            let line = raw.trim();
-            if line.is_empty() || line.starts_with('#') {
-                continue;
-            }
-            let fields: Vec<&str> = line
-                .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
-                .filter(|f| !f.is_empty())
-                .collect();
-            let parsed: Vec<Option<Real>> = fields.iter().map(|f| f.parse().ok()).collect();
-            if radii.is_empty() && weights.is_empty() && parsed.iter().any(|p| p.is_none()) {
-                continue; // a header line
-            }
-            if fields.len() != 2 {
-                return Err(data_err(
-                    i + 1,
-                    format!(
-                        "expected two columns `radius,weight`, found {}",
-                        fields.len()
-                    ),
-                ));
-            }
-            let (Some(r), Some(w)) = (parsed[0], parsed[1]) else {
-                return Err(data_err(i + 1, format!("not a number in `{line}`")));
-            };
-            if !(r.is_finite() && r > 0.0) {
-                return Err(data_err(i + 1, format!("radius must be positive, got {r}")));
-            }
-            if !(w.is_finite() && w >= 0.0) {
-                return Err(data_err(i + 1, format!("weight must be >= 0, got {w}")));
-            }
-            radii.push(r);
-            weights.push(w);
-        }
-        let total: Real = weights.iter().sum();
-        if radii.is_empty() || total <= 0.0 {
-            return Err(data_err(
-                text.lines().count().max(1),
-                "the table has no radius with a positive weight".into(),
-            ));
-        }
-        let mut acc = 0.0;
-        let cumulative = weights
-            .iter()
-            .map(|w| {
-                acc += w / total;
-                acc
-            })
-            .collect();
-        Ok(SizeDist::Table {
-            radii,
-            cumulative,
-            source: path.to_path_buf(),
-        })
     }
 }
 

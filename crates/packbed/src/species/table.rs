@@ -1,0 +1,914 @@
+//! Measured size distributions (PSD tables), read as sieve analyses and laser
+//! diffraction report them. The header says what the columns are, because a
+//! two-column file of numbers can mean diameters or radii, number or mass
+//! fractions: read the wrong way, it builds a wrong bed without a word.
+//!
+//! Three layouts, each with `radius` or `diameter` sizes (optionally with a
+//! unit, `diameter_um`) and `number`, `volume` or `mass` weights (equal
+//! density: mass = volume):
+//! - discrete sizes: `diameter_um,mass_percent`;
+//! - classes given by their edges, as sieves retain them:
+//!   `diameter_min_um,diameter_max_um,mass_percent`;
+//! - a cumulative curve: `diameter_um,percent_passing` (mass unless the column
+//!   says `number_percent_passing`).
+//!
+//! Sizes within a class (and between two points of a curve) are drawn
+//! log-uniformly unless the config says `within = "uniform"`: sieve classes
+//! are geometric (each aperture a fixed factor above the last), and a
+//! log-uniform class has the same share of each factor of size.
+
+use crate::error::{Error, Result};
+use crate::math::{display_length as length, Real};
+use rand::RngExt;
+use std::path::{Path, PathBuf};
+
+/// The headers accepted, for the message that refuses any other.
+pub const ACCEPTED_HEADERS: &str =
+    "`diameter,mass_percent` (sizes; `radius` for radii; weights `number`, `volume` or `mass`), \
+`diameter_min,diameter_max,mass_percent` (classes by their edges, as sieves give them), \
+`diameter,percent_passing` (a cumulative mass curve; `number_percent_passing` by number); \
+a size column may name its unit: `diameter_um` (m, mm, um, nm)";
+
+/// How sizes spread within a class of a table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Within {
+    /// Uniform in the logarithm of the size (the default).
+    #[default]
+    LogUniform,
+    /// Uniform in the size.
+    Uniform,
+}
+
+impl Within {
+    /// The config name: `log-uniform` or `uniform`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Within::LogUniform => "log-uniform",
+            Within::Uniform => "uniform",
+        }
+    }
+}
+
+/// What a table's weights count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Basis {
+    /// Numbers of particles.
+    Number,
+    /// Volume of solid.
+    Volume,
+    /// Mass of solid (equal density: the same as volume).
+    Mass,
+}
+
+impl Basis {
+    /// `number`, `volume` or `mass`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Basis::Number => "number",
+            Basis::Volume => "volume",
+            Basis::Mass => "mass",
+        }
+    }
+}
+
+/// How a table's rows give the distribution.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Layout {
+    /// One size per row.
+    Sizes,
+    /// Classes by their smallest and largest size.
+    Classes,
+    /// A cumulative curve: the share finer than each size.
+    Passing,
+}
+
+/// One class of radii `[lo, hi]` (`lo == hi`: a single size).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SizeClass {
+    /// Smallest radius.
+    pub lo: Real,
+    /// Largest radius.
+    pub hi: Real,
+    /// Probability that a particle is of this class (by number).
+    pub number: Real,
+}
+
+/// A measured size distribution: classes of radii with their number
+/// probabilities, in order of size.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SizeTable {
+    classes: Vec<SizeClass>,
+    /// Number probability of the classes up to each, the last exactly 1.
+    cumulative: Vec<Real>,
+    /// How sizes spread within a class.
+    pub within: Within,
+    /// How the file gave the distribution.
+    pub layout: Layout,
+    /// What the file's weights counted.
+    pub basis: Basis,
+    /// The file's size column: `radius` or `diameter`.
+    pub size_word: &'static str,
+    /// The unit the file named, if any.
+    pub unit: Option<&'static str>,
+    /// The file.
+    pub source: PathBuf,
+}
+
+/// One column of the header, as understood.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Column {
+    Size {
+        diameter: bool,
+        bound: Option<Bound>,
+        unit: Option<(&'static str, Real)>,
+    },
+    Weight {
+        basis: Option<Basis>,
+        fraction: bool,
+        passing: bool,
+    },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Bound {
+    Min,
+    Max,
+}
+
+/// The unit names a size column may carry, in metres.
+fn unit(token: &str) -> Option<(&'static str, Real)> {
+    Some(match token {
+        "m" => ("m", 1.0),
+        "mm" => ("mm", 1e-3),
+        "um" | "µm" | "μm" | "micron" | "microns" | "micrometre" | "micrometer" => ("um", 1e-6),
+        "nm" => ("nm", 1e-9),
+        _ => return None,
+    })
+}
+
+/// Reads one header field; `Err` holds a reason beyond "unknown", if any.
+fn column(field: &str) -> std::result::Result<Column, Option<String>> {
+    let text = field
+        .trim()
+        .trim_matches('"')
+        .to_lowercase()
+        .replace('%', "_percent_");
+    let tokens: Vec<&str> = text
+        .split(|c: char| !(c.is_alphanumeric() || c == 'µ' || c == 'μ'))
+        .filter(|t| !t.is_empty())
+        .collect();
+    let mut size = None;
+    let mut bound = None;
+    let mut unit_of = None;
+    let mut basis = None;
+    let mut fraction = false;
+    let mut percent = false;
+    let mut passing = false;
+    for t in &tokens {
+        match *t {
+            "radius" | "radii" => size = Some(false),
+            "diameter" | "diameters" => size = Some(true),
+            "min" | "lower" | "from" => bound = Some(Bound::Min),
+            "max" | "upper" | "to" => bound = Some(Bound::Max),
+            "number" | "count" => basis = Some(Basis::Number),
+            "volume" | "vol" => basis = Some(Basis::Volume),
+            "mass" => basis = Some(Basis::Mass),
+            "percent" | "pct" => percent = true,
+            "fraction" | "frac" => fraction = true,
+            "passing" | "undersize" | "finer" | "cumulative" => passing = true,
+            "weight" | "wt" | "weights" => {
+                return Err(Some(format!(
+                    "`{field}` does not say what the weights count (number or mass?): \
+                     name the column `number`, `volume` or `mass`"
+                )))
+            }
+            t => match unit(t) {
+                Some(u) => unit_of = Some(u),
+                None => return Err(None),
+            },
+        }
+    }
+    let weighty = basis.is_some() || fraction || percent || passing;
+    match size {
+        Some(diameter) if !weighty => Ok(Column::Size {
+            diameter,
+            bound,
+            unit: unit_of,
+        }),
+        None if weighty && bound.is_none() && unit_of.is_none() => Ok(Column::Weight {
+            basis,
+            fraction: fraction && !percent,
+            passing,
+        }),
+        _ => Err(None),
+    }
+}
+
+/// The header's layout: columns of sizes and the weight column.
+struct Header {
+    layout: Layout,
+    diameter: bool,
+    unit: Option<(&'static str, Real)>,
+    basis: Basis,
+    fraction: bool,
+    /// Where the smallest and largest size of a class are (classes only).
+    min_max: (usize, usize),
+}
+
+fn header(fields: &[&str]) -> std::result::Result<Header, Option<String>> {
+    let cols = fields
+        .iter()
+        .map(|f| column(f))
+        .collect::<std::result::Result<Vec<_>, _>>()?;
+    let weight = |c: &Column, passing_wanted: bool| match *c {
+        Column::Weight {
+            basis,
+            fraction,
+            passing,
+        } if passing == passing_wanted => {
+            // A passing curve is by mass unless it says otherwise: sieve
+            // analyses and laser diffraction both report mass (volume).
+            let basis = match (basis, passing) {
+                (Some(b), _) => Some(b),
+                (None, true) => Some(Basis::Mass),
+                (None, false) => None,
+            };
+            basis.map(|b| (b, fraction))
+        }
+        _ => None,
+    };
+    match cols.as_slice() {
+        [Column::Size {
+            diameter,
+            bound: None,
+            unit,
+        }, w] => {
+            if let Some((basis, fraction)) = weight(w, false) {
+                return Ok(Header {
+                    layout: Layout::Sizes,
+                    diameter: *diameter,
+                    unit: *unit,
+                    basis,
+                    fraction,
+                    min_max: (0, 0),
+                });
+            }
+            if let Some((basis, fraction)) = weight(w, true) {
+                return Ok(Header {
+                    layout: Layout::Passing,
+                    diameter: *diameter,
+                    unit: *unit,
+                    basis,
+                    fraction,
+                    min_max: (0, 0),
+                });
+            }
+            Err(None)
+        }
+        [Column::Size {
+            diameter: d0,
+            bound: Some(b0),
+            unit: u0,
+        }, Column::Size {
+            diameter: d1,
+            bound: Some(b1),
+            unit: u1,
+        }, w]
+            if d0 == d1 && u0 == u1 && b0 != b1 =>
+        {
+            let (basis, fraction) = weight(w, false).ok_or(None)?;
+            Ok(Header {
+                layout: Layout::Classes,
+                diameter: *d0,
+                unit: *u0,
+                basis,
+                fraction,
+                min_max: if *b0 == Bound::Min { (0, 1) } else { (1, 0) },
+            })
+        }
+        _ => Err(None),
+    }
+}
+
+/// The mean of `r³` over a class, and the share of its number and its volume
+/// below `x`.
+fn mean_cube(c: &SizeClass, within: Within) -> Real {
+    let (a, b) = (c.lo, c.hi);
+    if a == b {
+        return a * a * a;
+    }
+    match within {
+        // Density ∝ 1/r on [a, b]: ∫ r³ dr/r = (b³ − a³)/3, over ln(b/a).
+        Within::LogUniform => (b * b * b - a * a * a) / (3.0 * (b / a).ln()),
+        Within::Uniform => (b.powi(4) - a.powi(4)) / (4.0 * (b - a)),
+    }
+}
+
+fn number_below(c: &SizeClass, within: Within, x: Real) -> Real {
+    if x < c.lo {
+        return 0.0;
+    }
+    if x >= c.hi {
+        return 1.0;
+    }
+    match within {
+        Within::LogUniform => (x / c.lo).ln() / (c.hi / c.lo).ln(),
+        Within::Uniform => (x - c.lo) / (c.hi - c.lo),
+    }
+}
+
+fn volume_below(c: &SizeClass, within: Within, x: Real) -> Real {
+    if x < c.lo {
+        return 0.0;
+    }
+    if x >= c.hi {
+        return 1.0;
+    }
+    let p = match within {
+        Within::LogUniform => 3,
+        Within::Uniform => 4,
+    };
+    (x.powi(p) - c.lo.powi(p)) / (c.hi.powi(p) - c.lo.powi(p))
+}
+
+/// The radius of `c` at which `u` of its number lies below.
+fn class_quantile(c: &SizeClass, within: Within, u: Real) -> Real {
+    if c.lo == c.hi {
+        return c.lo;
+    }
+    let r = match within {
+        Within::LogUniform => c.lo * (c.hi / c.lo).powf(u),
+        Within::Uniform => c.lo + u * (c.hi - c.lo),
+    };
+    r.clamp(c.lo, c.hi)
+}
+
+impl SizeTable {
+    /// Reads a PSD table. `metres_per_unit` is the bed's length unit
+    /// (`[analysis] length_unit`): sizes in a unit the file names are
+    /// converted to it, and a file that names a unit needs one.
+    pub fn read(path: &Path, within: Within, metres_per_unit: Option<Real>) -> Result<SizeTable> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let err = |line: usize, message: String| Error::Data {
+            path: path.to_path_buf(),
+            line,
+            message,
+        };
+        let mut rows = text
+            .lines()
+            .enumerate()
+            .map(|(i, l)| (i + 1, l.trim()))
+            .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+        let Some((header_line, header_text)) = rows.next() else {
+            return Err(err(
+                1,
+                format!("the table is empty; it needs a header, one of {ACCEPTED_HEADERS}"),
+            ));
+        };
+        let names = fields(header_text);
+        if names.iter().all(|f| f.parse::<Real>().is_ok()) {
+            return Err(err(
+                header_line,
+                format!(
+                    "no header (the first row is `{header_text}`); the first row must say what the columns are, one of {ACCEPTED_HEADERS}"
+                ),
+            ));
+        }
+        let h = header(&names).map_err(|why| {
+            err(
+                header_line,
+                match why {
+                    Some(w) => format!("header `{header_text}`: {w}"),
+                    None => format!("unknown header `{header_text}`; accepted: {ACCEPTED_HEADERS}"),
+                },
+            )
+        })?;
+        let scale = match (h.unit, metres_per_unit) {
+            (Some((_, m)), Some(bed)) => m / bed,
+            (Some((name, _)), None) => {
+                return Err(err(
+                    header_line,
+                    format!(
+                        "the sizes are in {name}, but the bed's length unit is not given: set `[analysis] length_unit` (e.g. \"{name}\")"
+                    ),
+                ))
+            }
+            (None, _) => 1.0,
+        } * if h.diameter { 0.5 } else { 1.0 };
+        let mut data: Vec<(usize, Vec<Real>)> = Vec::new();
+        for (line, l) in rows {
+            let f = fields(l);
+            if f.len() != names.len() {
+                return Err(err(
+                    line,
+                    format!(
+                        "expected {} columns as the header `{header_text}` says, found {}",
+                        names.len(),
+                        f.len()
+                    ),
+                ));
+            }
+            let mut v = Vec::with_capacity(f.len());
+            for x in f {
+                match x.parse::<Real>() {
+                    Ok(x) if x.is_finite() => v.push(x),
+                    _ => return Err(err(line, format!("not a number: `{x}` in `{l}`"))),
+                }
+            }
+            data.push((line, v));
+        }
+        let last_line = text.lines().count().max(1);
+        let positive_size = |line: usize, s: Real| {
+            if s > 0.0 {
+                Ok(s * scale)
+            } else {
+                Err(err(line, format!("a size must be positive, got {s}")))
+            }
+        };
+        let weight = |line: usize, w: Real| {
+            if w >= 0.0 {
+                Ok(w)
+            } else {
+                Err(err(line, format!("a weight must be >= 0, got {w}")))
+            }
+        };
+        // Classes with their weight on the file's basis.
+        let mut classes: Vec<(SizeClass, Real)> = Vec::new();
+        match h.layout {
+            Layout::Sizes => {
+                for (line, v) in &data {
+                    let r = positive_size(*line, v[0])?;
+                    classes.push((class(r, r), weight(*line, v[1])?));
+                }
+            }
+            Layout::Classes => {
+                for (line, v) in &data {
+                    let lo = positive_size(*line, v[h.min_max.0])?;
+                    let hi = positive_size(*line, v[h.min_max.1])?;
+                    if lo >= hi {
+                        return Err(err(
+                            *line,
+                            format!(
+                                "the smallest size of a class must be below its largest, got {} and {}",
+                                v[h.min_max.0], v[h.min_max.1]
+                            ),
+                        ));
+                    }
+                    classes.push((class(lo, hi), weight(*line, v[2])?));
+                }
+            }
+            Layout::Passing => {
+                let full = if h.fraction { 1.0 } else { 100.0 };
+                let what = if h.fraction { "" } else { " %" };
+                let mut prev: Option<(Real, Real)> = None;
+                for (line, v) in &data {
+                    let (s, p) = (positive_size(*line, v[0])?, v[1]);
+                    if !(0.0..=full * 1.01).contains(&p) {
+                        return Err(err(
+                            *line,
+                            format!("a share passing must be between 0 and {full}, got {p}"),
+                        ));
+                    }
+                    match prev {
+                        None if p > 0.0 => {
+                            return Err(err(
+                                *line,
+                                format!(
+                                    "the curve starts at {p}{what} passing: what is finer than its first size has no size range; start with a row of 0{what} passing at the smallest size present"
+                                ),
+                            ))
+                        }
+                        None => {}
+                        Some((s0, p0)) => {
+                            if s <= s0 {
+                                return Err(err(*line, "sizes must increase down the curve".into()));
+                            }
+                            if p < p0 {
+                                return Err(err(
+                                    *line,
+                                    format!("the share passing falls from {p0} to {p}; a cumulative curve never falls"),
+                                ));
+                            }
+                            classes.push((class(s0, s), p - p0));
+                        }
+                    }
+                    prev = Some((s, p));
+                }
+                if let Some((_, p)) = prev {
+                    if (p - full).abs() > 0.01 * full {
+                        return Err(err(
+                            last_line,
+                            format!(
+                                "the curve ends at {p}{what} passing: what is coarser than its last size has no size range; end with a row of {full}{what} passing at the largest size present"
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+        // Rows of weight 0 are part of a sieve report, not sizes to draw.
+        classes.retain(|(_, w)| *w > 0.0);
+        if classes.is_empty() {
+            return Err(err(
+                last_line,
+                "the table has no size with a positive weight".into(),
+            ));
+        }
+        classes.sort_by(|a, b| a.0.lo.total_cmp(&b.0.lo).then(a.0.hi.total_cmp(&b.0.hi)));
+        // Equal single sizes are one size; overlapping classes are a mistake.
+        let mut merged: Vec<(SizeClass, Real)> = Vec::with_capacity(classes.len());
+        for (c, w) in classes {
+            if let Some(last) = merged.last_mut() {
+                if last.0 == c {
+                    last.1 += w;
+                    continue;
+                }
+                if c.lo < last.0.hi {
+                    let unit = h.unit.map_or(String::new(), |u| format!(" {}", u.0));
+                    let word = if h.diameter { "diameters" } else { "radii" };
+                    let back = if h.diameter { 2.0 / scale } else { 1.0 / scale };
+                    return Err(err(
+                        last_line,
+                        format!(
+                            "the classes of {word} [{}, {}] and [{}, {}]{unit} overlap",
+                            length(last.0.lo * back),
+                            length(last.0.hi * back),
+                            length(c.lo * back),
+                            length(c.hi * back)
+                        ),
+                    ));
+                }
+            }
+            merged.push((c, w));
+        }
+        // Mass (volume) shares become number shares: each class's mass over
+        // the mass of its mean particle.
+        let numbers: Vec<Real> = merged
+            .iter()
+            .map(|(c, w)| match h.basis {
+                Basis::Number => *w,
+                Basis::Volume | Basis::Mass => w / mean_cube(c, within),
+            })
+            .collect();
+        let total: Real = numbers.iter().sum();
+        if !(total.is_finite() && total > 0.0) {
+            return Err(err(
+                last_line,
+                "the table's weights give no particles (sizes too large or weights too small)"
+                    .into(),
+            ));
+        }
+        let mut acc = 0.0;
+        let mut cumulative = Vec::with_capacity(numbers.len());
+        let mut out = Vec::with_capacity(numbers.len());
+        for ((c, _), n) in merged.into_iter().zip(numbers) {
+            acc += n / total;
+            cumulative.push(acc);
+            out.push(SizeClass {
+                number: n / total,
+                ..c
+            });
+        }
+        *cumulative.last_mut().expect("classes are not empty") = 1.0;
+        Ok(SizeTable {
+            classes: out,
+            cumulative,
+            within,
+            layout: h.layout,
+            basis: h.basis,
+            size_word: if h.diameter { "diameter" } else { "radius" },
+            unit: h.unit.map(|u| u.0),
+            source: path.to_path_buf(),
+        })
+    }
+
+    /// The classes, in order of size.
+    pub fn classes(&self) -> &[SizeClass] {
+        &self.classes
+    }
+
+    /// The smallest and largest radius drawn.
+    pub fn bounds(&self) -> (Real, Real) {
+        (self.classes[0].lo, self.classes[self.classes.len() - 1].hi)
+    }
+
+    /// Draws one radius.
+    pub fn sample<R: rand::Rng + ?Sized>(&self, rng: &mut R) -> Real {
+        let u: Real = rng.random();
+        let i = self
+            .cumulative
+            .partition_point(|&c| c <= u)
+            .min(self.classes.len() - 1);
+        let c = &self.classes[i];
+        if c.lo == c.hi {
+            c.lo
+        } else {
+            class_quantile(c, self.within, rng.random())
+        }
+    }
+
+    /// Draws one radius of at most `room`, by the table's weights of the sizes
+    /// that fit; `None` when no size fits.
+    pub fn sample_at_most<R: rand::Rng + ?Sized>(&self, room: Real, rng: &mut R) -> Option<Real> {
+        let weights: Vec<Real> = self
+            .classes
+            .iter()
+            .map(|c| c.number * number_below(c, self.within, room))
+            .collect();
+        let total: Real = weights.iter().sum();
+        if total <= 0.0 {
+            return None;
+        }
+        let mut u = rng.random::<Real>() * total;
+        let mut pick = self.classes.len() - 1;
+        for (i, &w) in weights.iter().enumerate() {
+            if w > 0.0 {
+                pick = i;
+                if u < w {
+                    break;
+                }
+                u -= w;
+            }
+        }
+        let c = &self.classes[pick];
+        // Within a class cut at `room`, the draw keeps the class's own spread.
+        let cut = SizeClass {
+            hi: c.hi.min(room),
+            ..*c
+        };
+        Some(class_quantile(&cut, self.within, rng.random()))
+    }
+
+    /// The number-median radius.
+    pub fn median(&self) -> Real {
+        let i = self
+            .cumulative
+            .partition_point(|&c| c < 0.5)
+            .min(self.classes.len() - 1);
+        let before = if i == 0 { 0.0 } else { self.cumulative[i - 1] };
+        let c = &self.classes[i];
+        let u = ((0.5 - before) / c.number).clamp(0.0, 1.0);
+        class_quantile(c, self.within, u)
+    }
+
+    /// The mean of `r³` by number.
+    pub fn mean_cube(&self) -> Real {
+        self.classes
+            .iter()
+            .map(|c| c.number * mean_cube(c, self.within))
+            .sum()
+    }
+
+    /// The share of particles (by number) of radius `<= x`.
+    pub fn number_passing(&self, x: Real) -> Real {
+        self.classes
+            .iter()
+            .map(|c| c.number * number_below(c, self.within, x))
+            .sum::<Real>()
+            .min(1.0)
+    }
+
+    /// The share of the solid volume (mass) in particles of radius `<= x`.
+    pub fn volume_passing(&self, x: Real) -> Real {
+        let part: Real = self
+            .classes
+            .iter()
+            .map(|c| c.number * mean_cube(c, self.within) * volume_below(c, self.within, x))
+            .sum();
+        (part / self.mean_cube()).min(1.0)
+    }
+
+    /// The radii at which the table has rows: class edges and single sizes.
+    pub fn sizes(&self) -> Vec<Real> {
+        let mut v: Vec<Real> = self.classes.iter().flat_map(|c| [c.lo, c.hi]).collect();
+        v.sort_by(Real::total_cmp);
+        v.dedup();
+        v
+    }
+
+    /// For a person: `r from psd.csv (7 sieve classes by mass, diameters in
+    /// um, log-uniform within a class)`.
+    pub fn describe(&self) -> String {
+        let n = self.classes.len();
+        let layout = match self.layout {
+            Layout::Sizes => format!("{n} sizes by {}", self.basis.name()),
+            Layout::Classes => format!("{n} classes by {}", self.basis.name()),
+            Layout::Passing => format!("a cumulative {} curve", self.basis.name()),
+        };
+        let unit = self.unit.map_or(String::new(), |u| format!(" in {u}"));
+        let within = match self.layout {
+            Layout::Sizes => String::new(),
+            _ => format!(", {} within a class", self.within.name()),
+        };
+        let words = if self.size_word == "radius" {
+            "radii"
+        } else {
+            "diameters"
+        };
+        format!(
+            "r from {} ({layout}, {words}{unit}{within})",
+            self.source.display()
+        )
+    }
+}
+
+fn class(lo: Real, hi: Real) -> SizeClass {
+    SizeClass {
+        lo,
+        hi,
+        number: 0.0,
+    }
+}
+
+/// The fields of a row: separated by commas, semicolons or tabs, or else by
+/// spaces (so that a header `diameter (um),mass %` keeps its words together).
+fn fields(line: &str) -> Vec<&str> {
+    let delimited = line.contains([',', ';', '\t']);
+    line.split(|c: char| {
+        if delimited {
+            c == ',' || c == ';' || c == '\t'
+        } else {
+            c.is_whitespace()
+        }
+    })
+    .map(str::trim)
+    .filter(|f| !f.is_empty())
+    .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+    use rand_xoshiro::Xoshiro256PlusPlus;
+
+    fn table(text: &str, unit: Option<Real>) -> Result<SizeTable> {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("psd.csv");
+        std::fs::write(&path, text).unwrap();
+        SizeTable::read(&path, Within::LogUniform, unit)
+    }
+
+    fn refusal(text: &str, unit: Option<Real>) -> String {
+        let e = table(text, unit).expect_err(text).to_string();
+        assert!(!e.contains('\n'), "one line: {e}");
+        assert!(e.contains("psd.csv:"), "names the file: {e}");
+        e
+    }
+
+    fn draws(t: &SizeTable, n: usize) -> Vec<Real> {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(3);
+        (0..n).map(|_| t.sample(&mut rng)).collect()
+    }
+
+    #[test]
+    fn diameters_by_mass_become_radii_by_number() {
+        // The file that was once read as radii 10 and 20 with number weights 1:1.
+        let t = table("diameter_um,mass_percent\n10,50\n20,50\n", Some(1e-6)).unwrap();
+        assert_eq!(t.bounds(), (5.0, 10.0));
+        // Equal masses: eight radius-5 particles weigh what one radius-10 does.
+        let c = t.classes();
+        assert!((c[0].number - 8.0 / 9.0).abs() < 1e-15);
+        let d = draws(&t, 90_000);
+        let small = d.iter().filter(|&&r| r == 5.0).count() as Real / d.len() as Real;
+        assert!((small - 8.0 / 9.0).abs() < 0.005, "{small}");
+        assert!((t.volume_passing(5.0) - 0.5).abs() < 1e-15);
+        // The same file in a bed measured in mm.
+        let mm = table("diameter_um,mass_percent\n10,50\n20,50\n", Some(1e-3)).unwrap();
+        assert!((mm.bounds().1 - 0.01).abs() < 1e-15);
+    }
+
+    #[test]
+    fn headers_that_do_not_say_what_they_hold_are_refused() {
+        let e = refusal("6,0.10\n8,0.25\n", None);
+        assert!(e.contains("no header") && e.contains("`6,0.10`"), "{e}");
+        assert!(e.contains(ACCEPTED_HEADERS), "{e}");
+        let e = refusal("size,amount\n6,0.1\n", None);
+        assert!(e.contains("unknown header `size,amount`"), "{e}");
+        assert!(e.contains(ACCEPTED_HEADERS), "{e}");
+        let e = refusal("radius,weight\n6,0.1\n", None);
+        assert!(e.contains("number") && e.contains("mass"), "{e}");
+        // A weight column that does not say number, volume or mass.
+        refusal("diameter_min,diameter_max,fraction\n1,2,1\n", None);
+        // A unit with no unit for the bed.
+        let e = refusal("diameter_um,number\n6,1\n", None);
+        assert!(e.contains("length_unit"), "{e}");
+        // Classes whose edges are not of one kind.
+        refusal("diameter_min,radius_max,mass\n1,2,1\n", None);
+        refusal("", None);
+    }
+
+    #[test]
+    fn headers_as_instruments_write_them_are_read() {
+        for text in [
+            "Diameter (µm);Mass %\n10;50\n20;50\n",
+            "diameter_um\tmass_percent\n10\t50\n20\t50\n",
+            "# sieve report\ndiameter um , mass fraction\n10, 0.5\n20, 0.5\n",
+        ] {
+            let t = table(text, Some(1e-6)).unwrap_or_else(|e| panic!("{text}: {e}"));
+            assert_eq!(t.bounds(), (5.0, 10.0), "{text}");
+            assert_eq!(t.basis, Basis::Mass);
+        }
+    }
+
+    #[test]
+    fn sieve_classes_are_drawn_within_their_edges() {
+        let t = table(
+            "diameter_min_um,diameter_max_um,mass_percent\n20,40,30\n40,80,50\n80,160,20\n160,320,0\n",
+            Some(1e-6),
+        )
+        .unwrap();
+        assert_eq!(t.layout, Layout::Classes);
+        // The empty top class draws nothing and does not widen the bed's sizes.
+        assert_eq!(t.bounds(), (10.0, 80.0));
+        let d = draws(&t, 200_000);
+        assert!(d.iter().all(|&r| (10.0..=80.0).contains(&r)));
+        // Not collapsed onto one size per class: many distinct radii.
+        let mut distinct = d.clone();
+        distinct.sort_by(Real::total_cmp);
+        distinct.dedup();
+        assert!(distinct.len() > 100_000);
+        // Log-uniform within a class: as many draws in [10, 10√2] as in [10√2, 20].
+        let mid = 10.0 * 2f64.sqrt();
+        let a = d.iter().filter(|&&r| r < mid).count() as Real;
+        let b = d.iter().filter(|&&r| (mid..20.0).contains(&r)).count() as Real;
+        assert!((a / b - 1.0).abs() < 0.03, "{a} {b}");
+        // The draws' mass shares are the table's.
+        let mass = |lo: Real, hi: Real| -> Real {
+            d.iter()
+                .filter(|&&r| lo <= r && r < hi)
+                .map(|r| r * r * r)
+                .sum()
+        };
+        let all = mass(0.0, 1e9);
+        for (lo, hi, share) in [(10.0, 20.0, 0.3), (20.0, 40.0, 0.5), (40.0, 80.1, 0.2)] {
+            let s = mass(lo, hi) / all;
+            assert!((s - share).abs() < 0.01, "[{lo}, {hi}): {s}");
+            assert!((t.volume_passing(hi.min(80.0)) - t.volume_passing(lo) - share).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn a_passing_curve_is_its_classes() {
+        let curve = table(
+            "diameter_um,percent_passing\n20,0\n40,30\n80,80\n160,100\n",
+            Some(1e-6),
+        )
+        .unwrap();
+        let classes = table(
+            "diameter_min_um,diameter_max_um,mass_percent\n20,40,30\n40,80,50\n80,160,20\n",
+            Some(1e-6),
+        )
+        .unwrap();
+        assert_eq!(curve.classes(), classes.classes());
+        assert_eq!(curve.layout, Layout::Passing);
+        assert_eq!(curve.basis, Basis::Mass);
+        // The curve read back at its own sizes.
+        for (d, p) in [(20.0, 0.0), (40.0, 0.3), (80.0, 0.8), (160.0, 1.0)] {
+            assert!((curve.volume_passing(d / 2.0) - p).abs() < 1e-12, "{d}");
+        }
+        let uniform = SizeTable::read(&curve.source, Within::Uniform, Some(1e-6));
+        assert!(uniform.is_err(), "the file is gone with its directory");
+    }
+
+    #[test]
+    fn curves_that_leave_sizes_out_are_refused() {
+        let e = refusal("diameter,percent_passing\n20,5\n40,100\n", None);
+        assert!(e.contains("starts at 5 % passing"), "{e}");
+        let e = refusal("diameter,percent_passing\n20,0\n40,90\n", None);
+        assert!(e.contains("ends at 90 % passing"), "{e}");
+        let e = refusal(
+            "diameter,percent_passing\n20,0\n40,60\n60,50\n80,100\n",
+            None,
+        );
+        assert!(e.contains("never falls"), "{e}");
+        refusal("diameter,percent_passing\n20,0\n20,100\n", None);
+        let e = refusal("diameter_min,diameter_max,mass\n10,30,1\n20,40,1\n", None);
+        assert!(e.contains("overlap"), "{e}");
+        let e = refusal("diameter_min,diameter_max,mass\n0,30,1\n", None);
+        assert!(e.contains("positive"), "{e}");
+    }
+
+    #[test]
+    fn a_number_table_keeps_its_weights_and_its_median() {
+        let t = table("radius,number\n30,1\n10,2\n20,1.5\n", None).unwrap();
+        // By radius: 10 → 2/4.5 = 0.44, 20 → 0.78: the number median is 20.
+        assert_eq!(t.median(), 20.0);
+        assert!((t.number_passing(10.0) - 2.0 / 4.5).abs() < 1e-15);
+        assert_eq!(t.sizes(), vec![10.0, 20.0, 30.0]);
+    }
+
+    #[test]
+    fn sizes_that_fit_keep_their_class_spread() {
+        let t = table("radius_min,radius_max,number\n1,2,1\n2,4,1\n", None).unwrap();
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(1);
+        for _ in 0..1000 {
+            let r = t.sample_at_most(3.0, &mut rng).unwrap();
+            assert!((1.0..=3.0).contains(&r));
+        }
+        assert_eq!(t.sample_at_most(0.5, &mut rng), None);
+    }
+}
