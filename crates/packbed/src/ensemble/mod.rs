@@ -25,6 +25,7 @@
 //! [`write`] (the statistics files and plots), [`slurm`] (job scripts for a
 //! Slurm cluster), and [`stats`], [`tables`], [`plots`], [`seeds`], [`sweep`].
 
+pub mod compare;
 pub(crate) mod manifest;
 pub(crate) mod merge;
 #[cfg(feature = "render")]
