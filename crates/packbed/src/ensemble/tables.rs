@@ -280,10 +280,18 @@ pub const CAKE: [(&str, &str); 13] = [
 /// - bookkeeping counts (`counts.*`, `species.*`, `*.bodies`, `*.particles`)
 ///   that are the same whole number in every bed: they restate the config
 ///   (`fill.count`, a single species, no redrops);
+/// - the size distribution the config asked for (`*.requested.*`,
+///   `*.requested_*`), which the beds' placed one is held against;
 /// - flags that only explain a null (`*_empty`) when no bed raised one.
 pub fn is_uninformative(m: &Measure, beds: u64) -> bool {
     let last = m.name.rsplit('.').next().unwrap_or("");
     if matches!(last, "slab" | "species" | "viscosity") {
+        return true;
+    }
+    if m.name
+        .split('.')
+        .any(|seg| seg == "requested" || seg.starts_with("requested_"))
+    {
         return true;
     }
     let s = &m.stats;
@@ -295,6 +303,19 @@ pub fn is_uninformative(m: &Measure, beds: u64) -> bool {
         return true;
     }
     m.kind == Kind::Percent && last.ends_with("_empty") && s.max == 0.0
+}
+
+/// Arrays of records that are curves (one record per point, e.g. the size
+/// distribution's 25 points of `psd.table`): a row per field and point would
+/// bury the table, so they go with the profiles, to `ensemble.csv`.
+const CURVES: [&str; 1] = ["psd.table"];
+
+/// The curve a measure is a point of, if any.
+fn curve_of(name: &str) -> Option<&'static str> {
+    CURVES.iter().copied().find(|c| {
+        name.strip_prefix(c)
+            .is_some_and(|rest| rest.starts_with('['))
+    })
 }
 
 /// One line describing the system of a config.
@@ -388,8 +409,15 @@ pub fn ensemble_md(h: &Header, a: &Aggregate) -> String {
     let _ = writeln!(t, "| measure | min | mean ± sd | max |");
     let _ = writeln!(t, "| --- | ---: | ---: | ---: |");
     let mut left_out = Vec::new();
+    let mut curves: Vec<&str> = Vec::new();
     for m in &a.measures {
         if CAKE.iter().any(|&(key, _)| key == m.name) {
+            continue;
+        }
+        if let Some(c) = curve_of(&m.name) {
+            if !curves.contains(&c) {
+                curves.push(c);
+            }
             continue;
         }
         if is_uninformative(m, a.replicates) {
@@ -423,8 +451,9 @@ pub fn ensemble_md(h: &Header, a: &Aggregate) -> String {
         let f: Vec<String> = hist.fraction.iter().map(|v| fixed(*v, 4)).collect();
         let _ = writeln!(t, "| fraction | {} |", f.join(" | "));
     }
-    if !a.series.is_empty() {
+    if !a.series.is_empty() || !curves.is_empty() {
         let names: Vec<&str> = a.series.iter().map(|s| s.name.as_str()).collect();
+        let names = [names, curves].concat();
         let _ = writeln!(
             t,
             "\nProfiles ({}) are in `ensemble.csv` and `ensemble.json`, entry by entry.",
@@ -699,6 +728,18 @@ mod tests {
             same(1.0)
         ));
         assert!(!dropped("percolation.spans", Kind::Percent, same(100.0)));
+        // The size distribution asked for, against the one placed.
+        assert!(dropped("psd.requested.d50", Kind::Value, same(20.0)));
+        assert!(dropped(
+            "psd.table[3].requested_mass_percent_passing",
+            Kind::Value,
+            same(12.5)
+        ));
+        assert!(!dropped(
+            "psd.placed.d50",
+            Kind::Value,
+            st(10, 19.5, 0.3, 19.1, 20.0)
+        ));
         // A flag that explains a null, only when no bed raised it.
         assert!(dropped(
             "packing.bulk_region_empty",
@@ -748,7 +789,25 @@ mod tests {
             ],
             ..Default::default()
         };
+        let mut a = a;
+        for k in 0..25 {
+            let name = format!("psd.table[{k}].placed_mass_percent_passing");
+            let stats = st(
+                10,
+                4.0 * k as f64,
+                0.5,
+                4.0 * k as f64 - 1.0,
+                4.0 * k as f64 + 1.0,
+            );
+            a.measures.push(measure(&name, Kind::Value, stats));
+        }
         let md = ensemble_md(&h, &a);
+        // A curve goes with the profiles, not a row per point.
+        assert!(!md.contains("| psd.table[3]"), "{md}");
+        assert!(
+            md.contains("Profiles (psd.table) are in `ensemble.csv`"),
+            "{md}"
+        );
         let at = |s: &str| md.find(s).unwrap_or_else(|| panic!("{s} not in\n{md}"));
         assert!(at("## Cake") < at("| packing.global |"), "{md}");
         assert!(
