@@ -40,17 +40,6 @@ pub enum LargeSource {
     VolumeMedian,
 }
 
-impl LargeSource {
-    /// The name in `summary.json`.
-    pub fn name(self) -> &'static str {
-        match self {
-            LargeSource::Given => "given",
-            LargeSource::LargestSize => "largest size",
-            LargeSource::VolumeMedian => "volume median",
-        }
-    }
-}
-
 /// Settings of the percolation analysis.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PercolationOptions {
