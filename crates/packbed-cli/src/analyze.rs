@@ -32,7 +32,7 @@ pub struct AnalyzeArgs {
     )]
     pub contact_tol: f64,
     /// Percolation threshold: particles with radius >= R count as large
-    /// (default: the largest of the species' median radii).
+    /// (default: the largest of the species' volume-median radii).
     #[arg(long, value_name = "R", allow_hyphen_values = true)]
     pub large: Option<f64>,
     /// Bulk measures are null when the bulk region holds fewer bodies.

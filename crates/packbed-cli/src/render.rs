@@ -68,7 +68,8 @@ pub struct RenderArgs {
     /// Contact tolerance relative to the smaller radius (coordination, network, chains, force).
     #[arg(long, default_value_t = 1e-6)]
     pub contact_tol: f64,
-    /// Radius from which particles count as large (chains); default the largest.
+    /// Radius from which particles count as large (chains); default the largest
+    /// of the species' volume-median radii.
     #[arg(long, value_name = "R")]
     pub large: Option<f64>,
     /// Title above the picture.

@@ -183,7 +183,8 @@ impl Default for AnalysisOptions {
 
 impl AnalysisOptions {
     /// The options with this contact tolerance and, if given, percolation
-    /// threshold radius (else the largest species is large).
+    /// threshold radius (else the default: the largest of the species'
+    /// volume-median radii).
     pub fn new(contact_tol: Real, large_radius: Option<Real>) -> Self {
         let mut o = AnalysisOptions {
             contact_tol,

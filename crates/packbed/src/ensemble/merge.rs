@@ -163,6 +163,7 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
         outcome.points.push(PointResult {
             label: p.label.clone(),
             dir,
+            percolation_asked: p.asks_for_percolation(),
             aggregate,
             built: 0,
             resumed: values.len() as u64,

@@ -115,6 +115,9 @@ pub struct PointResult {
     pub label: Option<String>,
     /// Directory of its files.
     pub dir: PathBuf,
+    /// The config lists percolation in `[analysis] measures` itself, rather
+    /// than getting it with the default set: then its details go on screen.
+    pub percolation_asked: bool,
     /// The statistics.
     pub aggregate: Aggregate,
     /// Replicates built by this invocation.
@@ -156,6 +159,18 @@ struct Point {
     dir: PathBuf,
     sweep: Option<(String, String, Value)>,
     config: Config,
+}
+
+impl Point {
+    /// Whether the config lists percolation among its measures (`all` does);
+    /// the default set computes it without the user asking.
+    fn asks_for_percolation(&self) -> bool {
+        self.config
+            .analysis
+            .measures
+            .as_ref()
+            .is_some_and(|m| m.contains(&crate::config::Measure::Percolation))
+    }
 }
 
 /// The points of a config: its sweep values, or itself (validated).

@@ -165,6 +165,7 @@ pub fn run(
         outcome.points.push(PointResult {
             label: p.label.clone(),
             dir,
+            percolation_asked: p.asks_for_percolation(),
             aggregate,
             built,
             resumed,

@@ -194,6 +194,9 @@ fn row_decimals(s: &Stats, kind: Kind) -> usize {
 
 /// The cells `min`, `mean ± sd`, `max` of a measure.
 pub fn cells(s: &Stats, kind: Kind) -> [String; 3] {
+    if let Some(c) = scientific_cells(s, kind) {
+        return c;
+    }
     let d = row_decimals(s, kind);
     // Extremes are values of single beds: whole numbers (counts) stay whole.
     let extreme = |x: f64| fixed(x, if x.fract() == 0.0 { 0 } else { d });
@@ -204,16 +207,115 @@ pub fn cells(s: &Stats, kind: Kind) -> [String; 3] {
     ]
 }
 
-/// The row name of a measure: its key, with the unit of booleans.
+/// The cells of a measure far from 1 in scientific notation (mean to 4
+/// significant digits, sd to 2), or `None`: in fixed notation a cake
+/// resistance of 1.5e9 m/kg reads as ten digits, and a permeability of
+/// 7.5e-13 m² as zero. Whole numbers (counts) stay in fixed notation.
+fn scientific_cells(s: &Stats, kind: Kind) -> Option<[String; 3]> {
+    let scale = s.mean.abs().max(s.min.abs()).max(s.max.abs());
+    // Counts are whole in every bed; a continuous measure never is, except
+    // beyond 2^53 where every float is.
+    let whole = s.min.fract() == 0.0 && s.max.fract() == 0.0 && scale < 1e15;
+    let far = scale >= 1e6 || (scale > 0.0 && scale < 1e-3);
+    (kind == Kind::Value && far && !whole && scale.is_finite()).then(|| {
+        [
+            format!("{:.3e}", s.min),
+            format!("{:.3e} ± {:.1e}", s.mean, s.sd),
+            format!("{:.3e}", s.max),
+        ]
+    })
+}
+
+/// The row name of a measure: its key, with the unit of booleans and, when
+/// it is not defined in every bed (a bulk measure of a bed without a bulk), in
+/// how many of the `beds` it is.
 pub fn label(m: &Measure, beds: u64) -> String {
     let mut l = m.name.clone();
     if m.kind == Kind::Percent {
         l.push_str(" (% of beds)");
     }
     if m.stats.n != beds {
-        let _ = write!(l, " (n = {})", m.stats.n);
+        let _ = write!(l, " ({} of {beds} beds)", m.stats.n);
     }
     l
+}
+
+/// The cake properties that lead `ensemble.md`, when present, with what they
+/// are: the numbers a filtration engineer looks for first.
+pub const CAKE: [(&str, &str); 13] = [
+    ("cake.porosity", "porosity (bulk)"),
+    ("cake.d32", "Sauter diameter d32 (bulk)"),
+    ("cake.specific_surface", "specific surface, 1/length (bulk)"),
+    (
+        "cake.k_kozeny_carman",
+        "Kozeny–Carman permeability k (bulk)",
+    ),
+    (
+        "cake.k_kozeny_carman_m2",
+        "Kozeny–Carman permeability k, m²",
+    ),
+    ("permeability.k_z", "network permeability k along z"),
+    ("permeability.k_x", "network permeability k along x"),
+    ("permeability.k_y", "network permeability k along y"),
+    ("cake.height", "cake height"),
+    ("cake.solids_per_area", "solid volume per floor area"),
+    (
+        "cake.solids_mass_per_area",
+        "solid mass per floor area, kg/m²",
+    ),
+    (
+        "cake.specific_resistance",
+        "specific cake resistance α, m/kg",
+    ),
+    ("cake.whole.porosity", "porosity (whole cake)"),
+];
+
+/// Whether a row of `ensemble.md` says nothing about the beds, so that the
+/// table is left with results (`ensemble.csv` keeps every row). By name
+/// first, so that a result that happens to agree in every bed (a lattice's
+/// packing fraction, a chain in every bed) is never dropped:
+/// - settings and indices, whatever their values: slab widths (`*.slab`, set
+///   from the largest diameter drawn), species indices (`*.species`), the
+///   fluid's viscosity;
+/// - bookkeeping counts (`counts.*`, `species.*`, `*.bodies`, `*.particles`)
+///   that are the same whole number in every bed: they restate the config
+///   (`fill.count`, a single species, no redrops);
+/// - the size distribution the config asked for (`*.requested.*`,
+///   `*.requested_*`), which the beds' placed one is held against;
+/// - flags that only explain a null (`*_empty`) when no bed raised one.
+pub fn is_uninformative(m: &Measure, beds: u64) -> bool {
+    let last = m.name.rsplit('.').next().unwrap_or("");
+    if matches!(last, "slab" | "species" | "viscosity") {
+        return true;
+    }
+    if m.name
+        .split('.')
+        .any(|seg| seg == "requested" || seg.starts_with("requested_"))
+    {
+        return true;
+    }
+    let s = &m.stats;
+    let same_whole = s.n == beds && s.min == s.max && s.min.fract() == 0.0;
+    let bookkeeping = m.name.starts_with("counts.")
+        || m.name.starts_with("species.")
+        || matches!(last, "bodies" | "particles");
+    if bookkeeping && m.kind == Kind::Value && same_whole {
+        return true;
+    }
+    m.kind == Kind::Percent && last.ends_with("_empty") && s.max == 0.0
+}
+
+/// Arrays of records that are curves (one record per point, e.g. the size
+/// distribution's 25 points of `psd.table`): a row per field and point would
+/// bury the table, so they go with the profiles, to `ensemble.csv`.
+const CURVES: [&str; 1] = ["psd.table"];
+
+/// The curve a measure is a point of, if any.
+fn curve_of(name: &str) -> Option<&'static str> {
+    CURVES.iter().copied().find(|c| {
+        name.strip_prefix(c)
+            .is_some_and(|rest| rest.starts_with('['))
+    })
 }
 
 /// One line describing the system of a config.
@@ -282,16 +384,60 @@ pub fn ensemble_md(h: &Header, a: &Aggregate) -> String {
         );
     }
     let _ = writeln!(t, ".\n");
+    let _ = writeln!(
+        t,
+        "Each row: min, mean ± sample standard deviation (n − 1), max over the beds; \
+         \"(k of N beds)\" marks a quantity defined in k beds only (e.g. a bulk \
+         measure of a bed without a bulk region); \"% of beds\" rows are yes/no measures.\n"
+    );
+    let find = |name: &str| a.measures.iter().find(|m| m.name == name);
+    let cake: Vec<(&Measure, &str)> = CAKE
+        .iter()
+        .filter_map(|&(key, what)| find(key).map(|m| (m, what)))
+        .collect();
+    if !cake.is_empty() {
+        let _ = writeln!(t, "## Cake\n");
+        let _ = writeln!(t, "| property | key | min | mean ± sd | max |");
+        let _ = writeln!(t, "| --- | --- | ---: | ---: | ---: |");
+        for (m, what) in &cake {
+            let [lo, mid, hi] = cells(&m.stats, m.kind);
+            let key = label(m, a.replicates);
+            let _ = writeln!(t, "| {what} | {key} | {lo} | {mid} | {hi} |");
+        }
+        let _ = writeln!(t, "\n## All measures\n");
+    }
     let _ = writeln!(t, "| measure | min | mean ± sd | max |");
     let _ = writeln!(t, "| --- | ---: | ---: | ---: |");
+    let mut left_out = Vec::new();
+    let mut curves: Vec<&str> = Vec::new();
     for m in &a.measures {
+        if CAKE.iter().any(|&(key, _)| key == m.name) {
+            continue;
+        }
+        if let Some(c) = curve_of(&m.name) {
+            if !curves.contains(&c) {
+                curves.push(c);
+            }
+            continue;
+        }
+        if is_uninformative(m, a.replicates) {
+            let unit = if m.kind == Kind::Percent { " %" } else { "" };
+            left_out.push(match m.stats.min == m.stats.max {
+                true => format!("{} = {}{unit}", m.name, cells(&m.stats, m.kind)[0]),
+                false => m.name.clone(),
+            });
+            continue;
+        }
         let [lo, mid, hi] = cells(&m.stats, m.kind);
         let _ = writeln!(t, "| {} | {lo} | {mid} | {hi} |", label(m, a.replicates));
     }
-    let _ = writeln!(
-        t,
-        "\nsd is the sample standard deviation (n − 1); \"% of beds\" rows are yes/no measures."
-    );
+    if !left_out.is_empty() {
+        let _ = writeln!(
+            t,
+            "\nLeft out, as settings or as bookkeeping the same in every bed (in `ensemble.csv`): {}.",
+            left_out.join(", ")
+        );
+    }
     for hist in &a.histograms {
         let _ = writeln!(
             t,
@@ -305,8 +451,9 @@ pub fn ensemble_md(h: &Header, a: &Aggregate) -> String {
         let f: Vec<String> = hist.fraction.iter().map(|v| fixed(*v, 4)).collect();
         let _ = writeln!(t, "| fraction | {} |", f.join(" | "));
     }
-    if !a.series.is_empty() {
+    if !a.series.is_empty() || !curves.is_empty() {
         let names: Vec<&str> = a.series.iter().map(|s| s.name.as_str()).collect();
+        let names = [names, curves].concat();
         let _ = writeln!(
             t,
             "\nProfiles ({}) are in `ensemble.csv` and `ensemble.json`, entry by entry.",
@@ -478,6 +625,204 @@ mod tests {
             "120 ± 0"
         );
         assert_eq!(fixed(-0.00001, 3), "0.000");
+    }
+
+    fn measure(name: &str, kind: Kind, stats: Stats) -> Measure {
+        Measure {
+            name: name.into(),
+            kind,
+            stats,
+        }
+    }
+
+    #[test]
+    fn far_from_one_in_scientific_notation() {
+        // A cake resistance and a permeability in m², as a PSD ensemble gave.
+        assert_eq!(
+            cells(
+                &st(
+                    10,
+                    1.4830690125e9,
+                    2.232717205e8,
+                    1.1412879505e9,
+                    1.8547281565e9
+                ),
+                Kind::Value
+            ),
+            ["1.141e9", "1.483e9 ± 2.2e8", "1.855e9"]
+        );
+        assert_eq!(
+            cells(
+                &st(10, 7.494e-13, 1.272e-13, 5.741e-13, 9.802e-13),
+                Kind::Value
+            )[1],
+            "7.494e-13 ± 1.3e-13"
+        );
+        // Counts stay whole however large.
+        assert_eq!(
+            cells(&st(2, 2500000.0, 0.0, 2500000.0, 2500000.0), Kind::Value)[1],
+            "2500000 ± 0"
+        );
+        assert_eq!(
+            cells(&st(2, 2500000.5, 0.75, 2500000.0, 2500001.0), Kind::Value)[1],
+            "2500000.50 ± 0.75"
+        );
+    }
+
+    #[test]
+    fn rows_say_in_how_many_beds_they_are_defined() {
+        let m = measure("packing.bulk", Kind::Value, st(9, 0.6, 0.01, 0.59, 0.61));
+        assert_eq!(label(&m, 10), "packing.bulk (9 of 10 beds)");
+        assert_eq!(label(&m, 9), "packing.bulk");
+    }
+
+    #[test]
+    fn settings_and_constant_bookkeeping_are_uninformative() {
+        let same = |x: f64| st(10, x, 0.0, x, x);
+        let dropped =
+            |name: &str, kind: Kind, s: Stats| is_uninformative(&measure(name, kind, s), 10);
+        // Settings and indices, whatever their values.
+        assert!(dropped(
+            "packing.profile.slab",
+            Kind::Value,
+            st(10, 15.8, 0.5, 14.6, 16.4)
+        ));
+        assert!(dropped(
+            "coordination.by_species.powder.species",
+            Kind::Value,
+            same(0.0)
+        ));
+        // Bookkeeping that restates the config, but not when it varies.
+        assert!(dropped("counts.particles", Kind::Value, same(1500.0)));
+        assert!(dropped("species.powder.placed", Kind::Value, same(1500.0)));
+        assert!(dropped(
+            "coordination.by_species.powder.bodies",
+            Kind::Value,
+            same(1500.0)
+        ));
+        assert!(!dropped(
+            "counts.particles",
+            Kind::Value,
+            st(10, 1490.5, 3.0, 1486.0, 1495.0)
+        ));
+        // A bed missing the count: the row says so.
+        assert!(!dropped(
+            "counts.particles",
+            Kind::Value,
+            st(9, 1500.0, 0.0, 1500.0, 1500.0)
+        ));
+        // Results that agree in every bed stay (a simple cubic lattice: π/6).
+        assert!(!dropped(
+            "packing.global",
+            Kind::Value,
+            same(std::f64::consts::FRAC_PI_6)
+        ));
+        assert!(!dropped(
+            "percolation.large_bodies",
+            Kind::Value,
+            same(750.0)
+        ));
+        assert!(!dropped(
+            "percolation.spanning_clusters",
+            Kind::Value,
+            same(1.0)
+        ));
+        assert!(!dropped("percolation.spans", Kind::Percent, same(100.0)));
+        // The size distribution asked for, against the one placed.
+        assert!(dropped("psd.requested.d50", Kind::Value, same(20.0)));
+        assert!(dropped(
+            "psd.table[3].requested_mass_percent_passing",
+            Kind::Value,
+            same(12.5)
+        ));
+        assert!(!dropped(
+            "psd.placed.d50",
+            Kind::Value,
+            st(10, 19.5, 0.3, 19.1, 20.0)
+        ));
+        // A flag that explains a null, only when no bed raised it.
+        assert!(dropped(
+            "packing.bulk_region_empty",
+            Kind::Percent,
+            same(0.0)
+        ));
+        assert!(!dropped(
+            "packing.bulk_region_empty",
+            Kind::Percent,
+            st(10, 10.0, 31.6, 0.0, 100.0)
+        ));
+    }
+
+    #[test]
+    fn ensemble_md_leads_with_the_cake() {
+        let config = Config::default();
+        let h = Header {
+            config: &config,
+            runs: 10,
+            shard: None,
+            sweep: None,
+        };
+        let a = Aggregate {
+            replicates: 10,
+            measures: vec![
+                measure(
+                    "counts.particles",
+                    Kind::Value,
+                    st(10, 1500.0, 0.0, 1500.0, 1500.0),
+                ),
+                measure(
+                    "cake.porosity",
+                    Kind::Value,
+                    st(10, 0.3861, 0.011, 0.3712, 0.4041),
+                ),
+                measure("cake.d32", Kind::Value, st(9, 29.57, 1.34, 27.81, 31.39)),
+                measure(
+                    "packing.global",
+                    Kind::Value,
+                    st(10, 0.3626, 0.0197, 0.3352, 0.3964),
+                ),
+                measure(
+                    "permeability.k_z",
+                    Kind::Value,
+                    st(10, 0.81, 0.1, 0.7, 0.95),
+                ),
+            ],
+            ..Default::default()
+        };
+        let mut a = a;
+        for k in 0..25 {
+            let name = format!("psd.table[{k}].placed_mass_percent_passing");
+            let stats = st(
+                10,
+                4.0 * k as f64,
+                0.5,
+                4.0 * k as f64 - 1.0,
+                4.0 * k as f64 + 1.0,
+            );
+            a.measures.push(measure(&name, Kind::Value, stats));
+        }
+        let md = ensemble_md(&h, &a);
+        // A curve goes with the profiles, not a row per point.
+        assert!(!md.contains("| psd.table[3]"), "{md}");
+        assert!(
+            md.contains("Profiles (psd.table) are in `ensemble.csv`"),
+            "{md}"
+        );
+        let at = |s: &str| md.find(s).unwrap_or_else(|| panic!("{s} not in\n{md}"));
+        assert!(at("## Cake") < at("| packing.global |"), "{md}");
+        assert!(
+            at("| porosity (bulk) | cake.porosity | 0.3712 | 0.3861 ± 0.0110 | 0.4041 |")
+                < at("| Sauter diameter d32 (bulk) | cake.d32 (9 of 10 beds) |")
+        );
+        assert!(at("| cake.d32 (9") < at("| network permeability k along z | permeability.k_z |"));
+        // Each row once: the cake is not repeated under all measures.
+        assert_eq!(md.matches("cake.porosity").count(), 1, "{md}");
+        assert!(!md.contains("| counts.particles |"), "{md}");
+        assert!(
+            md.contains("(in `ensemble.csv`): counts.particles = 1500."),
+            "{md}"
+        );
+        assert!(md.contains("defined in k beds only"), "{md}");
     }
 
     #[test]

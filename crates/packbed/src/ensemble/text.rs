@@ -7,8 +7,8 @@ use crate::output::text::{count, file_names};
 use std::fmt::Write;
 use std::path::Path;
 
-/// Measures printed on screen, when present (every yes/no measure is added),
-/// in the summary's order: the cake first.
+/// Measures printed on screen, when present, in this order: the cake first;
+/// yes/no measures follow (those of percolation only when it was asked for).
 const ON_SCREEN: [&str; 11] = [
     "cake.porosity",
     "cake.d32",
@@ -51,16 +51,30 @@ pub fn summary(o: &Outcome, out: &Path, threads: Option<usize>) -> String {
             let _ = writeln!(t, "  {l}  ({})", p.dir.display());
         }
         let a = &p.aggregate;
-        for m in &a.measures {
-            if ON_SCREEN.contains(&m.name.as_str())
-                || (m.kind == Kind::Percent && !m.name.ends_with("_empty"))
-            {
-                let [lo, mid, hi] = tables::cells(&m.stats, m.kind);
-                let _ = writeln!(
-                    t,
-                    "    {:<40} {mid}  (min {lo}, max {hi})",
-                    tables::label(m, a.replicates)
-                );
+        // In the order of ON_SCREEN, not of the aggregate: a measure null in
+        // the first bed (the bulk of a small bed) comes last there.
+        let headline = ON_SCREEN
+            .iter()
+            .filter_map(|&name| a.measures.iter().find(|m| m.name == name));
+        // Ten yes/no flags of percolation (per direction, per cap) buried the
+        // cake of a size distribution: unless percolation was asked for, they
+        // fold into one line below.
+        let flags = a.measures.iter().filter(|m| {
+            m.kind == Kind::Percent
+                && !m.name.ends_with("_empty")
+                && (p.percolation_asked || !m.name.starts_with("percolation."))
+        });
+        for m in headline.chain(flags) {
+            let [lo, mid, hi] = tables::cells(&m.stats, m.kind);
+            let _ = writeln!(
+                t,
+                "    {:<40} {mid}  (min {lo}, max {hi})",
+                tables::label(m, a.replicates)
+            );
+        }
+        if !p.percolation_asked {
+            if let Some(line) = percolation_line(a) {
+                let _ = writeln!(t, "    {line}");
             }
         }
     }
@@ -86,4 +100,125 @@ pub fn summary(o: &Outcome, out: &Path, threads: Option<usize>) -> String {
         }
     }
     t
+}
+
+/// A percentage of beds: whole numbers without decimals.
+fn percent(x: f64) -> String {
+    if x.fract() == 0.0 {
+        format!("{x:.0} %")
+    } else {
+        format!("{x:.1} %")
+    }
+}
+
+/// Percolation of an ensemble in one line (`None`: not measured): in how many
+/// beds a chain spans, per direction in 3D, and how often the enumeration of
+/// unique chains was capped; the rest is in `ensemble.md`.
+fn percolation_line(a: &super::stats::Aggregate) -> Option<String> {
+    let mean = |name: &str| {
+        a.measures
+            .iter()
+            .find(|m| m.name == name)
+            .map(|m| m.stats.mean)
+    };
+    let spans = mean("percolation.spans")?;
+    let mut line = format!("percolation: a chain spans in {} of beds", percent(spans));
+    let per_axis: Vec<String> = (0..)
+        .map_while(|k| mean(&format!("percolation.directions[{k}].spans")))
+        .zip(["x", "y"])
+        .map(|(s, axis)| format!("{axis} {}", percent(s)))
+        .collect();
+    if per_axis.len() > 1 {
+        let _ = write!(line, " ({})", per_axis.join(", "));
+    }
+    if let Some(capped) = mean("percolation.cap_hit").filter(|&c| c > 0.0) {
+        let _ = write!(line, "; chain enumeration capped in {}", percent(capped));
+    }
+    line.push_str("; the rest in ensemble.md");
+    Some(line)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::stats::{Aggregate, Measure, Stats};
+    use super::super::PointResult;
+    use super::*;
+    use std::path::PathBuf;
+
+    fn percent(name: &str, beds_true: u64, beds: u64) -> Measure {
+        let values: Vec<f64> = (0..beds)
+            .map(|i| if i < beds_true { 100.0 } else { 0.0 })
+            .collect();
+        Measure {
+            name: name.into(),
+            kind: Kind::Percent,
+            stats: Stats::of(&values),
+        }
+    }
+
+    fn screen(percolation_asked: bool) -> String {
+        // The porosity after the packing, as when the first bed had no bulk.
+        let mut measures = vec![
+            Measure {
+                name: "packing.global".into(),
+                kind: Kind::Value,
+                stats: Stats::of(&[0.6; 10]),
+            },
+            Measure {
+                name: "cake.porosity".into(),
+                kind: Kind::Value,
+                stats: Stats::of(&[0.38, 0.39, 0.4, 0.41, 0.37, 0.36, 0.38, 0.39, 0.4]),
+            },
+        ];
+        measures.push(percent("percolation.spans", 9, 10));
+        measures.push(percent("percolation.cap_hit", 1, 10));
+        for k in 0..2 {
+            measures.push(percent(
+                &format!("percolation.directions[{k}].spans"),
+                8 - k,
+                10,
+            ));
+            for cap in ["chain", "length", "search"] {
+                let name = format!("percolation.directions[{k}].{cap}_cap_hit");
+                measures.push(percent(&name, 1, 10));
+            }
+        }
+        let o = Outcome {
+            points: vec![PointResult {
+                label: None,
+                dir: PathBuf::from("e"),
+                percolation_asked,
+                aggregate: Aggregate {
+                    replicates: 10,
+                    measures,
+                    ..Default::default()
+                },
+                built: 10,
+                resumed: 0,
+                files: Vec::new(),
+            }],
+            wall_seconds: 1.0,
+            files: Vec::new(),
+            reduced_from: None,
+        };
+        summary(&o, Path::new("e"), Some(2))
+    }
+
+    #[test]
+    fn percolation_folds_into_one_line_unless_asked_for() {
+        let t = screen(false);
+        let lines: Vec<&str> = t.lines().collect();
+        // The header, the cake, the packing, one line of percolation, the files.
+        assert_eq!(lines.len(), 5, "{t}");
+        assert!(lines[1].contains("cake.porosity (9 of 10 beds)"), "{t}");
+        assert!(lines[2].contains("packing.global"), "{t}");
+        assert_eq!(
+            lines[3],
+            "    percolation: a chain spans in 90 % of beds (x 80 %, y 70 %); chain enumeration capped in 10 %; the rest in ensemble.md"
+        );
+        let asked = screen(true);
+        assert_eq!(asked.lines().count(), 4 + 10, "{asked}");
+        assert!(asked.contains("percolation.directions[1].search_cap_hit (% of beds)"));
+        assert!(!asked.contains("the rest in ensemble.md"), "{asked}");
+    }
 }

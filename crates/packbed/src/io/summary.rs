@@ -261,7 +261,8 @@ pub struct Checks {
 pub struct AnalyzeSettings {
     /// Contact tolerance relative to the smaller radius.
     pub contact_tol: Real,
-    /// Percolation threshold radius given (`null`: the largest species).
+    /// Percolation threshold radius given (`null`: the default, the largest of
+    /// the species' volume-median radii).
     pub large_radius: Option<Real>,
     /// The direction chain angles are measured from.
     pub chain_angle_from: crate::analysis::orientation::AngleFrom,

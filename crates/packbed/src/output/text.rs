@@ -439,9 +439,17 @@ fn percolation_text(c: &Percolation) -> String {
     } else {
         "no spanning chain".into()
     };
+    // The default threshold is not obvious for a size distribution, so the
+    // line says which rule set it.
+    use crate::analysis::percolation::LargeSource;
+    let why = match c.large_rule {
+        LargeSource::VolumeMedian => "volume-median radius of the coarsest species",
+        LargeSource::LargestSize => "radius of the coarsest species",
+        LargeSource::Given => "as given",
+    };
     let _ = writeln!(
         t,
-        "  percolation (r >= {}: {}, {}): {chain}",
+        "  percolation (r >= {}, {why}: {}, {}): {chain}",
         length(c.large_radius),
         count(c.large_bodies, "large body", "large bodies"),
         count(c.clusters, "cluster", "clusters")

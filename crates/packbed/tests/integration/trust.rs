@@ -145,10 +145,11 @@ fn equal_radii_in_two_species_are_all_large() {
 }
 
 #[test]
-fn large_threshold_of_a_size_distribution_is_its_median() {
-    // The README's mix: radius 20, and lognormal radii of median 10 (truncation
-    // bound 10 · 1.3^3 = 22). The 20s are large, and the few lognormal
-    // particles of radius >= 20; the species names follow the medians too.
+fn large_threshold_of_a_size_distribution_is_below_a_coarser_fixed_size() {
+    // The README's mix: radius 20, and lognormal radii of median 10 (volume
+    // median about 10 · e^(3 ln²1.3) = 12.3, truncation bound 10 · 1.3^3 = 22).
+    // The 20s are large, and the few lognormal particles of radius >= 20; the
+    // species names follow the medians.
     let c = config(
         "dim = 2\nseed = 7\n[box]\npreset = \"thesis\"\n[[species]]\nradius = 20\nratio = 1\n[[species]]\nsize = { dist = \"lognormal\", median = 10.0, gsd = 1.3 }\nratio = 2\n",
     );

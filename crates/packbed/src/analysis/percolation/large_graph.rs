@@ -2,7 +2,7 @@
 //! problem (start and end bodies) along one horizontal axis.
 
 use super::graph::{LinkGraph, Terminals};
-use super::options::{large_particles, LargeRule};
+use super::options::{large_particles, LargeRule, LargeSource};
 use crate::analysis::contacts::Contacts;
 use crate::bed::Bed;
 use crate::container::Wall;
@@ -17,6 +17,8 @@ pub struct LargeGraph {
     pub node_of: Vec<u32>,
     /// Radius threshold in use.
     pub large_radius: Real,
+    /// Where the threshold came from.
+    pub large_source: LargeSource,
 }
 
 /// Builds the graph of large bodies from the contacts of `bed`.
@@ -26,7 +28,7 @@ pub fn large_graph<const D: usize>(
     large: LargeRule,
 ) -> LargeGraph {
     let n = bed.len();
-    let (is_large, large_radius) = large_particles(bed, large);
+    let (is_large, large_radius, large_source) = large_particles(bed, large);
     // Dense node ids for large bodies, in order of first appearance.
     let max_body = bed.bodies.iter().max().map_or(0, |&b| b as usize);
     let dense = max_body <= 4 * n + 1024;
@@ -137,6 +139,7 @@ pub fn large_graph<const D: usize>(
         graph: LinkGraph::from_edges(nodes as usize, &edges),
         node_of,
         large_radius,
+        large_source,
     }
 }
 

@@ -41,8 +41,8 @@ pub use disjoint::disjoint_chains;
 pub use graph::{LinkGraph, Terminals};
 pub use large_graph::{large_graph, terminals, LargeGraph};
 pub use options::{
-    default_large_radius, LargeRule, PercolationOptions, MAX_CHAINS, MAX_CHAIN_LENGTH,
-    MAX_SEARCH_STEPS,
+    default_large, default_large_radius, volume_median, LargeRule, LargeSource, PercolationOptions,
+    MAX_CHAINS, MAX_CHAIN_LENGTH, MAX_SEARCH_STEPS,
 };
 pub use report::{DirectionPercolation, LengthStats, Percolation};
 pub use shortest::shortest_chain;
@@ -124,6 +124,7 @@ pub fn percolation_timed<const D: usize>(
     }
     Percolation {
         large_radius: lg.large_radius,
+        large_rule: lg.large_source,
         large_bodies: g.len() as u64,
         clusters: sizes.len() as u64,
         largest_cluster: sizes.iter().copied().max().unwrap_or(0),

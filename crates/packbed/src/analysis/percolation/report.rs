@@ -1,5 +1,6 @@
 //! The figures of the percolation analysis as `summary.json` holds them.
 
+use super::options::LargeSource;
 use crate::math::Real;
 use serde::Serialize;
 
@@ -45,6 +46,9 @@ pub struct DirectionPercolation {
 pub struct Percolation {
     /// Particles with `r >=` this are large.
     pub large_radius: Real,
+    /// Where `large_radius` came from: `given`, `largest size` (the radius
+    /// of a species of one size) or `volume median` (of a species of several).
+    pub large_rule: LargeSource,
     /// Large bodies (graph nodes).
     pub large_bodies: u64,
     /// Connected clusters of large bodies.

@@ -305,3 +305,85 @@ proptest! {
         prop_assert_eq!(c.wraps, brute_wraps(&g, &c.comp, c.sizes.len()));
     }
 }
+
+/// Spheres of these radii and species, far apart in a big box (the default
+/// threshold depends on the radii alone).
+fn apart(radii: &[(Real, u32)]) -> Bed<3> {
+    Bed::of_spheres(
+        [100.0 * radii.len() as Real + 100.0, 100.0, 100.0],
+        false,
+        radii
+            .iter()
+            .enumerate()
+            .map(|(i, &(r, s))| ([100.0 * i as Real + 50.0, 50.0, 50.0], r, s)),
+    )
+}
+
+#[test]
+fn default_threshold_of_a_lognormal_is_its_volume_median() {
+    use crate::species::SizeDist;
+    use rand::SeedableRng;
+    let (lo, hi) = SizeDist::lognormal_window(10.0, 1.5);
+    let dist = SizeDist::Lognormal {
+        median: 10.0,
+        gsd: 1.5,
+        lo,
+        hi,
+    };
+    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(28);
+    let radii: Vec<Real> = (0..1000).map(|_| dist.sample(&mut rng)).collect();
+    // Brute force: the drawn radius with less than half of the volume strictly
+    // below it and at least half at or below it.
+    let total: Real = radii.iter().map(|r| r.powi(3)).sum();
+    let volume = |keep: &dyn Fn(Real) -> bool| -> Real {
+        radii.iter().filter(|&&r| keep(r)).map(|r| r.powi(3)).sum()
+    };
+    let want: Vec<Real> = radii
+        .iter()
+        .copied()
+        .filter(|&c| volume(&|r| r < c) < total / 2.0 && volume(&|r| r <= c) >= total / 2.0)
+        .collect();
+    assert_eq!(want.len(), 1);
+    let bed = apart(&radii.iter().map(|&r| (r, 0)).collect::<Vec<_>>());
+    assert_eq!(default_large(&bed), (want[0], LargeSource::VolumeMedian));
+    // Not the number median the rule replaced: the coarse tail holds the volume.
+    let mut sorted = radii.clone();
+    sorted.sort_by(Real::total_cmp);
+    assert!(want[0] > 1.2 * sorted[500], "{} {}", want[0], sorted[500]);
+}
+
+#[test]
+fn default_threshold_of_two_sizes_is_the_larger() {
+    let bed = apart(&[(10.0, 0), (20.0, 1), (10.0, 0), (20.0, 1), (10.0, 0)]);
+    assert_eq!(default_large(&bed), (20.0, LargeSource::LargestSize));
+    let p = run(&bed);
+    assert_eq!((p.large_radius, p.large_bodies), (20.0, 2));
+    // Equal radii, one species or two: every particle.
+    let bed = apart(&[(10.0, 0), (10.0, 1), (10.0, 0)]);
+    assert_eq!(default_large(&bed), (10.0, LargeSource::LargestSize));
+}
+
+#[test]
+fn fines_of_a_table_do_not_make_every_particle_large() {
+    // A measured PSD in miniature: 12 fines of radius 5, 6 of 10, 2 of 20 in
+    // one species. By number the median is 5 (every particle large); by
+    // volume 1500 + 6000 < 23500 / 2, so the volume median is 20.
+    let mut radii = vec![(5.0, 0); 12];
+    radii.extend([(10.0, 0); 6]);
+    radii.extend([(20.0, 0); 2]);
+    let p = run(&apart(&radii));
+    assert_eq!(p.large_radius, 20.0);
+    assert_eq!(p.large_bodies, 2);
+    assert_eq!(p.large_rule, LargeSource::VolumeMedian);
+    let json = serde_json::to_value(&p).unwrap();
+    assert_eq!(json["large_rule"], "volume median");
+}
+
+#[test]
+fn volume_median_weighs_by_area_in_2d() {
+    // Seven radii 1 and one 2: volumes 7 against 8 (3D), areas 7 against 4 (2D).
+    let radii = [1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 2.0];
+    assert_eq!(volume_median::<3>(&radii), 2.0);
+    assert_eq!(volume_median::<2>(&radii), 1.0);
+    assert_eq!(volume_median::<3>(&[]), 0.0);
+}
