@@ -4,6 +4,7 @@
 
 mod analyze;
 mod bench;
+mod compare;
 mod ensemble;
 mod fragment;
 mod overrides;
@@ -41,6 +42,8 @@ enum Command {
     Render(render::RenderArgs),
     /// Build and analyse N replicate beds in parallel, with statistics.
     Ensemble(ensemble::EnsembleArgs),
+    /// Compare runs, ensembles or sweeps: shared measures side by side, with Welch's t-test.
+    Compare(compare::CompareArgs),
     /// Join the outputs of ensemble shards into the result of a single run.
     Merge(ensemble::MergeArgs),
     /// Write (and submit) a Slurm job array of ensemble shards and their merge.
@@ -64,6 +67,7 @@ fn main() -> ExitCode {
         Command::Fragment(args) => fragment::fragment(args),
         Command::Render(args) => render::render(args),
         Command::Ensemble(args) => ensemble::ensemble(args),
+        Command::Compare(args) => compare::compare(args),
         Command::Merge(args) => ensemble::merge(args),
         Command::Slurm(args) => slurm::slurm(args),
         Command::Bench(args) => bench::bench(args),

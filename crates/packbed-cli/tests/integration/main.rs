@@ -7,6 +7,7 @@ mod common;
 mod commands;
 mod ensemble;
 mod files;
+mod filtration;
 mod fragment;
 mod python;
 mod render;

@@ -341,6 +341,54 @@ impl Comparison {
     /// A table for a person (`compare.md`, and on screen with `headline`
     /// only): mean ± sd per group, then each group against the first.
     pub fn to_markdown(&self, headline_only: bool) -> String {
+        self.table(headline_only).join("\n") + "\n"
+    }
+
+    /// The screen: the headline table with aligned columns, and where the rest is.
+    pub fn to_text(&self, out: &Path) -> String {
+        let lines = self.table(true);
+        let cells: Vec<Vec<&str>> = lines
+            .iter()
+            .filter(|l| !l.starts_with("| ---") && !l.starts_with("|---"))
+            .map(|l| l.trim_matches('|').split(" | ").map(str::trim).collect())
+            .collect();
+        let cols = cells.iter().map(Vec::len).max().unwrap_or(0);
+        let width: Vec<usize> = (0..cols)
+            .map(|k| {
+                cells
+                    .iter()
+                    .filter_map(|r| r.get(k))
+                    .map(|c| c.chars().count())
+                    .max()
+                    .unwrap_or(0)
+            })
+            .collect();
+        let mut t = String::new();
+        for r in &cells {
+            let padded: Vec<String> = r
+                .iter()
+                .enumerate()
+                .map(|(k, c)| format!("{c:<w$}", w = width[k]))
+                .collect();
+            t.push_str("  ");
+            t.push_str(padded.join("  ").trim_end());
+            t.push('\n');
+        }
+        if self.rows.len() > self.headline().count() {
+            t.push_str(&format!(
+                "  {} more measures in {}\n",
+                self.rows.len() - self.headline().count(),
+                out.join(COMPARE_FILES[0]).display()
+            ));
+        }
+        t.push_str(&format!(
+            "  n: beds in which the measure is defined; p: Welch's t-test against {}, \"beyond scatter\" when p < {ALPHA}\n",
+            self.groups[0].0
+        ));
+        t
+    }
+
+    fn table(&self, headline_only: bool) -> Vec<String> {
         let mut head = vec!["measure".to_string()];
         for (g, n) in &self.groups {
             head.push(format!("{g} (n = {n})"));
@@ -381,7 +429,7 @@ impl Comparison {
             }
             lines.push(format!("| {} |", cells.join(" | ")));
         }
-        lines.join("\n") + "\n"
+        lines
     }
 
     /// `compare.md`: the groups, what `n` and `p` mean, and the full table.
@@ -411,7 +459,7 @@ fn mean_sd(s: &Stats) -> String {
     if s.n < 2 {
         number(s.mean)
     } else {
-        format!("{} ± {}", number(s.mean), number(s.sd))
+        format!("{} ± {}", number(s.mean), short(s.sd))
     }
 }
 
@@ -429,12 +477,190 @@ fn number(x: f64) -> String {
     }
 }
 
+/// Two significant digits: a scatter is known no better.
+fn short(x: f64) -> String {
+    if x == 0.0 {
+        return "0".into();
+    }
+    let a = x.abs();
+    if (1e-3..1e5).contains(&a) {
+        let digits = (1 - a.log10().floor() as i32).max(0) as usize;
+        format!("{x:.digits$}")
+    } else {
+        format!("{x:.1e}")
+    }
+}
+
 fn p_value(p: f64) -> String {
     if p < 1e-4 {
         "p < 0.0001".into()
     } else {
         format!("p = {p:.4}")
     }
+}
+
+/// The measures drawn, when present: one plot each.
+const PLOTTED: [&str; 6] = [
+    "cake.porosity",
+    "permeability.k_z",
+    "cake.k_kozeny_carman",
+    "cake.d32",
+    "cake.specific_resistance",
+    "pores.d_c35",
+];
+
+/// Files of a comparison (plots aside).
+pub const COMPARE_FILES: [&str; 2] = ["compare.md", "compare.csv"];
+
+/// Writes `compare.md`, `compare.csv` and, with `pictures`, a bar plot per
+/// headline measure (`plot_compare_<measure>`) and the groups' size
+/// distributions (`plot_compare_psd`) into `out`, atomically.
+pub fn write_comparison(
+    out: &Path,
+    groups: &[Group],
+    c: &Comparison,
+    pictures: bool,
+) -> Result<Vec<PathBuf>> {
+    let mut s = crate::io::Staging::new(out)?;
+    let md = c.report();
+    let csv = c.to_csv()?;
+    s.stage(COMPARE_FILES[0], |w| w.write_all(md.as_bytes()))?;
+    s.stage(COMPARE_FILES[1], |w| w.write_all(csv.as_bytes()))?;
+    if pictures {
+        #[cfg(feature = "render")]
+        super::write::stage_plots(&mut s, &plots(groups, c))?;
+        #[cfg(not(feature = "render"))]
+        return Err(crate::output::no_pictures());
+    }
+    let _ = groups;
+    s.commit()
+}
+
+/// The bars of the headline measures and the size distributions.
+#[cfg(feature = "render")]
+fn plots(groups: &[Group], c: &Comparison) -> Vec<(String, crate::render::plot::Plot)> {
+    use crate::render::plot::{BarGroup, Plot, PlotData, Series};
+    let names: Vec<String> = c.groups.iter().map(|g| g.0.clone()).collect();
+    let mut out: Vec<(String, Plot)> = c
+        .rows
+        .iter()
+        .filter(|r| PLOTTED.contains(&r.name.as_str()))
+        .map(|r| {
+            let stem = format!("plot_compare_{}", r.name.replace(['.', '[', ']'], "_"));
+            // The axis spans the means ± 2 sd, not from 0: the differences
+            // are what the plot is about.
+            let lo = r
+                .stats
+                .iter()
+                .map(|s| s.mean - 2.0 * s.sd)
+                .fold(f64::INFINITY, f64::min);
+            let hi = r
+                .stats
+                .iter()
+                .map(|s| s.mean + 2.0 * s.sd)
+                .fold(f64::NEG_INFINITY, f64::max);
+            let pad = 0.15 * (hi - lo).max(1e-9 * hi.abs());
+            let plot = Plot {
+                title: r.name.clone(),
+                x_label: String::new(),
+                y_label: format!("{} (mean ± sd; axis not from 0)", r.name),
+                data: PlotData::Bars {
+                    categories: names.clone(),
+                    groups: vec![BarGroup {
+                        name: "mean ± sd".into(),
+                        values: r.stats.iter().map(|s| s.mean).collect(),
+                        errors: Some(r.stats.iter().map(|s| s.sd).collect()),
+                    }],
+                },
+                y_range: Some((lo - pad, hi + pad)),
+                x_range: None,
+            };
+            (stem, plot)
+        })
+        .collect();
+    let unit = groups
+        .first()
+        .and_then(|g| g.summaries.first())
+        .and_then(|s| s.pointer("/config/analysis/length_unit"))
+        .and_then(Value::as_str)
+        .unwrap_or("length units");
+    // Each group's placed curve (mean over its beds) and its request.
+    let mut series = Vec::new();
+    for g in groups {
+        let Some(curves) = psd_curves(&g.summaries) else {
+            continue;
+        };
+        series.push(Series {
+            name: format!("{} placed", g.name),
+            points: curves.placed,
+            errors: None,
+            markers: false,
+        });
+        series.push(Series {
+            name: format!("{} requested", g.name),
+            points: curves.requested,
+            errors: None,
+            markers: true,
+        });
+    }
+    if !series.is_empty() {
+        out.push((
+            "plot_compare_psd".into(),
+            Plot {
+                title: "Size distributions by mass".into(),
+                x_label: format!("diameter ({unit})"),
+                y_label: "finer than the diameter (% by mass)".into(),
+                data: PlotData::LogLines { series },
+                y_range: Some((0.0, 100.0)),
+                x_range: None,
+            },
+        ));
+    }
+    out
+}
+
+/// A group's mass curves: requested (of its first bed) and placed (the mean
+/// over beds, row by row).
+struct Curves {
+    requested: Vec<(f64, f64)>,
+    placed: Vec<(f64, f64)>,
+}
+
+fn psd_curves(summaries: &[Value]) -> Option<Curves> {
+    let rows = |s: &Value| -> Option<Vec<(f64, f64, f64)>> {
+        s.pointer("/psd/table")?
+            .as_array()?
+            .iter()
+            .map(|r| {
+                Some((
+                    r.get("diameter")?.as_f64()?,
+                    r.get("requested_mass_percent_passing")?.as_f64()?,
+                    r.get("placed_mass_percent_passing")?.as_f64()?,
+                ))
+            })
+            .collect()
+    };
+    let first = rows(summaries.first()?)?;
+    let mut placed: Vec<f64> = vec![0.0; first.len()];
+    let mut n = 0.0;
+    for s in summaries {
+        let r = rows(s)?;
+        if r.len() != first.len() {
+            return None;
+        }
+        for (p, x) in placed.iter_mut().zip(&r) {
+            *p += x.2;
+        }
+        n += 1.0;
+    }
+    Some(Curves {
+        requested: first.iter().map(|r| (r.0, r.1)).collect(),
+        placed: first
+            .iter()
+            .zip(&placed)
+            .map(|(r, p)| (r.0, p / n))
+            .collect(),
+    })
 }
 
 #[cfg(test)]

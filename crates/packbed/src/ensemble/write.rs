@@ -14,7 +14,10 @@ use std::path::{Path, PathBuf};
 
 /// Stages every plot as `stem.png` and `stem.svg`.
 #[cfg(feature = "render")]
-fn stage_plots(s: &mut Staging, plots: &[(String, crate::render::plot::Plot)]) -> Result<()> {
+pub(super) fn stage_plots(
+    s: &mut Staging,
+    plots: &[(String, crate::render::plot::Plot)],
+) -> Result<()> {
     use crate::render::run_files::PLOT_SIZE;
     // Rasterising is most of the cost; the files are written in order after.
     let files: Vec<(String, Vec<u8>)> = plots
