@@ -8,8 +8,8 @@ use std::path::PathBuf;
 /// Arguments of `packbed compare`.
 #[derive(Debug, Args)]
 pub struct CompareArgs {
-    /// Runs, ensembles or sweeps (each sweep value a group); the first is the reference.
-    #[arg(required = true, num_args = 2.., value_name = "DIR")]
+    /// Runs, ensembles or sweeps (each sweep value a group; one sweep alone is enough); the first group is the reference.
+    #[arg(required = true, num_args = 1.., value_name = "DIR")]
     pub dirs: Vec<PathBuf>,
     /// Where compare.md, compare.csv and the plots go.
     #[arg(long, value_name = "DIR", default_value = "packbed-compare")]

@@ -41,8 +41,25 @@ pub enum Edit {
     SpeciesRadius(usize, Real),
     /// The number ratio of one species (0-based).
     SpeciesRatio(usize, Real),
+    /// One setting of a species' size distribution (0-based).
+    SpeciesSize(usize, SizeEdit),
     /// The measures to compute (the others are left out of the summary).
     Measures(Vec<Measure>),
+}
+
+/// A change to a species' size distribution: a sweep over distributions.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SizeEdit {
+    /// The median of a lognormal.
+    Median(Real),
+    /// The geometric standard deviation of a lognormal.
+    Gsd(Real),
+    /// The mean of a normal.
+    Mean(Real),
+    /// The standard deviation of a normal.
+    Sd(Real),
+    /// A PSD table in place of the species' size.
+    Table(std::path::PathBuf),
 }
 
 /// A box as the command and the sweeps give it: `thesis`, `diameters=N`, or
@@ -94,7 +111,7 @@ impl FromStr for BoxSpec {
 }
 
 /// The parameters a sweep can vary, with the form of their values.
-pub const SWEEP_PARAMETERS: [(&str, &str); 9] = [
+pub const SWEEP_PARAMETERS: [(&str, &str); 14] = [
     ("ratio", "a list with one number ratio per species, e.g. [1, 2]"),
     (
         "radii",
@@ -107,6 +124,14 @@ pub const SWEEP_PARAMETERS: [(&str, &str); 9] = [
     ("analysis.large_radius", "a radius"),
     ("species[K].radius", "a radius for species K (0-based)"),
     ("species[K].ratio", "a number ratio for species K (0-based)"),
+    ("species[K].size.median", "the median radius of species K's lognormal"),
+    ("species[K].size.gsd", "the geometric standard deviation of species K's lognormal"),
+    ("species[K].size.mean", "the mean radius of species K's normal"),
+    ("species[K].size.sd", "the standard deviation of species K's normal"),
+    (
+        "species[K].size.table",
+        "a PSD table file for species K, e.g. \"batch-a.csv\" (relative to the config)",
+    ),
 ];
 
 /// `species[K].key` → (K, key).
@@ -120,14 +145,19 @@ impl Edit {
     /// The edit that sets a sweep `parameter` (one of [`SWEEP_PARAMETERS`]) to
     /// `value`.
     pub fn from_sweep(parameter: &str, value: &SweepValue) -> std::result::Result<Edit, String> {
+        if let (SweepValue::Text(t), false) = (value, parameter.ends_with(".size.table")) {
+            return Err(format!("expected a number, got the text \"{t}\""));
+        }
         let list = || match value {
             SweepValue::Number(x) => vec![*x],
             SweepValue::List(v) => v.clone(),
+            SweepValue::Text(_) => Vec::new(),
         };
         let one = || match value {
             SweepValue::Number(x) => Ok(*x),
             SweepValue::List(v) if v.len() == 1 => Ok(v[0]),
             SweepValue::List(v) => Err(format!("expected one number, got a list of {}", v.len())),
+            SweepValue::Text(t) => Err(format!("expected a number, got the text \"{t}\"")),
         };
         Ok(match parameter {
             "ratio" => Edit::Ratio(list()),
@@ -143,9 +173,17 @@ impl Edit {
             _ => match species_parameter(parameter) {
                 Some((k, "radius")) => Edit::SpeciesRadius(k, one()?),
                 Some((k, "ratio")) => Edit::SpeciesRatio(k, one()?),
+                Some((k, "size.median")) => Edit::SpeciesSize(k, SizeEdit::Median(one()?)),
+                Some((k, "size.gsd")) => Edit::SpeciesSize(k, SizeEdit::Gsd(one()?)),
+                Some((k, "size.mean")) => Edit::SpeciesSize(k, SizeEdit::Mean(one()?)),
+                Some((k, "size.sd")) => Edit::SpeciesSize(k, SizeEdit::Sd(one()?)),
+                Some((k, "size.table")) => match value {
+                    SweepValue::Text(t) => Edit::SpeciesSize(k, SizeEdit::Table(t.into())),
+                    _ => return Err("expected a file name in quotes, e.g. \"psd.csv\"".into()),
+                },
                 Some(_) => {
                     return Err(format!(
-                        "{parameter}: only species[K].radius and species[K].ratio can be swept"
+                        "{parameter}: a species sweeps its radius, ratio, or size.median, size.gsd, size.mean, size.sd, size.table"
                     ))
                 }
                 None => return Err(format!("unknown parameter `{parameter}`")),
@@ -204,6 +242,31 @@ impl Config {
                 s.size = None;
             }
             Edit::SpeciesRatio(k, r) => self.species_mut(*k)?.ratio = *r,
+            Edit::SpeciesSize(k, e) => {
+                let s = self.species_mut(*k)?;
+                if let SizeEdit::Table(t) = e {
+                    s.radius = None;
+                    let within = s.size.as_ref().and_then(|z| z.within.clone());
+                    s.size = Some(super::SizeConfig {
+                        table: Some(t.clone()),
+                        within,
+                        ..Default::default()
+                    });
+                    return Ok(());
+                }
+                let Some(size) = s.size.as_mut().filter(|z| z.dist.is_some()) else {
+                    return Err(Error::config(format!(
+                        "species[{k}] has no size distribution (`size = {{ dist = ... }}`) to change"
+                    )));
+                };
+                match e {
+                    SizeEdit::Median(x) => size.median = Some(*x),
+                    SizeEdit::Gsd(x) => size.gsd = Some(*x),
+                    SizeEdit::Mean(x) => size.mean = Some(*x),
+                    SizeEdit::Sd(x) => size.sd = Some(*x),
+                    SizeEdit::Table(_) => {}
+                }
+            }
             Edit::Measures(m) => self.analysis.measures = Some(m.clone()),
         }
         Ok(())

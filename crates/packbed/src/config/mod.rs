@@ -5,7 +5,7 @@ mod edit;
 pub mod fragmentation;
 
 pub(crate) use edit::species_parameter;
-pub use edit::{parse_numbers, BoxSpec, Edit, Overrides, SWEEP_PARAMETERS};
+pub use edit::{parse_numbers, BoxSpec, Edit, Overrides, SizeEdit, SWEEP_PARAMETERS};
 
 use crate::container::Container;
 use crate::error::{Error, Result};
@@ -583,7 +583,8 @@ pub struct SweepConfig {
     pub labels: Option<Vec<String>>,
 }
 
-/// One value of a swept parameter: a number or a list of numbers.
+/// One value of a swept parameter: a number, a list of numbers, or a text
+/// (a PSD table's file).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
 pub enum SweepValue {
@@ -591,6 +592,8 @@ pub enum SweepValue {
     Number(f64),
     /// A list of numbers.
     List(Vec<f64>),
+    /// A text: a file name.
+    Text(String),
 }
 
 /// `[ensemble]`: defaults of `packbed ensemble` stored with the config.
@@ -673,12 +676,24 @@ impl Config {
             source,
         })?;
         let mut c = Config::from_toml(&text, &path.display().to_string())?;
-        // PSD tables are relative to the config file.
+        // PSD tables are relative to the config file, and so are the tables
+        // a sweep goes through.
         if let Some(dir) = path.parent() {
             for s in &mut c.species {
                 if let Some(SizeConfig { table: Some(t), .. }) = &mut s.size {
                     if t.is_relative() {
                         *t = dir.join(&*t);
+                    }
+                }
+            }
+            if let Some(sweep) = &mut c.sweep {
+                if sweep.parameter.ends_with(".size.table") {
+                    for v in &mut sweep.values {
+                        if let SweepValue::Text(t) = v {
+                            if Path::new(t.as_str()).is_relative() {
+                                *t = dir.join(&*t).display().to_string();
+                            }
+                        }
                     }
                 }
             }

@@ -42,6 +42,7 @@ impl SweepValue {
         match self {
             SweepValue::Number(x) => vec![*x],
             SweepValue::List(v) => v.clone(),
+            SweepValue::Text(_) => Vec::new(),
         }
     }
 }
@@ -100,7 +101,13 @@ impl SweepConfig {
                 .map_err(|e| e.within(p).within(&place))?;
             config.validate().map_err(|e| e.within(&place))?;
             let nums = value.numbers();
-            let text: Vec<String> = nums.iter().map(|&x| fmt_num(x)).collect();
+            let text: Vec<String> = match value {
+                // A table is named by its file's stem.
+                SweepValue::Text(t) => vec![std::path::Path::new(t)
+                    .file_stem()
+                    .map_or_else(|| t.clone(), |s| s.to_string_lossy().into_owned())],
+                _ => nums.iter().map(|&x| fmt_num(x)).collect(),
+            };
             let label = match &self.labels {
                 Some(l) => l[i].clone(),
                 None if p == "ratio" => text.join(":"),
@@ -157,6 +164,54 @@ mod tests {
     }
 
     #[test]
+    fn size_distributions_are_swept() {
+        let base = "[fill]\ncount = 100\n[[species]]\nsize = { dist = \"lognormal\", median = 10, gsd = 1.2 }\n";
+        let c = config(&format!(
+            "{base}[sweep]\nparameter = \"species[0].size.gsd\"\nvalues = [1.2, 1.6, 2.0]\n"
+        ));
+        let pts = c.sweep.as_ref().unwrap().points(&c).unwrap();
+        let gsd: Vec<Option<f64>> = pts
+            .iter()
+            .map(|p| p.config.species[0].size.as_ref().unwrap().gsd)
+            .collect();
+        assert_eq!(gsd, [Some(1.2), Some(1.6), Some(2.0)]);
+        assert_eq!(pts[2].dir, "02-gsd-2");
+        let c = config(&format!(
+            "{base}[sweep]\nparameter = \"species[0].size.median\"\nvalues = [5, 20]\n"
+        ));
+        let pts = c.sweep.as_ref().unwrap().points(&c).unwrap();
+        assert_eq!(
+            pts[1].config.species[0].size.as_ref().unwrap().median,
+            Some(20.0)
+        );
+        // A sweep over measured tables: each value is a file, named by its stem.
+        let dir = tempfile::tempdir().unwrap();
+        for name in ["batch-a", "batch-b"] {
+            std::fs::write(
+                dir.path().join(format!("{name}.csv")),
+                "radius_min,radius_max,mass\n5,10,1\n10,20,1\n",
+            )
+            .unwrap();
+        }
+        let path = dir.path().join("sweep.toml");
+        std::fs::write(
+            &path,
+            "[[species]]\nradius = 10\n[sweep]\nparameter = \"species[0].size.table\"\nvalues = [\"batch-a.csv\", \"batch-b.csv\"]\n",
+        )
+        .unwrap();
+        let c = Config::from_file(&path).unwrap();
+        let pts = c.sweep.as_ref().unwrap().points(&c).unwrap();
+        assert_eq!(pts[1].label, "batch-b");
+        assert_eq!(pts[1].dir, "01-table-batch-b");
+        let size = pts[1].config.species[0].size.as_ref().unwrap();
+        assert_eq!(
+            size.table.as_deref(),
+            Some(dir.path().join("batch-b.csv").as_path())
+        );
+        assert_eq!(pts[1].config.species[0].radius, None);
+    }
+
+    #[test]
     fn bad_sweeps_are_explained() {
         let bad = [
             (
@@ -177,6 +232,18 @@ mod tests {
             (
                 "parameter = \"species[5].radius\"\nvalues = [3]",
                 "only 2 species",
+            ),
+            (
+                "parameter = \"species[0].size.gsd\"\nvalues = [1.5]",
+                "no size distribution",
+            ),
+            (
+                "parameter = \"species[0].size.table\"\nvalues = [3]",
+                "file name",
+            ),
+            (
+                "parameter = \"ratio\"\nvalues = [\"a.csv\"]",
+                "expected a number",
             ),
         ];
         for (body, needle) in bad {
