@@ -55,6 +55,7 @@ __all__ = [
     "PackbedError",
     "SettingError",
     "__version__",
+    "compare",
     "deposit",
     "ensemble",
     "merge",
@@ -330,6 +331,42 @@ class Bed:
             raise ImpossibleError("permeability: " + str(summary.get("pores_note", "not computed")))
         return summary["permeability"]
 
+    def cake(self, **options: Any) -> Dict[str, Any]:
+        """The filter cake's properties, as ``summary.json``'s ``cake``.
+
+        ``porosity``, ``d32``, ``specific_surface``, ``k_kozeny_carman``,
+        ``height``, ``solids_per_area`` and ``whole`` (over the whole cake); with
+        ``length_unit`` and ``solid_density`` (keys of ``[analysis]``, as
+        ``options`` or from the bed's config) also ``k_kozeny_carman_m2``,
+        ``solids_mass_per_area`` and ``specific_resistance`` in m/kg. A built
+        bed without ``options`` gives its run's values.
+        """
+        summary = self.summary
+        if summary is not None and not options and "cake" in summary:
+            return summary["cake"]
+        chosen = dict(options)
+        chosen.setdefault("measures", ["packing"])
+        measured = self.analyze(**chosen)
+        if measured.get("cake") is None:
+            raise ImpossibleError("cake: the bed has no bulk region to measure")
+        return measured["cake"]
+
+    def psd(self) -> "Any":
+        """The built bed's size distribution against the requested one, a ``pandas.DataFrame``.
+
+        The rows of ``psd.csv``: ``radius``, ``diameter``, requested and placed
+        mass and number percent passing. ``None`` for a bed read from a file or
+        built without a size distribution.
+        """
+        summary = self.summary
+        if summary is None or "psd" not in summary:
+            return None
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("Bed.psd needs pandas: pip install pandas") from None
+        return pd.DataFrame(summary["psd"]["table"])
+
     def contacts(self, contact_tol: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Particle–particle contacts: arrays ``i`` < ``j`` (uint32) and ``gap`` (float64).
 
@@ -525,6 +562,28 @@ def merge(dirs: Iterable[PathLike], out: PathLike, *, pictures: bool = True) -> 
     paths = [_path("dirs", d) for d in dirs]
     points, _files = _native.merge(paths, _path("out", out), bool(pictures))
     return _statistics(points)
+
+
+def compare(*dirs: PathLike, out: Optional[PathLike] = None, pictures: bool = True) -> "Any":
+    """Compares runs, ensembles or sweeps (``packbed compare``): a ``pandas.DataFrame``.
+
+    One row per measure the groups share (the cake first): per group
+    ``<name>.mean``, ``.sd``, ``.n``; per group after the first its
+    ``.difference`` from the first and Welch's ``.t``, ``.df`` and ``.p``.
+    With ``out``, ``compare.md``, ``compare.csv`` and the plots go there;
+    without, to a temporary folder that is removed.
+    """
+    try:
+        import pandas as pd
+    except ImportError:
+        raise ImportError("compare needs pandas: pip install pandas") from None
+    import io
+
+    paths = [_path("dirs", d) for d in dirs]
+    with tempfile.TemporaryDirectory(prefix="packbed-compare-") as scratch:
+        target = os.path.join(scratch, "out") if out is None else _path("out", out)
+        text, _files = _native.compare(paths, target, bool(pictures and out is not None))
+    return pd.read_csv(io.StringIO(text), index_col="measure")
 
 
 def _statistics(points: Sequence[Tuple[Optional[str], str]]) -> Dict[str, Any]:

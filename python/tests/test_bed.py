@@ -245,3 +245,33 @@ def test_pores_and_permeability_match_the_command(tmp_path, run_cli):
     small = packbed.deposit(dim=3, radii=10, count=20, seed=1)
     with pytest.raises(packbed.ImpossibleError, match="bulk slab"):
         small.permeability()
+
+
+def test_cake_psd_and_compare_match_the_command(tmp_path, run_cli):
+    pd = optional("pandas")
+    table = tmp_path / "sieve.csv"
+    table.write_text("diameter_min_um,diameter_max_um,mass_percent\n40,60,10\n60,90,50\n90,120,40\n")
+    config = tmp_path / "cake.toml"
+    config.write_text(
+        "dim = 3\nseed = 3\n[box]\nwidth = 400\ndepth = 400\nheight = 1200\nperiodic = true\n"
+        '[[species]]\nsize = { table = "sieve.csv" }\n'
+        '[analysis]\nlength_unit = "um"\nsolid_density = 1500\n'
+    )
+    out = tmp_path / "cli"
+    run_cli("run", str(config), "--out", str(out), "--quiet", "--no-pictures")
+    summary = json.loads((out / "summary.json").read_text())
+    bed = packbed.deposit(str(config))
+    cake = bed.cake()
+    assert cake == summary["cake"]
+    assert cake["specific_resistance"] > 0 and 0.2 < cake["porosity"] < 0.6
+    psd = bed.psd()
+    pd.testing.assert_frame_equal(psd, pd.read_csv(out / "psd.csv"), check_dtype=False, check_exact=True)
+    # Two runs compared: the same table as the command's compare.csv.
+    other = tmp_path / "cli2"
+    run_cli("run", str(config), "--seed", "4", "--out", str(other), "--quiet", "--no-pictures")
+    frame = packbed.compare(out, other)
+    assert frame.loc["cake.porosity", "cli.mean"] == summary["cake"]["porosity"]
+    run_cli("compare", str(out), str(other), "--out", str(tmp_path / "cmp"), "--no-pictures")
+    pd.testing.assert_frame_equal(frame, pd.read_csv(tmp_path / "cmp" / "compare.csv", index_col="measure"))
+    # A read bed has no requested distribution.
+    assert packbed.read(out / "particles.csv").psd() is None

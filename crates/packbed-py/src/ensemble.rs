@@ -78,3 +78,23 @@ pub fn merge(py: Python<'_>, dirs: Vec<PathBuf>, out: PathBuf, pictures: bool) -
             .map_err(to_py)
     })
 }
+
+/// Compares runs, ensembles or sweeps (`packbed compare`): the files are
+/// written into `out`; returns `compare.csv`'s text and the files.
+#[pyfunction]
+#[pyo3(signature = (dirs, out, pictures=true))]
+pub fn compare(
+    py: Python<'_>,
+    dirs: Vec<PathBuf>,
+    out: PathBuf,
+    pictures: bool,
+) -> PyResult<(String, Vec<PathBuf>)> {
+    use packbed::ensemble::compare as library;
+    packbed::output::check_out_dir(&out).map_err(|e| to_py(e.within("out")))?;
+    detached::run(py, None, |_| {
+        let groups = library::read_groups(&dirs).map_err(to_py)?;
+        let c = library::compare(&groups).map_err(to_py)?;
+        let files = library::write_comparison(&out, &groups, &c, pictures).map_err(to_py)?;
+        Ok((c.to_csv().map_err(to_py)?, files))
+    })
+}

@@ -30,5 +30,6 @@ fn _packbed(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(bed::read, m)?)?;
     m.add_function(wrap_pyfunction!(ensemble::ensemble, m)?)?;
     m.add_function(wrap_pyfunction!(ensemble::merge, m)?)?;
+    m.add_function(wrap_pyfunction!(ensemble::compare, m)?)?;
     Ok(())
 }

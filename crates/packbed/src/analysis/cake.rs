@@ -63,6 +63,9 @@ pub struct CakeSummary {
     /// The solid density the resistance was computed with.
     #[serde(skip)]
     pub solid_density_used: Option<Real>,
+    /// The bed's length unit (`m`, `mm`, `um`, `nm`) when one was given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub length_unit: Option<&'static str>,
     /// What the numbers mean where they differ from a filter cake's (2D).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub note: Option<&'static str>,
@@ -148,6 +151,7 @@ pub fn cake<const D: usize>(
         specific_resistance_from: resistance.map(|_| "kozeny_carman"),
         whole,
         solid_density_used: options.solid_density,
+        length_unit: unit.and_then(unit_name),
         note: (D == 2).then_some(
             "2D: areas and perimeters per unit depth; no Kozeny-Carman permeability (a relation for 3D beds)",
         ),
@@ -239,6 +243,14 @@ fn finite_or_zero(x: Real) -> Real {
     } else {
         0.0
     }
+}
+
+/// The name of a unit of this many metres, if it is one of the config's.
+fn unit_name(metres: Real) -> Option<&'static str> {
+    [(1.0, "m"), (1e-3, "mm"), (1e-6, "um"), (1e-9, "nm")]
+        .into_iter()
+        .find(|(m, _)| (metres / m - 1.0).abs() < 1e-12)
+        .map(|(_, n)| n)
 }
 
 #[cfg(test)]

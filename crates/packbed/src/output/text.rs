@@ -207,21 +207,25 @@ fn cake_text(c: &crate::analysis::CakeSummary) -> String {
             c.whole.k_kozeny_carman,
         ),
     };
+    // Lengths in the bed's unit where it has one.
+    let (u, per, area) = match c.length_unit {
+        Some(u) => (format!(" {u}"), format!("per {u}"), format!(" {u}²")),
+        None => (String::new(), "per length".to_string(), String::new()),
+    };
     let _ = write!(
         t,
-        "  cake ({where_}): porosity {porosity:.4}, d32 {}, specific surface {} per length",
+        "  cake ({where_}): porosity {porosity:.4}, d32 {}{u}, specific surface {} {per}",
         length(d32),
         sci(surface)
     );
     if k.is_some() {
-        let _ = write!(t, ", Kozeny-Carman k {}", sci(k));
+        let _ = write!(t, ", Kozeny-Carman k {}{area}", sci(k));
     }
-    let _ = writeln!(
-        t,
-        "; height {}, solids {} per floor area",
-        length(c.height),
-        length(c.solids_per_area)
-    );
+    let solids = match c.length_unit {
+        Some(u) => format!("{} {u}³ per {u}² of floor", length(c.solids_per_area)),
+        None => format!("{} per floor area", length(c.solids_per_area)),
+    };
+    let _ = writeln!(t, "; height {}{u}, solids {solids}", length(c.height));
     if let (Some(a), Some(m)) = (c.specific_resistance, c.solids_mass_per_area) {
         let from = match c.specific_resistance_from {
             Some("network") => "network k",
