@@ -59,6 +59,7 @@ pub fn write_run_with<const D: usize>(
         &summary.analysis,
         summary.config.analysis.contact_tol,
         summary.config.analysis.chain_angle_from,
+        summary.config.analysis.length_unit,
         extras,
     )?;
     stage_dir(dir, Some(bed), contacts, &files, &json)
@@ -83,6 +84,8 @@ pub fn write_analysis<const D: usize>(
         &summary.analysis,
         summary.settings.contact_tol,
         summary.settings.chain_angle_from,
+        // The summary of `analyze` does not record a unit.
+        None,
         extras,
     )?;
     stage_dir::<D>(dir, None, contacts, &files, &json)
@@ -119,6 +122,7 @@ fn extra_files<const D: usize>(
     measures: &crate::analysis::Summary,
     contact_tol: crate::math::Real,
     angle_from: crate::analysis::orientation::AngleFrom,
+    length_unit: Option<crate::config::LengthUnit>,
     extras: &RunExtras,
 ) -> Result<Vec<(String, Vec<u8>)>> {
     let mut out = Vec::new();
@@ -139,7 +143,14 @@ fn extra_files<const D: usize>(
         }
     }
     if extras.pictures {
-        out.extend(pictures(bed, contacts, measures, contact_tol, angle_from)?);
+        out.extend(pictures(
+            bed,
+            contacts,
+            measures,
+            contact_tol,
+            angle_from,
+            length_unit,
+        )?);
     }
     if !extras.exports.is_empty() {
         let z = coordination(bed, contacts);
@@ -197,6 +208,7 @@ pub(crate) fn pictures<const D: usize>(
     _: &crate::analysis::Summary,
     _: crate::math::Real,
     _: crate::analysis::orientation::AngleFrom,
+    _: Option<crate::config::LengthUnit>,
 ) -> Result<Vec<(String, Vec<u8>)>> {
     Err(no_pictures())
 }

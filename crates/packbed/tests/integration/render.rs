@@ -416,7 +416,7 @@ fn plots_have_their_labels_inside_the_page() {
     let profile = packbed::analysis::profile::profile(&bed, 5.0);
     let plots = [
         render::run_plots::coordination_histogram(&bed, &z),
-        render::run_plots::packing_profile(&profile, 5.0, Some(0.8)),
+        render::run_plots::packing_profile(&profile, 5.0, Some(0.8), None),
         render::run_plots::regional_packing(&[
             ("floor".into(), 0.55, Some(0.02)),
             ("roof".into(), 0.4, Some(0.03)),
