@@ -458,6 +458,7 @@ pub fn fragment_text(
         "  bonds: {}, force max {:.4} mean {:.4} cv {:.3} (total load 1); unstable bodies {}",
         f.bonds, f.max_force, f.mean_force, f.force_cv, f.unstable_bodies
     );
+    let _ = writeln!(t, "  note: {}", s.force_note);
     let failure = match f.breaks_to_failure {
         Some(n) => format!("failed after {}", count(n, "break", "breaks")),
         None => "not failed".to_string(),
