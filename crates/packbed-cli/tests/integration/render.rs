@@ -375,10 +375,14 @@ fn size_distributions_are_pictured_by_radius() {
     let config = s.input(
         "psd.toml",
         "dim = 2\nseed = 3\n\n[box]\ndiameters = 10\n\n[fill]\ncount = 80\n\n\
-         [[species]]\nname = \"powder\"\nsize = { dist = \"uniform\", min = 4.0, max = 10.0 }\n",
+         [[species]]\nname = \"powder\"\nsize = { dist = \"uniform\", min = 4.0, max = 10.0 }\n\n\
+         [analysis]\nlength_unit = \"mm\"\n",
     );
     s.ok(&["run", config.to_str().unwrap(), "--quiet", "--out", "psd"]);
     let svg = s.read("psd/bed.svg");
+    // Lengths on the plots' axes in the config's unit.
+    let profile = s.read("psd/plot_profile.svg");
+    assert!(profile.contains("height above the floor (mm)"));
     // The run's own picture: a radius scale, not one colour for the species.
     assert!(svg.contains(">radius<"), "no radius legend");
     let mut discs = disc_fills(&svg);
