@@ -383,8 +383,9 @@ fn size_distributions_are_pictured_by_radius() {
     // Lengths on the plots' axes in the config's unit.
     let profile = s.read("psd/plot_profile.svg");
     assert!(profile.contains("height above the floor (mm)"));
+    // And on the picture's scale bar and radius legend.
+    assert!(svg.contains(" mm<") && svg.contains(">radius (mm)<"));
     // The run's own picture: a radius scale, not one colour for the species.
-    assert!(svg.contains(">radius<"), "no radius legend");
     let mut discs = disc_fills(&svg);
     assert_eq!(discs.len(), 80);
     discs.sort_by(|a, b| a.0.total_cmp(&b.0));

@@ -86,6 +86,9 @@ pub struct RenderOptions {
     pub supersample: u32,
     /// A title above the picture (a default one describes the bed).
     pub title: Option<String>,
+    /// The unit of the bed's lengths, for the scale bar and the radius
+    /// legend (`[analysis] length_unit`), where known.
+    pub length_unit: Option<crate::config::LengthUnit>,
 }
 
 impl Default for RenderOptions {
@@ -101,6 +104,7 @@ impl Default for RenderOptions {
             cut: Cut::None,
             supersample: 2,
             title: None,
+            length_unit: None,
         }
     }
 }
@@ -266,6 +270,20 @@ pub fn default_color<const D: usize>(bed: &Bed<D>) -> ColorBy {
     } else {
         ColorBy::Species
     }
+}
+
+/// The palette of a bed picture: [`palette`], with the radius legend in the
+/// options' length unit.
+pub(crate) fn picture_palette<const D: usize>(
+    bed: &Bed<D>,
+    opts: &RenderOptions,
+    contacts: Option<&Contacts>,
+) -> Result<Palette> {
+    let mut pal = palette(bed, &opts.color, contacts)?;
+    if let (ColorBy::Radius, Some(_)) = (&opts.color, opts.length_unit) {
+        pal.heading = format!("radius ({})", run_plots::length_label(opts.length_unit));
+    }
+    Ok(pal)
 }
 
 /// Works out the colour of every particle.

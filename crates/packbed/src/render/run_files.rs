@@ -31,6 +31,7 @@ pub fn pictures<const D: usize>(
         let opts = RenderOptions {
             contact_tol,
             color: default_color(bed),
+            length_unit,
             ..RenderOptions::default()
         };
         out.push(("bed.png".to_string(), png_of(bed, &opts)?));
