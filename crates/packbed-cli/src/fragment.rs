@@ -45,7 +45,7 @@ pub struct FragmentArgs {
     /// No pictures (forces.png|svg, breakage.png|svg).
     #[arg(long)]
     pub no_pictures: bool,
-    /// No summary on stdout.
+    /// No progress bar and no summary on stdout.
     #[arg(long, short)]
     pub quiet: bool,
     /// Directory for the output files (created if needed).
@@ -79,7 +79,17 @@ pub fn fragment(args: FragmentArgs) -> Result<()> {
     }
     let hint = crate::analyze::box_hint(args.container.as_ref(), args.periodic)?;
     crate::run::check_out_dir(&args.out)?;
-    let done = packbed::fragment_file(&args.path, hint.as_ref(), &options, args.contact_tol)?;
+    // Each break re-solves the bed: thousands of them take minutes.
+    let mut progress = crate::progress::BreakProgress::new(breaks, args.quiet);
+    let done = packbed::fragment_file_with(
+        &args.path,
+        hint.as_ref(),
+        &options,
+        args.contact_tol,
+        &mut |n| progress.update(n),
+    );
+    progress.finish();
+    let done = done?;
     let written = done
         .write(&args.out, !args.no_pictures)
         .with_context(|| format!("--out {}", args.out.display()))?;

@@ -3,6 +3,7 @@
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use packbed::config::Config;
+use packbed::mechanics::Breaks;
 use std::io::IsTerminal;
 use std::time::{Duration, Instant};
 
@@ -82,4 +83,50 @@ pub fn terminal_bar(
         bar.set_style(style.progress_chars("=> "));
         bar
     })
+}
+
+/// Counts the bonds `packbed fragment` has broken: against the number asked
+/// for, or with a spinner until failure (when is not known in advance).
+pub struct BreakProgress {
+    bar: Option<ProgressBar>,
+    start: Instant,
+    shown: bool,
+}
+
+impl BreakProgress {
+    /// A bar for `breaks`, or a silent one if `quiet` or stderr is not a terminal.
+    pub fn new(breaks: Breaks, quiet: bool) -> BreakProgress {
+        let (len, template) = match breaks {
+            Breaks::Count(n) => (
+                Some(n),
+                "{spinner} {human_pos}/{human_len} bonds broken  ETA {eta}  [{bar:30}]",
+            ),
+            Breaks::Failure => (
+                None,
+                "{spinner} {human_pos} bonds broken (until failure)  {elapsed}",
+            ),
+        };
+        BreakProgress {
+            bar: terminal_bar(quiet, len, ProgressDrawTarget::hidden(), template),
+            start: Instant::now(),
+            shown: false,
+        }
+    }
+
+    /// Records that `broken` bonds are broken.
+    pub fn update(&mut self, broken: u64) {
+        let Some(bar) = &self.bar else { return };
+        if !self.shown && self.start.elapsed() >= SHOW_AFTER {
+            bar.set_draw_target(ProgressDrawTarget::stderr());
+            self.shown = true;
+        }
+        bar.set_position(broken);
+    }
+
+    /// Removes the bar from the terminal.
+    pub fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+    }
 }

@@ -22,6 +22,8 @@ pub enum Color {
     Chains,
     /// Height of the centre.
     Height,
+    /// Radius, on a continuous scale from the smallest to the largest.
+    Radius,
     /// Largest contact force on each body under the default shear load.
     Force,
 }
@@ -138,6 +140,7 @@ pub fn render(args: RenderArgs) -> Result<()> {
         Color::Species => ColorBy::Species,
         Color::Contacts | Color::Coordination => ColorBy::Coordination,
         Color::Height => ColorBy::Height,
+        Color::Radius => ColorBy::Radius,
         Color::Force => ColorBy::Force,
         Color::Chains => ColorBy::Classes(match &bed {
             AnyBed::D2(b) => chains(b, &args)?,

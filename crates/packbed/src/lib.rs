@@ -120,6 +120,7 @@ pub use io::read::{read_bed, read_bed_report, BoxHint, BoxSource, ReadReport};
 pub use io::{AnalyzeSummary, RunSummary};
 pub use output::RunExtras;
 pub use pipeline::{
-    analyze_bed, analyze_file, analyze_read_bed, check_box_hint, fragment_file, fragment_read_bed,
-    run_bed, run_bed_or_stop, AnalyzedBed, AnyFragmentation, FinishedBed, FragmentedBed,
+    analyze_bed, analyze_file, analyze_read_bed, check_box_hint, fragment_file, fragment_file_with,
+    fragment_read_bed, run_bed, run_bed_or_stop, AnalyzedBed, AnyFragmentation, FinishedBed,
+    FragmentedBed,
 };

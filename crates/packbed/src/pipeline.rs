@@ -253,6 +253,17 @@ pub fn fragment_file(
     options: &mechanics::Options,
     contact_tol: crate::math::Real,
 ) -> Result<FragmentedBed> {
+    fragment_file_with(path, hint, options, contact_tol, &mut |_| {})
+}
+
+/// [`fragment_file`], telling `progress` the bonds broken after each break.
+pub fn fragment_file_with(
+    path: &Path,
+    hint: Option<&BoxHint>,
+    options: &mechanics::Options,
+    contact_tol: crate::math::Real,
+    progress: &mut dyn FnMut(u64),
+) -> Result<FragmentedBed> {
     options.check()?;
     if !(contact_tol.is_finite() && contact_tol >= 0.0) {
         return Err(Error::config(format!(
@@ -260,13 +271,14 @@ pub fn fragment_file(
         )));
     }
     let (bed, read, read_seconds) = read_timed(path, hint)?;
-    fragment_read_bed(
+    fragment_bed(
         &path.display().to_string(),
         bed,
         &read,
         options,
         contact_tol,
         read_seconds,
+        progress,
     )
 }
 
@@ -280,19 +292,40 @@ pub fn fragment_read_bed(
     contact_tol: crate::math::Real,
     read_seconds: f64,
 ) -> Result<FragmentedBed> {
+    fragment_bed(
+        source,
+        bed,
+        read,
+        options,
+        contact_tol,
+        read_seconds,
+        &mut |_| {},
+    )
+}
+
+fn fragment_bed(
+    source: &str,
+    bed: AnyBed,
+    read: &ReadReport,
+    options: &mechanics::Options,
+    contact_tol: crate::math::Real,
+    read_seconds: f64,
+    progress: &mut dyn FnMut(u64),
+) -> Result<FragmentedBed> {
     options.check()?;
     if !(contact_tol.is_finite() && contact_tol >= 0.0) {
         return Err(Error::config(format!(
             "contact_tol must be a non-negative number, got {contact_tol}"
         )));
     }
+    let t = (read, options, contact_tol, read_seconds);
     let (fragmentation, summary) = match &bed {
         AnyBed::D2(b) => {
-            let (f, s) = fragment_read(source, b, read, options, contact_tol, read_seconds)?;
+            let (f, s) = fragment_read(source, b, t, progress)?;
             (AnyFragmentation::D2(f), s)
         }
         AnyBed::D3(b) => {
-            let (f, s) = fragment_read(source, b, read, options, contact_tol, read_seconds)?;
+            let (f, s) = fragment_read(source, b, t, progress)?;
             (AnyFragmentation::D3(f), s)
         }
     };
@@ -306,14 +339,17 @@ pub fn fragment_read_bed(
 fn fragment_read<const D: usize>(
     source: &str,
     bed: &Bed<D>,
-    read: &ReadReport,
-    options: &mechanics::Options,
-    contact_tol: crate::math::Real,
-    read_seconds: f64,
+    (read, options, contact_tol, read_seconds): (
+        &ReadReport,
+        &mechanics::Options,
+        crate::math::Real,
+        f64,
+    ),
+    progress: &mut dyn FnMut(u64),
 ) -> Result<(Fragmentation<D>, FragmentSummary)> {
     let contacts = crate::analysis::find_contacts(bed, contact_tol);
     let overlaps = crate::analysis::overlaps(bed, &contacts);
-    let frag = mechanics::fragment(bed, &contacts, options)?;
+    let frag = mechanics::fragment_with(bed, &contacts, options, progress)?;
     let timing = FragmentTiming {
         read_seconds,
         first_solve_seconds: frag.first_solve_seconds,

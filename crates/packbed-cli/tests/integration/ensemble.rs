@@ -98,10 +98,18 @@ fn ensembles_and_sweeps_plot_their_statistics() {
     assert!(bins >= 3, "{texts:?}");
     let svg = s.read("e/plot_packing.svg");
     for want in ["global", "bulk", "floor", "roof", "wall", "centre"] {
-        assert!(svg_texts(&svg).iter().any(|t| t == want), "no {want} bar");
+        assert!(svg_texts(&svg).iter().any(|t| t == want), "no {want} dot");
     }
-    // One bar per region plus the background.
-    assert_eq!(svg.matches("<rect").count(), 7, "{svg}");
+    // One dot (mean ± sd) per region, and no bars but the background.
+    assert_eq!(svg.matches("class=\"marker\"").count(), 6, "{svg}");
+    assert_eq!(svg.matches("<rect").count(), 1, "{svg}");
+    // The axis spans the fractions, not 0–1.
+    let ticks: Vec<f64> = svg_texts(&svg)
+        .iter()
+        .filter_map(|t| t.parse().ok())
+        .collect();
+    assert!(ticks.len() >= 3, "{ticks:?}");
+    assert!(ticks.iter().all(|&t| t > 0.2 && t < 1.0), "{ticks:?}");
     // A sweep over a number draws lines: one marker per value.
     let cfg = s.input(
         "sweep.toml",

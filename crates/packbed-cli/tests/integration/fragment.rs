@@ -44,6 +44,21 @@ fn fragment_writes_bonds_breakage_and_summary() {
     assert_eq!(f["failed"], true);
     let breaks = f["breaks"].as_u64().unwrap();
     assert_eq!(f["breaks_to_failure"].as_u64().unwrap(), breaks);
+    // What the forces are relative to, and how to get a stress, on file and
+    // on screen.
+    let note = summary["force_note"].as_str().unwrap();
+    assert!(note.contains("relative to a total load F = 1"), "{note}");
+    assert!(
+        note.contains("shear stress τ") && note.contains("F = τ·A"),
+        "{note}"
+    );
+    assert!(
+        o.stdout.contains(&format!("  note: {note}\n")),
+        "{}",
+        o.stdout
+    );
+    // No progress bar when stderr is not a terminal.
+    assert_eq!(o.stderr, "");
     let breakage = s.read("frag/breakage.csv");
     assert_eq!(breakage.lines().count() as u64, breaks + 1);
     assert!(breakage.starts_with("step,i,j,wall,magnitude,fragments,largest_fragment\n"));

@@ -347,3 +347,77 @@ fn view_and_cut_on_a_2d_bed_are_refused() {
     }
     ok(d, &bed);
 }
+
+/// `(radius, fill colour)` of every particle of a bed SVG.
+fn disc_fills(svg: &str) -> Vec<(f64, String)> {
+    svg.lines()
+        .filter(|l| l.starts_with("<circle class=\"particle\""))
+        .map(|l| {
+            let attr = |name: &str| {
+                let start = l.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+                let end = start + l[start..].find('"').unwrap();
+                l[start..end].to_string()
+            };
+            (attr("r").parse().unwrap(), attr("fill"))
+        })
+        .collect()
+}
+
+/// Lightness of a `#rrggbb` colour.
+fn lightness(hex: &str) -> f64 {
+    let c = |k: usize| u8::from_str_radix(&hex[1 + 2 * k..3 + 2 * k], 16).unwrap() as f64;
+    0.299 * c(0) + 0.587 * c(1) + 0.114 * c(2)
+}
+
+#[test]
+fn size_distributions_are_pictured_by_radius() {
+    let s = Scratch::new();
+    let config = s.input(
+        "psd.toml",
+        "dim = 2\nseed = 3\n\n[box]\ndiameters = 10\n\n[fill]\ncount = 80\n\n\
+         [[species]]\nname = \"powder\"\nsize = { dist = \"uniform\", min = 4.0, max = 10.0 }\n\n\
+         [analysis]\nlength_unit = \"mm\"\n",
+    );
+    s.ok(&["run", config.to_str().unwrap(), "--quiet", "--out", "psd"]);
+    let svg = s.read("psd/bed.svg");
+    // Lengths on the plots' axes in the config's unit.
+    let profile = s.read("psd/plot_profile.svg");
+    assert!(profile.contains("height above the floor (mm)"));
+    // And on the picture's scale bar and radius legend.
+    assert!(svg.contains(" mm<") && svg.contains(">radius (mm)<"));
+    // The run's own picture: a radius scale, not one colour for the species.
+    let mut discs = disc_fills(&svg);
+    assert_eq!(discs.len(), 80);
+    discs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let distinct: std::collections::BTreeSet<&str> = discs.iter().map(|d| d.1.as_str()).collect();
+    assert!(distinct.len() > 20, "{} colours", distinct.len());
+    // A larger disc never has a darker colour (viridis brightens).
+    for w in discs.windows(2) {
+        assert!(
+            lightness(&w[1].1) >= lightness(&w[0].1) - 1.0,
+            "r {} {} vs r {} {}",
+            w[0].0,
+            w[0].1,
+            w[1].0,
+            w[1].1
+        );
+    }
+    // Two fixed sizes keep one colour per species; `--color radius` asks.
+    s.ok(&["run", "--dim", "2", "--quiet", "--out", "two"]);
+    let two = s.read("two/bed.svg");
+    assert!(!two.contains(">radius<"));
+    s.ok(&[
+        "render",
+        "two/particles.csv",
+        "--color",
+        "radius",
+        "--out",
+        "two-r.svg",
+    ]);
+    let r = s.read("two-r.svg");
+    assert!(r.contains(">radius<"));
+    let discs = disc_fills(&r);
+    let small = discs.iter().find(|d| d.0 < 15.0).unwrap();
+    let large = discs.iter().find(|d| d.0 > 15.0).unwrap();
+    assert!(lightness(&large.1) > lightness(&small.1));
+}

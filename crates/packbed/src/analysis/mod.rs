@@ -97,6 +97,11 @@ pub struct PackingSummary {
     /// Why the bulk measures are null, when they are.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bulk_note: Option<String>,
+    /// When they are: the side, in largest diameters, of the smallest cube
+    /// whose bulk would hold the minimum of bodies
+    /// ([`packing::cube_for_bulk`]); for the screen, not `summary.json`.
+    #[serde(skip)]
+    pub bulk_cube_diameters: Option<u64>,
     /// Floor, roof, wall and centre regions.
     pub regions: RegionalPacking,
     /// Solid fraction in slabs of `d_max / 4`, bottom to top.
@@ -281,6 +286,10 @@ pub fn analyze_timed<const D: usize>(
         }),
         bulk_region_empty: region.is_none(),
         bulk_bodies,
+        bulk_cube_diameters: bulk_note
+            .is_some()
+            .then(|| packing::cube_for_bulk(bed, opts.bulk_min_bodies))
+            .flatten(),
         bulk_note,
         regions: times.time("packing/regions", || {
             regions::regional_packing_of(bed, &volumes)

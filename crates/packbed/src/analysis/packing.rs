@@ -141,6 +141,37 @@ pub fn bulk_region<const D: usize>(bed: &Bed<D>) -> Option<Region<D>> {
     ok.then_some(Region { lo, hi, wrap })
 }
 
+/// The smallest cube, of side `N` largest diameters (a run's `--box
+/// diameters=N`), whose [`bulk_region`] would hold `min_bodies` bodies, as
+/// this bed's packing predicts: its bodies per volume below its surface, a
+/// cube filled to within the gap this bed leaves below its roof (at most a
+/// diameter), and the bulk region's margins (two diameters from the floor
+/// and each wall, three below the surface). `None` for an empty bed.
+pub fn cube_for_bulk<const D: usize>(bed: &Bed<D>, min_bodies: u64) -> Option<u64> {
+    let d = 2.0 * bed.r_max();
+    let surface = surface_height(bed);
+    let mut volume = surface;
+    for k in 0..D - 1 {
+        volume *= bed.container.size[k];
+    }
+    let per_volume = bed.body_count() as Real / volume;
+    if !(d > 0.0 && per_volume > 0.0 && per_volume.is_finite()) {
+        return None;
+    }
+    let gap = ((bed.container.size[D - 1] - surface) / d).clamp(0.0, 1.0);
+    let wall_margin = if bed.container.periodic { 0.0 } else { 4.0 };
+    let per_cell = per_volume * d.powi(D as i32);
+    let holds = |n: Real| {
+        let across = (n - wall_margin).max(0.0);
+        let up = (n - gap - 5.0).max(0.0);
+        per_cell * across.powi(D as i32 - 1) * up
+    };
+    // A fifth more than the minimum: another seed packs a little differently,
+    // and the box named should have a bulk for it too.
+    let want = 1.2 * min_bodies as Real;
+    (1..=100_000u64).find(|&n| holds(n as Real) >= want)
+}
+
 /// Height of the bed's surface: the mean, over columns of the floor about one
 /// largest diameter wide, of the highest particle top whose centre lies in the
 /// column (0 for a column with none). One particle sticking up (a spike) moves

@@ -11,13 +11,20 @@
 use super::stats::{Aggregate, Histogram, Series as StatSeries, Stats};
 use super::sweep::{SweepConfig, SweepValue};
 use crate::analysis::orientation::AngleFrom;
+use crate::config::LengthUnit;
 use crate::render::plot::{format_number, BarGroup, Plot, PlotData, Series};
-use crate::render::run_plots::chain_angle_plot;
+use crate::render::run_plots::{chain_angle_plot, length_label};
 
 /// Plots of one ensemble, as `(file stem, plot)`; only those whose measures
 /// the beds have.
-/// `dim` and `angle_from` say how the chain-angle histogram is to be read.
-pub fn ensemble_plots(a: &Aggregate, dim: usize, angle_from: AngleFrom) -> Vec<(String, Plot)> {
+/// `dim` and `angle_from` say how the chain-angle histogram is to be read;
+/// `unit` names the lengths' unit where the config gives one.
+pub fn ensemble_plots(
+    a: &Aggregate,
+    dim: usize,
+    angle_from: AngleFrom,
+    unit: Option<LengthUnit>,
+) -> Vec<(String, Plot)> {
     let beds = a.replicates;
     let mut out = Vec::new();
     if let Some(p) = packing_bars(a, beds) {
@@ -29,7 +36,7 @@ pub fn ensemble_plots(a: &Aggregate, dim: usize, angle_from: AngleFrom) -> Vec<(
     if let Some(p) = coordination_histograms(a, beds) {
         out.push(("plot_coordination".to_string(), p));
     }
-    if let Some(p) = packing_profile(a, beds) {
+    if let Some(p) = packing_profile(a, beds, unit) {
         out.push(("plot_profile".to_string(), p));
     }
     if let Some(p) = chain_angles(a, beds, dim, angle_from) {
@@ -100,7 +107,9 @@ fn packing_bars(a: &Aggregate, beds: u64) -> Option<Plot> {
         title: format!("Packing fraction: mean ± sd over {}", beds_text(beds)),
         x_label: "region of the bed".into(),
         y_label: "packing fraction".into(),
-        data: PlotData::Bars {
+        // Dots on an axis that spans the data: regions differ by a few
+        // hundredths, which bars on 0–1 drew as equal.
+        data: PlotData::Dots {
             categories: rows.iter().map(|r| r.0.to_string()).collect(),
             groups: vec![BarGroup {
                 name: "mean ± sd".into(),
@@ -108,7 +117,7 @@ fn packing_bars(a: &Aggregate, beds: u64) -> Option<Plot> {
                 errors: Some(rows.iter().map(|r| r.1.sd).collect()),
             }],
         },
-        y_range: Some((0.0, 1.0)),
+        y_range: None,
         x_range: None,
     })
 }
@@ -202,7 +211,7 @@ fn coordination_histograms(a: &Aggregate, beds: u64) -> Option<Plot> {
 }
 
 /// Mean packing fraction per slab against the slab's mid-height, ± sd.
-fn packing_profile(a: &Aggregate, beds: u64) -> Option<Plot> {
+fn packing_profile(a: &Aggregate, beds: u64, unit: Option<LengthUnit>) -> Option<Plot> {
     let z = series(a, "packing.profile.z")?;
     let phi = series(a, "packing.profile.fraction")?;
     let points: Vec<(f64, f64, f64)> = z
@@ -219,11 +228,12 @@ fn packing_profile(a: &Aggregate, beds: u64) -> Option<Plot> {
     let top = points.last().map_or(0.0, |p| p.0 + 0.5 * slab);
     Some(Plot {
         title: format!(
-            "Packing fraction profile: mean ± sd over {} (slabs {} thick)",
+            "Packing fraction profile: mean ± sd over {} (slabs {} {} thick)",
             beds_text(beds),
-            format_number(slab)
+            format_number(slab),
+            length_label(unit)
         ),
-        x_label: "height above the floor (length units)".into(),
+        x_label: format!("height above the floor ({})", length_label(unit)),
         y_label: "packing fraction".into(),
         data: PlotData::Lines {
             series: vec![Series {
@@ -498,15 +508,60 @@ mod tests {
             ("packing.global", 0.55, 0.01),
             ("packing.regions.wall", 0.5, 0.02),
         ]);
-        let plots = ensemble_plots(&a, 3, AngleFrom::Vertical);
+        let plots = ensemble_plots(&a, 3, AngleFrom::Vertical, None);
         let (_, p) = plots.iter().find(|p| p.0 == "plot_packing").unwrap();
-        let PlotData::Bars { categories, groups } = &p.data else {
-            panic!("bars expected");
+        let PlotData::Dots { categories, groups } = &p.data else {
+            panic!("dots expected");
         };
         assert_eq!(categories, &["global", "wall"]);
         assert_eq!(groups[0].values, vec![0.55, 0.5]);
         assert_eq!(groups[0].errors, Some(vec![0.01, 0.02]));
         assert!(p.title.contains("4 beds"));
+    }
+
+    #[test]
+    fn packing_axis_spans_the_differences_not_zero_to_one() {
+        // Regions 0.55 ± 0.01 and 0.60 ± 0.02: the axis must show them apart.
+        let a = aggregate(&[
+            ("packing.global", 0.55, 0.01),
+            ("packing.regions.centre", 0.6, 0.02),
+        ]);
+        let plots = ensemble_plots(&a, 3, AngleFrom::Vertical, None);
+        let (_, p) = plots.iter().find(|p| p.0 == "plot_packing").unwrap();
+        let (_, (lo, hi)) = p.ranges();
+        assert!(lo <= 0.54 && hi >= 0.62, "{lo}–{hi} hides data");
+        // The data fill at least half the axis (0.54–0.62 of at most 0.16).
+        assert!(hi - lo <= 0.16, "{lo}–{hi}");
+        assert!(lo > 0.3 && hi < 0.8, "{lo}–{hi}");
+    }
+
+    #[test]
+    fn profile_axis_names_the_length_unit() {
+        let mut a = aggregate(&[("packing.profile.slab", 10.0, 0.0)]);
+        let entry = |mean| Stats {
+            n: 4,
+            mean,
+            sd: 0.0,
+            min: mean,
+            max: mean,
+        };
+        a.series = vec![
+            StatSeries {
+                name: "packing.profile.z".into(),
+                entries: vec![entry(5.0), entry(15.0)],
+            },
+            StatSeries {
+                name: "packing.profile.fraction".into(),
+                entries: vec![entry(0.5), entry(0.6)],
+            },
+        ];
+        let plots = ensemble_plots(&a, 3, AngleFrom::Vertical, Some(LengthUnit::Micrometre));
+        let (_, p) = plots.iter().find(|p| p.0 == "plot_profile").unwrap();
+        assert_eq!(p.x_label, "height above the floor (µm)");
+        assert!(p.title.contains("slabs 10 µm thick"), "{}", p.title);
+        let plots = ensemble_plots(&a, 3, AngleFrom::Vertical, None);
+        let (_, p) = plots.iter().find(|p| p.0 == "plot_profile").unwrap();
+        assert_eq!(p.x_label, "height above the floor (length units)");
     }
 
     #[test]
@@ -517,7 +572,7 @@ mod tests {
             ("coordination.by_species.large.mean", 6.0, 0.3),
             ("coordination.by_species.small.mean", 3.0, 0.4),
         ]);
-        let plots = ensemble_plots(&a, 3, AngleFrom::Vertical);
+        let plots = ensemble_plots(&a, 3, AngleFrom::Vertical, None);
         let (_, p) = plots
             .iter()
             .find(|p| p.0 == "plot_coordination_means")

@@ -96,6 +96,7 @@ pub(super) fn write_point(
                 &aggregate,
                 p.config.dim as usize,
                 p.config.analysis.chain_angle_from,
+                p.config.analysis.length_unit,
             ),
         )?;
         #[cfg(not(feature = "render"))]

@@ -386,6 +386,20 @@ mod tests {
     use crate::container::Container;
     use crate::math::Vector;
 
+    #[test]
+    fn fragment_forces_say_what_they_are_relative_to() {
+        use crate::mechanics::Load;
+        let n = force_note(Load::Shear, 240.0, Some(120.0));
+        assert!(n.contains("relative to a total load F = 1"), "{n}");
+        // A shear stress τ on the top face: F = τ·A with A = 240 × 120.
+        assert!(n.contains("F = τ·A") && n.contains("28800"), "{n}");
+        let n = force_note(Load::Compression, 50.0, None);
+        assert!(n.contains("F = p·A") && n.contains("per unit depth"), "{n}");
+        assert!(n.contains("width 50"), "{n}");
+        let n = force_note(Load::Gravity, 50.0, None);
+        assert!(n.contains("weight"), "{n}");
+    }
+
     fn small_run() -> (Config, Bed<3>) {
         let config = Config::default();
         let plan = config.plan::<3>().unwrap();
@@ -459,8 +473,39 @@ pub struct FragmentSummary {
     pub checks: Checks,
     /// The forces and the breakage.
     pub fragmentation: FragmentationSummary,
+    /// What the forces are relative to and how to scale them to a stress.
+    pub force_note: String,
     /// Wall times.
     pub timing: FragmentTiming,
+}
+
+/// What the forces of a fragmentation are relative to (a total load of 1)
+/// and how a stress on the bed gives the total force that scales them, for
+/// the load `load` on a box `width` wide (and `depth` deep in 3D).
+pub fn force_note(load: crate::mechanics::Load, width: Real, depth: Option<Real>) -> String {
+    use crate::mechanics::Load;
+    let total = crate::mechanics::TOTAL;
+    let area = match depth {
+        Some(d) => {
+            let a = width * d;
+            format!("its area A = width × depth = {width} × {d} = {a} (length units²)")
+        }
+        None => format!("per unit depth of the 2D bed, A = its width {width} (length units)"),
+    };
+    let what = match load {
+        Load::Shear => format!(
+            "F is the shear force on the top bodies (balanced by the bottom ones); a shear stress τ on the bed's top face gives F = τ·A, {area}"
+        ),
+        Load::Compression => format!(
+            "F is the downward force on the top bodies; a pressure p on the bed's top face gives F = p·A, {area}"
+        ),
+        Load::Gravity => {
+            "F is the bed's weight (ρ_s·g·solid volume); its weight per floor area is the stress on the floor".to_string()
+        }
+    };
+    format!(
+        "forces are relative to a total load F = {total}: the springs are linear, so under a total load F every force scales by F and the breaking order stays the same; {what}"
+    )
 }
 
 /// `settings.*` of `packbed fragment`.
@@ -514,6 +559,11 @@ impl FragmentSummary {
                 wrapped_centres: read.wrapped,
             },
             fragmentation: fragmentation.clone(),
+            force_note: force_note(
+                fragmentation.load,
+                bed.container.size[0],
+                (D == 3).then(|| bed.container.size[1]),
+            ),
             timing,
         }
     }

@@ -111,7 +111,18 @@ pub fn fragment<const D: usize>(
     contacts: &Contacts,
     options: &Options,
 ) -> Result<Fragmentation<D>> {
-    solve_and_break(bed, contacts, options, true)
+    solve_and_break(bed, contacts, options, true, &mut |_| {})
+}
+
+/// [`fragment`], telling `progress` the number of bonds broken after each
+/// break (a long breakage re-solves the bed once per break).
+pub fn fragment_with<const D: usize>(
+    bed: &Bed<D>,
+    contacts: &Contacts,
+    options: &Options,
+    progress: &mut dyn FnMut(u64),
+) -> Result<Fragmentation<D>> {
+    solve_and_break(bed, contacts, options, true, progress)
 }
 
 /// The bond forces of the intact bed under `options.load`, without breaking
@@ -121,7 +132,7 @@ pub fn forces<const D: usize>(
     contacts: &Contacts,
     options: &Options,
 ) -> Result<Fragmentation<D>> {
-    solve_and_break(bed, contacts, options, false)
+    solve_and_break(bed, contacts, options, false, &mut |_| {})
 }
 
 fn solve_and_break<const D: usize>(
@@ -129,6 +140,7 @@ fn solve_and_break<const D: usize>(
     contacts: &Contacts,
     options: &Options,
     breaking: bool,
+    progress: &mut dyn FnMut(u64),
 ) -> Result<Fragmentation<D>> {
     options.check()?;
     let start = std::time::Instant::now();
@@ -207,6 +219,7 @@ fn solve_and_break<const D: usize>(
             fragments,
             largest_fragment: largest,
         });
+        progress(step);
         let more = match options.breaks {
             Breaks::Failure => failed_at.is_none(),
             Breaks::Count(n) => step < n,

@@ -65,6 +65,7 @@ pub fn write_run_with<const D: usize>(
         &summary.analysis,
         summary.config.analysis.contact_tol,
         summary.config.analysis.chain_angle_from,
+        summary.config.analysis.length_unit,
         psd,
         extras,
     )?;
@@ -90,6 +91,8 @@ pub fn write_analysis<const D: usize>(
         &summary.analysis,
         summary.settings.contact_tol,
         summary.settings.chain_angle_from,
+        // The summary of `analyze` does not record a unit.
+        None,
         None,
         extras,
     )?;
@@ -121,12 +124,16 @@ fn stage_dir<const D: usize>(
 
 /// `(file name, contents)` of the pictures, plots and exports `extras` asks
 /// for, in writing order.
+// The settings come from either a run's or an analysis' summary, which share
+// no type to pass instead.
+#[allow(clippy::too_many_arguments)]
 fn extra_files<const D: usize>(
     bed: &Bed<D>,
     contacts: &Contacts,
     measures: &crate::analysis::Summary,
     contact_tol: crate::math::Real,
     angle_from: crate::analysis::orientation::AngleFrom,
+    length_unit: Option<LengthUnit>,
     psd: Option<(&PsdSummary, Option<LengthUnit>)>,
     extras: &RunExtras,
 ) -> Result<Vec<(String, Vec<u8>)>> {
@@ -156,7 +163,14 @@ fn extra_files<const D: usize>(
         }
     }
     if extras.pictures {
-        out.extend(pictures(bed, contacts, measures, contact_tol, angle_from)?);
+        out.extend(pictures(
+            bed,
+            contacts,
+            measures,
+            contact_tol,
+            angle_from,
+            length_unit,
+        )?);
         #[cfg(feature = "render")]
         if let Some((p, unit)) = psd {
             out.extend(crate::render::run_files::psd_plot(
@@ -221,6 +235,7 @@ pub(crate) fn pictures<const D: usize>(
     _: &crate::analysis::Summary,
     _: crate::math::Real,
     _: crate::analysis::orientation::AngleFrom,
+    _: Option<crate::config::LengthUnit>,
 ) -> Result<Vec<(String, Vec<u8>)>> {
     Err(no_pictures())
 }

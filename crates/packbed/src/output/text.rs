@@ -121,7 +121,11 @@ pub fn run_text(s: &RunSummary, out: &Path, files: &[PathBuf]) -> String {
         );
     }
     let names: Vec<String> = s.species.iter().map(|sp| sp.name.clone()).collect();
-    t.push_str(&measures_text(&s.analysis, &names));
+    t.push_str(&measures_text_with(
+        &s.analysis,
+        &names,
+        bulk_hint(s).as_deref(),
+    ));
     let tm = &s.timing;
     let _ = writeln!(
         t,
@@ -242,9 +246,38 @@ fn cake_text(c: &crate::analysis::CakeSummary) -> String {
     t
 }
 
+/// What a run without a bulk can do about it: the box that gives one (a
+/// run's own option; `analyze` reads a bed it cannot rebuild).
+fn bulk_hint(s: &RunSummary) -> Option<String> {
+    let p = s.analysis.packing.as_ref()?;
+    p.bulk_note.as_ref()?;
+    let n = p.bulk_cube_diameters?;
+    let b = &s.config.container;
+    let preset = b.diameters.is_none()
+        && b.width.is_none()
+        && b.depth.is_none()
+        && b.height.is_none()
+        && b.preset.as_deref().is_none_or(|p| p == "thesis");
+    let whose = if preset {
+        "the source study's box"
+    } else {
+        "this box"
+    };
+    let shape = if s.dim == 2 { "square" } else { "cube" };
+    Some(format!(
+        "{whose} is too small for a bulk; a {shape} of {n} largest diameters should give one: --box diameters={n}"
+    ))
+}
+
 /// One line per measure, shared by `run` and `analyze`; `names` are the
 /// species names by index where known.
 pub fn measures_text(a: &Summary, names: &[String]) -> String {
+    measures_text_with(a, names, None)
+}
+
+/// [`measures_text`], with `bulk_hint` said after the reason a bed has no
+/// bulk measures.
+fn measures_text_with(a: &Summary, names: &[String], bulk_hint: Option<&str>) -> String {
     // Species by name: the run's, else the analysis's own, else the index.
     let species_name = |i: usize| -> String {
         names
@@ -289,9 +322,6 @@ pub fn measures_text(a: &Summary, names: &[String]) -> String {
             count(k.wall_contacts, "wall contact", "wall contacts")
         );
     }
-    if let Some(why) = a.packing.as_ref().and_then(|p| p.bulk_note.as_ref()) {
-        let _ = writeln!(t, "  bulk measures: none ({why})");
-    }
     if let Some(k) = a.coordination.as_ref().filter(|k| k.by_species.len() > 1) {
         let per: Vec<String> = k
             .by_species
@@ -306,6 +336,12 @@ pub fn measures_text(a: &Summary, names: &[String]) -> String {
             })
             .collect();
         let _ = writeln!(t, "    by species: {}", per.join(", "));
+    }
+    if let Some(why) = a.packing.as_ref().and_then(|p| p.bulk_note.as_ref()) {
+        let _ = writeln!(t, "  bulk measures: none ({why})");
+        if let Some(hint) = bulk_hint {
+            let _ = writeln!(t, "    {hint}");
+        }
     }
     if let Some(p) = &a.pores {
         let _ = writeln!(
@@ -486,6 +522,7 @@ pub fn fragment_text(
         "  bonds: {}, force max {:.4} mean {:.4} cv {:.3} (total load 1); unstable bodies {}",
         f.bonds, f.max_force, f.mean_force, f.force_cv, f.unstable_bodies
     );
+    let _ = writeln!(t, "  note: {}", s.force_note);
     let failure = match f.breaks_to_failure {
         Some(n) => format!("failed after {}", count(n, "break", "breaks")),
         None => "not failed".to_string(),
@@ -509,6 +546,53 @@ pub fn fragment_text(
 #[cfg(test)]
 mod tests {
     use super::length;
+
+    #[test]
+    fn the_default_bed_names_a_box_that_has_a_bulk() {
+        use crate::config::Config;
+        let config = Config::default();
+        let done = crate::run_bed(&config, &mut |_| {}).unwrap();
+        let text = super::run_text(&done.summary, std::path::Path::new("out"), &[]);
+        let line = text
+            .lines()
+            .find(|l| l.contains("--box diameters="))
+            .unwrap_or_else(|| panic!("no box named:\n{text}"));
+        assert!(
+            line.contains("the source study's box is too small for a bulk"),
+            "{line}"
+        );
+        let n: f64 = line.rsplit('=').next().unwrap().trim().parse().unwrap();
+        // The box it names does have a bulk, of at least the minimum.
+        let mut bigger = config.clone();
+        bigger.container.diameters = Some(n);
+        let done = crate::run_bed(&bigger, &mut |_| {}).unwrap();
+        let p = done.summary.analysis.packing.as_ref().unwrap();
+        assert!(p.bulk.is_some(), "--box diameters={n}: {:?}", p.bulk_note);
+        assert!(p.bulk_bodies >= config.analysis.bulk_min_bodies);
+        // And it is not far larger than needed: one diameter less has none.
+        let mut smaller = config.clone();
+        smaller.container.diameters = Some(n - 2.0);
+        let done = crate::run_bed(&smaller, &mut |_| {}).unwrap();
+        let p = done.summary.analysis.packing.as_ref().unwrap();
+        assert!(
+            p.bulk.is_none(),
+            "--box diameters={}: a bulk already",
+            n - 2.0
+        );
+    }
+
+    #[test]
+    fn species_coordination_follows_the_coordination_line() {
+        let done = crate::run_bed(&crate::config::Config::default(), &mut |_| {}).unwrap();
+        let text = super::run_text(&done.summary, std::path::Path::new("out"), &[]);
+        let lines: Vec<&str> = text.lines().collect();
+        let k = lines
+            .iter()
+            .position(|l| l.trim_start().starts_with("by species:"))
+            .unwrap();
+        assert!(lines[k - 1].starts_with("  coordination:"), "{text}");
+        assert!(lines[k].starts_with("    by species:"), "{text}");
+    }
 
     #[test]
     fn lengths_have_at_most_six_significant_digits() {

@@ -7,7 +7,7 @@
 
 use super::canvas::{Canvas, PngCanvas, Rgb, Style, SvgCanvas, WorldToPixel};
 use super::frame::{self, Frame};
-use super::{contacts_if_needed, default_title, palette, RenderOptions};
+use super::{contacts_if_needed, default_title, picture_palette, RenderOptions};
 use crate::bed::Bed;
 use crate::error::Result;
 
@@ -37,7 +37,7 @@ pub fn world_to_pixel(frame: &Frame, width: f64, height: f64) -> WorldToPixel {
 /// Where [`draw`] puts the bed in the image: bed coordinates to pixels.
 pub fn placement(bed: &Bed<2>, opts: &RenderOptions) -> Result<WorldToPixel> {
     let contacts = contacts_if_needed(bed, opts);
-    let pal = palette(bed, &opts.color, contacts.as_ref())?;
+    let pal = picture_palette(bed, opts, contacts.as_ref())?;
     let frame = frame::layout(opts.width, opts.height, &pal);
     let size = bed.container.size;
     Ok(world_to_pixel(&frame, size[0], size[1].max(bed.top())))
@@ -46,8 +46,9 @@ pub fn placement(bed: &Bed<2>, opts: &RenderOptions) -> Result<WorldToPixel> {
 /// Draws a 2D bed with its frame on any canvas.
 pub fn draw(canvas: &mut dyn Canvas, bed: &Bed<2>, opts: &RenderOptions) -> Result<()> {
     let contacts = contacts_if_needed(bed, opts);
-    let pal = palette(bed, &opts.color, contacts.as_ref())?;
-    let frame = frame::layout(opts.width, opts.height, &pal);
+    let pal = picture_palette(bed, opts, contacts.as_ref())?;
+    let mut frame = frame::layout(opts.width, opts.height, &pal);
+    frame.length_unit = super::run_plots::length_label(opts.length_unit);
     let size = bed.container.size;
     // Count mode can build above the roof: show the whole bed.
     let height = size[1].max(bed.top());

@@ -13,7 +13,7 @@
 
 use super::canvas::{PngCanvas, Rgb};
 use super::frame;
-use super::{contacts_if_needed, default_title, palette, RenderOptions};
+use super::{contacts_if_needed, default_title, picture_palette, RenderOptions};
 use crate::bed::Bed;
 use crate::error::{Error, Result};
 use rayon::prelude::*;
@@ -260,8 +260,9 @@ fn shade(d: &Disc, x: usize, y: usize, c: Rgb, light: [f64; 3], half: [f64; 3]) 
 /// The PNG picture of a 3D bed.
 pub fn png(bed: &Bed<3>, opts: &RenderOptions) -> Result<Vec<u8>> {
     let contacts = contacts_if_needed(bed, opts);
-    let pal = palette(bed, &opts.color, contacts.as_ref())?;
-    let fr = frame::layout(opts.width, opts.height, &pal);
+    let pal = picture_palette(bed, opts, contacts.as_ref())?;
+    let mut fr = frame::layout(opts.width, opts.height, &pal);
+    fr.length_unit = super::run_plots::length_label(opts.length_unit);
     let [eye, right, up] = opts.view.basis();
     let size = bed.container.size;
     let height = size[2].max(bed.top());

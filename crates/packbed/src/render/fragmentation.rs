@@ -620,30 +620,71 @@ pub fn draw_forces<const D: usize>(
     Ok(())
 }
 
-/// The breakage picture of `frag` (a fragmentation of `bed`) on any canvas.
+/// Breaks numbered in the breakage picture; past this many, numbers would
+/// pile up over each other, so the rest show their order by colour.
+pub const NUMBERED_BREAKS: usize = 20;
+
+/// Where along viridis the last break lies: its yellow end vanishes on the
+/// pale particles.
+const ORDER_TOP: f64 = 0.88;
+
+/// The colour of break `k` (from 0) of `n` when breaks are coloured by order.
+fn order_colour(k: usize, n: usize) -> Rgb {
+    let t = if n > 1 {
+        k as f64 / (n - 1) as f64
+    } else {
+        0.0
+    };
+    colour::viridis(ORDER_TOP * t)
+}
+
+/// The breakage picture of `frag` (a fragmentation of `bed`) on any canvas:
+/// broken bonds highlighted and the first [`NUMBERED_BREAKS`] numbered; with
+/// more breaks than that, every broken bond is coloured by its order, with a
+/// colour scale in the legend.
 pub fn draw_breakage<const D: usize>(
     canvas: &mut dyn Canvas,
     bed: &Bed<D>,
     frag: &Fragmentation<D>,
 ) -> Result<()> {
     check(bed, frag)?;
+    let n = frag.steps.len();
+    let by_order = n > NUMBERED_BREAKS;
     let mut rows = vec![
         Row::Text("bonds".into()),
         Row::Line(INTACT, 1.0, "intact".into()),
-        Row::Line(colour::HIGHLIGHT, 1.0, "broken".into()),
-        Row::Badge("breaking order".into()),
     ];
+    if by_order {
+        rows.push(Row::Text("broken, by breaking order".into()));
+        // Five samples of the scale, first break at the top.
+        let mut picks: Vec<usize> = (0..5).map(|q| q * (n - 1) / 4).collect();
+        picks.dedup();
+        for k in picks {
+            let c = order_colour(k, n);
+            rows.push(Row::Line(c, 1.0, format!("break {}", frag.steps[k].step)));
+        }
+        rows.push(Row::Badge(format!("first {NUMBERED_BREAKS} numbered")));
+    } else {
+        rows.push(Row::Line(colour::HIGHLIGHT, 1.0, "broken".into()));
+        rows.push(Row::Badge("breaking order".into()));
+    }
     rows.extend(depth_rows::<D>());
     let (w, h) = canvas.size();
     let scene = Scene::new(bed, w, h, &rows);
     let r_px = scene.radius_px();
     let thin = (0.08 * r_px).clamp(0.6, 1.5);
     let thick = (0.45 * r_px).clamp(2.0, 8.0);
-    if let Row::Line(_, w, _) = &mut rows[1] {
-        *w = thin;
-    }
-    if let Row::Line(_, w, _) = &mut rows[2] {
-        *w = thick;
+    // Many coloured breaks are drawn thinner, so that they do not hide
+    // each other's colours.
+    let broken_w = if by_order {
+        thick.min((0.25 * r_px).max(1.5))
+    } else {
+        thick
+    };
+    for (k, r) in rows.iter_mut().enumerate() {
+        if let Row::Line(_, w, _) = r {
+            *w = if k == 1 { thin } else { broken_w };
+        }
     }
 
     let mut broken = vec![false; frag.bonds.len()];
@@ -661,17 +702,27 @@ pub fn draw_breakage<const D: usize>(
         let c = INTACT.mix(Rgb::WHITE, 0.6 * d.depth);
         scene.stroke(canvas, d, c, thin * (1.0 - 0.5 * d.depth), "bond intact");
     }
-    for s in &frag.steps {
-        let d = &drawn[s.bond];
-        let c = colour::HIGHLIGHT.mix(Rgb::WHITE, 0.45 * d.depth);
-        scene.stroke(canvas, d, c, thick * (1.0 - 0.4 * d.depth), "bond broken");
+    if by_order {
+        // The last break at the bottom, so the numbered first ones lie on top.
+        let width = broken_w;
+        for (k, s) in frag.steps.iter().enumerate().rev() {
+            let d = &drawn[s.bond];
+            let c = order_colour(k, n).mix(Rgb::WHITE, 0.45 * d.depth);
+            scene.stroke(canvas, d, c, width * (1.0 - 0.4 * d.depth), "bond broken");
+        }
+    } else {
+        for s in &frag.steps {
+            let d = &drawn[s.bond];
+            let c = colour::HIGHLIGHT.mix(Rgb::WHITE, 0.45 * d.depth);
+            scene.stroke(canvas, d, c, thick * (1.0 - 0.4 * d.depth), "bond broken");
+        }
     }
     scene.container(canvas);
     canvas.set_world(None);
 
     // The numbers, in pixels: the first break on top.
     let size = (1.2 * r_px).min(0.8 * scene.frame.font).max(8.0);
-    for s in frag.steps.iter().rev() {
+    for s in frag.steps.iter().take(NUMBERED_BREAKS).rev() {
         let (x, y) = scene.at(&frag.bonds[s.bond].point);
         let (px, py) = scene.world.apply(x, y);
         if finite2((px, py)) {

@@ -14,6 +14,8 @@ pub struct Frame {
     pub area: [f64; 4],
     /// Left edge of the legend column.
     pub legend_x: f64,
+    /// The unit the scale bar names ("length units" unless the run gave one).
+    pub length_unit: &'static str,
 }
 
 /// Lays out a `width × height` image for this title and legend.
@@ -42,6 +44,7 @@ pub fn layout(width: u32, height: u32, palette: &Palette) -> Frame {
         font,
         area: [left, top, right.max(left + 10.0), bottom.max(top + 10.0)],
         legend_x: right + pad,
+        length_unit: super::run_plots::length_label(None),
     }
 }
 
@@ -127,7 +130,8 @@ pub fn draw(
             canvas.line(x0, yb, x0 + px, yb, Rgb::BLACK, lw);
             canvas.line(x0, yb - tick, x0, yb + tick, Rgb::BLACK, lw);
             canvas.line(x0 + px, yb - tick, x0 + px, yb + tick, Rgb::BLACK, lw);
-            let label = format!("{} length units{scale_note}", format_number(len));
+            let unit = frame.length_unit;
+            let label = format!("{} {unit}{scale_note}", format_number(len));
             let size = f.min(f * (w - x0 - px - 2.0 * f) / text_width(&label, f).max(1.0));
             canvas.text(
                 x0 + px + 0.6 * f,

@@ -51,6 +51,10 @@ pub enum ColorBy {
     Coordination,
     /// The height of the centre.
     Height,
+    /// The radius, on a continuous scale from the smallest to the largest in
+    /// the bed (the default for beds with a size distribution, see
+    /// [`default_color`]).
+    Radius,
     /// The largest contact force `|f|` among the bonds of the particle's body
     /// under the default load (shear, total 1), from [`crate::mechanics`]
     /// (see [`fragmentation::particle_forces`]).
@@ -82,6 +86,9 @@ pub struct RenderOptions {
     pub supersample: u32,
     /// A title above the picture (a default one describes the bed).
     pub title: Option<String>,
+    /// The unit of the bed's lengths, for the scale bar and the radius
+    /// legend (`[analysis] length_unit`), where known.
+    pub length_unit: Option<crate::config::LengthUnit>,
 }
 
 impl Default for RenderOptions {
@@ -97,6 +104,7 @@ impl Default for RenderOptions {
             cut: Cut::None,
             supersample: 2,
             title: None,
+            length_unit: None,
         }
     }
 }
@@ -205,6 +213,79 @@ fn continuous(values: &[f64], top: f64, heading: String) -> Palette {
     }
 }
 
+/// A viridis colouring of `values` from `lo` to `hi`, with a five-step
+/// legend; one colour (the scale's middle) when they are all equal.
+fn continuous_between(values: &[f64], lo: f64, hi: f64, heading: String) -> Palette {
+    let span = hi - lo;
+    // Also catches a NaN span: one colour rather than NaN colours.
+    if span.is_nan() || span <= 1e-12 * hi.abs() {
+        let c = colour::viridis(0.5);
+        return Palette {
+            colours: vec![c; values.len()],
+            legend: vec![(c, plot::format_number(hi))],
+            heading,
+        };
+    }
+    let colours = values
+        .iter()
+        .map(|&v| colour::viridis((v - lo) / span))
+        .collect();
+    let legend = (0..=4)
+        .rev()
+        .map(|k| {
+            let t = k as f64 / 4.0;
+            (
+                colour::viridis(t),
+                plot::format_tick(lo + t * span, span / 4.0),
+            )
+        })
+        .collect();
+    Palette {
+        colours,
+        legend,
+        heading,
+    }
+}
+
+/// How a run colours its bed: by radius when a species' particles differ in
+/// size (a size distribution: one colour per species would hide it), by
+/// species when every species has one size.
+pub fn default_color<const D: usize>(bed: &Bed<D>) -> ColorBy {
+    let species = bed
+        .species
+        .iter()
+        .map(|&s| s as usize + 1)
+        .max()
+        .unwrap_or(0);
+    let mut lo = vec![f64::INFINITY; species];
+    let mut hi = vec![0.0f64; species];
+    for (&s, &r) in bed.species.iter().zip(&bed.radii) {
+        lo[s as usize] = lo[s as usize].min(r);
+        hi[s as usize] = hi[s as usize].max(r);
+    }
+    // The same relative tolerance as the species legend's "r = a–b".
+    let sized = lo.iter().zip(&hi).any(|(&l, &h)| h - l > 1e-9 * h);
+    if sized {
+        ColorBy::Radius
+    } else {
+        ColorBy::Species
+    }
+}
+
+/// The palette of a bed picture: [`palette`], with the radius legend in the
+/// options' length unit.
+pub(crate) fn picture_palette<const D: usize>(
+    bed: &Bed<D>,
+    opts: &RenderOptions,
+    contacts: Option<&Contacts>,
+) -> Result<Palette> {
+    let mut pal = palette(bed, &opts.color, contacts)?;
+    if let (ColorBy::Radius, Some(_)) = (&opts.color, opts.length_unit) {
+        pal.heading = format!("radius ({})", run_plots::length_label(opts.length_unit));
+    }
+    Ok(pal)
+}
+
 /// Works out the colour of every particle.
 pub fn palette<const D: usize>(
     bed: &Bed<D>,
@@ -267,6 +348,12 @@ pub fn palette<const D: usize>(
             let h = bed.container.height().max(bed.top()).max(f64::MIN_POSITIVE);
             let heights: Vec<f64> = bed.centres.iter().map(|c| c.height()).collect();
             Ok(continuous(&heights, h, "centre height".into()))
+        }
+        ColorBy::Radius => {
+            let lo = bed.radii.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = bed.radii.iter().copied().fold(0.0, f64::max);
+            let lo = if lo.is_finite() { lo } else { hi };
+            Ok(continuous_between(&bed.radii, lo, hi, "radius".into()))
         }
         ColorBy::Force => {
             let owned;
@@ -401,5 +488,72 @@ pub fn chain_classes<const D: usize>(
         ],
         class,
         backdrop: Some(2),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lightness(c: Rgb) -> f64 {
+        0.299 * c.0 as f64 + 0.587 * c.1 as f64 + 0.114 * c.2 as f64
+    }
+
+    #[test]
+    fn radius_colours_grow_with_the_radius_and_span_the_scale() {
+        let radii = [3.0, 1.0, 2.5, 1.5, 2.0];
+        let bed = Bed::of_discs([40.0, 20.0], false, &radii.map(|r| (5.0 + 6.0 * r, 5.0, r)));
+        let p = palette(&bed, &ColorBy::Radius, None).unwrap();
+        let mut order: Vec<usize> = (0..radii.len()).collect();
+        order.sort_by(|&a, &b| radii[a].total_cmp(&radii[b]));
+        // Viridis brightens monotonically: a larger radius, a lighter colour.
+        for w in order.windows(2) {
+            assert!(
+                lightness(p.colours[w[1]]) > lightness(p.colours[w[0]]),
+                "r {} vs {}",
+                radii[w[0]],
+                radii[w[1]]
+            );
+        }
+        // The smallest and largest radii take the ends of the scale.
+        assert_eq!(p.colours[1], colour::viridis(0.0));
+        assert_eq!(p.colours[0], colour::viridis(1.0));
+        assert_eq!(p.heading, "radius");
+        let labels: Vec<&str> = p.legend.iter().map(|l| l.1.as_str()).collect();
+        assert_eq!(labels, ["3.0", "2.5", "2.0", "1.5", "1.0"]);
+    }
+
+    #[test]
+    fn one_radius_gets_one_colour() {
+        let bed = Bed::of_discs([40.0, 20.0], false, &[(5.0, 5.0, 2.0), (15.0, 5.0, 2.0)]);
+        let p = palette(&bed, &ColorBy::Radius, None).unwrap();
+        assert_eq!(p.colours[0], p.colours[1]);
+        assert_eq!(p.legend.len(), 1);
+    }
+
+    #[test]
+    fn beds_of_fixed_sizes_colour_by_species_and_distributions_by_radius() {
+        // Two species of one size each: the species tell the sizes apart.
+        let fixed = Bed::of_spheres(
+            [40.0, 20.0],
+            false,
+            [
+                ([5.0, 5.0], 2.0, 0),
+                ([15.0, 5.0], 1.0, 1),
+                ([25.0, 5.0], 2.0, 0),
+            ],
+        );
+        assert_eq!(default_color(&fixed), ColorBy::Species);
+        // A species whose sizes differ (a size distribution).
+        let spread = Bed::of_spheres(
+            [40.0, 20.0],
+            false,
+            [
+                ([5.0, 5.0], 2.0, 0),
+                ([15.0, 5.0], 1.0, 1),
+                ([25.0, 5.0], 2.2, 0),
+            ],
+        );
+        assert_eq!(default_color(&spread), ColorBy::Radius);
     }
 }

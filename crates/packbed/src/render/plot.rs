@@ -47,6 +47,15 @@ pub enum PlotData {
         /// One group per data set.
         groups: Vec<BarGroup>,
     },
+    /// A dot (with its error bar) per category and group: for values whose
+    /// differences matter more than their distance from zero (packing
+    /// fractions), so the axis spans the data, which a bar must not.
+    Dots {
+        /// Category names along the x axis.
+        categories: Vec<String>,
+        /// One group per data set.
+        groups: Vec<BarGroup>,
+    },
     /// Lines through points.
     Lines {
         /// The series.
@@ -101,7 +110,7 @@ impl Plot {
             )))
         };
         match &self.data {
-            PlotData::Bars { categories, groups } => {
+            PlotData::Bars { categories, groups } | PlotData::Dots { categories, groups } => {
                 for g in groups {
                     if g.values.len() != categories.len() {
                         return bad("a bar group has a different number of values than categories");
@@ -216,7 +225,8 @@ impl Plot {
         let xtick_y = bottom + 0.6 * f + cap_height(small);
 
         match &self.data {
-            PlotData::Bars { categories, groups } => {
+            PlotData::Bars { categories, groups } | PlotData::Dots { categories, groups } => {
+                let dots = matches!(self.data, PlotData::Dots { .. });
                 let n = categories.len().max(1) as f64;
                 let slot = (right - left) / n;
                 let gw = 0.8 * slot / groups.len().max(1) as f64;
@@ -236,14 +246,24 @@ impl Plot {
                     let c = colour::categorical(g);
                     for (k, &v) in group.values.iter().enumerate() {
                         let x0 = left + k as f64 * slot + 0.1 * slot + g as f64 * gw;
-                        let (ya, yb) = (ymap(v.max(yr.0)), ymap(0f64.max(yr.0)));
-                        canvas.rect(x0, ya.min(yb), gw, (ya - yb).abs(), Style::fill(c));
+                        let xm = x0 + gw / 2.0;
+                        if !dots {
+                            let (ya, yb) = (ymap(v.max(yr.0)), ymap(0f64.max(yr.0)));
+                            canvas.rect(x0, ya.min(yb), gw, (ya - yb).abs(), Style::fill(c));
+                        }
+                        // Dots get caps of a fixed size: a slot-wide cap
+                        // would read as a bar.
+                        let cap = if dots { 0.4 * f } else { gw / 4.0 };
+                        let ink = if dots { c } else { Rgb::BLACK };
                         if let Some(e) = &group.errors {
-                            let xm = x0 + gw / 2.0;
                             let (lo, hi) = (ymap(v - e[k]), ymap(v + e[k]));
-                            canvas.line(xm, lo, xm, hi, Rgb::BLACK, 1.2);
-                            canvas.line(xm - gw / 4.0, lo, xm + gw / 4.0, lo, Rgb::BLACK, 1.2);
-                            canvas.line(xm - gw / 4.0, hi, xm + gw / 4.0, hi, Rgb::BLACK, 1.2);
+                            canvas.line(xm, lo, xm, hi, ink, 1.2);
+                            canvas.line(xm - cap, lo, xm + cap, lo, ink, 1.2);
+                            canvas.line(xm - cap, hi, xm + cap, hi, ink, 1.2);
+                        }
+                        if dots {
+                            let style = Style::both(c, Rgb::WHITE, 1.0);
+                            canvas.circle(xm, ymap(v), 0.35 * f, style, "marker");
                         }
                     }
                 }
@@ -332,15 +352,17 @@ impl Plot {
 
     fn legend_names(&self) -> Vec<String> {
         match &self.data {
-            PlotData::Bars { groups, .. } => groups.iter().map(|g| g.name.clone()).collect(),
+            PlotData::Bars { groups, .. } | PlotData::Dots { groups, .. } => {
+                groups.iter().map(|g| g.name.clone()).collect()
+            }
             PlotData::Lines { series } | PlotData::LogLines { series } => {
                 series.iter().map(|s| s.name.clone()).collect()
             }
         }
     }
 
-    /// Data ranges `(x, y)`, padded; bars start at zero.
-    fn ranges(&self) -> ((f64, f64), (f64, f64)) {
+    /// Data ranges `(x, y)`, padded; bars start at zero, dots span the data.
+    pub(crate) fn ranges(&self) -> ((f64, f64), (f64, f64)) {
         let (mut x0, mut x1, mut y0, mut y1) = (
             f64::INFINITY,
             f64::NEG_INFINITY,
@@ -351,6 +373,17 @@ impl Plot {
             PlotData::Bars { groups, .. } => {
                 y0 = 0.0;
                 y1 = 0.0;
+                for g in groups {
+                    for (k, &v) in g.values.iter().enumerate() {
+                        let e = g.errors.as_ref().map_or(0.0, |e| e[k].abs());
+                        y0 = y0.min(v - e);
+                        y1 = y1.max(v + e);
+                    }
+                }
+                x0 = 0.0;
+                x1 = 1.0;
+            }
+            PlotData::Dots { groups, .. } => {
                 for g in groups {
                     for (k, &v) in g.values.iter().enumerate() {
                         let e = g.errors.as_ref().map_or(0.0, |e| e[k].abs());

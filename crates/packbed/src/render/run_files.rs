@@ -2,11 +2,12 @@
 //! atomic staging (see [`crate::output::write_run_with`]).
 
 use super::run_plots;
-use super::{png_of, svg_of, RenderOptions};
+use super::{default_color, png_of, svg_of, RenderOptions};
 use crate::analysis::orientation::AngleFrom;
 use crate::analysis::psd::PsdSummary;
 use crate::analysis::{coordination, Contacts, Summary};
 use crate::bed::Bed;
+use crate::config::LengthUnit;
 use crate::error::Result;
 use crate::math::Real;
 
@@ -16,19 +17,22 @@ pub const PLOT_SIZE: (u32, u32) = (1000, 700);
 /// `(file name, contents)` of the picture of the bed and the plots of a run,
 /// in writing order. The packing profile and the regional packing are drawn
 /// from the analysis' own results (`measures`; no plot when packing was left
-/// out).
+/// out). Axes of lengths name `length_unit` where the run gave one.
 pub fn pictures<const D: usize>(
     bed: &Bed<D>,
     contacts: &Contacts,
     measures: &Summary,
     contact_tol: Real,
     angle_from: AngleFrom,
+    length_unit: Option<LengthUnit>,
 ) -> Result<Vec<(String, Vec<u8>)>> {
     let mut out = Vec::new();
     let z = coordination(bed, contacts);
     {
         let opts = RenderOptions {
             contact_tol,
+            color: default_color(bed),
+            length_unit,
             ..RenderOptions::default()
         };
         out.push(("bed.png".to_string(), png_of(bed, &opts)?));
@@ -50,7 +54,7 @@ pub fn pictures<const D: usize>(
             if !slabs.is_empty() {
                 plots.push((
                     "plot_profile",
-                    run_plots::packing_profile(&slabs, p.slab, None),
+                    run_plots::packing_profile(&slabs, p.slab, None, length_unit),
                 ));
             }
             // Regional packing (floor, roof, wall, centre) as bars; regions the
@@ -85,7 +89,10 @@ pub fn pictures<const D: usize>(
                 .map(|th| th.constriction_radius)
                 .collect();
             if !body.is_empty() {
-                plots.push(("plot_pores", run_plots::pore_sizes(&body, &constriction)));
+                plots.push((
+                    "plot_pores",
+                    run_plots::pore_sizes(&body, &constriction, length_unit),
+                ));
             }
         }
         let angles = run_plots::chain_angles(bed);

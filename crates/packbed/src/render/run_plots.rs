@@ -7,7 +7,20 @@ use super::plot::{BarGroup, Plot, PlotData, Series};
 use crate::analysis::orientation::AngleFrom;
 use crate::analysis::psd::PsdSummary;
 use crate::bed::Bed;
+use crate::config::LengthUnit;
 use crate::math::Real;
+
+/// The unit of lengths for an axis label: the run's `[analysis] length_unit`
+/// when it gave one, else "length units" (the bed's own numbers).
+pub fn length_label(unit: Option<LengthUnit>) -> &'static str {
+    match unit {
+        Some(LengthUnit::Metre) => "m",
+        Some(LengthUnit::Millimetre) => "mm",
+        Some(LengthUnit::Micrometre) => "µm",
+        Some(LengthUnit::Nanometre) => "nm",
+        None => "length units",
+    }
+}
 
 /// Coordination-number histograms side by side: all particles, then each species,
 /// as percentages of their particles (so that groups of different sizes compare).
@@ -67,7 +80,13 @@ pub fn coordination_histogram<const D: usize>(bed: &Bed<D>, z: &[u32]) -> Plot {
 /// Packing fraction against height, one point per slab at its mid-height
 /// (`profile` as from `analysis::profile::profile`: `(z_mid, fraction)` for
 /// slabs `slab` thick). `bulk` (optional) is drawn as a horizontal reference line.
-pub fn packing_profile(profile: &[(Real, Real)], slab: Real, bulk: Option<Real>) -> Plot {
+/// `unit` names the lengths' unit where the run knows it.
+pub fn packing_profile(
+    profile: &[(Real, Real)],
+    slab: Real,
+    bulk: Option<Real>,
+    unit: Option<LengthUnit>,
+) -> Plot {
     let points: Vec<(f64, f64)> = profile.to_vec();
     let thickness = slab;
     let bottom = profile.first().map(|p| p.0 - 0.5 * slab);
@@ -88,10 +107,11 @@ pub fn packing_profile(profile: &[(Real, Real)], slab: Real, bulk: Option<Real>)
     }
     Plot {
         title: format!(
-            "Packing fraction profile (slabs {} length units thick)",
-            super::plot::format_number(thickness)
+            "Packing fraction profile (slabs {} {} thick)",
+            super::plot::format_number(thickness),
+            length_label(unit)
         ),
-        x_label: "height above the floor (length units)".into(),
+        x_label: format!("height above the floor ({})", length_label(unit)),
         y_label: "packing fraction".into(),
         data: PlotData::Lines { series },
         y_range: Some((0.0, 1.0)),
@@ -101,8 +121,9 @@ pub fn packing_profile(profile: &[(Real, Real)], slab: Real, bulk: Option<Real>)
 
 /// The pore body and constriction size distributions of the slab, cumulative
 /// by number (% smaller than a radius), one line each: the curves granular
-/// filter design reads `d_c35` from. `body` and `constriction` are radii.
-pub fn pore_sizes(body: &[Real], constriction: &[Real]) -> Plot {
+/// filter design reads `d_c35` from. `body` and `constriction` are radii, in
+/// `unit` where the run knows it.
+pub fn pore_sizes(body: &[Real], constriction: &[Real], unit: Option<LengthUnit>) -> Plot {
     let cumulative = |name: &str, values: &[Real]| {
         let mut v: Vec<Real> = values.iter().copied().filter(|x| x.is_finite()).collect();
         v.sort_by(Real::total_cmp);
@@ -150,7 +171,7 @@ pub fn pore_sizes(body: &[Real], constriction: &[Real]) -> Plot {
     }
     Plot {
         title: "Pore and constriction sizes".into(),
-        x_label: "radius (length units)".into(),
+        x_label: format!("radius ({})", length_label(unit)),
         y_label: "smaller than the radius (% by number)".into(),
         data: PlotData::Lines { series },
         y_range: Some((0.0, 100.0)),

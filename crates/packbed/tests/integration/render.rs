@@ -416,7 +416,7 @@ fn plots_have_their_labels_inside_the_page() {
     let profile = packbed::analysis::profile::profile(&bed, 5.0);
     let plots = [
         render::run_plots::coordination_histogram(&bed, &z),
-        render::run_plots::packing_profile(&profile, 5.0, Some(0.8)),
+        render::run_plots::packing_profile(&profile, 5.0, Some(0.8), None),
         render::run_plots::regional_packing(&[
             ("floor".into(), 0.55, Some(0.02)),
             ("roof".into(), 0.4, Some(0.03)),
@@ -882,12 +882,18 @@ fn check_fragmentation_pictures<const D: usize>(
             let n = frag.steps.len();
             assert!(n > 0, "{what}: nothing broke");
             assert_eq!(svg.matches("class=\"bond broken\"").count(), n, "{what}");
-            assert_eq!(svg.matches("class=\"break-label\"").count(), n, "{what}");
+            // Only the first breaks are numbered; more would pile up.
+            let numbered = n.min(render::fragmentation::NUMBERED_BREAKS);
+            assert_eq!(
+                svg.matches("class=\"break-label\"").count(),
+                numbered,
+                "{what}"
+            );
             for k in 1..=n {
                 assert_eq!(
                     svg.matches(&format!(">{k}</text>")).count(),
                     // The legend's badge shows a 1 as well.
-                    1 + usize::from(k == 1),
+                    usize::from(k <= numbered) + usize::from(k == 1),
                     "{what}: label {k}"
                 );
             }
@@ -945,6 +951,42 @@ fn fragmentation_pictures_3d_are_a_projection_with_numbered_breaks() {
     assert!(svg.contains("x–z projection"));
     if std::env::var_os("PACKBED_KEEP_PICTURES").is_some() {
         let d = scratch("frag3");
+        for (n, b) in &pics {
+            std::fs::write(d.join(n), b).unwrap();
+        }
+        eprintln!("pictures in {}", d.display());
+    }
+}
+
+#[test]
+fn many_breaks_are_coloured_by_order_and_only_the_first_numbered() {
+    use packbed::mechanics::{fragment, Breaks, Options};
+    let bed = deposited::<3>(false, 150);
+    let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
+    let options = Options {
+        breaks: Breaks::Count(60),
+        ..Options::default()
+    };
+    let frag = fragment(&bed, &contacts, &options).unwrap();
+    assert_eq!(frag.steps.len(), 60);
+    let pics = check_fragmentation_pictures(&bed, &frag, "3D, 60 breaks");
+    let svg = std::str::from_utf8(&pics[3].1).unwrap();
+    assert_eq!(svg.matches("class=\"break-label\"").count(), 20);
+    assert!(svg.contains("first 20 numbered"));
+    // A colour scale from the first break to the last in the legend.
+    assert!(svg.contains(">break 1</text>") && svg.contains(">break 60</text>"));
+    // The broken bonds take more than one colour: their order shows.
+    let colours: std::collections::BTreeSet<&str> = svg
+        .split("class=\"bond broken\"")
+        .skip(1)
+        .filter_map(|rest| {
+            let start = rest.find("stroke=\"")? + 8;
+            rest.get(start..start + 7)
+        })
+        .collect();
+    assert!(colours.len() > 10, "{colours:?}");
+    if std::env::var_os("PACKBED_KEEP_PICTURES").is_some() {
+        let d = scratch("frag3-many");
         for (n, b) in &pics {
             std::fs::write(d.join(n), b).unwrap();
         }
