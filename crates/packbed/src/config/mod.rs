@@ -333,6 +333,14 @@ impl LengthUnit {
         }
     }
 
+    /// The symbol for axes and legends: `m`, `mm`, `µm`, `nm`.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            LengthUnit::Micrometre => "µm",
+            u => u.name(),
+        }
+    }
+
     /// Metres per unit.
     pub fn metres(self) -> Real {
         match self {

@@ -582,8 +582,8 @@ fn plots(groups: &[Group], c: &Comparison) -> Vec<(String, crate::render::plot::
         .first()
         .and_then(|g| g.summaries.first())
         .and_then(|s| s.pointer("/config/analysis/length_unit"))
-        .and_then(Value::as_str)
-        .unwrap_or("length units");
+        .and_then(|u| serde_json::from_value::<crate::config::LengthUnit>(u.clone()).ok())
+        .map_or("length units", crate::config::LengthUnit::symbol);
     // Each group's placed curve (mean over its beds) and its request.
     let mut series = Vec::new();
     for g in groups {

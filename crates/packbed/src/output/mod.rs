@@ -175,7 +175,7 @@ fn extra_files<const D: usize>(
         if let Some((p, unit)) = psd {
             out.extend(crate::render::run_files::psd_plot(
                 p,
-                unit.map(LengthUnit::name),
+                unit.map(LengthUnit::symbol),
             )?);
         }
     }

@@ -13,13 +13,7 @@ use crate::math::Real;
 /// The unit of lengths for an axis label: the run's `[analysis] length_unit`
 /// when it gave one, else "length units" (the bed's own numbers).
 pub fn length_label(unit: Option<LengthUnit>) -> &'static str {
-    match unit {
-        Some(LengthUnit::Metre) => "m",
-        Some(LengthUnit::Millimetre) => "mm",
-        Some(LengthUnit::Micrometre) => "µm",
-        Some(LengthUnit::Nanometre) => "nm",
-        None => "length units",
-    }
+    unit.map_or("length units", LengthUnit::symbol)
 }
 
 /// Coordination-number histograms side by side: all particles, then each species,
