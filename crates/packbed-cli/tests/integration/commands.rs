@@ -181,9 +181,11 @@ fn example_files_are_valid() {
         let p = e.unwrap().path();
         if p.extension().is_some_and(|x| x == "toml") {
             let c = Config::from_file(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
-            let ok = match c.dim {
-                2 => c.plan::<2>().map(drop),
-                _ => c.plan::<3>().map(drop),
+            // A sweep is an ensemble's: every value is planned.
+            let ok = match (c.sweep.is_some(), c.dim) {
+                (true, _) => packbed::ensemble::validate(&c),
+                (false, 2) => c.plan::<2>().map(drop),
+                (false, _) => c.plan::<3>().map(drop),
             };
             ok.unwrap_or_else(|e| panic!("{}: {e}", p.display()));
             n += 1;
