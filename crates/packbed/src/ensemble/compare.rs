@@ -541,30 +541,25 @@ pub fn write_comparison(
 fn plots(groups: &[Group], c: &Comparison) -> Vec<(String, crate::render::plot::Plot)> {
     use crate::render::plot::{BarGroup, Plot, PlotData, Series};
     let names: Vec<String> = c.groups.iter().map(|g| g.0.clone()).collect();
+    let unit = groups
+        .first()
+        .and_then(|g| g.summaries.first())
+        .and_then(|s| s.pointer("/config/analysis/length_unit"))
+        .and_then(|u| serde_json::from_value::<crate::config::LengthUnit>(u.clone()).ok())
+        .map_or("length units", crate::config::LengthUnit::symbol);
     let mut out: Vec<(String, Plot)> = c
         .rows
         .iter()
         .filter(|r| PLOTTED.contains(&r.name.as_str()))
         .map(|r| {
             let stem = format!("plot_compare_{}", r.name.replace(['.', '[', ']'], "_"));
-            // The axis spans the means ± 2 sd, not from 0: the differences
-            // are what the plot is about.
-            let lo = r
-                .stats
-                .iter()
-                .map(|s| s.mean - 2.0 * s.sd)
-                .fold(f64::INFINITY, f64::min);
-            let hi = r
-                .stats
-                .iter()
-                .map(|s| s.mean + 2.0 * s.sd)
-                .fold(f64::NEG_INFINITY, f64::max);
-            let pad = 0.15 * (hi - lo).max(1e-9 * hi.abs());
             let plot = Plot {
                 title: r.name.clone(),
                 x_label: String::new(),
-                y_label: format!("{} (mean ± sd; axis not from 0)", r.name),
-                data: PlotData::Bars {
+                y_label: format!("{} (mean ± sd)", axis_name(&r.name, unit)),
+                // Dots on an axis that spans the data: the differences are
+                // what the plot is about, not the distance from 0.
+                data: PlotData::Dots {
                     categories: names.clone(),
                     groups: vec![BarGroup {
                         name: "mean ± sd".into(),
@@ -572,18 +567,13 @@ fn plots(groups: &[Group], c: &Comparison) -> Vec<(String, crate::render::plot::
                         errors: Some(r.stats.iter().map(|s| s.sd).collect()),
                     }],
                 },
-                y_range: Some((lo - pad, hi + pad)),
+                y_range: None,
                 x_range: None,
             };
             (stem, plot)
         })
         .collect();
-    let unit = groups
-        .first()
-        .and_then(|g| g.summaries.first())
-        .and_then(|s| s.pointer("/config/analysis/length_unit"))
-        .and_then(|u| serde_json::from_value::<crate::config::LengthUnit>(u.clone()).ok())
-        .map_or("length units", crate::config::LengthUnit::symbol);
+
     // Each group's placed curve (mean over its beds) and its request.
     let mut series = Vec::new();
     for g in groups {
@@ -617,6 +607,20 @@ fn plots(groups: &[Group], c: &Comparison) -> Vec<(String, crate::render::plot::
         ));
     }
     out
+}
+
+/// A plotted measure's name with its unit.
+#[cfg(feature = "render")]
+fn axis_name(key: &str, unit: &str) -> String {
+    match key {
+        "cake.porosity" => "porosity".into(),
+        "permeability.k_z" => format!("network k along z ({unit}²)"),
+        "cake.k_kozeny_carman" => format!("Kozeny–Carman k ({unit}²)"),
+        "cake.d32" => format!("d32 ({unit})"),
+        "cake.specific_resistance" => "specific cake resistance (m/kg)".into(),
+        "pores.d_c35" => format!("constriction d_c35 ({unit})"),
+        other => other.into(),
+    }
 }
 
 /// A group's mass curves: requested (of its first bed) and placed (the mean
