@@ -500,6 +500,7 @@ fn p_value(p: f64) -> String {
 }
 
 /// The measures drawn, when present: one plot each.
+#[cfg(feature = "render")]
 const PLOTTED: [&str; 6] = [
     "cake.porosity",
     "permeability.k_z",
@@ -530,9 +531,11 @@ pub fn write_comparison(
         #[cfg(feature = "render")]
         super::write::stage_plots(&mut s, &plots(groups, c))?;
         #[cfg(not(feature = "render"))]
-        return Err(crate::output::no_pictures());
+        {
+            let _ = groups;
+            return Err(crate::output::no_pictures());
+        }
     }
-    let _ = groups;
     s.commit()
 }
 
@@ -625,11 +628,13 @@ fn axis_name(key: &str, unit: &str) -> String {
 
 /// A group's mass curves: requested (of its first bed) and placed (the mean
 /// over beds, row by row).
+#[cfg(feature = "render")]
 struct Curves {
     requested: Vec<(f64, f64)>,
     placed: Vec<(f64, f64)>,
 }
 
+#[cfg(feature = "render")]
 fn psd_curves(summaries: &[Value]) -> Option<Curves> {
     let rows = |s: &Value| -> Option<Vec<(f64, f64, f64)>> {
         s.pointer("/psd/table")?
