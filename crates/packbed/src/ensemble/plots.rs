@@ -279,7 +279,13 @@ fn chain_angles(a: &Aggregate, beds: u64, dim: usize, from: AngleFrom) -> Option
 }
 
 /// Measures drawn against the sweep parameter, with their plot file stems.
-const SWEEP_MEASURES: [(&str, &str, &str); 4] = [
+const SWEEP_MEASURES: [(&str, &str, &str); 6] = [
+    ("cake.porosity", "plot_sweep_porosity", "porosity (bulk)"),
+    (
+        "permeability.k_z",
+        "plot_sweep_permeability",
+        "network permeability k along z",
+    ),
     (
         "packing.global",
         "plot_sweep_packing_global",

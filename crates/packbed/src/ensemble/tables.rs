@@ -500,15 +500,21 @@ pub fn sweep_csv(rows: &[SweepRow]) -> String {
 }
 
 /// Measures shown side by side in the first table of `sweep.md`, if present.
-const HEADLINE: [&str; 4] = [
+const HEADLINE: [&str; 9] = [
+    "cake.porosity",
+    "cake.d32",
+    "cake.k_kozeny_carman",
+    "permeability.k_z",
+    "cake.specific_resistance",
     "packing.global",
     "packing.bulk",
     "coordination.mean",
     "coordination.mean_bulk",
 ];
 
-/// `sweep.md`: a headline table (one row per value; packing, coordination and
-/// every yes/no measure such as percolation as % of beds), then one table per
+/// `sweep.md`: a headline table (one row per value; the cake, packing,
+/// coordination and every yes/no result such as percolation as % of beds,
+/// the search caps left to the tables below), then one table per
 /// measure in the source study's layout with one row per value.
 pub fn sweep_md(parameter: &str, base: &Config, rows: &[SweepRow]) -> String {
     let mut t = String::new();
@@ -528,7 +534,9 @@ pub fn sweep_md(parameter: &str, base: &Config, rows: &[SweepRow]) -> String {
         .filter(|h| first.aggregate.measures.iter().any(|m| m.name == *h))
         .collect();
     for m in &first.aggregate.measures {
-        if m.kind == Kind::Percent && !m.name.ends_with("_empty") {
+        // The caps of the chain search are bookkeeping, not results: they
+        // stay in the per-measure tables below.
+        if m.kind == Kind::Percent && !m.name.ends_with("_empty") && !m.name.ends_with("cap_hit") {
             headline.push(&m.name);
         }
     }
@@ -751,6 +759,43 @@ mod tests {
             Kind::Percent,
             st(10, 10.0, 31.6, 0.0, 100.0)
         ));
+    }
+
+    #[test]
+    fn sweep_md_leads_with_the_cake_and_leaves_the_caps_below() {
+        let a = Aggregate {
+            replicates: 4,
+            measures: vec![
+                measure("packing.global", Kind::Value, st(4, 0.6, 0.01, 0.59, 0.61)),
+                measure("cake.porosity", Kind::Value, st(4, 0.38, 0.01, 0.37, 0.39)),
+                measure(
+                    "percolation.spans",
+                    Kind::Percent,
+                    st(4, 75.0, 50.0, 0.0, 100.0),
+                ),
+                measure(
+                    "percolation.cap_hit",
+                    Kind::Percent,
+                    st(4, 100.0, 0.0, 100.0, 100.0),
+                ),
+            ],
+            ..Default::default()
+        };
+        let rows = [SweepRow {
+            label: "batch A",
+            aggregate: &a,
+        }];
+        let md = sweep_md("species[0].size.table", &Config::default(), &rows);
+        let head = md
+            .lines()
+            .find(|l| l.starts_with("| species[0].size.table |"))
+            .unwrap();
+        assert_eq!(
+            head,
+            "| species[0].size.table | beds | cake.porosity | packing.global | percolation.spans (% of beds) |"
+        );
+        // The cap is still reported, in its own table further down.
+        assert!(md.contains("percolation.cap_hit"));
     }
 
     #[test]
