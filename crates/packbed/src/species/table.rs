@@ -911,4 +911,56 @@ mod tests {
         }
         assert_eq!(t.sample_at_most(0.5, &mut rng), None);
     }
+
+    proptest::proptest! {
+        #[test]
+        fn any_text_is_read_or_refused_never_a_panic(
+            header in proptest::sample::select(vec![
+                "diameter_um,mass_percent",
+                "radius_min,radius_max,number",
+                "diameter,percent_passing",
+                "diameter_mm,number_fraction_passing",
+                "radius,volume",
+                "x,y",
+                "",
+            ]),
+            rows in proptest::collection::vec(
+                (-5.0f64..500.0, -5.0f64..500.0, -1.0f64..120.0),
+                0..12,
+            ),
+            junk in "[0-9a-z,;.e+\\- \t]{0,40}",
+            commented in proptest::bool::ANY,
+        ) {
+            // Rows of the header's width (a curve's sizes increasing), then
+            // a line of junk, which a `#` sometimes makes a comment.
+            let width = header.split(',').count();
+            let mut text = format!("{header}\n");
+            let mut size = 0.0;
+            for (a, b, c) in &rows {
+                size += a.abs() + 1.0;
+                match width {
+                    3 => text.push_str(&format!("{a},{b},{c}\n")),
+                    _ if header.contains("passing") => text.push_str(&format!("{size},{c}\n")),
+                    _ => text.push_str(&format!("{a},{c}\n")),
+                }
+            }
+            if commented {
+                text.push('#');
+            }
+            text.push_str(&junk);
+            if let Ok(t) = table(&text, Some(1e-6)) {
+                let (lo, hi) = t.bounds();
+                proptest::prop_assert!(lo > 0.0 && lo <= hi && hi.is_finite());
+                let total: Real = t.classes().iter().map(|c| c.number).sum();
+                proptest::prop_assert!((total - 1.0).abs() < 1e-9);
+                proptest::prop_assert!(t.mean_cube().is_finite() && t.mean_cube() > 0.0);
+                let mut rng = Xoshiro256PlusPlus::seed_from_u64(1);
+                for _ in 0..20 {
+                    let r = t.sample(&mut rng);
+                    proptest::prop_assert!(lo <= r && r <= hi);
+                }
+                proptest::prop_assert!((t.volume_passing(hi) - 1.0).abs() < 1e-9);
+            }
+        }
+    }
 }
