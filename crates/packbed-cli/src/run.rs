@@ -64,6 +64,9 @@ pub fn run(args: RunArgs) -> Result<()> {
     if !args.files.quiet {
         print!("{}", text::run_text(&finished.summary, &args.out, &written));
     }
+    for w in &finished.summary.warnings {
+        eprintln!("packbed: warning: {w}");
+    }
     Ok(())
 }
 

@@ -64,8 +64,21 @@ fn analyse<const D: usize>(
 ) -> Result<(Contacts, RunSummary)> {
     let t = Instant::now();
     let (contacts, analysis) = crate::analysis::analyze_with(bed, &config.analysis.options());
+    // Breakage is a late, optional stage: when it cannot be done (a bed with
+    // no bonds or no body to load) the bed and its measures are kept and the
+    // summary says what is missing, rather than the whole run being lost.
+    let mut warnings = Vec::new();
     let fragmentation = match &config.fragmentation {
-        Some(options) => Some(mechanics::fragment(bed, &contacts, options)?.summary),
+        Some(options) => match mechanics::fragment(bed, &contacts, options) {
+            Ok(f) => Some(f.summary),
+            Err(Error::Interrupted) => return Err(Error::Interrupted),
+            Err(e) => {
+                warnings.push(format!(
+                    "fragmentation: {e}; the bed and its measures are kept, without breakage"
+                ));
+                None
+            }
+        },
         None => None,
     };
     let timing = Timing {
@@ -76,6 +89,7 @@ fn analyse<const D: usize>(
     };
     let mut summary = RunSummary::new(config, bed, deposit, &analysis, timing);
     summary.fragmentation = fragmentation;
+    summary.warnings = warnings;
     Ok((contacts, summary))
 }
 

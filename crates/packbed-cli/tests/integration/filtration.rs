@@ -188,3 +188,36 @@ fn compare_refuses_what_is_not_packbed_output() {
         ],
     );
 }
+
+#[test]
+fn a_late_optional_stage_that_fails_keeps_the_run() {
+    // Two discs placed at random, touching nothing: no bond to break.
+    let s = Scratch::new();
+    let p = s.input(
+        "rsa.toml",
+        "dim = 2\nmode = \"rsa\"\n[box]\nwidth = 1000\nheight = 1000\n[fill]\ncount = 2\n\
+         [[species]]\nradius = 10\n[fragmentation]\n",
+    );
+    let o = s.ok(&["run", p.to_str().unwrap(), "--out", "kept", "--no-pictures"]);
+    assert!(
+        o.stderr
+            .contains("packbed: warning: fragmentation: the bed has no bonds"),
+        "{}",
+        o.stderr
+    );
+    assert!(s.path("kept/particles.csv").is_file());
+    let summary = s.summary("kept");
+    assert!(summary["warnings"][0]
+        .as_str()
+        .unwrap()
+        .contains("without breakage"));
+    assert!(summary.get("fragmentation").is_none());
+    // A species name far longer than a legend has room for: the pictures shorten it.
+    let long = "s".repeat(100);
+    let p = s.input(
+        "long.toml",
+        &format!("dim = 2\n[fill]\ncount = 150\n[[species]]\nname = \"{long}\"\nradius = 10\n"),
+    );
+    s.ok(&["run", p.to_str().unwrap(), "--out", "long"]);
+    assert!(s.path("long/plot_coordination.png").is_file());
+}

@@ -56,6 +56,10 @@ pub const SUMMARY_KEYS: &[&str] = &[
 pub struct RunSummary {
     /// Version of packbed that wrote the file.
     pub packbed_version: &'static str,
+    /// What an optional stage could not do, the run kept all the same
+    /// (absent when nothing went wrong).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// Every measure of the analysis (`cake.*` first, `packing.*`, …): what a
     /// reader opens the file for, at its top.
     #[serde(flatten)]
@@ -181,6 +185,7 @@ impl RunSummary {
     ) -> RunSummary {
         RunSummary {
             packbed_version: env!("CARGO_PKG_VERSION"),
+            warnings: Vec::new(),
             dim: D as u8,
             seed: config.seed,
             mode: config.mode,
