@@ -4,7 +4,7 @@
 // `!(x > 0.0)` is how NaN is refused along with the non-positive values.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::raw::{build, Raw, Reader};
+use super::raw::{build, densify_species, Raw, Reader};
 use super::report::{BoxHint, BoxSource, ReadReport, OUTSIDE_TOL};
 use crate::bed::AnyBed;
 use crate::error::Result;
@@ -81,6 +81,7 @@ impl Reader<'_> {
         }
         let wrapped = self.check_inside(&mut raw, &size, periodic, box_source)?;
         self.check_crowding(&raw)?;
+        densify_species(&mut raw);
         let bed = match raw.dim {
             2 => AnyBed::D2(build::<2>(&raw, &size, periodic)),
             _ => AnyBed::D3(build::<3>(&raw, &size, periodic)),

@@ -117,3 +117,83 @@ pub(super) fn build<const D: usize>(raw: &Raw, size: &[Real], periodic: bool) ->
     }
     bed
 }
+
+/// Unused species indices a file may leave below its largest id before its ids
+/// are renumbered: an id is an index into every per-species table.
+const MAX_UNUSED_SPECIES: usize = 64;
+
+/// Renumbers sparse species ids (`1000000000`, or LAMMPS types 1 and 7) to
+/// dense indices in increasing order, each species named by the id the file
+/// used, so no table is sized by a number read from the file. Dense ids, the
+/// usual case, are kept as they are.
+pub(super) fn densify_species(raw: &mut Raw) {
+    let mut used: Vec<u32> = raw.species.clone();
+    used.sort_unstable();
+    used.dedup();
+    let Some(&max) = used.last() else {
+        return;
+    };
+    let described = raw.species_info.len();
+    let known = used.iter().filter(|&&s| s as usize >= described).count() + described;
+    if (max as usize + 1).saturating_sub(known) <= MAX_UNUSED_SPECIES {
+        return;
+    }
+    let info: Vec<Species> = used
+        .iter()
+        .map(|&id| {
+            let mut s = raw
+                .species_info
+                .get(id as usize)
+                .cloned()
+                .unwrap_or(Species {
+                    name: String::new(),
+                    shape: crate::species::Shape::Sphere,
+                    size: crate::species::SizeDist::Fixed(mean_radius(raw, id)),
+                    ratio: 1.0,
+                });
+            if s.name.is_empty() {
+                s.name = id.to_string();
+            }
+            s
+        })
+        .collect();
+    for s in raw.species.iter_mut() {
+        // `used` holds every id of `raw.species`, so the search always finds it.
+        *s = used.binary_search(s).unwrap_or(0) as u32;
+    }
+    raw.species_info = info;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn raw_with(species: &[u32]) -> Raw {
+        let mut raw = Raw::new(2);
+        for &s in species {
+            raw.pos.push([1.0, 1.0, 0.0]);
+            raw.radii.push(1.0);
+            raw.species.push(s);
+            raw.bodies.push(0);
+            raw.lines.push(2);
+        }
+        raw
+    }
+
+    #[test]
+    fn huge_species_ids_become_dense_indices_named_by_their_id() {
+        let mut raw = raw_with(&[1_000_000_000, 7, 1_000_000_000]);
+        densify_species(&mut raw);
+        assert_eq!(raw.species, [1, 0, 1]);
+        let names: Vec<&str> = raw.species_info.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, ["7", "1000000000"]);
+    }
+
+    #[test]
+    fn dense_species_ids_are_kept() {
+        let mut raw = raw_with(&[0, 2, 1, 2]);
+        densify_species(&mut raw);
+        assert_eq!(raw.species, [0, 2, 1, 2]);
+        assert!(raw.species_info.is_empty());
+    }
+}

@@ -1,0 +1,45 @@
+//! Inputs that once made `packbed` ask for tens of gigabytes and abort, or lose
+//! a replicate without a word (issue 30): each is refused with one line or
+//! handled in memory sized by the particles.
+
+use crate::common::{within_memory, Scratch};
+
+/// Address space for each command here: far below what the inputs once asked for.
+const MIB: u64 = 2048;
+
+#[test]
+fn a_huge_species_id_is_a_name_not_an_array_size() {
+    let s = Scratch::new();
+    let bed = s.input(
+        "s.csv",
+        "id,species,body,x,y,r\n0,1000000000,0,10,10,10\n1,7,1,40,10,10\n",
+    );
+    let o = within_memory(
+        &s,
+        &[
+            "analyze",
+            bed.to_str().unwrap(),
+            "--box",
+            "100,100",
+            "--out",
+            "a",
+            "-q",
+        ],
+        60,
+        MIB,
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let v = s.summary("a");
+    let by: Vec<(String, u64)> = v["coordination"]["by_species"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| {
+            (
+                e["name"].as_str().unwrap().to_string(),
+                e["bodies"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(by, [("7".to_string(), 1), ("1000000000".to_string(), 1)]);
+}
