@@ -43,3 +43,33 @@ fn a_huge_species_id_is_a_name_not_an_array_size() {
         .collect();
     assert_eq!(by, [("7".to_string(), 1), ("1000000000".to_string(), 1)]);
 }
+
+#[test]
+fn a_wide_shallow_box_is_analysed_in_little_memory() {
+    // One column a diameter wide per particle top: 50000 × 50000 columns in
+    // this box, 20 GB as a dense grid.
+    let s = Scratch::new();
+    let mut table = String::from("x,y,z,r\n");
+    for k in 0..10 {
+        let (x, y) = (10.0 + 9000.0 * k as f64, 50.0 + 7000.0 * k as f64);
+        table += &format!("{x},{y},1,1\n");
+    }
+    let bed = s.input("wide.csv", &table);
+    let o = within_memory(
+        &s,
+        &[
+            "analyze",
+            bed.to_str().unwrap(),
+            "--box",
+            "100000,100000,100",
+            "--out",
+            "a",
+            "-q",
+            "--no-pictures",
+        ],
+        120,
+        MIB,
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert_eq!(s.summary("a")["counts"]["particles"], 10);
+}
