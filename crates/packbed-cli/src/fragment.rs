@@ -71,11 +71,8 @@ pub fn fragment(args: FragmentArgs) -> Result<()> {
     if let Err(e) = options.check() {
         bail!("{}", e.message().replace("kt_over_kn", "--kt-kn"));
     }
-    if !(args.contact_tol.is_finite() && args.contact_tol >= 0.0) {
-        bail!(
-            "--contact-tol must be a number >= 0, got {}",
-            args.contact_tol
-        );
+    if let Some(why) = packbed::config::contact_tol_problem(args.contact_tol, "--contact-tol") {
+        bail!("{why}");
     }
     let hint = crate::analyze::box_hint(args.container.as_ref(), args.periodic)?;
     crate::run::check_out_dir(&args.out)?;

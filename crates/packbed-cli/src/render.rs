@@ -97,6 +97,9 @@ pub fn render(args: RenderArgs) -> Result<()> {
             out.display()
         ),
     };
+    if let Some(why) = packbed::config::contact_tol_problem(args.contact_tol, "--contact-tol") {
+        bail!("{why}");
+    }
     if out == args.path {
         bail!("--out {}: would overwrite the bed file", out.display());
     }

@@ -2,7 +2,7 @@
 //! a replicate without a word (issue 30): each is refused with one line or
 //! handled in memory sized by the particles.
 
-use crate::common::{within_memory, Scratch};
+use crate::common::{assert_user_error, within_memory, Scratch};
 
 /// Address space for each command here: far below what the inputs once asked for.
 const MIB: u64 = 2048;
@@ -72,4 +72,47 @@ fn a_wide_shallow_box_is_analysed_in_little_memory() {
     );
     assert_eq!(o.code, 0, "{}", o.stderr);
     assert_eq!(s.summary("a")["counts"]["particles"], 10);
+}
+
+#[test]
+fn a_contact_tolerance_above_one_radius_is_refused() {
+    let s = Scratch::new();
+    let bed = s.input("b.csv", "x,y,r\n10,10,10\n40,10,10\n");
+    let b = bed.to_str().unwrap();
+    for cmd in ["analyze", "fragment"] {
+        assert_user_error(
+            &s,
+            &[
+                cmd,
+                b,
+                "--box",
+                "100,100",
+                "--contact-tol",
+                "10",
+                "--out",
+                "o",
+            ],
+            &["--contact-tol is 10", "at most 1", "touching"],
+        );
+    }
+    assert_user_error(
+        &s,
+        &[
+            "render",
+            b,
+            "--box",
+            "100,100",
+            "--contact-tol",
+            "1.5",
+            "--out",
+            "o.png",
+        ],
+        &["--contact-tol is 1.5", "at most 1"],
+    );
+    let config = s.input("c.toml", "[analysis]\ncontact_tol = 2\n");
+    assert_user_error(
+        &s,
+        &["run", config.to_str().unwrap()],
+        &["analysis.contact_tol is 2", "at most 1"],
+    );
 }

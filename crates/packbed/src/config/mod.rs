@@ -499,11 +499,8 @@ impl AnalysisConfig {
     /// Refuses a negative or non-finite contact tolerance and a threshold
     /// radius that is not positive.
     pub fn check(&self) -> Result<()> {
-        let tol = self.contact_tol;
-        if !(tol.is_finite() && tol >= 0.0) {
-            return Err(Error::config(format!(
-                "analysis.contact_tol must be a non-negative number, got {tol}"
-            )));
+        if let Some(why) = contact_tol_problem(self.contact_tol, "analysis.contact_tol") {
+            return Err(Error::config(why));
         }
         if let Some(r) = self.large_radius {
             positive(r, "analysis.large_radius")?;
@@ -760,6 +757,25 @@ pub(crate) fn length_scale_problem(shortest: Real, longest: Real) -> Option<Stri
              exactly in ({lo:e} to {hi:e}): choose other units"
         )
     })
+}
+
+/// Largest contact tolerance, relative to the smaller radius. Beyond it two
+/// spheres a radius apart would count as touching, and the contact search, sized
+/// by the tolerance, grows with its cube.
+pub const MAX_CONTACT_TOL: Real = 1.0;
+
+/// Why the contact tolerance `tol` (named `what`) is refused, if it is.
+pub fn contact_tol_problem(tol: Real, what: &str) -> Option<String> {
+    if !(tol.is_finite() && tol >= 0.0) {
+        Some(format!("{what} must be a non-negative number, got {tol}"))
+    } else if tol > MAX_CONTACT_TOL {
+        Some(format!(
+            "{what} is {tol}, but at most {MAX_CONTACT_TOL}: it is a gap relative to the \
+             smaller radius, and a larger gap no longer means touching"
+        ))
+    } else {
+        None
+    }
 }
 
 fn positive(v: Real, what: &str) -> Result<Real> {
@@ -1324,4 +1340,26 @@ fn fmt_size<const D: usize>(s: &Vector<D>) -> String {
         .map(|v| format!("{v}"))
         .collect::<Vec<_>>()
         .join(" × ")
+}
+
+#[cfg(test)]
+mod contact_tol_tests {
+    use super::*;
+
+    #[test]
+    fn contact_tol_above_one_radius_is_refused_with_why() {
+        assert_eq!(contact_tol_problem(0.0, "t"), None);
+        assert_eq!(contact_tol_problem(1.0, "t"), None);
+        let why = contact_tol_problem(10.0, "analysis.contact_tol").unwrap();
+        assert!(
+            why.contains("at most 1") && why.contains("touching"),
+            "{why}"
+        );
+        let config = AnalysisConfig {
+            contact_tol: 10.0,
+            ..AnalysisConfig::default()
+        };
+        let e = config.check().unwrap_err().to_string();
+        assert!(e.contains("analysis.contact_tol is 10"), "{e}");
+    }
 }
