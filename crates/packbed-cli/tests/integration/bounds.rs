@@ -2,7 +2,8 @@
 //! a replicate without a word (issue 30): each is refused with one line or
 //! handled in memory sized by the particles.
 
-use crate::common::{assert_user_error, within_memory, Scratch};
+use crate::common::{assert_user_error, within_memory, Scratch, SMALL};
+use serde_json::Value;
 
 /// Address space for each command here: far below what the inputs once asked for.
 const MIB: u64 = 2048;
@@ -115,4 +116,35 @@ fn a_contact_tolerance_above_one_radius_is_refused() {
         &["run", config.to_str().unwrap()],
         &["analysis.contact_tol is 2", "at most 1"],
     );
+}
+
+#[test]
+fn merge_refuses_a_damaged_replicate_summary_naming_it() {
+    let s = Scratch::new();
+    for k in 0..3 {
+        let shard = format!("{k}/3");
+        let out = format!("s{k}");
+        let mut a = vec!["ensemble"];
+        a.extend_from_slice(SMALL);
+        a.extend_from_slice(&["--runs", "9", "--shard", &shard, "--out", &out, "-q"]);
+        s.ok(&a);
+    }
+    let file = "s1/runs/0004/summary.json";
+    let good = s.read(file);
+    let mut v: Value = serde_json::from_str(&good).unwrap();
+    v["packing"]["global"] = Value::String("0.6".into());
+    std::fs::write(s.path(file), serde_json::to_string(&v).unwrap()).unwrap();
+    assert_user_error(
+        &s,
+        &["merge", "s0", "s1", "s2", "--out", "m"],
+        &[file, "unreadable", "packing.global", "text"],
+    );
+    std::fs::write(s.path(file), &good[..good.len() / 2]).unwrap();
+    assert_user_error(
+        &s,
+        &["merge", "s0", "s1", "s2", "--out", "m"],
+        &[file, "unreadable", "not valid JSON"],
+    );
+    std::fs::write(s.path(file), good).unwrap();
+    s.ok(&["merge", "s0", "s1", "s2", "--out", "m", "-q"]);
 }
