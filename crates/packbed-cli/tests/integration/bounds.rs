@@ -148,3 +148,38 @@ fn merge_refuses_a_damaged_replicate_summary_naming_it() {
     std::fs::write(s.path(file), good).unwrap();
     s.ok(&["merge", "s0", "s1", "s2", "--out", "m", "-q"]);
 }
+
+#[test]
+fn a_chain_of_beads_overlapping_their_own_chain_by_thousands_is_refused() {
+    let s = Scratch::new();
+    let chain = "dim = 3\n[[species]]\nname = \"c\"\nradius = 1\nshape = \"chain\"\n\
+                 beads = 100000\nspacing = 1e-6\n[fill]\ncount = 3\n";
+    let c = s.input("chain.toml", chain);
+    assert_user_error(
+        &s,
+        &["run", c.to_str().unwrap()],
+        &[
+            "species",
+            "99999 beads of their own chain",
+            "at most 64",
+            "spacing of at least",
+        ],
+    );
+    // Beads a radius apart, the default, overlap one neighbour on each side.
+    let fine = chain.replace("spacing = 1e-6", "spacing = 1");
+    let fine = s.input("fine.toml", &fine.replace("beads = 100000", "beads = 5"));
+    let o = within_memory(
+        &s,
+        &[
+            "run",
+            fine.to_str().unwrap(),
+            "--out",
+            "r",
+            "-q",
+            "--no-pictures",
+        ],
+        300,
+        MIB,
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+}

@@ -287,31 +287,31 @@ fn union_shares<const D: usize>(bed: &Bed<D>, surfaces: bool) -> (Vec<Real>, Opt
     let mut planes: Vec<Vec<(Vector<D>, Real)>> = vec![Vec::new(); bed.len()];
     let mut swallowed = vec![false; bed.len()];
     let cells = CellList::new(bed, 0.0);
-    cells.for_each_pair(|i, j| {
-        if bed.bodies[i] != bed.bodies[j] {
-            return;
-        }
-        let (ri, rj) = (bed.radii[i], bed.radii[j]);
-        let dv = bed.container.displacement(&bed.centres[i], &bed.centres[j]);
-        let d = dv.norm();
-        if !(d < ri + rj) {
-            return;
-        }
-        // One bead inside another adds nothing to the union; for identical
-        // coincident beads keep the first.
-        if d <= (ri - rj).abs() {
-            if ri < rj || (ri == rj && i > j) {
-                swallowed[i] = true;
-            } else {
-                swallowed[j] = true;
+    cells.for_each_pair_where(
+        |i, j| bed.bodies[i] == bed.bodies[j],
+        |i, j| {
+            let (ri, rj) = (bed.radii[i], bed.radii[j]);
+            let dv = bed.container.displacement(&bed.centres[i], &bed.centres[j]);
+            let d = dv.norm();
+            if !(d < ri + rj) {
+                return;
             }
-            return;
-        }
-        let u = dv / d;
-        let ti = (d * d + ri * ri - rj * rj) / (2.0 * d);
-        add_plane(&mut planes[i], u, ti);
-        add_plane(&mut planes[j], -u, d - ti);
-    });
+            // One bead inside another adds nothing to the union; for identical
+            // coincident beads keep the first.
+            if d <= (ri - rj).abs() {
+                if ri < rj || (ri == rj && i > j) {
+                    swallowed[i] = true;
+                } else {
+                    swallowed[j] = true;
+                }
+                return;
+            }
+            let u = dv / d;
+            let ti = (d * d + ri * ri - rj * rj) / (2.0 * d);
+            add_plane(&mut planes[i], u, ti);
+            add_plane(&mut planes[j], -u, d - ti);
+        },
+    );
     for i in 0..bed.len() {
         if swallowed[i] {
             volumes[i] = 0.0;
