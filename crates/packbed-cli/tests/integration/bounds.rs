@@ -46,6 +46,31 @@ fn a_huge_species_id_is_a_name_not_an_array_size() {
 }
 
 #[test]
+fn a_huge_lammps_type_is_named_as_the_dump_has_it() {
+    let s = Scratch::new();
+    let dump = s.input(
+        "d.dump",
+        "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp ff\n0 100\n\
+         0 100\n0 100\nITEM: ATOMS id type x y z radius\n1 2000000001 10 10 10 5\n\
+         2 1 40 10 10 5\n",
+    );
+    let o = within_memory(
+        &s,
+        &["analyze", dump.to_str().unwrap(), "--out", "a", "-q"],
+        60,
+        MIB,
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let names: Vec<String> = s.summary("a")["coordination"]["by_species"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["name"].as_str().unwrap().to_string())
+        .collect();
+    assert_eq!(names, ["1", "2000000001"]);
+}
+
+#[test]
 fn a_wide_shallow_box_is_analysed_in_little_memory() {
     // One column a diameter wide per particle top: 50000 × 50000 columns in
     // this box, 20 GB as a dense grid.

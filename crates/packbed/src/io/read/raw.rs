@@ -26,6 +26,8 @@ pub(super) struct Raw {
     /// Where `size` came from, when set.
     pub(super) box_source: BoxSource,
     pub(super) species_info: Vec<Species>,
+    /// What the file calls species 0 (LAMMPS types count from 1).
+    pub(super) first_species_id: u32,
 }
 
 impl Raw {
@@ -41,6 +43,7 @@ impl Raw {
             origin: [0.0; 3],
             box_source: BoxSource::File,
             species_info: Vec::new(),
+            first_species_id: 0,
         }
     }
 }
@@ -152,7 +155,7 @@ pub(super) fn densify_species(raw: &mut Raw) {
                     ratio: 1.0,
                 });
             if s.name.is_empty() {
-                s.name = id.to_string();
+                s.name = (u64::from(id) + u64::from(raw.first_species_id)).to_string();
             }
             s
         })
@@ -187,6 +190,16 @@ mod tests {
         assert_eq!(raw.species, [1, 0, 1]);
         let names: Vec<&str> = raw.species_info.iter().map(|s| s.name.as_str()).collect();
         assert_eq!(names, ["7", "1000000000"]);
+    }
+
+    #[test]
+    fn lammps_types_are_named_as_the_file_has_them() {
+        // The dump reader stores type t as species t - 1.
+        let mut raw = raw_with(&[2_000_000_000, 0]);
+        raw.first_species_id = 1;
+        densify_species(&mut raw);
+        let names: Vec<&str> = raw.species_info.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, ["1", "2000000001"]);
     }
 
     #[test]
