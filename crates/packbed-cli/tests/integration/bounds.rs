@@ -208,3 +208,30 @@ fn a_chain_of_beads_overlapping_their_own_chain_by_thousands_is_refused() {
     );
     assert_eq!(o.code, 0, "{}", o.stderr);
 }
+
+#[test]
+fn a_bed_file_with_a_body_of_heavily_overlapping_beads_is_refused() {
+    let s = Scratch::new();
+    let mut table = String::from("id,species,body,x,y,z,r\n");
+    for k in 0..20_000 {
+        table += &format!("{k},0,0,50,50,{},1\n", 10.0 + 1e-6 * k as f64);
+    }
+    table += "20000,0,1,20,20,10,1\n";
+    let bed = s.input("beads.csv", &table);
+    assert_user_error(
+        &s,
+        &[
+            "analyze",
+            bed.to_str().unwrap(),
+            "--box",
+            "100,100,100",
+            "--out",
+            "a",
+        ],
+        &[
+            "beads.csv:2",
+            "20000 beads of body 0",
+            "at most 64 beads of its own body",
+        ],
+    );
+}
