@@ -67,7 +67,7 @@ pub struct RenderArgs {
     /// The box given with --box has periodic sides.
     #[arg(long)]
     pub periodic: bool,
-    /// Contact tolerance relative to the smaller radius (coordination, network, chains, force).
+    /// Contact tolerance relative to the smaller radius, 0 to 1 (coordination, network, chains, force).
     #[arg(long, default_value_t = 1e-6)]
     pub contact_tol: f64,
     /// Radius from which particles count as large (chains); default the largest
