@@ -23,7 +23,7 @@ pub struct AnalyzeArgs {
     /// Periodic side boundaries (with --box).
     #[arg(long)]
     pub periodic: bool,
-    /// Contact tolerance relative to the smaller radius of each pair.
+    /// Contact tolerance relative to the smaller radius of each pair (0 to 1).
     #[arg(
         long,
         value_name = "T",

@@ -34,7 +34,7 @@ pub struct FragmentArgs {
     /// Periodic side boundaries (with --box).
     #[arg(long)]
     pub periodic: bool,
-    /// Contact tolerance relative to the smaller radius of each pair.
+    /// Contact tolerance relative to the smaller radius of each pair (0 to 1).
     #[arg(
         long,
         value_name = "T",
@@ -71,11 +71,8 @@ pub fn fragment(args: FragmentArgs) -> Result<()> {
     if let Err(e) = options.check() {
         bail!("{}", e.message().replace("kt_over_kn", "--kt-kn"));
     }
-    if !(args.contact_tol.is_finite() && args.contact_tol >= 0.0) {
-        bail!(
-            "--contact-tol must be a number >= 0, got {}",
-            args.contact_tol
-        );
+    if let Some(why) = packbed::config::contact_tol_problem(args.contact_tol, "--contact-tol") {
+        bail!("{why}");
     }
     let hint = crate::analyze::box_hint(args.container.as_ref(), args.periodic)?;
     crate::run::check_out_dir(&args.out)?;

@@ -67,7 +67,7 @@ pub struct RenderArgs {
     /// The box given with --box has periodic sides.
     #[arg(long)]
     pub periodic: bool,
-    /// Contact tolerance relative to the smaller radius (coordination, network, chains, force).
+    /// Contact tolerance relative to the smaller radius, 0 to 1 (coordination, network, chains, force).
     #[arg(long, default_value_t = 1e-6)]
     pub contact_tol: f64,
     /// Radius from which particles count as large (chains); default the largest
@@ -97,6 +97,9 @@ pub fn render(args: RenderArgs) -> Result<()> {
             out.display()
         ),
     };
+    if let Some(why) = packbed::config::contact_tol_problem(args.contact_tol, "--contact-tol") {
+        bail!("{why}");
+    }
     if out == args.path {
         bail!("--out {}: would overwrite the bed file", out.display());
     }

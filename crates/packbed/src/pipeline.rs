@@ -279,10 +279,8 @@ pub fn fragment_file_with(
     progress: &mut dyn FnMut(u64),
 ) -> Result<FragmentedBed> {
     options.check()?;
-    if !(contact_tol.is_finite() && contact_tol >= 0.0) {
-        return Err(Error::config(format!(
-            "contact_tol must be a non-negative number, got {contact_tol}"
-        )));
+    if let Some(why) = crate::config::contact_tol_problem(contact_tol, "contact_tol") {
+        return Err(Error::config(why));
     }
     let (bed, read, read_seconds) = read_timed(path, hint)?;
     fragment_bed(
@@ -327,10 +325,8 @@ fn fragment_bed(
     progress: &mut dyn FnMut(u64),
 ) -> Result<FragmentedBed> {
     options.check()?;
-    if !(contact_tol.is_finite() && contact_tol >= 0.0) {
-        return Err(Error::config(format!(
-            "contact_tol must be a non-negative number, got {contact_tol}"
-        )));
+    if let Some(why) = crate::config::contact_tol_problem(contact_tol, "contact_tol") {
+        return Err(Error::config(why));
     }
     let t = (read, options, contact_tol, read_seconds);
     let (fragmentation, summary) = match &bed {

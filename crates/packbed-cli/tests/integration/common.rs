@@ -183,3 +183,30 @@ pub const STAT_FILES: [&str; 4] = [
     "histograms.csv",
     "ensemble.md",
 ];
+
+/// [`Scratch::within`] under an address-space limit of `mib` MiB, so that a
+/// command asking for tens of gigabytes fails here instead of eating the
+/// machine's memory (an allocation beyond the limit aborts it).
+pub fn within_memory(s: &Scratch, args: &[&str], secs: u64, mib: u64) -> Outcome {
+    let script = format!("ulimit -v {} && exec \"$0\" \"$@\"", mib * 1024);
+    let mut full = vec!["-c", &script, env!("CARGO_BIN_EXE_packbed")];
+    full.extend_from_slice(args);
+    let mut child = Command::new("sh")
+        .args(&full)
+        .current_dir(&s.work)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed().as_secs() >= secs {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{args:?} still running after {secs} s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    outcome(child.wait_with_output().unwrap())
+}

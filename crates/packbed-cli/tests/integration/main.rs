@@ -4,6 +4,7 @@
 
 mod common;
 
+mod bounds;
 mod commands;
 mod ensemble;
 mod files;

@@ -224,8 +224,20 @@ impl<const D: usize> CellList<D> {
 
     /// Calls `f(i, j)` once for every unordered pair `i < j` in range, in
     /// ascending `(i, j)`.
-    pub(crate) fn for_each_pair(&self, mut f: impl FnMut(usize, usize)) {
-        let mut pairs = self.close_pairs(|i, j| Some((i as u32, j as u32)));
+    #[cfg(test)]
+    pub(crate) fn for_each_pair(&self, f: impl FnMut(usize, usize)) {
+        self.for_each_pair_where(|_, _| true, f)
+    }
+
+    /// [`Self::for_each_pair`] for the pairs `wanted(i, j)` only. The pairs are
+    /// gathered before `f` sees them: the others must not be, since one chain
+    /// of heavily overlapping beads has billions of pairs of its own.
+    pub(crate) fn for_each_pair_where(
+        &self,
+        wanted: impl Fn(usize, usize) -> bool + Sync,
+        mut f: impl FnMut(usize, usize),
+    ) {
+        let mut pairs = self.close_pairs(|i, j| wanted(i, j).then_some((i as u32, j as u32)));
         pairs.par_sort_unstable();
         for (i, j) in pairs {
             f(i as usize, j as usize);

@@ -192,7 +192,9 @@ pub fn surface_height<const D: usize>(bed: &Bed<D>) -> Real {
         width[k] = w / n[k] as Real;
         columns *= n[k];
     }
-    let mut tops = vec![0.0 as Real; columns];
+    // Only occupied columns are stored: a wide, shallow box has billions of
+    // columns and a few particles (the mean over the empty ones counts 0).
+    let mut tops: Vec<(usize, Real)> = Vec::with_capacity(bed.len());
     for (c, &r) in bed.centres.iter().zip(&bed.radii) {
         let mut index = 0;
         for k in 0..D - 1 {
@@ -204,9 +206,11 @@ pub fn surface_height<const D: usize>(bed: &Bed<D>) -> Real {
             };
             index = index * n[k] + i;
         }
-        tops[index] = tops[index].max(c[D - 1] + r);
+        tops.push((index, (c[D - 1] + r).max(0.0)));
     }
-    tops.iter().sum::<Real>() / columns as Real
+    tops.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
+    tops.dedup_by_key(|t| t.0);
+    tops.iter().map(|t| t.1).sum::<Real>() / columns as Real
 }
 
 /// Global packing fraction: solid volume ÷ box volume up to the roof. When particles
@@ -283,31 +287,31 @@ fn union_shares<const D: usize>(bed: &Bed<D>, surfaces: bool) -> (Vec<Real>, Opt
     let mut planes: Vec<Vec<(Vector<D>, Real)>> = vec![Vec::new(); bed.len()];
     let mut swallowed = vec![false; bed.len()];
     let cells = CellList::new(bed, 0.0);
-    cells.for_each_pair(|i, j| {
-        if bed.bodies[i] != bed.bodies[j] {
-            return;
-        }
-        let (ri, rj) = (bed.radii[i], bed.radii[j]);
-        let dv = bed.container.displacement(&bed.centres[i], &bed.centres[j]);
-        let d = dv.norm();
-        if !(d < ri + rj) {
-            return;
-        }
-        // One bead inside another adds nothing to the union; for identical
-        // coincident beads keep the first.
-        if d <= (ri - rj).abs() {
-            if ri < rj || (ri == rj && i > j) {
-                swallowed[i] = true;
-            } else {
-                swallowed[j] = true;
+    cells.for_each_pair_where(
+        |i, j| bed.bodies[i] == bed.bodies[j],
+        |i, j| {
+            let (ri, rj) = (bed.radii[i], bed.radii[j]);
+            let dv = bed.container.displacement(&bed.centres[i], &bed.centres[j]);
+            let d = dv.norm();
+            if !(d < ri + rj) {
+                return;
             }
-            return;
-        }
-        let u = dv / d;
-        let ti = (d * d + ri * ri - rj * rj) / (2.0 * d);
-        add_plane(&mut planes[i], u, ti);
-        add_plane(&mut planes[j], -u, d - ti);
-    });
+            // One bead inside another adds nothing to the union; for identical
+            // coincident beads keep the first.
+            if d <= (ri - rj).abs() {
+                if ri < rj || (ri == rj && i > j) {
+                    swallowed[i] = true;
+                } else {
+                    swallowed[j] = true;
+                }
+                return;
+            }
+            let u = dv / d;
+            let ti = (d * d + ri * ri - rj * rj) / (2.0 * d);
+            add_plane(&mut planes[i], u, ti);
+            add_plane(&mut planes[j], -u, d - ti);
+        },
+    );
     for i in 0..bed.len() {
         if swallowed[i] {
             volumes[i] = 0.0;
@@ -877,6 +881,23 @@ mod tests {
         assert_eq!((reg.lo, reg.hi), (v2(0.0, 2.0), v2(10.0, 7.0)));
         assert!(close(reg.fraction(&bed), PI / 4.0, 1e-14));
         assert!(close(global_fraction(&bed), PI / 4.0, 1e-14));
+    }
+
+    #[test]
+    fn surface_of_a_wide_shallow_box_needs_no_grid_of_its_columns() {
+        // 50000 × 50000 columns: a dense grid of them would take 20 GB.
+        let mut bed = Bed::new(
+            Container {
+                size: v3(100_000.0, 100_000.0, 100.0),
+                periodic: false,
+            },
+            Vec::new(),
+        );
+        bed.push(v3(1.0, 1.0, 1.0), 1.0, 0);
+        bed.push(v3(1.5, 1.0, 3.0), 1.0, 0);
+        bed.push(v3(50_000.0, 50_000.0, 1.0), 1.0, 0);
+        let columns = 50_000.0 * 50_000.0;
+        assert!(close(surface_height(&bed), (4.0 + 2.0) / columns, 1e-14));
     }
 
     #[test]

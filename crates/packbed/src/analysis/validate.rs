@@ -213,10 +213,8 @@ pub fn check_bed_with<const D: usize>(bed: &Bed<D>, checks: &Checks) -> Report {
     let mut touches: Vec<Vec<Touch<D>>> = vec![Vec::new(); n];
     let periods: Vec<Vector<D>> = periodic_shifts(bed);
     let cells = CellList::new(bed, tol);
-    cells.for_each_pair(|i, j| {
-        if !valid[i] || !valid[j] || bed.bodies[i] == bed.bodies[j] {
-            return;
-        }
+    let other_bodies = |i: usize, j: usize| valid[i] && valid[j] && bed.bodies[i] != bed.bodies[j];
+    cells.for_each_pair_where(other_bodies, |i, j| {
         let (ri, rj) = (bed.radii[i], bed.radii[j]);
         let r_min = ri.min(rj);
         let d0 = bed.container.displacement(&bed.centres[i], &bed.centres[j]);

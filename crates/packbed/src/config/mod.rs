@@ -499,11 +499,8 @@ impl AnalysisConfig {
     /// Refuses a negative or non-finite contact tolerance and a threshold
     /// radius that is not positive.
     pub fn check(&self) -> Result<()> {
-        let tol = self.contact_tol;
-        if !(tol.is_finite() && tol >= 0.0) {
-            return Err(Error::config(format!(
-                "analysis.contact_tol must be a non-negative number, got {tol}"
-            )));
+        if let Some(why) = contact_tol_problem(self.contact_tol, "analysis.contact_tol") {
+            return Err(Error::config(why));
         }
         if let Some(r) = self.large_radius {
             positive(r, "analysis.large_radius")?;
@@ -762,6 +759,37 @@ pub(crate) fn length_scale_problem(shortest: Real, longest: Real) -> Option<Stri
     })
 }
 
+/// Most beads of its own chain a bead may overlap on each side. The volume of
+/// a chain and the checks of the bed visit every overlapping pair: a chain of
+/// 100000 beads 1e-6 radii apart has 5e9 of them.
+pub const MAX_OWN_OVERLAPS: u64 = 64;
+
+/// How many beads of its chain a bead overlaps on each side: beads `k` apart
+/// are `k * spacing` radii apart and overlap while that is below 2.
+fn own_overlaps(beads: u32, spacing: Real) -> u64 {
+    let reach = ((2.0 / spacing).ceil() - 1.0).max(0.0);
+    (reach.min(u64::MAX as Real) as u64).min(beads.saturating_sub(1) as u64)
+}
+
+/// Largest contact tolerance, relative to the smaller radius. Beyond it two
+/// spheres a radius apart would count as touching, and the contact search, sized
+/// by the tolerance, grows with its cube.
+pub const MAX_CONTACT_TOL: Real = 1.0;
+
+/// Why the contact tolerance `tol` (named `what`) is refused, if it is.
+pub fn contact_tol_problem(tol: Real, what: &str) -> Option<String> {
+    if !(tol.is_finite() && tol >= 0.0) {
+        Some(format!("{what} must be a non-negative number, got {tol}"))
+    } else if tol > MAX_CONTACT_TOL {
+        Some(format!(
+            "{what} is {tol}, but at most {MAX_CONTACT_TOL}: it is a gap relative to the \
+             smaller radius, and a larger gap no longer means touching"
+        ))
+    } else {
+        None
+    }
+}
+
 fn positive(v: Real, what: &str) -> Result<Real> {
     if v.is_finite() && v > 0.0 {
         Ok(v)
@@ -810,6 +838,16 @@ impl SpeciesConfig {
                     return Err(Error::config(format!("{at}.beads must be at least 1")));
                 }
                 let spacing = positive(self.spacing.unwrap_or(1.0), &format!("{at}.spacing"))?;
+                let own = own_overlaps(beads, spacing);
+                if own > MAX_OWN_OVERLAPS {
+                    return Err(Error::config(format!(
+                        "{at}: beads {spacing} radii apart overlap {own} beads of their own chain \
+                         on each side, at most {MAX_OWN_OVERLAPS} (each overlap is work and memory \
+                         of the analysis): give a spacing of at least {:.4} or at most {} beads",
+                        2.0 / (MAX_OWN_OVERLAPS + 1) as Real,
+                        MAX_OWN_OVERLAPS + 1
+                    )));
+                }
                 let orientation = match self.orientation.as_deref() {
                     None | Some("vertical") => Orientation::Vertical,
                     Some("random") => Orientation::Random,
@@ -1324,4 +1362,36 @@ fn fmt_size<const D: usize>(s: &Vector<D>) -> String {
         .map(|v| format!("{v}"))
         .collect::<Vec<_>>()
         .join(" × ")
+}
+
+#[cfg(test)]
+mod bounds_tests {
+    use super::*;
+
+    #[test]
+    fn contact_tol_above_one_radius_is_refused_with_why() {
+        assert_eq!(contact_tol_problem(0.0, "t"), None);
+        assert_eq!(contact_tol_problem(1.0, "t"), None);
+        let why = contact_tol_problem(10.0, "analysis.contact_tol").unwrap();
+        assert!(
+            why.contains("at most 1") && why.contains("touching"),
+            "{why}"
+        );
+        let config = AnalysisConfig {
+            contact_tol: 10.0,
+            ..AnalysisConfig::default()
+        };
+        let e = config.check().unwrap_err().to_string();
+        assert!(e.contains("analysis.contact_tol is 10"), "{e}");
+    }
+
+    #[test]
+    fn beads_overlapping_their_own_chain_are_counted() {
+        assert_eq!(own_overlaps(5, 1.0), 1);
+        assert_eq!(own_overlaps(5, 2.0), 0);
+        assert_eq!(own_overlaps(100, 0.5), 3);
+        assert_eq!(own_overlaps(100_000, 1e-6), 99_999);
+        assert_eq!(own_overlaps(3, 1e-300), 2);
+        assert_eq!(own_overlaps(66, 2.0 / 65.0), 64);
+    }
 }

@@ -1,7 +1,6 @@
 //! Joining the shards of one ensemble into the files of a single run.
 
 use super::manifest::{check_out, first_difference, write_manifest, Manifest, Shard, MANIFEST};
-use super::replicates::done_summary;
 use super::write::{write_point, write_sweep};
 use super::{points, run_dir, seeds, Outcome, PointResult};
 use crate::error::{Error, Result};
@@ -114,16 +113,40 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
             let k = owner[(i % count) as usize].unwrap_or(0);
             let seed = seeds::replicate_seed(config.seed, i);
             let src = run_dir(&dirs[k].join(&p.dir), i);
-            let Some(found) = done_summary(&src, seed) else {
-                return Err(Error::Impossible(format!(
-                    "merge: {} is incomplete: replicate {i} has no summary ({}); rerun shard {}/{count} of the ensemble into {} to finish it",
-                    dirs[k].display(),
-                    src.join("summary.json").display(),
-                    i % count,
-                    dirs[k].display()
-                )));
+            let file = src.join("summary.json");
+            let found = match fs::read_to_string(&file) {
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                    return Err(Error::Impossible(format!(
+                        "merge: {} is incomplete: replicate {i} has no summary ({}); rerun shard {}/{count} of the ensemble into {} to finish it",
+                        dirs[k].display(),
+                        file.display(),
+                        i % count,
+                        dirs[k].display()
+                    )));
+                }
+                Err(e) => return Err(unreadable(&file, &e.to_string())),
+                Ok(text) => {
+                    let v: serde_json::Value = serde_json::from_str(&text)
+                        .map_err(|e| unreadable(&file, &format!("not valid JSON: {e}")))?;
+                    if v.get("seed").and_then(serde_json::Value::as_u64) != Some(seed) {
+                        return Err(unreadable(
+                            &file,
+                            &format!("its seed is not {seed}, the seed of replicate {i}"),
+                        ));
+                    }
+                    (v, text)
+                }
             };
             values.push(found);
+        }
+        let summaries: Vec<serde_json::Value> = values.iter().map(|v| v.0.clone()).collect();
+        if let Some((i, key, kind, usual)) = super::stats::odd_replicate(&summaries) {
+            let k = owner[(i as u64 % count) as usize].unwrap_or(0);
+            let file = run_dir(&dirs[k].join(&p.dir), i as u64).join("summary.json");
+            return Err(unreadable(
+                &file,
+                &format!("`{key}` is {kind}, but {usual} in the other replicates"),
+            ));
         }
         gathered.push((p, values));
     }
@@ -175,6 +198,14 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
         .files
         .extend(write_sweep(&config, out, &outcome.points, pictures)?);
     Ok(outcome)
+}
+
+/// A replicate summary that is there but cannot be merged.
+fn unreadable(file: &Path, why: &str) -> Error {
+    Error::Impossible(format!(
+        "merge: {} is unreadable: {why}; remove it and rerun its shard to rebuild it",
+        file.display()
+    ))
 }
 
 /// Whether `a` and `b` are the same existing directory.

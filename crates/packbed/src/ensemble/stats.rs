@@ -278,6 +278,70 @@ pub fn timings_of(summaries: &[Value]) -> Result<Aggregate> {
     fold(summaries, &[], Some(TIMING_KEY))
 }
 
+/// The first replicate whose summary holds a measure of another kind than the
+/// other replicates do (a number become text, say), as `(replicate, key, its
+/// kind, the others' kind)`. Folding would drop such a value and average the
+/// rest, losing the replicate without a word.
+pub fn odd_replicate(summaries: &[Value]) -> Option<(usize, String, &'static str, &'static str)> {
+    let mut kinds: Vec<Vec<(String, &'static str)>> = Vec::with_capacity(summaries.len());
+    for summary in summaries {
+        let mut out = Vec::new();
+        if let Value::Object(top) = summary {
+            for (key, v) in top {
+                if !NOT_MEASURES.contains(&key.as_str()) {
+                    kind_leaves(key, v, &mut out);
+                }
+            }
+        } else {
+            kind_leaves("", summary, &mut out);
+        }
+        kinds.push(out);
+    }
+    let mut votes: std::collections::HashMap<&str, Vec<(&'static str, usize)>> = Default::default();
+    for leaves in &kinds {
+        for (key, kind) in leaves {
+            let v = votes.entry(key.as_str()).or_default();
+            match v.iter_mut().find(|e| e.0 == *kind) {
+                Some(e) => e.1 += 1,
+                None => v.push((kind, 1)),
+            }
+        }
+    }
+    for (r, leaves) in kinds.iter().enumerate() {
+        for (key, kind) in leaves {
+            let v = &votes[key.as_str()];
+            if v.len() < 2 {
+                continue;
+            }
+            let usual = v.iter().max_by_key(|e| e.1).map_or(*kind, |e| e.0);
+            if usual != *kind {
+                return Some((r, key.clone(), kind, usual));
+            }
+        }
+    }
+    None
+}
+
+/// Each non-null leaf of `v` under `path` with the kind of its value.
+fn kind_leaves(path: &str, v: &Value, out: &mut Vec<(String, &'static str)>) {
+    match v {
+        Value::Null => {}
+        Value::Number(_) => out.push((path.to_string(), "a number")),
+        Value::Bool(_) => out.push((path.to_string(), "true or false")),
+        Value::String(_) => out.push((path.to_string(), "text")),
+        Value::Array(a) => {
+            for (i, item) in a.iter().enumerate() {
+                kind_leaves(&format!("{path}[{i}]"), item, out);
+            }
+        }
+        Value::Object(m) => {
+            for (k, item) in m {
+                kind_leaves(&format!("{path}.{k}"), item, out);
+            }
+        }
+    }
+}
+
 fn flatten(path: &str, v: &Value, out: &mut Vec<(String, Leaf)>) {
     match v {
         Value::Number(n) => {
@@ -414,6 +478,18 @@ mod tests {
         let s = a.measures[0].stats;
         // Indicator 100·{1,0,1,1}: mean 75, Σ(x − 75)² = 3·625 + 5625 = 7500, /3 → sd 50.
         assert_eq!((s.mean, s.sd, s.min, s.max), (75.0, 50.0, 0.0, 100.0));
+    }
+
+    #[test]
+    fn a_number_become_text_is_the_odd_replicate() {
+        let good = json!({"seed": 1, "packing": {"global": 0.5}, "source": "x"});
+        let bad = json!({"seed": 2, "packing": {"global": "0.5"}, "source": "y"});
+        let all = [good.clone(), bad, good.clone()];
+        assert_eq!(
+            odd_replicate(&all),
+            Some((1, "packing.global".into(), "text", "a number"))
+        );
+        assert_eq!(odd_replicate(&[good.clone(), good]), None);
     }
 
     #[test]

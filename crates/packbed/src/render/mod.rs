@@ -125,11 +125,9 @@ impl RenderOptions {
                 self.supersample
             )));
         }
-        if !(self.contact_tol >= 0.0 && self.contact_tol.is_finite()) {
-            return Err(Error::Impossible(format!(
-                "contact tolerance {} must be a finite number >= 0",
-                self.contact_tol
-            )));
+        if let Some(why) = crate::config::contact_tol_problem(self.contact_tol, "contact tolerance")
+        {
+            return Err(Error::Impossible(why));
         }
         self.view.check()?;
         if let ColorBy::Classes(c) = &self.color {

@@ -4,7 +4,7 @@
 // `!(x > 0.0)` is how NaN is refused along with the non-positive values.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::raw::{build, Raw, Reader};
+use super::raw::{build, densify_species, Raw, Reader};
 use super::report::{BoxHint, BoxSource, ReadReport, OUTSIDE_TOL};
 use crate::bed::AnyBed;
 use crate::error::Result;
@@ -81,6 +81,7 @@ impl Reader<'_> {
         }
         let wrapped = self.check_inside(&mut raw, &size, periodic, box_source)?;
         self.check_crowding(&raw)?;
+        densify_species(&mut raw);
         let bed = match raw.dim {
             2 => AnyBed::D2(build::<2>(&raw, &size, periodic)),
             _ => AnyBed::D3(build::<3>(&raw, &size, periodic)),
@@ -217,6 +218,27 @@ impl Reader<'_> {
             })
             .collect();
         cells.sort_unstable();
+        // A straight chain with beads overlapping at most MAX_OWN_OVERLAPS of
+        // their own on each side puts about 3.5 times that many beads of radius
+        // `r_min` along a cube's diagonal; more means the analysis would visit
+        // billions of pairs of one body's beads.
+        let own_cap = 4.0 * crate::config::MAX_OWN_OVERLAPS as Real * r_max / r_min;
+        for run in cells.chunk_by(|a, b| a.0 == b.0 && a.1 == b.1) {
+            if run.len() as Real > own_cap {
+                let first = run.iter().map(|c| c.2).min().unwrap_or(0);
+                return Err(self.err(
+                    raw.lines[first],
+                    format!(
+                        "{} beads of body {} have their centres within one cube of side {w} \
+                         (twice the largest radius), more than {own_cap:.0}: a bead may overlap \
+                         at most {} beads of its own body on each side",
+                        run.len(),
+                        run[0].1,
+                        crate::config::MAX_OWN_OVERLAPS
+                    ),
+                ));
+            }
+        }
         for run in cells.chunk_by(|a, b| a.0 == b.0) {
             let bodies = 1 + run.windows(2).filter(|p| p[0].1 != p[1].1).count();
             if bodies as Real > cap {

@@ -168,6 +168,7 @@ impl Reader<'_> {
         let thin2d = flag(2) == "pp" && rows.iter().all(|r| r.1[2] == 0.0);
         let dim = if thin2d { 2 } else { 3 };
         let mut raw = Raw::new(dim);
+        raw.first_species_id = 1;
         for (j, (_, p, r, ty, mol, no)) in rows.into_iter().enumerate() {
             raw.pos.push(p);
             raw.radii.push(r);

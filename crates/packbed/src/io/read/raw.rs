@@ -26,6 +26,8 @@ pub(super) struct Raw {
     /// Where `size` came from, when set.
     pub(super) box_source: BoxSource,
     pub(super) species_info: Vec<Species>,
+    /// What the file calls species 0 (LAMMPS types count from 1).
+    pub(super) first_species_id: u32,
 }
 
 impl Raw {
@@ -41,6 +43,7 @@ impl Raw {
             origin: [0.0; 3],
             box_source: BoxSource::File,
             species_info: Vec::new(),
+            first_species_id: 0,
         }
     }
 }
@@ -116,4 +119,94 @@ pub(super) fn build<const D: usize>(raw: &Raw, size: &[Real], periodic: bool) ->
         bed.push_bead(Vector(c), raw.radii[k], raw.species[k], raw.bodies[k]);
     }
     bed
+}
+
+/// Unused species indices a file may leave below its largest id before its ids
+/// are renumbered: an id is an index into every per-species table.
+const MAX_UNUSED_SPECIES: usize = 64;
+
+/// Renumbers sparse species ids (`1000000000`, or LAMMPS types 1 and 7) to
+/// dense indices in increasing order, each species named by the id the file
+/// used, so no table is sized by a number read from the file. Dense ids, the
+/// usual case, are kept as they are.
+pub(super) fn densify_species(raw: &mut Raw) {
+    let mut used: Vec<u32> = raw.species.clone();
+    used.sort_unstable();
+    used.dedup();
+    let Some(&max) = used.last() else {
+        return;
+    };
+    let described = raw.species_info.len();
+    let known = used.iter().filter(|&&s| s as usize >= described).count() + described;
+    if (max as usize + 1).saturating_sub(known) <= MAX_UNUSED_SPECIES {
+        return;
+    }
+    let info: Vec<Species> = used
+        .iter()
+        .map(|&id| {
+            let mut s = raw
+                .species_info
+                .get(id as usize)
+                .cloned()
+                .unwrap_or(Species {
+                    name: String::new(),
+                    shape: crate::species::Shape::Sphere,
+                    size: crate::species::SizeDist::Fixed(mean_radius(raw, id)),
+                    ratio: 1.0,
+                });
+            if s.name.is_empty() {
+                s.name = (u64::from(id) + u64::from(raw.first_species_id)).to_string();
+            }
+            s
+        })
+        .collect();
+    for s in raw.species.iter_mut() {
+        // `used` holds every id of `raw.species`, so the search always finds it.
+        *s = used.binary_search(s).unwrap_or(0) as u32;
+    }
+    raw.species_info = info;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn raw_with(species: &[u32]) -> Raw {
+        let mut raw = Raw::new(2);
+        for &s in species {
+            raw.pos.push([1.0, 1.0, 0.0]);
+            raw.radii.push(1.0);
+            raw.species.push(s);
+            raw.bodies.push(0);
+            raw.lines.push(2);
+        }
+        raw
+    }
+
+    #[test]
+    fn huge_species_ids_become_dense_indices_named_by_their_id() {
+        let mut raw = raw_with(&[1_000_000_000, 7, 1_000_000_000]);
+        densify_species(&mut raw);
+        assert_eq!(raw.species, [1, 0, 1]);
+        let names: Vec<&str> = raw.species_info.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, ["7", "1000000000"]);
+    }
+
+    #[test]
+    fn lammps_types_are_named_as_the_file_has_them() {
+        // The dump reader stores type t as species t - 1.
+        let mut raw = raw_with(&[2_000_000_000, 0]);
+        raw.first_species_id = 1;
+        densify_species(&mut raw);
+        let names: Vec<&str> = raw.species_info.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, ["1", "2000000001"]);
+    }
+
+    #[test]
+    fn dense_species_ids_are_kept() {
+        let mut raw = raw_with(&[0, 2, 1, 2]);
+        densify_species(&mut raw);
+        assert_eq!(raw.species, [0, 2, 1, 2]);
+        assert!(raw.species_info.is_empty());
+    }
 }

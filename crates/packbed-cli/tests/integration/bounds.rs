@@ -1,0 +1,237 @@
+//! Inputs that once made `packbed` ask for tens of gigabytes and abort, or lose
+//! a replicate without a word (issue 30): each is refused with one line or
+//! handled in memory sized by the particles.
+
+use crate::common::{assert_user_error, within_memory, Scratch, SMALL};
+use serde_json::Value;
+
+/// Address space for each command here: far below what the inputs once asked for.
+const MIB: u64 = 2048;
+
+#[test]
+fn a_huge_species_id_is_a_name_not_an_array_size() {
+    let s = Scratch::new();
+    let bed = s.input(
+        "s.csv",
+        "id,species,body,x,y,r\n0,1000000000,0,10,10,10\n1,7,1,40,10,10\n",
+    );
+    let o = within_memory(
+        &s,
+        &[
+            "analyze",
+            bed.to_str().unwrap(),
+            "--box",
+            "100,100",
+            "--out",
+            "a",
+            "-q",
+        ],
+        60,
+        MIB,
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let v = s.summary("a");
+    let by: Vec<(String, u64)> = v["coordination"]["by_species"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| {
+            (
+                e["name"].as_str().unwrap().to_string(),
+                e["bodies"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(by, [("7".to_string(), 1), ("1000000000".to_string(), 1)]);
+}
+
+#[test]
+fn a_huge_lammps_type_is_named_as_the_dump_has_it() {
+    let s = Scratch::new();
+    let dump = s.input(
+        "d.dump",
+        "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp ff\n0 100\n\
+         0 100\n0 100\nITEM: ATOMS id type x y z radius\n1 2000000001 10 10 10 5\n\
+         2 1 40 10 10 5\n",
+    );
+    let o = within_memory(
+        &s,
+        &["analyze", dump.to_str().unwrap(), "--out", "a", "-q"],
+        60,
+        MIB,
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let names: Vec<String> = s.summary("a")["coordination"]["by_species"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["name"].as_str().unwrap().to_string())
+        .collect();
+    assert_eq!(names, ["1", "2000000001"]);
+}
+
+#[test]
+fn a_wide_shallow_box_is_analysed_in_little_memory() {
+    // One column a diameter wide per particle top: 50000 × 50000 columns in
+    // this box, 20 GB as a dense grid.
+    let s = Scratch::new();
+    let mut table = String::from("x,y,z,r\n");
+    for k in 0..10 {
+        let (x, y) = (10.0 + 9000.0 * k as f64, 50.0 + 7000.0 * k as f64);
+        table += &format!("{x},{y},1,1\n");
+    }
+    let bed = s.input("wide.csv", &table);
+    let o = within_memory(
+        &s,
+        &[
+            "analyze",
+            bed.to_str().unwrap(),
+            "--box",
+            "100000,100000,100",
+            "--out",
+            "a",
+            "-q",
+            "--no-pictures",
+        ],
+        120,
+        MIB,
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert_eq!(s.summary("a")["counts"]["particles"], 10);
+}
+
+#[test]
+fn a_contact_tolerance_above_one_radius_is_refused() {
+    let s = Scratch::new();
+    let bed = s.input("b.csv", "x,y,r\n10,10,10\n40,10,10\n");
+    let b = bed.to_str().unwrap();
+    for cmd in ["analyze", "fragment"] {
+        assert_user_error(
+            &s,
+            &[
+                cmd,
+                b,
+                "--box",
+                "100,100",
+                "--contact-tol",
+                "10",
+                "--out",
+                "o",
+            ],
+            &["--contact-tol is 10", "at most 1", "touching"],
+        );
+    }
+    assert_user_error(
+        &s,
+        &[
+            "render",
+            b,
+            "--box",
+            "100,100",
+            "--contact-tol",
+            "1.5",
+            "--out",
+            "o.png",
+        ],
+        &["--contact-tol is 1.5", "at most 1"],
+    );
+    let config = s.input("c.toml", "[analysis]\ncontact_tol = 2\n");
+    assert_user_error(
+        &s,
+        &["run", config.to_str().unwrap()],
+        &["analysis.contact_tol is 2", "at most 1"],
+    );
+}
+
+#[test]
+fn merge_refuses_a_damaged_replicate_summary_naming_it() {
+    let s = Scratch::new();
+    for k in 0..3 {
+        let shard = format!("{k}/3");
+        let out = format!("s{k}");
+        let mut a = vec!["ensemble"];
+        a.extend_from_slice(SMALL);
+        a.extend_from_slice(&["--runs", "9", "--shard", &shard, "--out", &out, "-q"]);
+        s.ok(&a);
+    }
+    let file = "s1/runs/0004/summary.json";
+    let good = s.read(file);
+    let mut v: Value = serde_json::from_str(&good).unwrap();
+    v["packing"]["global"] = Value::String("0.6".into());
+    std::fs::write(s.path(file), serde_json::to_string(&v).unwrap()).unwrap();
+    assert_user_error(
+        &s,
+        &["merge", "s0", "s1", "s2", "--out", "m"],
+        &[file, "unreadable", "packing.global", "text"],
+    );
+    std::fs::write(s.path(file), &good[..good.len() / 2]).unwrap();
+    assert_user_error(
+        &s,
+        &["merge", "s0", "s1", "s2", "--out", "m"],
+        &[file, "unreadable", "not valid JSON"],
+    );
+    std::fs::write(s.path(file), good).unwrap();
+    s.ok(&["merge", "s0", "s1", "s2", "--out", "m", "-q"]);
+}
+
+#[test]
+fn a_chain_of_beads_overlapping_their_own_chain_by_thousands_is_refused() {
+    let s = Scratch::new();
+    let chain = "dim = 3\n[[species]]\nname = \"c\"\nradius = 1\nshape = \"chain\"\n\
+                 beads = 100000\nspacing = 1e-6\n[fill]\ncount = 3\n";
+    let c = s.input("chain.toml", chain);
+    assert_user_error(
+        &s,
+        &["run", c.to_str().unwrap()],
+        &[
+            "species",
+            "99999 beads of their own chain",
+            "at most 64",
+            "spacing of at least",
+        ],
+    );
+    // Beads a radius apart, the default, overlap one neighbour on each side.
+    let fine = chain.replace("spacing = 1e-6", "spacing = 1");
+    let fine = s.input("fine.toml", &fine.replace("beads = 100000", "beads = 5"));
+    let o = within_memory(
+        &s,
+        &[
+            "run",
+            fine.to_str().unwrap(),
+            "--out",
+            "r",
+            "-q",
+            "--no-pictures",
+        ],
+        300,
+        MIB,
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+}
+
+#[test]
+fn a_bed_file_with_a_body_of_heavily_overlapping_beads_is_refused() {
+    let s = Scratch::new();
+    let mut table = String::from("id,species,body,x,y,z,r\n");
+    for k in 0..20_000 {
+        table += &format!("{k},0,0,50,50,{},1\n", 10.0 + 1e-6 * k as f64);
+    }
+    table += "20000,0,1,20,20,10,1\n";
+    let bed = s.input("beads.csv", &table);
+    assert_user_error(
+        &s,
+        &[
+            "analyze",
+            bed.to_str().unwrap(),
+            "--box",
+            "100,100,100",
+            "--out",
+            "a",
+        ],
+        &[
+            "beads.csv:2",
+            "20000 beads of body 0",
+            "at most 64 beads of its own body",
+        ],
+    );
+}
