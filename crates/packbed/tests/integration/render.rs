@@ -692,18 +692,32 @@ fn crowded_files_are_refused_but_dense_rods_are_not() {
     text.push_str(&"50 50 1\n".repeat(2000));
     let (line, m) = data_error(&text, "dup2.txt", Some(&h2));
     assert_eq!(line, 41, "{m}");
-    // One rod of 2000 beads at spacing 0.01 r: every bead in one cell, one body.
+    // A dense rod of one body: 2000 beads at spacing 0.05 r (each overlaps 39
+    // of its own on each side) is a rod; at spacing 0.0001 r (every bead in
+    // one cell, each overlapping thousands of its own) it is refused, as a
+    // config asking for it is (issue 30: it exhausted the memory).
     let dir = tempfile::tempdir().unwrap();
-    let mut csv = String::from("id,species,body,x,y,z,r\n");
-    for k in 0..2000 {
-        csv.push_str(&format!("{k},0,0,{},5,5,1\n", 1.0 + 0.0001 * k as f64));
-    }
-    let path = dir.path().join("rod.csv");
-    std::fs::write(&path, csv).unwrap();
-    match read_bed(&path, Some(&h)).unwrap() {
+    let rod = |spacing: f64| {
+        let mut csv = String::from("id,species,body,x,y,z,r\n");
+        for k in 0..2000 {
+            csv.push_str(&format!("{k},0,0,{},5,5,1\n", 1.0 + spacing * k as f64));
+        }
+        let path = dir.path().join(format!("rod-{spacing}.csv"));
+        std::fs::write(&path, csv).unwrap();
+        path
+    };
+    let h_rod = BoxHint {
+        size: vec![120.0, 10.0, 10.0],
+        periodic: false,
+    };
+    match read_bed(&rod(0.05), Some(&h_rod)).unwrap() {
         AnyBed::D3(b) => assert_eq!(b.len(), 2000),
         AnyBed::D2(_) => panic!("3D expected"),
     }
+    let e = read_bed(&rod(0.0001), Some(&h_rod))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("2000 beads of body 0"), "{e}");
 }
 
 // ---------------------------------------------------------------------------
