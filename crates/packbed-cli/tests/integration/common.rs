@@ -88,7 +88,7 @@ impl Scratch {
     /// Runs `packbed` in `work/`, killing it and failing if it still runs after
     /// `secs` seconds: a guard against a command that would never end.
     pub fn within(&self, args: &[&str], secs: u64) -> Outcome {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_packbed"))
+        let child = Command::new(env!("CARGO_BIN_EXE_packbed"))
             .args(args)
             .current_dir(&self.work)
             .stdin(Stdio::null())
@@ -96,16 +96,7 @@ impl Scratch {
             .stderr(Stdio::piped())
             .spawn()
             .unwrap();
-        let start = std::time::Instant::now();
-        while child.try_wait().unwrap().is_none() {
-            if start.elapsed().as_secs() >= secs {
-                let _ = child.kill();
-                let _ = child.wait();
-                panic!("{args:?} still running after {secs} s");
-            }
-            std::thread::sleep(std::time::Duration::from_millis(20));
-        }
-        outcome(child.wait_with_output().unwrap())
+        wait_within(child, args, secs)
     }
 
     /// The `summary.json` of the output directory `work/<out>`.
@@ -191,7 +182,7 @@ pub fn within_memory(s: &Scratch, args: &[&str], secs: u64, mib: u64) -> Outcome
     let script = format!("ulimit -v {} && exec \"$0\" \"$@\"", mib * 1024);
     let mut full = vec!["-c", &script, env!("CARGO_BIN_EXE_packbed")];
     full.extend_from_slice(args);
-    let mut child = Command::new("sh")
+    let child = Command::new("sh")
         .args(&full)
         .current_dir(&s.work)
         .stdin(Stdio::null())
@@ -199,6 +190,11 @@ pub fn within_memory(s: &Scratch, args: &[&str], secs: u64, mib: u64) -> Outcome
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
+    wait_within(child, args, secs)
+}
+
+/// Waits for `child`, killing it and failing if it still runs after `secs`.
+fn wait_within(mut child: std::process::Child, args: &[&str], secs: u64) -> Outcome {
     let start = std::time::Instant::now();
     while child.try_wait().unwrap().is_none() {
         if start.elapsed().as_secs() >= secs {

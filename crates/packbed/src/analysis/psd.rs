@@ -6,7 +6,7 @@
 
 use crate::bed::Bed;
 use crate::math::Real;
-use crate::species::{Shape, SizeDist, Species};
+use crate::species::{passing_quantile, Shape, SizeDist, Species};
 use serde::Serialize;
 
 /// Points of the curve over the window of a continuous distribution.
@@ -100,26 +100,12 @@ impl<'a> Mixture<'a> {
     /// over the species' windows.
     fn mass_quantile(&self, q: Real) -> Real {
         let start: (Real, Real) = (Real::INFINITY, 0.0);
-        let (mut lo, mut hi) = self
+        let (lo, hi) = self
             .parts
             .iter()
             .map(|(_, _, d)| d.bounds())
             .fold(start, |(a, b), (l, h)| (a.min(l), b.max(h)));
-        if self.mass_passing(lo) >= q {
-            return lo;
-        }
-        for _ in 0..200 {
-            let mid = (lo * hi).sqrt();
-            if mid <= lo || mid >= hi {
-                break;
-            }
-            if self.mass_passing(mid) < q {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        hi
+        passing_quantile(lo, hi, q, |x| self.mass_passing(x))
     }
 }
 

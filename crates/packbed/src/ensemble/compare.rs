@@ -341,17 +341,18 @@ impl Comparison {
     /// A table for a person (`compare.md`, and on screen with `headline`
     /// only): mean ± sd per group, then each group against the first.
     pub fn to_markdown(&self, headline_only: bool) -> String {
-        self.table(headline_only).join("\n") + "\n"
+        let rows = self.table(headline_only);
+        let mut lines: Vec<String> = rows
+            .iter()
+            .map(|r| format!("| {} |", r.join(" | ")))
+            .collect();
+        lines.insert(1, format!("|{}", " --- |".repeat(rows[0].len())));
+        lines.join("\n") + "\n"
     }
 
     /// The screen: the headline table with aligned columns, and where the rest is.
     pub fn to_text(&self, out: &Path) -> String {
-        let lines = self.table(true);
-        let cells: Vec<Vec<&str>> = lines
-            .iter()
-            .filter(|l| !l.starts_with("| ---") && !l.starts_with("|---"))
-            .map(|l| l.trim_matches('|').split(" | ").map(str::trim).collect())
-            .collect();
+        let cells = self.table(true);
         let cols = cells.iter().map(Vec::len).max().unwrap_or(0);
         let width: Vec<usize> = (0..cols)
             .map(|k| {
@@ -388,7 +389,8 @@ impl Comparison {
         t
     }
 
-    fn table(&self, headline_only: bool) -> Vec<String> {
+    /// The cells of the table, its header first.
+    fn table(&self, headline_only: bool) -> Vec<Vec<String>> {
         let mut head = vec!["measure".to_string()];
         for (g, n) in &self.groups {
             head.push(format!("{g} (n = {n})"));
@@ -397,10 +399,7 @@ impl Comparison {
             head.push(format!("{g} − {}", self.groups[0].0));
             head.push("p (Welch)".to_string());
         }
-        let mut lines = vec![
-            format!("| {} |", head.join(" | ")),
-            format!("|{}", " --- |".repeat(head.len())),
-        ];
+        let mut lines = vec![head];
         let rows: Vec<&Row> = if headline_only {
             self.headline().collect()
         } else {
@@ -427,7 +426,7 @@ impl Comparison {
                     _ => "n/a (fewer than 2 beds)".to_string(),
                 });
             }
-            lines.push(format!("| {} |", cells.join(" | ")));
+            lines.push(cells);
         }
         lines
     }

@@ -370,20 +370,12 @@ impl Plot {
             f64::NEG_INFINITY,
         );
         match &self.data {
-            PlotData::Bars { groups, .. } => {
-                y0 = 0.0;
-                y1 = 0.0;
-                for g in groups {
-                    for (k, &v) in g.values.iter().enumerate() {
-                        let e = g.errors.as_ref().map_or(0.0, |e| e[k].abs());
-                        y0 = y0.min(v - e);
-                        y1 = y1.max(v + e);
-                    }
+            PlotData::Bars { groups, .. } | PlotData::Dots { groups, .. } => {
+                // A bar starts at 0, so its axis must hold 0; a dot's need not.
+                if matches!(self.data, PlotData::Bars { .. }) {
+                    y0 = 0.0;
+                    y1 = 0.0;
                 }
-                x0 = 0.0;
-                x1 = 1.0;
-            }
-            PlotData::Dots { groups, .. } => {
                 for g in groups {
                     for (k, &v) in g.values.iter().enumerate() {
                         let e = g.errors.as_ref().map_or(0.0, |e| e[k].abs());

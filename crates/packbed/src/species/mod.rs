@@ -6,6 +6,7 @@ use rand::RngExt;
 mod passing;
 mod table;
 
+pub use passing::passing_quantile;
 pub use table::{Basis, Layout, SizeClass, SizeTable, Within, ACCEPTED_HEADERS};
 
 /// Unbounded size distributions are truncated to their central part unless the

@@ -8,6 +8,32 @@ use crate::math::{normal, Real};
 /// Panels of the quadrature over a truncated normal's window (even, Simpson).
 const PANELS: usize = 2048;
 
+/// The smallest radius in `[lo, hi]` (radii, `lo > 0`) at which the
+/// non-decreasing `passing` reaches `q`: bisection in the logarithm, as
+/// sizes spread over decades.
+pub fn passing_quantile(
+    mut lo: Real,
+    mut hi: Real,
+    q: Real,
+    passing: impl Fn(Real) -> Real,
+) -> Real {
+    if lo >= hi || passing(lo) >= q {
+        return lo;
+    }
+    for _ in 0..200 {
+        let mid = (lo * hi).sqrt();
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if passing(mid) < q {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
+}
+
 impl SizeDist {
     /// The share of particles (by number) of radius `<= x`.
     pub fn number_passing(&self, x: Real) -> Real {
@@ -37,28 +63,10 @@ impl SizeDist {
     }
 
     /// The radius below which the share `q` (in `[0, 1]`) of the solid volume
-    /// lies (the `d50` of a mass curve, as a radius), by bisection.
+    /// lies (the `d50` of a mass curve, as a radius).
     pub fn volume_quantile(&self, q: Real) -> Real {
-        let (mut lo, mut hi) = self.bounds();
-        if lo == hi {
-            return lo;
-        }
-        for _ in 0..200 {
-            let mid = if lo > 0.0 {
-                (lo * hi).sqrt()
-            } else {
-                0.5 * (lo + hi)
-            };
-            if mid <= lo || mid >= hi {
-                break;
-            }
-            if self.volume_passing(mid) < q {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        hi
+        let (lo, hi) = self.bounds();
+        passing_quantile(lo, hi, q, |x| self.volume_passing(x))
     }
 
     /// The share by `r^power` (0: number, 3: volume) of radii `<= x`.
