@@ -235,3 +235,31 @@ fn a_bed_file_with_a_body_of_heavily_overlapping_beads_is_refused() {
         ],
     );
 }
+
+#[test]
+fn a_run_beyond_the_address_space_limit_is_refused_before_it_starts() {
+    // 5·10^6 spheres fit this machine's memory but not 2 GiB of address
+    // space: a cluster job given 2 GB must be told so at once, not killed.
+    let s = Scratch::new();
+    let o = within_memory(
+        &s,
+        &[
+            "run",
+            "--radii",
+            "1",
+            "--box",
+            "400,400,400",
+            "--count",
+            "5000000",
+            "--out",
+            "r",
+            "-q",
+        ],
+        60,
+        MIB,
+    );
+    assert_eq!(o.code, 2, "{}", o.stderr);
+    assert_eq!(o.stderr.lines().count(), 1, "{}", o.stderr);
+    assert!(o.stderr.contains("ulimit -v"), "{}", o.stderr);
+    assert!(!s.work.join("r").exists(), "nothing may be written");
+}
