@@ -428,19 +428,6 @@ fn plots_have_their_labels_inside_the_page() {
             2,
             packbed::analysis::orientation::AngleFrom::Vertical,
         ),
-        render::run_plots::sweep_measure(
-            "bulk packing fraction",
-            "size ratio",
-            &[(1.0, 0.6, 0.01), (2.0, 0.62, 0.02)],
-        ),
-        render::run_plots::percolation_sweep(
-            "fraction of large particles (%)",
-            &[(10.0, 0.0), (50.0, 40.0), (90.0, 100.0)],
-        ),
-        render::run_plots::ensemble_measures(&[
-            ("global".into(), 0.55, 0.01),
-            ("bulk".into(), 0.6, 0.02),
-        ]),
     ];
     for plot in &plots {
         for (w, h) in [(1000, 700), (500, 350)] {

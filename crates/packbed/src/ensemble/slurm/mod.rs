@@ -199,11 +199,6 @@ impl Plan {
         self.out.join(MERGE_SCRIPT)
     }
 
-    /// `DIR/shards/K`.
-    pub fn shard_dir(&self, k: u64) -> PathBuf {
-        self.out.join(SHARDS_DIR).join(k.to_string())
-    }
-
     /// The log of task `K`.
     pub fn task_log(&self, k: u64) -> PathBuf {
         self.out.join(LOGS_DIR).join(format!("task-{k}.out"))
