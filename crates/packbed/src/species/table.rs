@@ -421,11 +421,19 @@ impl SizeTable {
             data.push((line, v));
         }
         let last_line = text.lines().count().max(1);
+        // Sizes are cubed into volumes and masses: beyond packbed's length
+        // range a cube overflows to infinity or vanishes, and the weights with it.
         let positive_size = |line: usize, s: Real| {
-            if s > 0.0 {
-                Ok(s * scale)
-            } else {
-                Err(err(line, format!("a size must be positive, got {s}")))
+            let (lo, hi) = crate::config::LENGTH_RANGE;
+            match s * scale {
+                _ if s <= 0.0 => Err(err(line, format!("a size must be positive, got {s}"))),
+                x if (lo..=hi).contains(&x) => Ok(x),
+                x => Err(err(
+                    line,
+                    format!(
+                        "a size must lie between {lo:e} and {hi:e} in the bed's unit, got {x:e}"
+                    ),
+                )),
             }
         };
         let weight = |line: usize, w: Real| {
@@ -757,6 +765,22 @@ mod tests {
         assert!(!e.contains('\n'), "one line: {e}");
         assert!(e.contains("psd.csv:"), "names the file: {e}");
         e
+    }
+
+    #[test]
+    fn sizes_whose_cubes_overflow_or_vanish_are_refused() {
+        // Found by the fuzzer (fuzz/regressions/psd_table): a 1e100 radius
+        // made the mean cube infinite and every weight NaN.
+        for (text, unit) in [
+            ("radius,number\n1e100,1\n", None),
+            ("radius,number\n1e-200,1\n2e-200,1\n", None),
+            ("diameter_um,mass_percent\n1e40,100\n", Some(1e-6)),
+        ] {
+            let e = refusal(text, unit);
+            assert!(e.contains("must lie between 1e-30 and 1e30"), "{e}");
+        }
+        // Converted to the bed's unit first: 1e33 nm is 1e24 m.
+        assert!(table("diameter_nm,number\n1e33,1\n", Some(1.0)).is_ok());
     }
 
     fn draws(t: &SizeTable, n: usize) -> Vec<Real> {
