@@ -235,3 +235,37 @@ fn a_bed_file_with_a_body_of_heavily_overlapping_beads_is_refused() {
         ],
     );
 }
+
+#[test]
+fn a_few_particles_in_a_wide_or_tall_box_are_deposited_in_little_memory() {
+    // The deposition grid was sized by the box: 2^28 columns of a diameter for
+    // ten particles in the wide box, one layer per diameter of the tall one.
+    let s = Scratch::new();
+    for (mode, size, out) in [
+        ("deposit", "100000,100000,100", "wide"),
+        ("rsa", "10,10,100000000", "tall"),
+    ] {
+        let o = within_memory(
+            &s,
+            &[
+                "run",
+                "--mode",
+                mode,
+                "--radii",
+                "1",
+                "--box",
+                size,
+                "--count",
+                "10",
+                "--out",
+                out,
+                "-q",
+                "--no-pictures",
+            ],
+            120,
+            MIB,
+        );
+        assert_eq!(o.code, 0, "{mode}: {}", o.stderr);
+        assert_eq!(s.summary(out)["counts"]["particles"], 10);
+    }
+}
