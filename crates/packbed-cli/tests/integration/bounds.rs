@@ -269,3 +269,21 @@ fn a_few_particles_in_a_wide_or_tall_box_are_deposited_in_little_memory() {
         assert_eq!(s.summary(out)["counts"]["particles"], 10);
     }
 }
+
+#[test]
+fn a_huge_or_escaping_field_is_echoed_short_and_clean() {
+    let s = Scratch::new();
+    let huge = format!("x,y,r\n10,10,1\n{}x,10,1\n", "1".repeat(1 << 20));
+    let escaping = "x,y,r\n10,10,1\n1\u{1b}[2J\u{1b}]0;owned\u{7},10,1\n";
+    for (name, text, shown) in [
+        ("huge.csv", huge.as_str(), "…(1048577 bytes)"),
+        ("esc.csv", escaping, "\\u{1b}[2J\\u{1b}]0;owned\\u{7}"),
+    ] {
+        let bed = s.input(name, text);
+        let args = ["analyze", bed.to_str().unwrap(), "--box", "100,100"];
+        assert_user_error(&s, &args, &[&format!("{name}:3: x: \""), shown]);
+        let o = s.packbed(&args);
+        assert!(o.stderr.len() < 300, "{} bytes", o.stderr.len());
+        assert!(!o.stderr.chars().any(|c| c.is_control() && c != '\n'));
+    }
+}
