@@ -465,13 +465,28 @@ impl Measure {
         text.split(',')
             .map(|name| {
                 let name = name.trim();
+                if name == "all" {
+                    // Accepting it would hide a list that meant something
+                    // narrower; the message says how to write either.
+                    return Err(format!(
+                        "`all` cannot be part of a list (it already means every measure): \
+                         give `all` alone, or only the measures wanted, as in `{}`",
+                        text.split(',')
+                            .map(str::trim)
+                            .filter(|n| *n != "all")
+                            .map(crate::error::echo)
+                            .collect::<Vec<_>>()
+                            .join(",")
+                    ));
+                }
                 Measure::ALL
                     .into_iter()
                     .find(|m| m.name() == name)
                     .ok_or_else(|| {
                         let known: Vec<&str> = Measure::ALL.iter().map(|m| m.name()).collect();
                         format!(
-                            "unknown measure `{name}` (choose from {}, or all)",
+                            "unknown measure `{}` (choose from {}, or all)",
+                            crate::error::echo(name),
                             known.join(", ")
                         )
                     })
@@ -676,10 +691,7 @@ impl Config {
 
     /// Reads and parses a TOML configuration file.
     pub fn from_file(path: &Path) -> Result<Config> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = crate::io::read_text(path)?;
         let mut c = Config::from_toml(&text, &path.display().to_string())?;
         // PSD tables are relative to the config file, and so are the tables
         // a sweep goes through.
