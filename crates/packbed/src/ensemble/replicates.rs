@@ -148,6 +148,7 @@ pub fn run(
         points: Vec::new(),
         wall_seconds: wall,
         files: Vec::new(),
+        warnings: Vec::new(),
         reduced_from: earlier.map(|m| m.runs).filter(|&r| r > opts.runs),
     };
     for (p, dir, values, built) in results {
@@ -161,6 +162,7 @@ pub fn run(
             (built, resumed),
             wall,
             opts.pictures,
+            &mut outcome.warnings,
         )?;
         outcome.points.push(PointResult {
             label: p.label.clone(),
@@ -173,8 +175,12 @@ pub fn run(
         });
     }
     outcome.files = vec![out.join(MANIFEST)];
-    outcome
-        .files
-        .extend(write_sweep(config, out, &outcome.points, opts.pictures)?);
+    outcome.files.extend(write_sweep(
+        config,
+        out,
+        &outcome.points,
+        opts.pictures,
+        &mut outcome.warnings,
+    )?);
     Ok(outcome)
 }

@@ -10,6 +10,7 @@ use crate::bed::Bed;
 use crate::config::LengthUnit;
 use crate::error::Result;
 use crate::math::Real;
+use crate::output::Drawn;
 
 /// Size of plot images in pixels.
 pub const PLOT_SIZE: (u32, u32) = (1000, 700);
@@ -25,8 +26,8 @@ pub fn pictures<const D: usize>(
     contact_tol: Real,
     angle_from: AngleFrom,
     length_unit: Option<LengthUnit>,
-) -> Result<Vec<(String, Vec<u8>)>> {
-    let mut out = Vec::new();
+) -> Result<Drawn> {
+    let mut out = Drawn::default();
     let z = coordination(bed, contacts);
     {
         let opts = RenderOptions {
@@ -35,9 +36,12 @@ pub fn pictures<const D: usize>(
             length_unit,
             ..RenderOptions::default()
         };
-        out.push(("bed.png".to_string(), png_of(bed, &opts)?));
+        out.keep("bed.png".to_string(), png_of(bed, &opts));
         if D == 2 {
-            out.push(("bed.svg".to_string(), svg_of(bed, &opts)?.into_bytes()));
+            out.keep(
+                "bed.svg".to_string(),
+                svg_of(bed, &opts).map(String::into_bytes),
+            );
         }
         let mut plots = vec![(
             "plot_coordination",
@@ -103,31 +107,25 @@ pub fn pictures<const D: usize>(
             ));
         }
         for (name, plot) in plots {
-            out.push((
-                format!("{name}.png"),
-                plot.to_png(PLOT_SIZE.0, PLOT_SIZE.1)?,
-            ));
-            out.push((
+            out.keep(format!("{name}.png"), plot.to_png(PLOT_SIZE.0, PLOT_SIZE.1));
+            out.keep(
                 format!("{name}.svg"),
-                plot.to_svg(PLOT_SIZE.0, PLOT_SIZE.1)?.into_bytes(),
-            ));
+                plot.to_svg(PLOT_SIZE.0, PLOT_SIZE.1)
+                    .map(String::into_bytes),
+            );
         }
     }
     Ok(out)
 }
 
-/// `plot_psd.png` and `.svg`: cumulative mass passing against size, the
+/// Adds `plot_psd.png` and `.svg` to `out`: cumulative mass passing against size, the
 /// requested curve and the placed one.
-pub fn psd_plot(psd: &PsdSummary, unit: Option<&str>) -> Result<Vec<(String, Vec<u8>)>> {
+pub fn psd_plot(out: &mut Drawn, psd: &PsdSummary, unit: Option<&str>) {
     let plot = run_plots::size_distribution(psd, unit);
-    Ok(vec![
-        (
-            "plot_psd.png".to_string(),
-            plot.to_png(PLOT_SIZE.0, PLOT_SIZE.1)?,
-        ),
-        (
-            "plot_psd.svg".to_string(),
-            plot.to_svg(PLOT_SIZE.0, PLOT_SIZE.1)?.into_bytes(),
-        ),
-    ])
+    out.keep("plot_psd.png".into(), plot.to_png(PLOT_SIZE.0, PLOT_SIZE.1));
+    out.keep(
+        "plot_psd.svg".into(),
+        plot.to_svg(PLOT_SIZE.0, PLOT_SIZE.1)
+            .map(String::into_bytes),
+    );
 }
