@@ -141,6 +141,16 @@ pub fn run(
             built += u64::from(b);
             values.push(v);
         }
+        // A resumed summary that parses but holds a measure of the wrong
+        // kind (text for a number) would be dropped from the statistics
+        // without a word; a truncated one is rebuilt by `done_summary`.
+        if let Some((k, key, kind, usual)) = super::stats::odd_replicate(&values) {
+            return Err(Error::Impossible(format!(
+                "{} is damaged: `{key}` is {kind}, but {usual} in the other replicates; \
+                 remove it and rerun to build that replicate again",
+                run_dir(&dir, mine[k]).join("summary.json").display()
+            )));
+        }
         results.push((p, dir, values, built));
     }
     let wall = start.elapsed().as_secs_f64();
