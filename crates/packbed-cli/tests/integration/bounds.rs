@@ -287,3 +287,67 @@ fn a_huge_or_escaping_field_is_echoed_short_and_clean() {
         assert!(!o.stderr.chars().any(|c| c.is_control() && c != '\n'));
     }
 }
+
+#[test]
+fn pictures_chains_and_bed_files_beyond_memory_are_refused_before_the_work() {
+    // Under a 2 GiB address-space limit each of these once aborted (or would
+    // have) allocating; the limit is the budget they are checked against.
+    let s = Scratch::new();
+    let bed = s.input("b.csv", "x,y,z,r\n10,10,10,10\n40,10,10,10\n");
+    let b = bed.to_str().unwrap();
+    let refused = |args: &[&str], needles: &[&str]| {
+        let o = within_memory(&s, args, 120, MIB);
+        assert_eq!(o.code, 2, "{args:?}: {}", o.stderr);
+        assert_eq!(o.stderr.lines().count(), 1, "{}", o.stderr);
+        for n in needles {
+            assert!(o.stderr.contains(n), "`{n}` not in {}", o.stderr);
+        }
+    };
+    refused(
+        &[
+            "render",
+            b,
+            "--box",
+            "100,100,100",
+            "--width",
+            "16384",
+            "--height",
+            "16384",
+            "--supersample",
+            "4",
+            "--out",
+            "big.png",
+        ],
+        &[
+            "an image of 16384 × 16384 pixels",
+            "would need about",
+            "GiB",
+        ],
+    );
+    assert!(!s.path("big.png").exists());
+    // A million chains of 100 beads: 10^8 particles, where the count alone
+    // (10^6 bodies) passed the guard.
+    refused(
+        &[
+            "run",
+            "--radii",
+            "1",
+            "--beads",
+            "100",
+            "--box",
+            "1000,1000,1000",
+            "--count",
+            "1000000",
+            "--out",
+            "r",
+        ],
+        &["1.000e8 particles", "more than this machine's memory holds"],
+    );
+    let ok = within_memory(
+        &s,
+        &["render", b, "--box", "100,100,100", "--out", "small.png"],
+        120,
+        MIB,
+    );
+    assert_eq!(ok.code, 0, "{}", ok.stderr);
+}

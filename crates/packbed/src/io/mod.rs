@@ -22,6 +22,13 @@ pub use summary::{AnalyzeSummary, RunSummary, Timing};
 /// "stream did not contain valid UTF-8".
 pub fn read_text(path: &std::path::Path) -> crate::error::Result<String> {
     use crate::error::Error;
+    // Held whole while it is parsed: a file larger than memory would abort.
+    if let Ok(m) = std::fs::metadata(path) {
+        crate::config::check_memory(
+            m.len() as crate::math::Real,
+            &format!("reading {}", path.display()),
+        )?;
+    }
     let bytes = std::fs::read(path).map_err(|source| Error::Io {
         path: path.to_path_buf(),
         source,

@@ -64,5 +64,7 @@ pub fn read_bed_report(path: &Path, box_hint: Option<&BoxHint>) -> Result<(AnyBe
     } else {
         r.table(&text, box_hint)?
     };
+    drop(text);
+    crate::config::check_particles(raw.pos.len(), &path.display().to_string())?;
     r.finish(raw, box_hint)
 }
