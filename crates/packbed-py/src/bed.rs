@@ -308,7 +308,7 @@ impl Bed {
                 .map_err(to_py)
         })?;
         if let Some(dir) = &out {
-            py.detach(|| fragmented.write(dir, pictures))
+            py.detach(|| fragmented.write(dir, pictures).map(|w| w.files))
                 .map_err(to_py)?;
         }
         fragmented.summary.to_json().map_err(to_py)

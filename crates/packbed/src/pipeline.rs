@@ -387,7 +387,7 @@ fn fragment_read<const D: usize>(
 impl FragmentedBed {
     /// Writes `bonds.csv`, `breakage.csv`, the pictures (with `pictures`) and
     /// `summary.json` into `dir`, atomically.
-    pub fn write(&self, dir: &Path, pictures: bool) -> Result<Vec<PathBuf>> {
+    pub fn write(&self, dir: &Path, pictures: bool) -> Result<Written> {
         match (&self.bed, &self.fragmentation) {
             (AnyBed::D2(b), AnyFragmentation::D2(f)) => {
                 crate::output::write_fragmentation(dir, b, f, &self.summary, pictures)

@@ -312,9 +312,20 @@ pub fn write_fragmentation<const D: usize>(
     frag: &crate::mechanics::Fragmentation<D>,
     summary: &crate::io::summary::FragmentSummary,
     pictures: bool,
-) -> Result<Vec<PathBuf>> {
+) -> Result<Written> {
+    // The breakage may have taken minutes: pictures that cannot be drawn
+    // are left out and named, not the loss of the tables.
+    let mut summary = std::borrow::Cow::Borrowed(summary);
+    let files = match fragmentation_pictures(bed, frag, pictures) {
+        Ok(files) => files,
+        Err(e) => {
+            summary.to_mut().warnings.push(format!(
+                "pictures forces.png|svg and breakage.png|svg not written ({e}); the tables are complete"
+            ));
+            Vec::new()
+        }
+    };
     let json = summary.to_json()?;
-    let files = fragmentation_pictures(bed, frag, pictures)?;
     let mut out = Staging::new(dir)?;
     out.stage(FRAGMENT_FILES[0], |w| {
         crate::io::fragmentation::write_bonds(w, frag)
@@ -326,7 +337,10 @@ pub fn write_fragmentation<const D: usize>(
         out.stage(name, |w| w.write_all(bytes))?;
     }
     out.stage(FRAGMENT_FILES[2], |w| w.write_all(json.as_bytes()))?;
-    out.commit()
+    Ok(Written {
+        files: out.commit()?,
+        warnings: summary.warnings.clone(),
+    })
 }
 
 #[cfg(feature = "render")]
