@@ -112,6 +112,11 @@ pub fn one_line_naming(
     clean_line(&text)
 }
 
+/// The warning for a picture `name` left out of a run because `why`.
+pub fn picture_not_written(name: &str, why: &Error) -> String {
+    format!("picture {name} not written ({why}); the other files are complete")
+}
+
 /// Characters of an input value [`echo`] keeps before cutting it.
 pub const ECHO_CHARS: usize = 60;
 

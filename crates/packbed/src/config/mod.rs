@@ -691,7 +691,7 @@ impl Config {
 
     /// Reads and parses a TOML configuration file.
     pub fn from_file(path: &Path) -> Result<Config> {
-        let text = crate::io::read_text(path)?;
+        let text = crate::input::read_text(path)?;
         let mut c = Config::from_toml(&text, &path.display().to_string())?;
         // PSD tables are relative to the config file, and so are the tables
         // a sweep goes through.
@@ -1148,7 +1148,8 @@ impl Config {
             Fill::Count(n) => n as Real * beads,
             Fill::Roof { .. } => container.volume() / crate::math::ball_volume::<D>(r_min) + 1.0,
         };
-        let budget = memory_budget_bytes() as Real / BYTES_PER_PARTICLE_BUDGET as Real;
+        let budget =
+            crate::input::memory_budget_bytes() as Real / BYTES_PER_PARTICLE_BUDGET as Real;
         if estimate > budget {
             return Err(Error::Impossible(format!(
                 "this run would place up to {estimate:.3e} particles, more than this machine's memory holds (about {budget:.3e})"
@@ -1282,57 +1283,14 @@ fn name_species(mut species: Vec<Species>) -> Vec<Species> {
     species
 }
 
-/// Physical memory of this machine (from /proc/meminfo), or 8 GiB if unknown;
-/// less when the process may not address that much (`ulimit -v`), since an
-/// allocation beyond that limit aborts just the same.
-pub fn memory_budget_bytes() -> u64 {
-    let total = std::fs::read_to_string("/proc/meminfo")
-        .ok()
-        .and_then(|m| {
-            m.lines()
-                .find(|l| l.starts_with("MemTotal:"))
-                .and_then(|l| l.split_whitespace().nth(1))
-                .and_then(|kb| kb.parse::<u64>().ok())
-        })
-        .map(|kb| kb * 1024)
-        .unwrap_or(8 << 30);
-    let limit = std::fs::read_to_string("/proc/self/limits")
-        .ok()
-        .and_then(|m| {
-            m.lines()
-                .find(|l| l.starts_with("Max address space"))
-                .and_then(|l| l.split_whitespace().nth(3))
-                .and_then(|b| b.parse::<u64>().ok())
-        });
-    limit.map_or(total, |l| total.min(l))
-}
-
 /// Refuses a bed of `particles` particles (read from a file) that this
 /// machine could not analyse: the bound deposition puts on a run.
 pub fn check_particles(particles: usize, what: &str) -> Result<()> {
-    let budget = memory_budget_bytes() as Real / BYTES_PER_PARTICLE_BUDGET as Real;
+    let budget = crate::input::memory_budget_bytes() as Real / BYTES_PER_PARTICLE_BUDGET as Real;
     if particles as Real > budget {
         return Err(Error::Impossible(format!(
             "{what} holds {particles} particles, more than this machine's memory can analyse \
              (about {budget:.3e})"
-        )));
-    }
-    Ok(())
-}
-
-/// Refuses, before the work, what would need more than half the memory
-/// [`memory_budget_bytes`] allows (the rest is the process's and the
-/// system's): one line naming `what` and both sizes, where the allocation
-/// would otherwise abort the process.
-pub fn check_memory(bytes: Real, what: &str) -> Result<()> {
-    let budget = memory_budget_bytes() as Real;
-    if bytes > budget / 2.0 {
-        let gib = |b: Real| b / (1u64 << 30) as Real;
-        return Err(Error::Impossible(format!(
-            "{what} would need about {:.1} GiB of memory, more than this machine allows \
-             for it ({:.1} GiB: half of its memory)",
-            gib(bytes),
-            gib(budget / 2.0)
         )));
     }
     Ok(())

@@ -202,8 +202,8 @@ fn extra_files<const D: usize>(
         if let Some((p, unit)) = psd {
             crate::render::run_files::psd_plot(&mut drawn, p, unit.map(LengthUnit::symbol));
         }
-        out.extend(drawn.files);
-        missing.extend(drawn.missing);
+        out.extend(drawn.0);
+        missing.extend(drawn.1);
     }
     if !extras.exports.is_empty() {
         let z = coordination(bed, contacts);
@@ -258,6 +258,8 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
 /// Without the `render` feature a build has no pictures: asking for them is
 /// an error, not a silent omission.
 #[cfg(not(feature = "render"))]
+// The type of `render::run_files::Pictures`, which this build does not have.
+#[allow(clippy::type_complexity)]
 pub(crate) fn pictures<const D: usize>(
     _: &Bed<D>,
     _: &Contacts,
@@ -265,7 +267,7 @@ pub(crate) fn pictures<const D: usize>(
     _: crate::math::Real,
     _: crate::analysis::orientation::AngleFrom,
     _: Option<crate::config::LengthUnit>,
-) -> Result<Drawn> {
+) -> Result<(Vec<(String, Vec<u8>)>, Vec<String>)> {
     Err(no_pictures())
 }
 
@@ -284,9 +286,9 @@ impl Drawn {
     pub fn keep(&mut self, name: String, made: Result<Vec<u8>>) {
         match made {
             Ok(bytes) => self.files.push((name, bytes)),
-            Err(e) => self.missing.push(format!(
-                "picture {name} not written ({e}); the other files are complete"
-            )),
+            Err(e) => self
+                .missing
+                .push(crate::error::picture_not_written(&name, &e)),
         }
     }
 }

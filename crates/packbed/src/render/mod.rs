@@ -132,7 +132,7 @@ impl RenderOptions {
             self.height as f64,
             self.supersample as f64,
         );
-        crate::config::check_memory(
+        crate::input::check_memory(
             8.0 * w * h * (ss * ss + 1.0),
             &format!(
                 "an image of {} × {} pixels drawn at {}× supersampling",
