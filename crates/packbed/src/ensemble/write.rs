@@ -50,6 +50,8 @@ pub(super) fn stage_plots(
 /// Writes the statistics files of one point; returns its aggregate and the
 /// files written.
 #[allow(clippy::too_many_arguments)]
+// Without pictures there is no plot to warn about.
+#[cfg_attr(not(feature = "render"), allow(unused_variables, clippy::ptr_arg))]
 pub(super) fn write_point(
     p: &Point,
     dir: &Path,
@@ -120,6 +122,8 @@ pub(super) fn write_point(
 
 /// Writes a sweep's comparison into `out` (or, without a sweep, lists the files
 /// of the one point); returns the files.
+// Without pictures there is no plot to warn about.
+#[cfg_attr(not(feature = "render"), allow(unused_variables, clippy::ptr_arg))]
 pub(super) fn write_sweep(
     config: &Config,
     out: &Path,

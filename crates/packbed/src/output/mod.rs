@@ -190,6 +190,8 @@ fn extra_files<const D: usize>(
         }
     }
     if extras.pictures {
+        // Only the PSD plot, a picture of the `render` feature, adds to it.
+        #[cfg_attr(not(feature = "render"), allow(unused_mut))]
         let mut drawn = pictures(
             bed,
             contacts,
