@@ -122,13 +122,15 @@ pub fn analyze(args: AnalyzeArgs) -> Result<()> {
     let written = analyzed
         .write_with(&args.out, &extras)
         .with_context(|| format!("--out {}", args.out.display()))?;
-    if let Some(w) = text::overlap_warning(&analyzed.summary) {
-        eprintln!("packbed: warning: {w}");
-    }
+    let overlap = text::overlap_warning(&analyzed.summary);
+    eprint!(
+        "{}",
+        text::warning_lines(overlap.iter().chain(&written.warnings))
+    );
     if !args.files.quiet {
         print!(
             "{}",
-            text::analyze_text(&analyzed.summary, &args.out, &written)
+            text::analyze_text(&analyzed.summary, &args.out, &written.files)
         );
     }
     Ok(())

@@ -8,6 +8,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use indicatif::ProgressDrawTarget;
 use packbed::ensemble::{self, text, Options, Shard, Tick};
+use packbed::output::text::warning_lines;
 use std::path::PathBuf;
 
 /// Arguments of `packbed ensemble`.
@@ -116,6 +117,7 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
     if !args.quiet {
         print!("{}", text::summary(&outcome, &args.out, Some(threads)));
     }
+    eprint!("{}", warning_lines(&outcome.warnings));
     Ok(())
 }
 
@@ -135,5 +137,6 @@ pub fn merge(args: MergeArgs) -> Result<()> {
     if !args.quiet {
         print!("{}", text::summary(&outcome, &args.out, None));
     }
+    eprint!("{}", warning_lines(&outcome.warnings));
     Ok(())
 }

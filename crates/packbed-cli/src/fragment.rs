@@ -93,8 +93,9 @@ pub fn fragment(args: FragmentArgs) -> Result<()> {
     if !args.quiet {
         print!(
             "{}",
-            text::fragment_text(&done.summary, &args.out, &written)
+            text::fragment_text(&done.summary, &args.out, &written.files)
         );
     }
+    eprint!("{}", text::warning_lines(&written.warnings));
     Ok(())
 }

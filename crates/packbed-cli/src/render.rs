@@ -104,7 +104,8 @@ pub fn render(args: RenderArgs) -> Result<()> {
         bail!("--out {}: would overwrite the bed file", out.display());
     }
     let out_dir = out.parent().filter(|p| !p.as_os_str().is_empty());
-    crate::run::check_out_dir(out_dir.unwrap_or(Path::new(".")))?;
+    packbed::output::check_out_dir(out_dir.unwrap_or(Path::new(".")))
+        .with_context(|| format!("--out {}", out.display()))?;
     let hint = args.box_size.as_ref().map(|size| BoxHint {
         size: size.clone(),
         periodic: args.periodic,

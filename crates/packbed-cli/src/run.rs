@@ -62,11 +62,12 @@ pub fn run(args: RunArgs) -> Result<()> {
     let finished = finished?;
     let written = finished.write_with(&args.out, &extras)?;
     if !args.files.quiet {
-        print!("{}", text::run_text(&finished.summary, &args.out, &written));
+        print!(
+            "{}",
+            text::run_text(&finished.summary, &args.out, &written.files)
+        );
     }
-    for w in &finished.summary.warnings {
-        eprintln!("packbed: warning: {w}");
-    }
+    eprint!("{}", text::warning_lines(&written.warnings));
     Ok(())
 }
 

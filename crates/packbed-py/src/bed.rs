@@ -260,7 +260,8 @@ impl Bed {
                         "write: a built bed writes its run's files; analysis settings belong to its config",
                     ));
                 }
-                py.detach(|| f.write_with(&out, &extras)).map_err(to_py)
+                py.detach(|| f.write_with(&out, &extras).map(|w| w.files))
+                    .map_err(to_py)
             }
             Origin::Read {
                 bed,
@@ -273,7 +274,7 @@ impl Bed {
                         packbed::analyze_read_bed(source, bed.clone(), report, &settings, 0.0)
                     })
                     .map_err(to_py)?;
-                py.detach(|| analyzed.write_with(&out, &extras))
+                py.detach(|| analyzed.write_with(&out, &extras).map(|w| w.files))
                     .map_err(to_py)
             }
         }
@@ -307,7 +308,7 @@ impl Bed {
                 .map_err(to_py)
         })?;
         if let Some(dir) = &out {
-            py.detach(|| fragmented.write(dir, pictures))
+            py.detach(|| fragmented.write(dir, pictures).map(|w| w.files))
                 .map_err(to_py)?;
         }
         fragmented.summary.to_json().map_err(to_py)

@@ -109,8 +109,62 @@ pub fn one_line_naming(
         }
         _ => joined(&causes, name),
     };
+    clean_line(&text)
+}
+
+/// The warning for a picture `name` left out of a run because `why`.
+pub fn picture_not_written(name: &str, why: &Error) -> String {
+    format!("picture {name} not written ({why}); the other files are complete")
+}
+
+/// Characters of an input value [`echo`] keeps before cutting it.
+pub const ECHO_CHARS: usize = 60;
+
+/// A word of a message longer than this is cut by [`clean_line`]: the last
+/// guard against a value that reached a message without [`echo`].
+const LINE_WORD_CHARS: usize = 200;
+
+/// An input value (a field of a bed file, a species name, an option's text)
+/// as a message may show it: control and invisible formatting characters
+/// escaped (`\u{1b}`), so that nothing from a file acts on the terminal, and
+/// cut after [`ECHO_CHARS`] characters with its length in bytes, so that a
+/// 50 MB field gives a short line. The caller adds its quotes.
+pub fn echo(value: &str) -> String {
+    cut(value, ECHO_CHARS)
+}
+
+fn cut(value: &str, keep: usize) -> String {
+    let mut out = String::new();
+    for (k, c) in value.chars().enumerate() {
+        if k == keep {
+            out.push_str(&format!("…({} bytes)", value.len()));
+            break;
+        }
+        if hidden(c) {
+            out.extend(c.escape_unicode());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// Characters that move the cursor, recolour or reorder text on a terminal.
+fn hidden(c: char) -> bool {
+    c.is_control()
+        || matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}' | '\u{feff}')
+}
+
+/// `text` as one clean line: whitespace runs (newlines too) become one
+/// blank, and every word is shown as [`echo`] shows a value, cut at a
+/// generous length, so an error or a warning is one short line whatever a
+/// file held.
+pub fn clean_line(text: &str) -> String {
     // Parsers' messages may span lines; a script reading stderr wants one.
-    text.split_whitespace().collect::<Vec<_>>().join(" ")
+    text.split_whitespace()
+        .map(|w| cut(w, LINE_WORD_CHARS))
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// The causes as "what: why", leaving out a cause whose text the message
@@ -134,5 +188,21 @@ fn text_of(cause: &(dyn std::error::Error + 'static), name: &dyn Fn(&str) -> Str
     match cause.downcast_ref::<Error>() {
         Some(Error::Setting { setting, message }) => format!("{}: {message}", name(setting)),
         _ => cause.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn echoed_values_are_short_and_inert() {
+        assert_eq!(echo("1.5e3"), "1.5e3");
+        assert_eq!(echo("a\u{1b}[31mb\u{7}"), "a\\u{1b}[31mb\\u{7}");
+        assert_eq!(echo("x\u{202e}y"), "x\\u{202e}y");
+        let long = "é".repeat(100);
+        assert_eq!(echo(&long), format!("{}…(200 bytes)", "é".repeat(60)));
+        let line = clean_line(&format!("bad\n value {}\u{1b}", "9".repeat(1000)));
+        assert_eq!(line, format!("bad value {}…(1001 bytes)", "9".repeat(200)));
     }
 }

@@ -144,20 +144,35 @@ struct Level<const D: usize> {
 }
 
 impl<const D: usize> Level<D> {
-    fn new(container: &Container<D>, reach: Real) -> Self {
+    fn new(container: &Container<D>, reach: Real, max_columns: usize) -> Self {
         let mut cell = [0.0; D];
         let mut counts = [1usize; D];
-        let mut columns = 1;
+        let mut wanted = [1.0; D];
+        let mut all: Real = 1.0;
         for k in 0..D - 1 {
-            let w = container.extent(k);
             // Cap the cell count so that tiny particles in a huge box cannot
             // exhaust memory with empty cells; cells only get wider (still valid).
-            let n = ((w / reach).floor() as usize).clamp(1, 1 << 14);
+            wanted[k] = (container.extent(k) / reach)
+                .floor()
+                .clamp(1.0, (1 << 14) as Real);
+            all *= wanted[k];
+        }
+        // Columns beyond `max_columns` would mostly stay empty: every side
+        // shrinks by the same factor, so the cells stay about square.
+        let shrink = (max_columns.max(1) as Real / all)
+            .min(1.0)
+            .powf(1.0 / (D - 1) as Real);
+        let mut columns = 1;
+        for k in 0..D - 1 {
+            let n = ((wanted[k] * shrink).floor() as usize).max(1);
             counts[k] = n;
-            cell[k] = w / n as Real;
+            cell[k] = container.extent(k) / n as Real;
             columns *= n;
         }
-        cell[D - 1] = reach;
+        // Layers likewise: a few particles spread through a tall box (RSA)
+        // need a few tall cells, not one layer per diameter of the height.
+        let most_layers = (max_columns.saturating_mul(4) / columns).max(1) as Real;
+        cell[D - 1] = reach.max(container.extent(D - 1) / most_layers);
         counts[D - 1] = 0;
         let mut inv_cell = [0.0; D];
         for k in 0..D {
@@ -215,8 +230,13 @@ pub struct Grid<const D: usize> {
 }
 
 impl<const D: usize> Grid<D> {
-    /// A grid over `container` with the given levels.
-    pub fn new(container: &Container<D>, plan: &Levels) -> Self {
+    /// A grid over `container` with the given levels, for about `particles`
+    /// particles: at most four columns of cells per particle on each level
+    /// and four cells per column, so that memory follows the bed and not the
+    /// box (10 particles in a 100000 × 100000 box need a few wide cells, not
+    /// 2^28 of a diameter each).
+    pub fn for_particles(container: &Container<D>, plan: &Levels, particles: usize) -> Self {
+        let max_columns = particles.saturating_mul(4).max(64);
         let mut extent = [0.0; D];
         for k in 0..D - 1 {
             extent[k] = container.extent(k);
@@ -225,7 +245,7 @@ impl<const D: usize> Grid<D> {
             levels: plan
                 .cell
                 .iter()
-                .map(|&c| Level::new(container, c))
+                .map(|&c| Level::new(container, c, max_columns))
                 .collect(),
             plan: plan.clone(),
             extent,
@@ -244,7 +264,8 @@ impl<const D: usize> Grid<D> {
     ) -> Self {
         let r_max = radii.iter().copied().fold(r_extra, Real::max);
         let sample: Vec<(Real, Real)> = radii.iter().map(|&r| (r, 1.0)).collect();
-        let mut grid = Grid::new(container, &Levels::for_sizes::<D>(r_max, &sample));
+        let levels = Levels::for_sizes::<D>(r_max, &sample);
+        let mut grid = Grid::for_particles(container, &levels, centres.len());
         grid.reserve(centres.len());
         for (i, (c, &r)) in centres.iter().zip(radii).enumerate() {
             grid.insert(i as u32, c, r);

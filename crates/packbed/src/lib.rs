@@ -102,6 +102,7 @@ pub mod ensemble;
 pub mod error;
 pub(crate) mod geometry;
 pub(crate) mod grid;
+pub mod input;
 pub mod io;
 pub mod math;
 pub mod mechanics;

@@ -15,7 +15,7 @@ use crate::io::summary::{
 };
 use crate::io::{AnalyzeSummary, RunSummary, Timing};
 use crate::mechanics::{self, Fragmentation};
-use crate::output::RunExtras;
+use crate::output::{RunExtras, Written};
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -96,11 +96,12 @@ fn analyse<const D: usize>(
 impl FinishedBed {
     /// Writes the run's files (`output::RUN_FILES`) into `dir`, atomically.
     pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>> {
-        self.write_with(dir, &RunExtras::default())
+        self.write_with(dir, &RunExtras::default()).map(|w| w.files)
     }
 
-    /// Writes the run's files plus pictures, plots and exports, atomically.
-    pub fn write_with(&self, dir: &Path, extras: &RunExtras) -> Result<Vec<PathBuf>> {
+    /// Writes the run's files plus pictures, plots and exports, atomically;
+    /// a picture that cannot be drawn is a warning (see [`Written`]).
+    pub fn write_with(&self, dir: &Path, extras: &RunExtras) -> Result<Written> {
         match &self.bed {
             AnyBed::D2(b) => {
                 crate::output::write_run_with(dir, b, &self.contacts, &self.summary, extras)
@@ -226,7 +227,7 @@ fn analyze_read<const D: usize>(
 impl AnalyzedBed {
     /// Writes the analysis files (`output::ANALYZE_FILES`) plus pictures,
     /// plots and exports into `dir`, atomically.
-    pub fn write_with(&self, dir: &Path, extras: &RunExtras) -> Result<Vec<PathBuf>> {
+    pub fn write_with(&self, dir: &Path, extras: &RunExtras) -> Result<Written> {
         match &self.bed {
             AnyBed::D2(b) => {
                 crate::output::write_analysis(dir, b, &self.contacts, &self.summary, extras)
@@ -386,7 +387,7 @@ fn fragment_read<const D: usize>(
 impl FragmentedBed {
     /// Writes `bonds.csv`, `breakage.csv`, the pictures (with `pictures`) and
     /// `summary.json` into `dir`, atomically.
-    pub fn write(&self, dir: &Path, pictures: bool) -> Result<Vec<PathBuf>> {
+    pub fn write(&self, dir: &Path, pictures: bool) -> Result<Written> {
         match (&self.bed, &self.fragmentation) {
             (AnyBed::D2(b), AnyFragmentation::D2(f)) => {
                 crate::output::write_fragmentation(dir, b, f, &self.summary, pictures)

@@ -237,6 +237,122 @@ fn a_bed_file_with_a_body_of_heavily_overlapping_beads_is_refused() {
 }
 
 #[test]
+fn a_few_particles_in_a_wide_or_tall_box_are_deposited_in_little_memory() {
+    // The deposition grid was sized by the box: 2^28 columns of a diameter for
+    // ten particles in the wide box, one layer per diameter of the tall one.
+    let s = Scratch::new();
+    for (mode, size, out) in [
+        ("deposit", "100000,100000,100", "wide"),
+        ("rsa", "10,10,100000000", "tall"),
+    ] {
+        let o = within_memory(
+            &s,
+            &[
+                "run",
+                "--mode",
+                mode,
+                "--radii",
+                "1",
+                "--box",
+                size,
+                "--count",
+                "10",
+                "--out",
+                out,
+                "-q",
+                "--no-pictures",
+            ],
+            120,
+            MIB,
+        );
+        assert_eq!(o.code, 0, "{mode}: {}", o.stderr);
+        assert_eq!(s.summary(out)["counts"]["particles"], 10);
+    }
+}
+
+#[test]
+fn a_huge_or_escaping_field_is_echoed_short_and_clean() {
+    let s = Scratch::new();
+    let huge = format!("x,y,r\n10,10,1\n{}x,10,1\n", "1".repeat(1 << 20));
+    let escaping = "x,y,r\n10,10,1\n1\u{1b}[2J\u{1b}]0;owned\u{7},10,1\n";
+    for (name, text, shown) in [
+        ("huge.csv", huge.as_str(), "…(1048577 bytes)"),
+        ("esc.csv", escaping, "\\u{1b}[2J\\u{1b}]0;owned\\u{7}"),
+    ] {
+        let bed = s.input(name, text);
+        let args = ["analyze", bed.to_str().unwrap(), "--box", "100,100"];
+        assert_user_error(&s, &args, &[&format!("{name}:3: x: \""), shown]);
+        let o = s.packbed(&args);
+        assert!(o.stderr.len() < 300, "{} bytes", o.stderr.len());
+        assert!(!o.stderr.chars().any(|c| c.is_control() && c != '\n'));
+    }
+}
+
+#[test]
+fn pictures_chains_and_bed_files_beyond_memory_are_refused_before_the_work() {
+    // Under a 2 GiB address-space limit each of these once aborted (or would
+    // have) allocating; the limit is the budget they are checked against.
+    let s = Scratch::new();
+    let bed = s.input("b.csv", "x,y,z,r\n10,10,10,10\n40,10,10,10\n");
+    let b = bed.to_str().unwrap();
+    let refused = |args: &[&str], needles: &[&str]| {
+        let o = within_memory(&s, args, 120, MIB);
+        assert_eq!(o.code, 2, "{args:?}: {}", o.stderr);
+        assert_eq!(o.stderr.lines().count(), 1, "{}", o.stderr);
+        for n in needles {
+            assert!(o.stderr.contains(n), "`{n}` not in {}", o.stderr);
+        }
+    };
+    refused(
+        &[
+            "render",
+            b,
+            "--box",
+            "100,100,100",
+            "--width",
+            "16384",
+            "--height",
+            "16384",
+            "--supersample",
+            "4",
+            "--out",
+            "big.png",
+        ],
+        &[
+            "an image of 16384 × 16384 pixels",
+            "would need about",
+            "GiB",
+        ],
+    );
+    assert!(!s.path("big.png").exists());
+    // A million chains of 100 beads: 10^8 particles, where the count alone
+    // (10^6 bodies) passed the guard.
+    refused(
+        &[
+            "run",
+            "--radii",
+            "1",
+            "--beads",
+            "100",
+            "--box",
+            "1000,1000,1000",
+            "--count",
+            "1000000",
+            "--out",
+            "r",
+        ],
+        &["1.000e8 particles", "GB packbed may use"],
+    );
+    let ok = within_memory(
+        &s,
+        &["render", b, "--box", "100,100,100", "--out", "small.png"],
+        120,
+        MIB,
+    );
+    assert_eq!(ok.code, 0, "{}", ok.stderr);
+}
+
+#[test]
 fn a_run_beyond_the_address_space_limit_is_refused_before_it_starts() {
     // 5·10^6 spheres fit this machine's memory but not 2 GiB of address
     // space: a cluster job given 2 GB must be told so at once, not killed.

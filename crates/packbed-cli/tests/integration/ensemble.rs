@@ -438,3 +438,37 @@ fn one_bed_is_singular() {
     assert!(md.starts_with("# Ensemble of 1 bed\n"), "{md}");
     assert!(!md.contains("1 beds"), "{md}");
 }
+
+#[test]
+fn a_resume_never_reuses_a_damaged_replicate_summary() {
+    let s = Scratch::new();
+    s.ok(&args(SMALL, &["--runs", "4", "--out", "full", "-q"]));
+    s.ok(&args(SMALL, &["--runs", "4", "--out", "e", "-q"]));
+    // Cut short: not JSON, so the replicate is built again.
+    let cut = "e/runs/0001/summary.json";
+    let good = s.read(cut);
+    std::fs::write(s.path(cut), &good[..good.len() / 2]).unwrap();
+    let o = s.ok(&args(SMALL, &["--runs", "4", "--out", "e"]));
+    assert!(o.stdout.contains("1 built, 3 resumed"), "{}", o.stdout);
+    let mut v: Value = serde_json::from_str(&good).unwrap();
+    let rebuilt: Value = serde_json::from_str(&s.read(cut)).unwrap();
+    assert_eq!(rebuilt["packing"], v["packing"]);
+    assert_same_stats(&s, "full", "e", &STAT_FILES);
+    // JSON, but a measure of the wrong kind: it was dropped from the
+    // statistics without a word ("3 of 4 beds"); now refused, named.
+    v["packing"]["global"] = Value::String("0.6".into());
+    std::fs::write(s.path(cut), serde_json::to_string(&v).unwrap()).unwrap();
+    assert_user_error(
+        &s,
+        &args(SMALL, &["--runs", "4", "--out", "e"]),
+        &[
+            cut,
+            "is damaged",
+            "`packing.global` is text",
+            "remove it and rerun",
+        ],
+    );
+    std::fs::remove_file(s.path(cut)).unwrap();
+    s.ok(&args(SMALL, &["--runs", "4", "--out", "e", "-q"]));
+    assert_same_stats(&s, "full", "e", &STAT_FILES);
+}

@@ -541,3 +541,108 @@ fn stale_temporary_files_are_removed_by_the_next_run() {
     }
     assert!(out.join("summary.json").exists());
 }
+
+// ---- inputs the reader once took or echoed badly (issue 30, item 9) --------
+
+#[test]
+fn files_that_are_not_utf8_are_refused_at_their_line() {
+    let s = Scratch::new();
+    let bed = s.inputs.join("latin1.csv");
+    std::fs::write(&bed, b"x,y,r\n10,10,10\n40,10,1\xb5\n").unwrap();
+    assert_user_error(
+        &s,
+        &["analyze", bed.to_str().unwrap(), "--box", "100,100"],
+        &["latin1.csv:3: not UTF-8", "byte 0xb5 at column 8"],
+    );
+    let config = s.inputs.join("latin1.toml");
+    std::fs::write(&config, b"dim = 2\n[[species]]\nname = \"\xe9\"\n").unwrap();
+    assert_user_error(
+        &s,
+        &["run", config.to_str().unwrap()],
+        &["latin1.toml:3: not UTF-8", "column 9"],
+    );
+}
+
+#[test]
+fn a_header_naming_a_column_twice_is_refused() {
+    let s = Scratch::new();
+    for (header, column, at) in [
+        ("x,x,y,r", "`x`", "columns 1 and 2"),
+        ("x,y,r,radius", "`radius`", "columns 3 and 4"),
+    ] {
+        let bed = s.input("dup.csv", &format!("{header}\n1,2,3,4\n"));
+        assert_user_error(
+            &s,
+            &["analyze", bed.to_str().unwrap(), "--box", "100,100"],
+            &["dup.csv:1:", column, "twice", at],
+        );
+    }
+}
+
+#[test]
+fn a_summary_of_another_dimension_beside_a_bed_is_refused() {
+    let s = Scratch::new();
+    s.ok(&[
+        "run",
+        "--dim",
+        "2",
+        "--count",
+        "5",
+        "--out",
+        "b",
+        "-q",
+        "--no-pictures",
+    ]);
+    let text = s
+        .read("b/summary.json")
+        .replacen("\"dim\": 2", "\"dim\": 3", 1);
+    std::fs::write(s.path("b/summary.json"), text).unwrap();
+    assert_user_error(
+        &s,
+        &["analyze", "b/particles.csv", "--out", "a"],
+        &["b/summary.json:1: says dim 3", "2D bed", "another bed"],
+    );
+}
+
+#[test]
+fn all_in_a_list_of_measures_is_refused_saying_to_give_it_alone() {
+    let s = Scratch::new();
+    let bed = s.input("b.csv", "x,y,r\n10,10,10\n40,10,10\n");
+    assert_user_error(
+        &s,
+        &[
+            "analyze",
+            bed.to_str().unwrap(),
+            "--box",
+            "100,100",
+            "--measures",
+            "all,packing",
+        ],
+        &[
+            "`all` cannot be part of a list",
+            "give `all` alone",
+            "`packing`",
+        ],
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn an_output_that_cannot_be_written_names_the_real_problem() {
+    let s = Scratch::new();
+    let bed = s.input("b.csv", "x,y,r\n10,10,10\n40,10,10\n");
+    let b = bed.to_str().unwrap();
+    if std::path::Path::new("/proc/self").is_dir() {
+        assert_user_error(
+            &s,
+            &["render", b, "--box", "100,100", "--out", "/proc/x.png"],
+            &["--out /proc/x.png", "cannot create a file in it"],
+        );
+    }
+    std::os::unix::fs::symlink("/nonexistent/packbed-dir", s.path("dangling")).unwrap();
+    assert_user_error(
+        &s,
+        &["analyze", b, "--box", "100,100", "--out", "dangling"],
+        &["a symbolic link to /nonexistent/packbed-dir, which does not exist"],
+    );
+}

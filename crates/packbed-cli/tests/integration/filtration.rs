@@ -212,12 +212,32 @@ fn a_late_optional_stage_that_fails_keeps_the_run() {
         .unwrap()
         .contains("without breakage"));
     assert!(summary.get("fragmentation").is_none());
-    // A species name far longer than a legend has room for: the pictures shorten it.
+}
+
+#[test]
+fn a_species_name_longer_than_a_legend_has_room_for_is_shortened() {
+    // Once "plot ... is too small for its labels", exit 2 and no file at all,
+    // on every rerun of an ensemble too.
+    let s = Scratch::new();
     let long = "s".repeat(100);
     let p = s.input(
         "long.toml",
-        &format!("dim = 2\n[fill]\ncount = 150\n[[species]]\nname = \"{long}\"\nradius = 10\n"),
+        &format!(
+            "dim = 2\n[fill]\ncount = 150\n[[species]]\nname = \"{long}\"\nradius = 10\n\
+             [[species]]\nname = \"small\"\nradius = 6\n"
+        ),
     );
-    s.ok(&["run", p.to_str().unwrap(), "--out", "long"]);
+    let p = p.to_str().unwrap();
+    let o = s.ok(&["run", p, "--out", "long", "-q"]);
+    assert_eq!(o.stderr, "");
+    let svg = s.read("long/plot_coordination.svg");
+    assert!(
+        svg.contains("sss…<") && !svg.contains(&long),
+        "not shortened"
+    );
     assert!(s.path("long/plot_coordination.png").is_file());
+    assert!(s.summary("long").get("warnings").is_none());
+    let o = s.ok(&["ensemble", p, "--runs", "2", "--out", "e", "-q"]);
+    assert_eq!(o.stderr, "");
+    assert!(s.path("e/plot_coordination.png").is_file());
 }

@@ -154,3 +154,37 @@ fn run_config_with_fragmentation_table_reports_it() {
     let zero = s.input("z.toml", "dim = 2\n[fragmentation]\nbreaks = 0\n");
     assert_user_error(&s, &["run", zero.to_str().unwrap()], &["breaks"]);
 }
+
+#[test]
+fn a_bed_without_top_bodies_says_what_is_missing_and_why() {
+    // A standing chain of ten beads with a disc resting against its side,
+    // higher than the chain's centre: the chain is covered, and the disc's
+    // top is more than 2 r_max below the chain's.
+    let s = Scratch::new();
+    let mut table = String::from("id,species,body,x,y,r\n");
+    for k in 0..10 {
+        table += &format!("{k},0,0,100,{},10\n", 10 + 10 * k);
+    }
+    table += "10,1,1,120,70,10\n";
+    let bed = s.input("standing.csv", &table);
+    let b = bed.to_str().unwrap();
+    for load in ["shear", "compression"] {
+        assert_user_error(
+            &s,
+            &[
+                "fragment", b, "--box", "200,250", "--load", load, "--out", "f",
+            ],
+            &[
+                "no body qualifies as top",
+                &format!("the {load} load has nowhere to act"),
+                "no bonded partner whose reference point",
+                "within 2 r_max = 20 of the bed's highest point (110)",
+                "(1 of them) has a partner above",
+                "the `gravity` load needs none",
+            ],
+        );
+    }
+    s.ok(&[
+        "fragment", b, "--box", "200,250", "--load", "gravity", "--out", "g", "-q",
+    ]);
+}

@@ -519,3 +519,35 @@ fn slurm_writes_scripts_and_refuses_bad_requests() {
         ],
     );
 }
+
+#[test]
+fn an_out_with_blanks_relative_or_not_is_quoted_in_the_scripts() {
+    let s = Scratch::new();
+    let o = s.ok(&cat(&[
+        &["slurm"],
+        SMALL,
+        &["--runs", "2", "--tasks", "2", "--out", "my runs/cake #1"],
+    ]));
+    assert!(o.stdout.contains("sbatch"), "{}", o.stdout);
+    let dir = s.path("my runs/cake #1");
+    let shown = dir.to_str().unwrap();
+    let a = s.read("my runs/cake #1/array.sh");
+    assert!(
+        a.contains(&format!(
+            "#SBATCH --output=\"{}/logs/task-%a.out\"\n",
+            shown.replace('#', "\\#")
+        )),
+        "{a}"
+    );
+    assert!(a.contains(&format!("DIR='{shown}'\n")), "{a}");
+    let m = s.read("my runs/cake #1/merge.sh");
+    assert!(m.contains("/logs/merge.out\"\n"), "{m}");
+    for f in ["array.sh", "merge.sh"] {
+        let st = Command::new("bash")
+            .arg("-n")
+            .arg(dir.join(f))
+            .status()
+            .unwrap();
+        assert!(st.success(), "bash -n {f}");
+    }
+}

@@ -465,13 +465,28 @@ impl Measure {
         text.split(',')
             .map(|name| {
                 let name = name.trim();
+                if name == "all" {
+                    // Accepting it would hide a list that meant something
+                    // narrower; the message says how to write either.
+                    return Err(format!(
+                        "`all` cannot be part of a list (it already means every measure): \
+                         give `all` alone, or only the measures wanted, as in `{}`",
+                        text.split(',')
+                            .map(str::trim)
+                            .filter(|n| *n != "all")
+                            .map(crate::error::echo)
+                            .collect::<Vec<_>>()
+                            .join(",")
+                    ));
+                }
                 Measure::ALL
                     .into_iter()
                     .find(|m| m.name() == name)
                     .ok_or_else(|| {
                         let known: Vec<&str> = Measure::ALL.iter().map(|m| m.name()).collect();
                         format!(
-                            "unknown measure `{name}` (choose from {}, or all)",
+                            "unknown measure `{}` (choose from {}, or all)",
+                            crate::error::echo(name),
                             known.join(", ")
                         )
                     })
@@ -676,10 +691,7 @@ impl Config {
 
     /// Reads and parses a TOML configuration file.
     pub fn from_file(path: &Path) -> Result<Config> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = crate::input::read_text(path)?;
         let mut c = Config::from_toml(&text, &path.display().to_string())?;
         // PSD tables are relative to the config file, and so are the tables
         // a sweep goes through.
@@ -1146,8 +1158,16 @@ impl Config {
             return Err(Error::config(format!("radii and box: {why}")));
         }
         // Refuse requests that cannot fit in memory, before allocating anything.
+        // Beads, not bodies: each bead of a chain is a particle of the bed.
+        let beads = species
+            .iter()
+            .map(|s| match s.shape {
+                Shape::Chain { beads, .. } => beads as Real,
+                Shape::Sphere => 1.0,
+            })
+            .fold(1.0, Real::max);
         let estimate = match fill {
-            Fill::Count(n) => n as Real,
+            Fill::Count(n) => n as Real * beads,
             Fill::Roof { .. } => container.volume() / crate::math::ball_volume::<D>(r_min) + 1.0,
         };
         let measures = self
@@ -1155,7 +1175,7 @@ impl Config {
             .measures
             .as_deref()
             .unwrap_or(&Measure::DEFAULT);
-        let memory = memory_budget_bytes() as Real;
+        let memory = crate::input::memory_budget_bytes() as Real;
         let needed = run_bytes(self.dim, estimate, measures);
         if needed > memory {
             return Err(Error::Impossible(format!(
@@ -1295,47 +1315,21 @@ fn name_species(mut species: Vec<Species>) -> Vec<Species> {
     species
 }
 
-/// The memory this process may use: the least of the machine's physical
-/// memory (`/proc/meminfo`), the process' address-space limit (`ulimit -v`,
-/// from `/proc/self/limits`) and its cgroup's limit (`memory.max`: what a
-/// Slurm job or a container is given); 8 GiB where none is known. A cluster
-/// job that asked for 4 GB on a 512 GB node must be refused at 4 GB, not
-/// killed by the scheduler later.
-pub fn memory_budget_bytes() -> u64 {
-    let read = |p: &str| std::fs::read_to_string(p).ok();
-    let physical = read("/proc/meminfo").and_then(|m| meminfo_total(&m));
-    let address_space = read("/proc/self/limits").and_then(|l| address_space_limit(&l));
-    let cgroup = read("/sys/fs/cgroup/memory.max").and_then(|m| m.trim().parse::<u64>().ok());
-    [physical, address_space, cgroup]
-        .into_iter()
-        .flatten()
-        .min()
-        .unwrap_or(8 << 30)
-}
-
-/// `MemTotal` of `/proc/meminfo`, in bytes.
-fn meminfo_total(meminfo: &str) -> Option<u64> {
-    let kb = meminfo
-        .lines()
-        .find(|l| l.starts_with("MemTotal:"))?
-        .split_whitespace()
-        .nth(1)?
-        .parse::<u64>()
-        .ok()?;
-    Some(kb * 1024)
-}
-
-/// The soft `Max address space` of `/proc/self/limits`, in bytes (`None`
-/// when unlimited).
-fn address_space_limit(limits: &str) -> Option<u64> {
-    limits
-        .lines()
-        .find(|l| l.starts_with("Max address space"))?
-        .trim_start_matches("Max address space")
-        .split_whitespace()
-        .next()?
-        .parse::<u64>()
-        .ok()
+/// Refuses a bed of `particles` particles (read from a file) that this
+/// machine could not analyse: the bound deposition puts on a run (3D, the
+/// default measures).
+pub fn check_particles(particles: usize, what: &str) -> Result<()> {
+    let memory = crate::input::memory_budget_bytes() as Real;
+    let needed = run_bytes(3, particles as Real, &Measure::DEFAULT);
+    if needed > memory {
+        return Err(Error::Impossible(format!(
+            "{what} holds {particles} particles and would need about {:.2} GB to analyse, \
+             more than the {:.2} GB packbed may use",
+            needed / 1e9,
+            memory / 1e9
+        )));
+    }
+    Ok(())
 }
 
 impl BoxConfig {
@@ -1455,25 +1449,5 @@ mod bounds_tests {
         assert_eq!(own_overlaps(100_000, 1e-6), 99_999);
         assert_eq!(own_overlaps(3, 1e-300), 2);
         assert_eq!(own_overlaps(66, 2.0 / 65.0), 64);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn memory_limits_are_read_from_procfs_text() {
-        let meminfo = "MemTotal:       24576000 kB\nMemFree:        1000 kB\n";
-        assert_eq!(meminfo_total(meminfo), Some(24_576_000 * 1024));
-        let limits =
-            "Limit                     Soft Limit           Hard Limit           Units     \n\
-Max cpu time              unlimited            unlimited            seconds   \n\
-Max address space         4294967296           unlimited            bytes     \n";
-        assert_eq!(address_space_limit(limits), Some(4_294_967_296));
-        let unlimited =
-            "Max address space         unlimited            unlimited            bytes     \n";
-        assert_eq!(address_space_limit(unlimited), None);
-        assert!(memory_budget_bytes() > 0);
     }
 }

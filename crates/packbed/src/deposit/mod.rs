@@ -68,7 +68,11 @@ struct Engine<'p, const D: usize> {
 
 impl<'p, const D: usize> Engine<'p, D> {
     fn new(plan: &'p Plan<D>) -> Result<Self> {
-        let grid = Grid::new(&plan.container, &grid_levels::<D>(&plan.species));
+        let grid = Grid::for_particles(
+            &plan.container,
+            &grid_levels::<D>(&plan.species),
+            plan.estimated_particles() as usize,
+        );
         Ok(Engine {
             plan,
             bed: Bed::new(plan.container, plan.species.clone()),

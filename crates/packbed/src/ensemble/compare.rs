@@ -528,7 +528,15 @@ pub fn write_comparison(
     s.stage(COMPARE_FILES[1], |w| w.write_all(csv.as_bytes()))?;
     if pictures {
         #[cfg(feature = "render")]
-        super::write::stage_plots(&mut s, &plots(groups, c))?;
+        {
+            // A comparison is quick to redo and its plots are much of what
+            // it is for: a plot that cannot be drawn stays an error here.
+            let mut missing = Vec::new();
+            super::write::stage_plots(&mut s, &plots(groups, c), &mut missing)?;
+            if let Some(m) = missing.into_iter().next() {
+                return Err(crate::error::Error::Impossible(m));
+            }
+        }
         #[cfg(not(feature = "render"))]
         {
             let _ = groups;

@@ -155,6 +155,7 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
         points: Vec::new(),
         wall_seconds: 0.0,
         files: Vec::new(),
+        warnings: Vec::new(),
         reduced_from: None,
     };
     let mut merged = Vec::new();
@@ -182,6 +183,7 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
             (0, values.len() as u64),
             wall,
             pictures,
+            &mut outcome.warnings,
         )?;
         outcome.points.push(PointResult {
             label: p.label.clone(),
@@ -194,9 +196,13 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
         });
     }
     outcome.files = vec![out.join(MANIFEST)];
-    outcome
-        .files
-        .extend(write_sweep(&config, out, &outcome.points, pictures)?);
+    outcome.files.extend(write_sweep(
+        &config,
+        out,
+        &outcome.points,
+        pictures,
+        &mut outcome.warnings,
+    )?);
     Ok(outcome)
 }
 

@@ -142,6 +142,8 @@ pub struct Outcome {
     /// it was larger than this run's: only the first `runs` were reused and
     /// the statistics cover those alone.
     pub reduced_from: Option<u64>,
+    /// Plots that could not be drawn, the statistics written all the same.
+    pub warnings: Vec<String>,
 }
 
 /// Worker threads for `jobs` (`None`: all cores), never more than the cores:

@@ -141,6 +141,16 @@ pub fn run(
             built += u64::from(b);
             values.push(v);
         }
+        // A resumed summary that parses but holds a measure of the wrong
+        // kind (text for a number) would be dropped from the statistics
+        // without a word; a truncated one is rebuilt by `done_summary`.
+        if let Some((k, key, kind, usual)) = super::stats::odd_replicate(&values) {
+            return Err(Error::Impossible(format!(
+                "{} is damaged: `{key}` is {kind}, but {usual} in the other replicates; \
+                 remove it and rerun to build that replicate again",
+                run_dir(&dir, mine[k]).join("summary.json").display()
+            )));
+        }
         results.push((p, dir, values, built));
     }
     let wall = start.elapsed().as_secs_f64();
@@ -148,6 +158,7 @@ pub fn run(
         points: Vec::new(),
         wall_seconds: wall,
         files: Vec::new(),
+        warnings: Vec::new(),
         reduced_from: earlier.map(|m| m.runs).filter(|&r| r > opts.runs),
     };
     for (p, dir, values, built) in results {
@@ -161,6 +172,7 @@ pub fn run(
             (built, resumed),
             wall,
             opts.pictures,
+            &mut outcome.warnings,
         )?;
         outcome.points.push(PointResult {
             label: p.label.clone(),
@@ -173,8 +185,12 @@ pub fn run(
         });
     }
     outcome.files = vec![out.join(MANIFEST)];
-    outcome
-        .files
-        .extend(write_sweep(config, out, &outcome.points, opts.pictures)?);
+    outcome.files.extend(write_sweep(
+        config,
+        out,
+        &outcome.points,
+        opts.pictures,
+        &mut outcome.warnings,
+    )?);
     Ok(outcome)
 }

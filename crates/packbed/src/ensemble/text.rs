@@ -200,6 +200,7 @@ mod tests {
             wall_seconds: 1.0,
             files: Vec::new(),
             reduced_from: None,
+            warnings: Vec::new(),
         };
         summary(&o, Path::new("e"), Some(2))
     }

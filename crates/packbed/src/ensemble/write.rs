@@ -12,34 +12,46 @@ use rayon::prelude::*;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
-/// Stages every plot as `stem.png` and `stem.svg`.
+/// Stages every plot as `stem.png` and `stem.svg`; a plot that cannot be
+/// drawn is left out and named in `warnings`, so that no rerun of the
+/// ensemble fails on it again.
 #[cfg(feature = "render")]
 pub(super) fn stage_plots(
     s: &mut Staging,
     plots: &[(String, crate::render::plot::Plot)],
+    warnings: &mut Vec<String>,
 ) -> Result<()> {
     use crate::render::run_files::PLOT_SIZE;
     // Rasterising is most of the cost; the files are written in order after.
-    let files: Vec<(String, Vec<u8>)> = plots
+    let made: Vec<(String, Result<Vec<u8>>)> = plots
         .par_iter()
         .flat_map_iter(|(stem, plot)| {
             [
-                plot.to_png(PLOT_SIZE.0, PLOT_SIZE.1)
-                    .map(|b| (format!("{stem}.png"), b)),
-                plot.to_svg(PLOT_SIZE.0, PLOT_SIZE.1)
-                    .map(|t| (format!("{stem}.svg"), t.into_bytes())),
+                (format!("{stem}.png"), plot.to_png(PLOT_SIZE.0, PLOT_SIZE.1)),
+                (
+                    format!("{stem}.svg"),
+                    plot.to_svg(PLOT_SIZE.0, PLOT_SIZE.1)
+                        .map(String::into_bytes),
+                ),
             ]
         })
-        .collect::<Result<_>>()?;
-    for (name, bytes) in &files {
+        .collect();
+    let mut drawn = crate::output::Drawn::default();
+    for (name, bytes) in made {
+        drawn.keep(name, bytes);
+    }
+    for (name, bytes) in &drawn.files {
         s.stage(name, |w| w.write_all(bytes))?;
     }
+    warnings.extend(drawn.missing);
     Ok(())
 }
 
 /// Writes the statistics files of one point; returns its aggregate and the
 /// files written.
 #[allow(clippy::too_many_arguments)]
+// Without pictures there is no plot to warn about.
+#[cfg_attr(not(feature = "render"), allow(unused_variables, clippy::ptr_arg))]
 pub(super) fn write_point(
     p: &Point,
     dir: &Path,
@@ -49,6 +61,7 @@ pub(super) fn write_point(
     (built, resumed): (u64, u64),
     wall: f64,
     pictures: bool,
+    warnings: &mut Vec<String>,
 ) -> Result<(Aggregate, Vec<PathBuf>)> {
     let aggregate = stats::measures_of(values)?;
     let timing = stats::timings_of(values)?;
@@ -98,6 +111,7 @@ pub(super) fn write_point(
                 p.config.analysis.chain_angle_from,
                 p.config.analysis.length_unit,
             ),
+            warnings,
         )?;
         #[cfg(not(feature = "render"))]
         return Err(crate::output::no_pictures());
@@ -108,11 +122,14 @@ pub(super) fn write_point(
 
 /// Writes a sweep's comparison into `out` (or, without a sweep, lists the files
 /// of the one point); returns the files.
+// Without pictures there is no plot to warn about.
+#[cfg_attr(not(feature = "render"), allow(unused_variables, clippy::ptr_arg))]
 pub(super) fn write_sweep(
     config: &Config,
     out: &Path,
     points: &[PointResult],
     pictures: bool,
+    warnings: &mut Vec<String>,
 ) -> Result<Vec<PathBuf>> {
     let Some(sw) = &config.sweep else {
         return Ok(points.iter().flat_map(|p| p.files.clone()).collect());
@@ -141,7 +158,7 @@ pub(super) fn write_sweep(
                 .iter()
                 .map(|p| (p.label.as_deref().unwrap_or(""), &p.aggregate))
                 .collect();
-            stage_plots(&mut s, &plots::sweep_plots(sw, &labelled))?;
+            stage_plots(&mut s, &plots::sweep_plots(sw, &labelled), warnings)?;
         }
         #[cfg(not(feature = "render"))]
         return Err(crate::output::no_pictures());

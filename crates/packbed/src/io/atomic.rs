@@ -121,6 +121,18 @@ impl Staging {
             if d.as_os_str().is_empty() || d.exists() {
                 break;
             }
+            // A link to nowhere: creating the directory would fail with a
+            // bare "File exists" that names neither the link nor its target.
+            if let Ok(target) = fs::read_link(d) {
+                return Err(io_err(
+                    d,
+                    std::io::Error::other(format!(
+                        "a symbolic link to {}, which does not exist (create that directory, or \
+                         remove the link)",
+                        target.display()
+                    )),
+                ));
+            }
             missing.push(d.to_path_buf());
             p = d.parent();
         }
@@ -221,7 +233,14 @@ pub fn probe_dir(dir: &Path) -> Result<()> {
     untrack(&probe);
     // Dropped uncommitted: the directories it created are removed again.
     drop(staging);
-    written.map_err(|e| io_err(dir, e))
+    // Said as what failed: the directory may exist and still refuse files
+    // (/proc, a read-only mount), where the system's bare error misleads.
+    written.map_err(|e| {
+        io_err(
+            dir,
+            std::io::Error::new(e.kind(), format!("cannot create a file in it ({e})")),
+        )
+    })
 }
 
 impl Drop for Staging {

@@ -219,6 +219,10 @@ impl RunSummary {
 pub struct AnalyzeSummary {
     /// Version of packbed that wrote the file.
     pub packbed_version: &'static str,
+    /// Pictures that could not be drawn, the analysis kept all the same
+    /// (absent when nothing went wrong).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// Every measure of the analysis (`cake.*` first, `packing.*`, …).
     #[serde(flatten)]
     pub analysis: Summary,
@@ -298,6 +302,7 @@ impl AnalyzeSummary {
     ) -> AnalyzeSummary {
         AnalyzeSummary {
             packbed_version: env!("CARGO_PKG_VERSION"),
+            warnings: Vec::new(),
             source: source.to_string(),
             dim: D as u8,
             container: BoxSummary::of(bed, Some(read.box_source.name())),
@@ -463,6 +468,10 @@ mod tests {
 pub struct FragmentSummary {
     /// Version of packbed that wrote the file.
     pub packbed_version: &'static str,
+    /// Pictures that could not be drawn, the tables kept all the same
+    /// (absent when nothing went wrong).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// The bed file.
     pub source: String,
     /// 2 or 3.
@@ -550,6 +559,7 @@ impl FragmentSummary {
     ) -> FragmentSummary {
         FragmentSummary {
             packbed_version: env!("CARGO_PKG_VERSION"),
+            warnings: Vec::new(),
             source: source.to_string(),
             dim: D as u8,
             container: BoxSummary::of(bed, Some(read.box_source.name())),

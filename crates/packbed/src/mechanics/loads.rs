@@ -7,6 +7,7 @@ use super::spring::{self, body_dofs};
 use super::Load;
 use crate::bed::Bed;
 use crate::container::Wall;
+use crate::error::{Error, Result};
 use crate::math::{Real, Vector};
 
 /// The total force of every load (the source study's F = 1).
@@ -29,10 +30,20 @@ pub struct AppliedLoad<const D: usize> {
 /// (gravity) every body, each with its weight.
 #[derive(Clone, Debug)]
 struct Group<const D: usize> {
+    /// Which bodies it loads, to say which are missing when it has none.
+    role: Role,
     members: Vec<AppliedLoad<D>>,
     /// Share of each member (equal, or by solid volume under gravity).
     weights: Vec<Real>,
     total: Vector<D>,
+}
+
+/// The bodies a group loads.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Role {
+    Top,
+    Bottom,
+    Every,
 }
 
 /// The loaded groups of a bed.
@@ -115,8 +126,15 @@ fn at_bead<const D: usize>(
 }
 
 impl<const D: usize> Loads<D> {
-    /// The loads of `load` on the intact bed.
-    pub fn new(load: Load, bed: &Bed<D>, bodies: &Bodies<D>, bonds: &[BondGeometry<D>]) -> Self {
+    /// The loads of `load` on the intact bed; an error saying which bodies
+    /// are missing and why when a group the load needs has none (a bed whose
+    /// highest bodies all have a partner above them has no top body).
+    pub fn new(
+        load: Load,
+        bed: &Bed<D>,
+        bodies: &Bodies<D>,
+        bonds: &[BondGeometry<D>],
+    ) -> Result<Self> {
         let x = Vector::<D>::axis(0) * TOTAL;
         let down = Vector::<D>::up() * -TOTAL;
         let tops = || {
@@ -137,9 +155,12 @@ impl<const D: usize> Loads<D> {
                     .filter(|&b| on_floor[b])
                     .map(|b| at_bead(bed, bodies, low[b], -1.0, Vector::zero()))
                     .collect();
-                vec![Group::equal(tops(), x), Group::equal(bottoms, -x)]
+                vec![
+                    Group::equal(Role::Top, tops(), x),
+                    Group::equal(Role::Bottom, bottoms, -x),
+                ]
             }
-            Load::Compression => vec![Group::equal(tops(), down)],
+            Load::Compression => vec![Group::equal(Role::Top, tops(), down)],
             Load::Gravity => {
                 let volumes = crate::analysis::packing::particle_volumes(bed);
                 let mut weights = vec![0.0; bodies.len()];
@@ -155,13 +176,51 @@ impl<const D: usize> Loads<D> {
                     })
                     .collect();
                 vec![Group {
+                    role: Role::Every,
                     members,
                     weights,
                     total: down,
                 }]
             }
         };
-        Loads { groups }
+        if let Some(g) = groups.iter().find(|g| g.members.is_empty()) {
+            return Err(Error::Impossible(match g.role {
+                Role::Top => no_top_body(load, bed, bodies),
+                Role::Bottom => format!(
+                    "no body qualifies as bottom: bottom bodies are those touching the floor, \
+                     and none does here, so the {} load on the top bodies has nothing to \
+                     balance it; a bed resting on its floor would have them, and the \
+                     `compression` or `gravity` load needs none",
+                    load.name()
+                ),
+                Role::Every => "the bed has no body to load".into(),
+            }));
+        }
+        Ok(Loads { groups })
+    }
+
+    /// Why [`current`](Self::current) found no load: the group whose bodies
+    /// all have lost (or never had) a bond.
+    pub fn unbonded(&self, bonded: &[bool]) -> Error {
+        let g = self
+            .groups
+            .iter()
+            .find(|g| !g.members.iter().any(|m| bonded[m.body as usize]));
+        let (n, which) = match g {
+            Some(g) => (
+                g.members.len(),
+                match g.role {
+                    Role::Top => "top",
+                    Role::Bottom => "bottom",
+                    Role::Every => "loaded",
+                },
+            ),
+            None => (0, "loaded"),
+        };
+        Error::Impossible(format!(
+            "the {n} {which} bodies have no bonds (they touch no other body and no wall), \
+             so their load has nowhere to go"
+        ))
     }
 
     /// The loads on bodies that still have a bond (`bonded[b]`): each group's
@@ -191,16 +250,34 @@ impl<const D: usize> Loads<D> {
         }
         Some(out)
     }
+}
 
-    /// True when no group has a member (a bed without top bodies, say).
-    pub fn is_empty(&self) -> bool {
-        self.groups.iter().all(|g| g.members.is_empty())
-    }
+/// Why a bed has no top body, by the rule of `spec/fragmentation.md`, and
+/// what would give it one.
+fn no_top_body<const D: usize>(load: Load, bed: &Bed<D>, bodies: &Bodies<D>) -> String {
+    let high = highest_points(bed, bodies);
+    let top = high.iter().fold(Real::NEG_INFINITY, |a, (_, h)| a.max(*h));
+    let reach = 2.0 * bed.r_max();
+    let near = high.iter().filter(|(_, h)| *h >= top - reach).count();
+    // Four decimals: enough to recognise the heights in the bed file.
+    let round = |x: Real| (x * 1e4).round() / 1e4;
+    format!(
+        "no body qualifies as top, so the {} load has nowhere to act: a top body has no \
+         bonded partner whose reference point (centre of its beads) is higher than its own, and \
+         reaches within 2 r_max = {} of the bed's highest point ({}); here every body \
+         reaching that high ({near} of them) has a partner above its reference point (a tall or tilted \
+         body with a lower one resting against it, say). A bed whose highest bodies have \
+         nothing resting on them would have top bodies; the `gravity` load needs none",
+        load.name(),
+        round(reach),
+        round(top),
+    )
 }
 
 impl<const D: usize> Group<D> {
-    fn equal(members: Vec<AppliedLoad<D>>, total: Vector<D>) -> Self {
+    fn equal(role: Role, members: Vec<AppliedLoad<D>>, total: Vector<D>) -> Self {
         Group {
+            role,
             weights: vec![1.0; members.len()],
             members,
             total,

@@ -151,10 +151,7 @@ fn solve_and_break<const D: usize>(
             "the bed has no bonds (no particle touches another or a wall)".into(),
         ));
     }
-    let load_groups = loads::Loads::new(options.load, bed, &bodies, &bonds);
-    if load_groups.is_empty() {
-        return Err(Error::Impossible("the bed has no body to load".into()));
-    }
+    let load_groups = loads::Loads::new(options.load, bed, &bodies, &bonds)?;
     let springs = solver::Springs {
         kn: 1.0,
         kt: options.kt_over_kn,
@@ -170,7 +167,7 @@ fn solve_and_break<const D: usize>(
     let bonded = |count: &[u32]| count.iter().map(|&c| c > 0).collect::<Vec<_>>();
     let loads = load_groups
         .current(&bonded(&bond_count))
-        .ok_or_else(|| Error::Impossible("the loaded bodies have no bonds".into()))?;
+        .ok_or_else(|| load_groups.unbonded(&bonded(&bond_count)))?;
     let mut system = solver::Solver::new(&bonds, &bodies.reference, &bodies.reach, springs)?;
     let u = system.solve(&loads::load_vector(&loads, nb))?;
     let forces = bond_forces(&bonds, &vec![true; bonds.len()], &u, springs);

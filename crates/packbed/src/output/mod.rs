@@ -33,6 +33,16 @@ pub struct RunExtras {
     pub exports: Vec<export::Format>,
 }
 
+/// What a writer wrote, and the warnings its `summary.json` holds: what an
+/// optional stage or a picture could not do, the run kept all the same.
+#[derive(Clone, Debug, Default)]
+pub struct Written {
+    /// The files, in writing order.
+    pub files: Vec<PathBuf>,
+    /// One line each, as under `warnings` in `summary.json`.
+    pub warnings: Vec<String>,
+}
+
 /// Writes the files of one run into `dir` (created if needed). Either all files
 /// appear, or none does and a directory created for them is removed again.
 pub fn write_run<const D: usize>(
@@ -41,25 +51,24 @@ pub fn write_run<const D: usize>(
     contacts: &Contacts,
     summary: &RunSummary,
 ) -> Result<Vec<PathBuf>> {
-    write_run_with(dir, bed, contacts, summary, &RunExtras::default())
+    write_run_with(dir, bed, contacts, summary, &RunExtras::default()).map(|w| w.files)
 }
 
 /// [`write_run`] plus pictures, plots and exports, all in the same atomic
-/// staging: a failure in any of them leaves no file of the run.
+/// staging. A picture that cannot be drawn (after hours of deposition, say)
+/// is left out and named under `warnings`; any other failure leaves no file.
 pub fn write_run_with<const D: usize>(
     dir: &Path,
     bed: &Bed<D>,
     contacts: &Contacts,
     summary: &RunSummary,
     extras: &RunExtras,
-) -> Result<Vec<PathBuf>> {
-    // Rendered before touching the disk: a bad value must not leave a directory.
-    let json = summary.to_json()?;
+) -> Result<Written> {
     let psd = summary
         .psd
         .as_ref()
         .map(|p| (p, summary.config.analysis.length_unit));
-    let files = extra_files(
+    let Drawn { files, missing } = extra_files(
         bed,
         contacts,
         &summary.analysis,
@@ -69,7 +78,16 @@ pub fn write_run_with<const D: usize>(
         psd,
         extras,
     )?;
-    stage_dir(dir, Some(bed), contacts, &files, &json)
+    let mut summary = std::borrow::Cow::Borrowed(summary);
+    if !missing.is_empty() {
+        summary.to_mut().warnings.extend(missing);
+    }
+    // Rendered before touching the disk: a bad value must not leave a directory.
+    let json = summary.to_json()?;
+    Ok(Written {
+        files: stage_dir(dir, Some(bed), contacts, &files, &json)?,
+        warnings: summary.warnings.clone(),
+    })
 }
 
 /// Names of the files [`write_analysis`] writes: a run's files minus the bed.
@@ -83,9 +101,8 @@ pub fn write_analysis<const D: usize>(
     contacts: &Contacts,
     summary: &AnalyzeSummary,
     extras: &RunExtras,
-) -> Result<Vec<PathBuf>> {
-    let json = summary.to_json()?;
-    let files = extra_files(
+) -> Result<Written> {
+    let Drawn { files, missing } = extra_files(
         bed,
         contacts,
         &summary.analysis,
@@ -96,7 +113,15 @@ pub fn write_analysis<const D: usize>(
         None,
         extras,
     )?;
-    stage_dir::<D>(dir, None, contacts, &files, &json)
+    let mut summary = std::borrow::Cow::Borrowed(summary);
+    if !missing.is_empty() {
+        summary.to_mut().warnings.extend(missing);
+    }
+    let json = summary.to_json()?;
+    Ok(Written {
+        files: stage_dir::<D>(dir, None, contacts, &files, &json)?,
+        warnings: summary.warnings.clone(),
+    })
 }
 
 /// Stages the tables (`particles.csv` only with a bed), the extra files and,
@@ -123,7 +148,8 @@ fn stage_dir<const D: usize>(
 }
 
 /// `(file name, contents)` of the pictures, plots and exports `extras` asks
-/// for, in writing order.
+/// for, in writing order, and a warning for each picture that could not be
+/// drawn.
 // The settings come from either a run's or an analysis' summary, which share
 // no type to pass instead.
 #[allow(clippy::too_many_arguments)]
@@ -136,8 +162,9 @@ fn extra_files<const D: usize>(
     length_unit: Option<LengthUnit>,
     psd: Option<(&PsdSummary, Option<LengthUnit>)>,
     extras: &RunExtras,
-) -> Result<Vec<(String, Vec<u8>)>> {
+) -> Result<Drawn> {
     let mut out = Vec::new();
+    let mut missing = Vec::new();
     if let Some((p, _)) = psd {
         let mut buf = Vec::new();
         crate::io::psd::write_psd(&mut buf, p).map_err(|e| Error::Io {
@@ -163,21 +190,22 @@ fn extra_files<const D: usize>(
         }
     }
     if extras.pictures {
-        out.extend(pictures(
+        // Only the PSD plot, a picture of the `render` feature, adds to it.
+        #[cfg_attr(not(feature = "render"), allow(unused_mut))]
+        let mut drawn = pictures(
             bed,
             contacts,
             measures,
             contact_tol,
             angle_from,
             length_unit,
-        )?);
+        )?;
         #[cfg(feature = "render")]
         if let Some((p, unit)) = psd {
-            out.extend(crate::render::run_files::psd_plot(
-                p,
-                unit.map(LengthUnit::symbol),
-            )?);
+            crate::render::run_files::psd_plot(&mut drawn, p, unit.map(LengthUnit::symbol));
         }
+        out.extend(drawn.0);
+        missing.extend(drawn.1);
     }
     if !extras.exports.is_empty() {
         let z = coordination(bed, contacts);
@@ -190,7 +218,10 @@ fn extra_files<const D: usize>(
             out.push((f.file_name().to_string(), buf));
         }
     }
-    Ok(out)
+    Ok(Drawn {
+        files: out,
+        missing,
+    })
 }
 
 /// Refuses an output directory that cannot be created or written, before the
@@ -229,6 +260,8 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
 /// Without the `render` feature a build has no pictures: asking for them is
 /// an error, not a silent omission.
 #[cfg(not(feature = "render"))]
+// The type of `render::run_files::Pictures`, which this build does not have.
+#[allow(clippy::type_complexity)]
 pub(crate) fn pictures<const D: usize>(
     _: &Bed<D>,
     _: &Contacts,
@@ -236,8 +269,30 @@ pub(crate) fn pictures<const D: usize>(
     _: crate::math::Real,
     _: crate::analysis::orientation::AngleFrom,
     _: Option<crate::config::LengthUnit>,
-) -> Result<Vec<(String, Vec<u8>)>> {
+) -> Result<(Vec<(String, Vec<u8>)>, Vec<String>)> {
     Err(no_pictures())
+}
+
+/// The pictures of a run that could be drawn, and a warning for each that
+/// could not: a picture never costs the run its bed and measures.
+#[derive(Debug, Default)]
+pub struct Drawn {
+    /// `(file name, contents)`, in writing order.
+    pub files: Vec<(String, Vec<u8>)>,
+    /// "plot_x.png not written: why", one for each picture left out.
+    pub missing: Vec<String>,
+}
+
+impl Drawn {
+    /// Keeps the picture `name` if `made` is one, else says it is missing.
+    pub fn keep(&mut self, name: String, made: Result<Vec<u8>>) {
+        match made {
+            Ok(bytes) => self.files.push((name, bytes)),
+            Err(e) => self
+                .missing
+                .push(crate::error::picture_not_written(&name, &e)),
+        }
+    }
 }
 
 /// The error of a build without the `render` feature asked for pictures.
@@ -261,9 +316,20 @@ pub fn write_fragmentation<const D: usize>(
     frag: &crate::mechanics::Fragmentation<D>,
     summary: &crate::io::summary::FragmentSummary,
     pictures: bool,
-) -> Result<Vec<PathBuf>> {
+) -> Result<Written> {
+    // The breakage may have taken minutes: pictures that cannot be drawn
+    // are left out and named, not the loss of the tables.
+    let mut summary = std::borrow::Cow::Borrowed(summary);
+    let files = match fragmentation_pictures(bed, frag, pictures) {
+        Ok(files) => files,
+        Err(e) => {
+            summary.to_mut().warnings.push(format!(
+                "pictures forces.png|svg and breakage.png|svg not written ({e}); the tables are complete"
+            ));
+            Vec::new()
+        }
+    };
     let json = summary.to_json()?;
-    let files = fragmentation_pictures(bed, frag, pictures)?;
     let mut out = Staging::new(dir)?;
     out.stage(FRAGMENT_FILES[0], |w| {
         crate::io::fragmentation::write_bonds(w, frag)
@@ -275,7 +341,10 @@ pub fn write_fragmentation<const D: usize>(
         out.stage(name, |w| w.write_all(bytes))?;
     }
     out.stage(FRAGMENT_FILES[2], |w| w.write_all(json.as_bytes()))?;
-    out.commit()
+    Ok(Written {
+        files: out.commit()?,
+        warnings: summary.warnings.clone(),
+    })
 }
 
 #[cfg(feature = "render")]
@@ -299,4 +368,21 @@ fn fragmentation_pictures<const D: usize>(
     _pictures: bool,
 ) -> Result<Vec<(String, Vec<u8>)>> {
     Ok(Vec::new())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_picture_that_cannot_be_drawn_is_a_warning_naming_it() {
+        let mut d = Drawn::default();
+        d.keep("a.png".into(), Ok(vec![1]));
+        d.keep("b.png".into(), Err(Error::Impossible("too small".into())));
+        assert_eq!(d.files, [("a.png".to_string(), vec![1])]);
+        assert_eq!(
+            d.missing,
+            ["picture b.png not written (too small); the other files are complete"]
+        );
+    }
 }

@@ -165,6 +165,20 @@ pub fn analyze_text(s: &AnalyzeSummary, out: &Path, files: &[PathBuf]) -> String
     t
 }
 
+/// The lines `packbed: warning: …` for stderr, each clean and short
+/// whatever input it echoes.
+pub fn warning_lines<S: AsRef<str>>(warnings: impl IntoIterator<Item = S>) -> String {
+    warnings
+        .into_iter()
+        .map(|w| {
+            format!(
+                "packbed: warning: {}\n",
+                crate::error::clean_line(w.as_ref())
+            )
+        })
+        .collect()
+}
+
 /// The warning about overlapping particles in an analysed bed, if any (the
 /// caller adds its own prefix, e.g. "packbed: warning: ").
 pub fn overlap_warning(s: &AnalyzeSummary) -> Option<String> {

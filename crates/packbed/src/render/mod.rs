@@ -125,6 +125,20 @@ impl RenderOptions {
                 self.supersample
             )));
         }
+        // The supersampled pixmap with its depth buffer, the image and its
+        // encoding: about 8 bytes a sample and a pixel.
+        let (w, h, ss) = (
+            self.width as f64,
+            self.height as f64,
+            self.supersample as f64,
+        );
+        crate::input::check_memory(
+            8.0 * w * h * (ss * ss + 1.0),
+            &format!(
+                "an image of {} × {} pixels drawn at {}× supersampling",
+                self.width, self.height, self.supersample
+            ),
+        )?;
         if let Some(why) = crate::config::contact_tol_problem(self.contact_tol, "contact tolerance")
         {
             return Err(Error::Impossible(why));

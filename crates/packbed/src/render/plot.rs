@@ -163,7 +163,13 @@ impl Plot {
             .iter()
             .map(|&t| text_width(&format_tick(t, tick_step(&yticks)), small))
             .fold(0.0, f64::max);
-        let names = self.legend_names();
+        // A name of any length (a species named by a sentence) is shortened
+        // to a quarter of the width rather than crowding out the plot.
+        let names: Vec<String> = self
+            .legend_names()
+            .iter()
+            .map(|n| fit(n, small, 0.25 * w))
+            .collect();
         let legend_w = if names.len() > 1 {
             names
                 .iter()
@@ -233,13 +239,14 @@ impl Plot {
                 // Label every k-th category so labels never collide.
                 let widest = categories
                     .iter()
-                    .map(|c| text_width(c, small))
+                    .map(|c| text_width(c, small).min((right - left) / 3.0))
                     .fold(0.0, f64::max);
                 let every = ((widest + 0.5 * f) / slot).ceil().max(1.0) as usize;
                 for (k, cat) in categories.iter().enumerate() {
                     let cx = left + (k as f64 + 0.5) * slot;
                     if k % every == 0 {
-                        canvas.text(cx, xtick_y, cat, TextStyle::new(small, Anchor::Middle));
+                        let cat = fit(cat, small, (right - left) / 3.0);
+                        canvas.text(cx, xtick_y, &cat, TextStyle::new(small, Anchor::Middle));
                     }
                 }
                 for (g, group) in groups.iter().enumerate() {
@@ -530,6 +537,26 @@ pub fn format_number(v: f64) -> String {
     }
 }
 
+/// `text` cut with an ellipsis to fit `max_w` at `size` (whole when it fits).
+fn fit(text: &str, size: f64, max_w: f64) -> String {
+    if text_width(text, size) <= max_w {
+        return text.to_string();
+    }
+    let chars: Vec<char> = text.chars().collect();
+    let cut = |n: usize| chars[..n].iter().collect::<String>() + "…";
+    // The longest prefix that fits: widths grow with the prefix.
+    let (mut lo, mut hi) = (0, chars.len());
+    while lo < hi {
+        let mid = (lo + hi).div_ceil(2);
+        if text_width(&cut(mid), size) <= max_w {
+            lo = mid;
+        } else {
+            hi = mid - 1;
+        }
+    }
+    cut(lo)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -574,5 +601,33 @@ mod tests {
             x_range: None,
         };
         assert!(p.to_svg(600, 400).is_err());
+    }
+
+    #[test]
+    fn long_names_are_shortened_not_fatal() {
+        let long = "n".repeat(300);
+        let group = |name: &str| BarGroup {
+            name: name.into(),
+            values: vec![1.0, 2.0],
+            errors: None,
+        };
+        let p = Plot {
+            title: "t".into(),
+            x_label: "x".into(),
+            y_label: "y".into(),
+            data: PlotData::Bars {
+                categories: vec![long.clone(), "b".into()],
+                groups: vec![group(&long), group("short")],
+            },
+            y_range: None,
+            x_range: None,
+        };
+        let svg = p.to_svg(1000, 700).unwrap();
+        assert!(svg.contains("nnn…<"), "no shortened name");
+        assert!(!svg.contains(&long));
+        assert!(svg.contains(">short<"));
+        let cut = fit(&long, 10.0, 100.0);
+        assert!(cut.ends_with('…') && text_width(&cut, 10.0) <= 100.0);
+        assert_eq!(fit("short", 10.0, 100.0), "short");
     }
 }

@@ -11,6 +11,19 @@ use crate::config::LengthUnit;
 use crate::error::Result;
 use crate::math::Real;
 
+/// `(file name, contents)` of the pictures drawn, in writing order, and a
+/// warning for each left out.
+pub type Pictures = (Vec<(String, Vec<u8>)>, Vec<String>);
+
+/// Keeps the picture `name` if `made` is one, else says it is missing: a
+/// picture never costs the run its bed and measures.
+fn keep(out: &mut Pictures, name: String, made: Result<Vec<u8>>) {
+    match made {
+        Ok(bytes) => out.0.push((name, bytes)),
+        Err(e) => out.1.push(crate::error::picture_not_written(&name, &e)),
+    }
+}
+
 /// Size of plot images in pixels.
 pub const PLOT_SIZE: (u32, u32) = (1000, 700);
 
@@ -25,8 +38,8 @@ pub fn pictures<const D: usize>(
     contact_tol: Real,
     angle_from: AngleFrom,
     length_unit: Option<LengthUnit>,
-) -> Result<Vec<(String, Vec<u8>)>> {
-    let mut out = Vec::new();
+) -> Result<Pictures> {
+    let mut out = Pictures::default();
     let z = coordination(bed, contacts);
     {
         let opts = RenderOptions {
@@ -35,9 +48,13 @@ pub fn pictures<const D: usize>(
             length_unit,
             ..RenderOptions::default()
         };
-        out.push(("bed.png".to_string(), png_of(bed, &opts)?));
+        keep(&mut out, "bed.png".to_string(), png_of(bed, &opts));
         if D == 2 {
-            out.push(("bed.svg".to_string(), svg_of(bed, &opts)?.into_bytes()));
+            keep(
+                &mut out,
+                "bed.svg".to_string(),
+                svg_of(bed, &opts).map(String::into_bytes),
+            );
         }
         let mut plots = vec![(
             "plot_coordination",
@@ -103,31 +120,35 @@ pub fn pictures<const D: usize>(
             ));
         }
         for (name, plot) in plots {
-            out.push((
+            keep(
+                &mut out,
                 format!("{name}.png"),
-                plot.to_png(PLOT_SIZE.0, PLOT_SIZE.1)?,
-            ));
-            out.push((
+                plot.to_png(PLOT_SIZE.0, PLOT_SIZE.1),
+            );
+            keep(
+                &mut out,
                 format!("{name}.svg"),
-                plot.to_svg(PLOT_SIZE.0, PLOT_SIZE.1)?.into_bytes(),
-            ));
+                plot.to_svg(PLOT_SIZE.0, PLOT_SIZE.1)
+                    .map(String::into_bytes),
+            );
         }
     }
     Ok(out)
 }
 
-/// `plot_psd.png` and `.svg`: cumulative mass passing against size, the
+/// Adds `plot_psd.png` and `.svg` to `out`: cumulative mass passing against size, the
 /// requested curve and the placed one.
-pub fn psd_plot(psd: &PsdSummary, unit: Option<&str>) -> Result<Vec<(String, Vec<u8>)>> {
+pub fn psd_plot(out: &mut Pictures, psd: &PsdSummary, unit: Option<&str>) {
     let plot = run_plots::size_distribution(psd, unit);
-    Ok(vec![
-        (
-            "plot_psd.png".to_string(),
-            plot.to_png(PLOT_SIZE.0, PLOT_SIZE.1)?,
-        ),
-        (
-            "plot_psd.svg".to_string(),
-            plot.to_svg(PLOT_SIZE.0, PLOT_SIZE.1)?.into_bytes(),
-        ),
-    ])
+    keep(
+        out,
+        "plot_psd.png".into(),
+        plot.to_png(PLOT_SIZE.0, PLOT_SIZE.1),
+    );
+    keep(
+        out,
+        "plot_psd.svg".into(),
+        plot.to_svg(PLOT_SIZE.0, PLOT_SIZE.1)
+            .map(String::into_bytes),
+    );
 }

@@ -348,10 +348,7 @@ impl SizeTable {
     /// (`[analysis] length_unit`): sizes in a unit the file names are
     /// converted to it, and a file that names a unit needs one.
     pub fn read(path: &Path, within: Within, metres_per_unit: Option<Real>) -> Result<SizeTable> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = crate::input::read_text(path)?;
         let err = |line: usize, message: String| Error::Data {
             path: path.to_path_buf(),
             line,

@@ -1039,3 +1039,39 @@ fn force_colours_follow_the_bond_forces_under_shear() {
     let png = render::render_png(&AnyBed::D3(deposited::<3>(false, 60)), &opts).unwrap();
     assert_eq!(Pixmap::decode_png(&png).unwrap().width(), 1200);
 }
+
+#[test]
+fn fragment_pictures_that_cannot_be_drawn_leave_the_tables_and_a_warning() {
+    let dir = scratch("frag-warn");
+    let file = dir.join("b.csv");
+    std::fs::write(
+        &file,
+        "x,y,r\n10,10,10\n30,10,10\n50,10,10\n20,27.3205080757,10\n",
+    )
+    .unwrap();
+    let hint = BoxHint {
+        size: vec![100.0, 100.0],
+        periodic: false,
+    };
+    let options = packbed::mechanics::Options {
+        load: packbed::mechanics::Load::Gravity,
+        breaks: packbed::mechanics::Breaks::Count(1),
+        kt_over_kn: 1.0,
+    };
+    let mut done = packbed::fragment_file(&file, Some(&hint), &options, 1e-6).unwrap();
+    // A particle the breakage never saw: the pictures refuse to draw it.
+    if let AnyBed::D2(b) = &mut done.bed {
+        b.push_bead(Vector([90.0, 90.0]), 5.0, 0, 9);
+    }
+    let out = dir.join("out");
+    let written = done.write(&out, true).unwrap();
+    assert_eq!(written.warnings.len(), 1, "{:?}", written.warnings);
+    assert!(
+        written.warnings[0].starts_with("pictures forces.png|svg and breakage.png|svg not written")
+    );
+    assert!(out.join("bonds.csv").is_file() && out.join("breakage.csv").is_file());
+    assert!(!out.join("forces.png").exists());
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(summary.contains("\"warnings\""), "{summary}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

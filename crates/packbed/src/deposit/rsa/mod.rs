@@ -132,7 +132,11 @@ impl<'p, const D: usize> Rsa<'p, D> {
             Fill::Roof { .. } => u64::MAX,
         };
         let mut bed = Bed::new(container, plan.species.clone());
-        let mut grid = Grid::new(&container, &super::grid_levels::<D>(&plan.species));
+        let mut grid = Grid::for_particles(
+            &container,
+            &super::grid_levels::<D>(&plan.species),
+            plan.estimated_particles() as usize,
+        );
         if let Fill::Count(n) = plan.fill {
             let n = n as usize;
             bed.centres.reserve_exact(n);

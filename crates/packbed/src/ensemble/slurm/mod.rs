@@ -100,17 +100,41 @@ pub fn shell_quote(text: &str) -> String {
     }
 }
 
-/// A value that may stand in an `#SBATCH` line: Slurm splits those lines at
-/// blanks and reads `%` in file names as a pattern (`%a` the task index).
-fn check_directive(setting: &'static str, value: &str, percent: bool) -> Result<()> {
+/// `text` as one argument of an `#SBATCH` line: sbatch splits those lines at
+/// blanks outside quotes, drops quotes, reads `\` as an escape and an
+/// unescaped `#` as the start of a comment (its `_get_argument`), so a word
+/// with any of these is double-quoted and those escaped.
+pub fn sbatch_word(text: &str) -> String {
+    if !text.contains(|c: char| c.is_whitespace() || "\"'\\#".contains(c)) {
+        return text.to_string();
+    }
+    let mut out = String::from("\"");
+    for c in text.chars() {
+        if "\"\\#".contains(c) {
+            out.push('\\');
+        }
+        out.push(c);
+    }
+    out.push('"');
+    out
+}
+
+/// A value that may stand in an `#SBATCH` line: Slurm reads `%` in file names
+/// as a pattern (`%a` the task index), a line ends at a control character,
+/// and values other than the directory (`quoted`) are written unquoted, so
+/// may not hold blanks or quotes.
+fn check_directive(setting: &'static str, value: &str, percent: bool, quoted: bool) -> Result<()> {
     let bad = value.chars().find(|&c| {
-        c.is_whitespace() || c.is_control() || "\"'\\".contains(c) || (!percent && c == '%')
+        c.is_control()
+            || (!quoted && (c.is_whitespace() || "\"'\\".contains(c)))
+            || (!percent && c == '%')
     });
     match bad {
         Some(c) => Err(Error::setting(
             setting,
             format!(
-                "`{value}` holds {}, which an #SBATCH line of a job script cannot carry",
+                "`{}` holds {}, which an #SBATCH line of a job script cannot carry",
+                crate::error::echo(value),
                 match c {
                     ' ' => "a blank".to_string(),
                     '%' => "`%` (a Slurm file-name pattern)".to_string(),
@@ -150,7 +174,7 @@ impl Plan {
         let out = self.out.to_str().ok_or_else(|| {
             Error::setting("out", format!("{}: not valid UTF-8", self.out.display()))
         })?;
-        check_directive("out", out, false)?;
+        check_directive("out", out, false, true)?;
         let r = &self.resources;
         for (setting, value) in [
             ("partition", &r.partition),
@@ -159,14 +183,14 @@ impl Plan {
             ("account", &r.account),
         ] {
             if let Some(v) = value {
-                check_directive(setting, v, false)?;
+                check_directive(setting, v, false, false)?;
             }
         }
         if r.cpus_per_task == Some(0) {
             return Err(Error::setting("cpus-per-task", "must be at least 1"));
         }
         for a in &r.extra {
-            check_directive("sbatch-arg", a, true)?;
+            check_directive("sbatch-arg", a, true, false)?;
             if !a.starts_with('-') {
                 return Err(Error::setting(
                     "sbatch-arg",
@@ -282,7 +306,7 @@ impl Plan {
 # sbatch --dependency=afterok:ARRAY_JOB_ID merge.sh. Resubmitting resumes.
 #SBATCH --job-name={name}
 #SBATCH --array=0-{last}
-#SBATCH --output={out}/{LOGS_DIR}/task-%a.out
+#SBATCH --output={log}
 {resources}
 {preamble}K=\"$SLURM_ARRAY_TASK_ID\"
 rm -f \"$DIR/{LOGS_DIR}/task-$K.status\"
@@ -294,6 +318,7 @@ echo \"$status\" > \"$DIR/{LOGS_DIR}/task-$K.status\"
 exit \"$status\"
 ",
             name = self.job_name(""),
+            log = sbatch_word(&format!("{out}/{LOGS_DIR}/task-%a.out")),
             last = m - 1,
             resources = self.resource_lines(true),
             preamble = self.preamble(),
@@ -309,7 +334,7 @@ exit \"$status\"
 # bytes as one `packbed ensemble` would write. Submit after the array:
 # sbatch --dependency=afterok:ARRAY_JOB_ID merge.sh
 #SBATCH --job-name={name}
-#SBATCH --output={out}/{LOGS_DIR}/merge.out
+#SBATCH --output={log}
 {resources}
 {preamble}rm -f \"$DIR/{LOGS_DIR}/merge.status\"
 \"$PACKBED\" merge \"$DIR\"/{SHARDS_DIR}/* --out \"$DIR\"
@@ -319,6 +344,7 @@ exit \"$status\"
 ",
             m = self.tasks,
             name = self.job_name("-merge"),
+            log = sbatch_word(&format!("{out}/{LOGS_DIR}/merge.out")),
             resources = self.resource_lines(false),
             preamble = self.preamble(),
         )
@@ -557,6 +583,13 @@ mod tests {
     }
 
     #[test]
+    fn sbatch_words_keep_blanks_quotes_and_hashes() {
+        assert_eq!(sbatch_word("/a/b-%a.out"), "/a/b-%a.out");
+        assert_eq!(sbatch_word("/my runs/x"), "\"/my runs/x\"");
+        assert_eq!(sbatch_word(r#"/a"b\c#d"#), r#""/a\"b\\c\#d""#);
+    }
+
+    #[test]
     fn quoting() {
         assert_eq!(shell_quote("/a/b-c_d.e"), "/a/b-c_d.e");
         assert_eq!(shell_quote("a b"), "'a b'");
@@ -661,6 +694,12 @@ mod tests {
         assert!(msg(p).starts_with("out:"));
         let mut p = ok.clone();
         p.out = PathBuf::from("/a b/c");
+        assert!(p.check().is_ok());
+        assert!(p
+            .array_script()
+            .contains("#SBATCH --output=\"/a b/c/logs/task-%a.out\"\n"));
+        let mut p = ok.clone();
+        p.resources.partition = Some("a b".into());
         assert!(msg(p).contains("a blank"));
         let mut p = ok.clone();
         p.out = PathBuf::from("/a%b");

@@ -5,7 +5,7 @@
 //! One entry point, [`read_bed`]: the format is recognised from the content
 //! (and the extension for VTK), the dimension from the columns or box. The box
 //! comes from the file where it has one, else from the caller's [`BoxHint`].
-//! Every problem is an [`Error::Data`] naming the file and the 1-based line.
+//! Every problem is an [`Error::Data`](crate::error::Error::Data) naming the file and the 1-based line.
 //!
 //! Modules: [`report`] (the box hint and what reading found), one per format
 //! ([`table`], [`lammps`], [`xyz`], [`vtu`]), and the checks every format
@@ -22,7 +22,7 @@ mod xyz;
 pub use report::{BoxHint, BoxSource, ReadReport, MAX_PARTICLES, OUTSIDE_TOL};
 
 use crate::bed::AnyBed;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use raw::Reader;
 use std::path::Path;
 
@@ -35,10 +35,7 @@ pub fn read_bed(path: &Path, box_hint: Option<&BoxHint>) -> Result<AnyBed> {
 /// [`read_bed`], also telling where the box came from. A given `box_hint` wins
 /// over a box in the file (or in the `summary.json` beside it).
 pub fn read_bed_report(path: &Path, box_hint: Option<&BoxHint>) -> Result<(AnyBed, ReadReport)> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
-        path: path.to_path_buf(),
-        source: e,
-    })?;
+    let text = crate::input::read_text(path)?;
     let r = Reader { path };
     let first = text
         .lines()
@@ -67,5 +64,7 @@ pub fn read_bed_report(path: &Path, box_hint: Option<&BoxHint>) -> Result<(AnyBe
     } else {
         r.table(&text, box_hint)?
     };
+    drop(text);
+    crate::config::check_particles(raw.pos.len(), &path.display().to_string())?;
     r.finish(raw, box_hint)
 }

@@ -4,7 +4,7 @@
 use super::report::BoxSource;
 use crate::bed::Bed;
 use crate::container::Container;
-use crate::error::{Error, Result};
+use crate::error::{echo, Error, Result};
 use crate::math::{Real, Vector};
 use crate::species::Species;
 use std::path::Path;
@@ -68,9 +68,9 @@ impl Reader<'_> {
     pub(super) fn num(&self, line: usize, what: &str, s: &str) -> Result<Real> {
         let v: Real = s
             .parse()
-            .map_err(|_| self.err(line, format!("{what}: \"{s}\" is not a number")))?;
+            .map_err(|_| self.err(line, format!("{what}: \"{}\" is not a number", echo(s))))?;
         if !v.is_finite() {
-            return Err(self.err(line, format!("{what} is {s}, not a finite number")));
+            return Err(self.err(line, format!("{what} is {}, not a finite number", echo(s))));
         }
         Ok(v)
     }
@@ -80,7 +80,10 @@ impl Reader<'_> {
         s.parse().map_err(|_| {
             self.err(
                 line,
-                format!("{what}: \"{s}\" is not a whole number >= 0 (up to 4294967295)"),
+                format!(
+                    "{what}: \"{}\" is not a whole number >= 0 (up to 4294967295)",
+                    echo(s)
+                ),
             )
         })
     }

@@ -4,7 +4,7 @@
 
 use super::raw::{mean_radius, Raw, Reader};
 use super::report::{BoxHint, BoxSource};
-use crate::error::{Error, Result};
+use crate::error::{echo, Error, Result};
 use crate::math::Real;
 use crate::species::{Shape, SizeDist, Species};
 
@@ -47,6 +47,32 @@ impl Reader<'_> {
                 }
             }
         };
+        // A column named twice (`x,x,y,r`), or by two of its names (`r` and
+        // `radius`), would leave which one is used to the reader's order.
+        for names in [
+            &["x"][..],
+            &["y"],
+            &["z"],
+            &["r", "radius"],
+            &["species", "type"],
+            &["body", "mol"],
+            &["id"],
+        ] {
+            let named: Vec<usize> = (0..columns.len())
+                .filter(|&k| names.contains(&columns[k].as_str()))
+                .collect();
+            if let [a, b, ..] = named[..] {
+                return Err(self.err(
+                    first_no,
+                    format!(
+                        "the header names column `{}` twice (columns {} and {}): which one to use?",
+                        echo(&columns[b]),
+                        a + 1,
+                        b + 1
+                    ),
+                ));
+            }
+        }
         let find = |names: &[&str]| columns.iter().position(|c| names.contains(&c.as_str()));
         let (Some(ix), Some(iy)) = (find(&["x"]), find(&["y"])) else {
             return Err(self.err(first_no, "the header needs columns x and y"));
@@ -77,7 +103,7 @@ impl Reader<'_> {
                         "{} columns, expected {} ({})",
                         cells.len(),
                         columns.len(),
-                        columns.join(",")
+                        echo(&columns.join(","))
                     ),
                 ));
             }
@@ -123,6 +149,19 @@ impl Reader<'_> {
         };
         let v: serde_json::Value =
             serde_json::from_str(&text).map_err(|e| bad(format!("not valid JSON: {e}")))?;
+        // A summary of another bed (3D beside a 2D table, say) would give it a
+        // wrong box and species.
+        if let Some(dim) = v.get("dim").and_then(|d| d.as_u64()) {
+            if dim != raw.dim as u64 {
+                return Err(bad(format!(
+                    "says dim {dim}, but {} beside it is a {}D bed ({}): is it the summary \
+                     of another bed? Move it away (and give the box) or put this bed's summary there",
+                    self.path.display(),
+                    raw.dim,
+                    if raw.dim == 2 { "no z column" } else { "a z column" }
+                )));
+            }
+        }
         let get = |k: &str| v.get("box").and_then(|b| b.get(k)).and_then(|x| x.as_f64());
         let (Some(w), Some(h)) = (get("width"), get("height")) else {
             return Err(bad("box.width and box.height are missing".into()));
