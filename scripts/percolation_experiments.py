@@ -5,7 +5,11 @@ prints markdown tables; needs only numpy.
 
     packbed ensemble examples/thesis/3d-percolation.toml --out D3 --keep-beds
     packbed ensemble examples/thesis/2d-percolation.toml --out D2 --keep-beds
-    python3 scripts/percolation_experiments.py D2 D3 [--search-sample N]
+    python3 scripts/percolation_experiments.py D2 D3 [--only=ABCDFGHWE] [--runs=N]
+        [--keep=0.9,0.8,...] [--keep-fixed=P] [--wall-keep=...] [--per-ratio=N]
+        [--placements=N] [--start=S] [--grid-beds=N]
+
+scripts/validation.py runs them all and puts their tables in docs/validation.md.
 
 Experiments (all deterministic: fixed seeds):
   A. wall contact by exact equality: how many wall-touching particles of
@@ -20,9 +24,19 @@ Experiments (all deterministic: fixed seeds):
      support gaps without overlap) emulated on the supports of packbed's
      particles: the distribution of the gaps it leaves, and the share of
      supports within the study's 0.01 contact rule.
-  D. 3D: packbed's beds with each contact given a gap drawn from that
+  D. 3D: packbed's beds with each contact given a gap drawn from a
      distribution (a contact counts when its gap <= 0.01): beds with a chain,
-     chains and chain lengths by the study's search, against the study's tables.
+     chains and chain lengths by the study's search, against the study's
+     tables. With --only=D a share P (--keep-fixed, default 0.6) of the
+     contacts is kept at random; H uses the gaps its emulation left.
+  F. 3D: contacts kept at random with probability p (bond dilution), and the
+     study's search restricted to steps that advance along the axis.
+  G. 3D: the study's search storing only the first chain of each start,
+     neighbours tried furthest-advance first.
+  H. 3D: the study's choice of supports (three closest below the lowest
+     contour point near the impact) and its search, particle by particle on
+     packbed's bed below; then D with the gaps it leaves.
+  W. 3D: wall-touching particles recognised only with probability q.
   E. 2D: how large discs connect (large-large contacts per large disc, largest
      large cluster, local order) in packbed's beds, and in beds built on the
      study's integer contour grid with one-step sliding (emulated here).
