@@ -596,7 +596,7 @@ def structure(x, r, size, tol):
     return z, max(sizes.values(), default=0) / max(nl, 1), many, float(np.mean(psi)) if psi else 0.0
 
 
-def grid_bed(width, height, radii, ratio, rng):
+def grid_bed(width, height, radii, ratio, rng, cyclic=False):
     """A 2D bed the study's way: each disc dropped at a random integer x; its
     contour h(x) (the centre height at which a disc of its radius dropped at x
     first touches the floor or a placed disc) on the integer grid; it slides
@@ -609,8 +609,15 @@ def grid_bed(width, height, radii, ratio, rng):
     misses = 0
     cols = np.arange(0, int(width) + 1, dtype=float)
     probs = np.array(ratio, dtype=float) / sum(ratio)
+    drawn = np.zeros(len(radii))
     while misses < 100:
-        r = radii[rng.choice(len(radii), p=probs)]
+        if cyclic:
+            # a fixed sequence by the ratio: the species furthest behind its share
+            s = int(np.argmin((drawn + 1) / probs))
+        else:
+            s = int(rng.choice(len(radii), p=probs))
+        drawn[s] += 1
+        r = radii[s]
         lo, hi = int(math.ceil(r)), int(math.floor(width - r))
         gx = cols[lo:hi + 1]
         px, pr = np.array(xs).reshape(-1, 2), np.array(rs)
@@ -644,6 +651,26 @@ def grid_bed(width, height, radii, ratio, rng):
         xs.append((x0, y0))
         rs.append(r)
     return np.array(xs), np.array(rs)
+
+
+def exp_2d_order(ratio, beds):
+    """2D contour-grid beds with species drawn at random and in a fixed
+    sequence by the ratio: beds with a chain and large-large contacts."""
+    rng = np.random.default_rng(31)
+    a, b = ratio
+    print(f"\n### E2: 2D contour-grid beds, large:small {a:g}:{b:g}, species drawn at random or in a fixed sequence ({beds} beds each)\n")
+    print("| order | beds with a chain | large-large contacts per large disc | largest large cluster / large discs |")
+    print("| --- | ---: | ---: | ---: |")
+    for cyclic in (False, True):
+        rows, chains = [], 0
+        for _ in range(beds):
+            x, r = grid_bed(600.0, 600.0, [20.0, 10.0], [a, b], rng, cyclic)
+            bed = {"x": x, "r": r, "size": [600.0, 600.0], "dim": 2}
+            rows.append(structure(x, r, bed["size"], ABS_TOL))
+            lo, hi = wall_sets(bed, 0, False)
+            chains += spans(len(r), r >= 20 * (1 - 1e-9), [(i, j) for i, j, _ in pairs_within(bed, ABS_TOL)], lo, hi)
+        m = np.mean(rows, axis=0)
+        print(f"| {'fixed sequence' if cyclic else 'random'} | {100 * chains / beds:.0f} % | {m[0]:.3f} | {m[1]:.3f} |")
 
 
 def refine(x0, contour, r, width):
@@ -737,6 +764,8 @@ def main(argv):
     if "H" in only:
         pool = exp_study_supports(d3, int(opts.get("per-ratio", 100)), 99)
         exp_diluted(d3, pool, runs, STUDY_3D)
+    if "O" in only:
+        exp_2d_order((1.0, 2.0), int(opts.get("grid-beds", 20)))
     if "E" in only:
         exp_2d(d2, runs, int(opts.get("grid-beds", 20)))
 
