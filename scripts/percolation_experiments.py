@@ -183,7 +183,7 @@ def run_dirs(d):
 # ---------------------------------------------------------------- A and B
 def exp_walls_and_search(root, sample):
     print(f"\n### A/B: wall equality and the study's chain search on packbed's beds ({root})\n")
-    print("| ratio | beds | wall-touching particles (gap <= 0.01) | of them x == r exactly | beds with a chain: packbed | study search, walls by x == r | study search, walls by gap <= 0.01 | beds where the search misses an existing chain | mean chains (study search, gap walls) | mean length |")
+    print("| ratio | beds | wall-touching particles (gap <= 0.01) | of them x == r exactly | beds with a chain: clusters span | study search, walls by x == r | study search, walls by gap <= 0.01 | beds where the search misses an existing chain | mean chains (study search, gap walls) | mean length |")
     print("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
     for sd in sweep_dirs(root):
         runs = run_dirs(sd)[:sample]
@@ -288,10 +288,10 @@ def exp_placement(root, n_sets, start):
 
 
 # ---------------------------------------------------------------- D
-def exp_diluted(root, gap_pool, runs_per_ratio, study):
+def exp_diluted(root, gap_pool, runs_per_ratio, study, source="the emulated placement"):
     rng = np.random.default_rng(7)
     p_keep = float((gap_pool <= ABS_TOL).mean())
-    print(f"\n### D: packbed's 3D beds, each contact given a gap drawn from the emulated placement (P(gap <= 0.01) = {p_keep:.3f})\n")
+    print(f"\n### D: packbed's 3D beds, each contact given a gap drawn from {source} (P(gap <= 0.01) = {p_keep:.3f})\n")
     print("| ratio | beds | with a chain, packbed exact | with a chain, emulated gaps | study | mean chains (study search) | study mean chains | mean length | study mean length | mean large-large contacts per large sphere, exact → emulated |")
     print("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |")
     for sd in sweep_dirs(root):
@@ -752,7 +752,7 @@ def main(argv):
     if "D" in only:
         q = float(opts.get("keep-fixed", 0.6))
         pool = np.where(np.arange(1000) < round(1000 * q), 0.0, 1.0)
-        exp_diluted(d3, pool, runs, STUDY_3D)
+        exp_diluted(d3, pool, runs, STUDY_3D, f"a share {q} of zeros, the rest 1 (contacts kept at random)")
     if "F" in only:
         ps = [float(v) for v in opts.get("keep", "0.9,0.8,0.7,0.65,0.6,0.5").split(",")]
         exp_directed_and_diluted(d3, runs, STUDY_3D, ps)
