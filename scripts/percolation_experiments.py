@@ -556,6 +556,35 @@ def tolerance_difference(root, runs_per_ratio):
     return tot, extra
 
 
+def recheck_misses(root):
+    """Beds whose clusters span but where the study's search (walls by gap <=
+    0.01) stored no chain within its cap of search steps: the search again
+    with 10^8 steps per start."""
+    for sd in sweep_dirs(root):
+        for rd in run_dirs(sd):
+            b = load_bed(rd)
+            n = len(b["r"])
+            large = b["r"] >= 20 * (1 - 1e-9)
+            edges = [(i, j) for i, j, _ in pairs_within(b, ABS_TOL)]
+            adj = adjacency(n, edges)
+            found = capped = False
+            spans_any = False
+            for axis in range(b["dim"] - 1):
+                lo, hi = wall_sets(b, axis, False)
+                if not spans(n, large, edges, lo, hi):
+                    continue
+                spans_any = True
+                c, cap = study_search(adj, large, lo, hi)
+                found |= bool(c)
+                capped |= cap
+            if spans_any and not found:
+                more = 0
+                for axis in range(b["dim"] - 1):
+                    lo, hi = wall_sets(b, axis, False)
+                    more += len(study_search(adj, large, lo, hi, max_steps=10**8)[0])
+                print(f"- {label(sd)}, bed {os.path.basename(rd)}: no chain within 200,000 steps per start (cap hit: {capped}); with 10^8 steps: {more} chains")
+
+
 STUDY_3D = {"1:1": (100, 15.46, 7.56), "1:2": (100, 11.04, 7.79), "1:3": (98, 6.91, 7.94),
             "1:4": (84, 4.36, 7.80), "1:5": (59, 2.01, 8.14), "1:6": (36, 0.89, 8.02)}
 STUDY_2D = {"1:1": 98, "1:1.5": 82, "1:2": 59, "1:2.25": 33, "1:2.5": 23}
