@@ -32,7 +32,7 @@ STEPS = []  # (what, seconds)
 CACHE = {"runs": {}, "exp": {}}  # what -> seconds; what -> [text, seconds]
 CACHE_FILE = None
 REUSE = False
-GRID_BEDS = 10  # contour-grid beds per ratio in the 2D experiments (slow: pure Python)
+GRID_BEDS = 20  # contour-grid beds per ratio in the 2D experiments (slow: pure Python)
 
 
 def save_cache():
@@ -513,7 +513,7 @@ chain, the study's 1:2 gives 59 %; packbed's 1:2 gives {shift['1:2']:.0f} %, the
 1:2.25 and 1:2.5 give 33 % and 23 %.
 
 """)
-    o.append("""**What explains the 2D difference, and what does not.** The contour-grid
+    o.append(f"""**What explains the 2D difference, and what does not.** The contour-grid
 beds pack like packbed's and their large discs connect like packbed's or
 less: they do not produce more chains. The chain search does not miss chains
 (above), the study's search finds chains of the study's lengths in packbed's
@@ -522,8 +522,9 @@ tolerance raises 1:2 only from 20 % to 32 % even at 0.1 r (measured when the
 difference was reported). So the 2D difference **remains unexplained**:
 neither the contact rule, nor the chain search, nor grid placement with
 one-step sliding (as emulated here), nor a fixed order of addition gives the
-study's 59 % at 1:2 (these grid-bed samples are small: 10 beds per ratio, so
-their percentages are good to about ±15 points). Not tried: the study's own
+study's 59 % at 1:2 (these grid-bed samples are small: {GRID_BEDS} beds per ratio, so
+their percentages are good to about ±{100 / (2 * GRID_BEDS ** 0.5):.0f} points, enough to tell 59 % from
+packbed's 20 %). Not tried: the study's own
 real-value refinement (a stochastic search, here an exact minimum), a
 composition of the finished bed different from the ratio of addition, and
 the study's code itself.
