@@ -5,7 +5,7 @@
 
 use crate::analysis::{Contacts, Summary};
 use crate::bed::{AnyBed, Bed};
-use crate::config::{AnalysisConfig, Config};
+use crate::config::{AnalysisConfig, Config, Measure};
 use crate::deposit::DepositReport;
 use crate::deposit::Progress;
 use crate::error::{Error, Result};
@@ -153,6 +153,8 @@ pub fn analyze_read_bed(
     read_seconds: f64,
 ) -> Result<AnalyzedBed> {
     settings.check()?;
+    let measures = settings.measures.as_deref().unwrap_or(&Measure::DEFAULT);
+    crate::config::check_analysis(bed.len(), bed.dim(), measures, source)?;
     let (contacts, summary) = match &bed {
         AnyBed::D2(b) => analyze_read(source, b, read, settings, read_seconds),
         AnyBed::D3(b) => analyze_read(source, b, read, settings, read_seconds),

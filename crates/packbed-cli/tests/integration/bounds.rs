@@ -379,3 +379,53 @@ fn a_run_beyond_the_address_space_limit_is_refused_before_it_starts() {
     assert!(o.stderr.contains("ulimit -v"), "{}", o.stderr);
     assert!(!s.work.join("r").exists(), "nothing may be written");
 }
+
+#[test]
+fn analysing_the_pore_space_beyond_the_memory_limit_is_refused_before_the_work() {
+    // 10^5 spheres: the default measures need about 0.3 GB, the pore space
+    // about 1.1 GB, more than 1 GiB of address space holds.
+    let s = Scratch::new();
+    let built = within_memory(
+        &s,
+        &[
+            "run",
+            "--radii",
+            "1",
+            "--box",
+            "60,60,200",
+            "--count",
+            "100000",
+            "--out",
+            "bed",
+            "--no-pictures",
+            "-q",
+        ],
+        300,
+        1024,
+    );
+    assert_eq!(built.code, 0, "{}", built.stderr);
+    let analyse = |measures: &str, out: &str| {
+        within_memory(
+            &s,
+            &[
+                "analyze",
+                "bed/particles.csv",
+                "--measures",
+                measures,
+                "--out",
+                out,
+                "--no-pictures",
+                "-q",
+            ],
+            300,
+            1024,
+        )
+    };
+    let o = analyse("pores,permeability", "p");
+    assert_eq!(o.code, 2, "{}", o.stderr);
+    assert_eq!(o.stderr.lines().count(), 1, "{}", o.stderr);
+    assert!(o.stderr.contains("GB packbed may use"), "{}", o.stderr);
+    assert!(!s.work.join("p").exists(), "nothing may be written");
+    let o = analyse("packing,coordination", "d");
+    assert_eq!(o.code, 0, "{}", o.stderr);
+}

@@ -1317,14 +1317,22 @@ fn name_species(mut species: Vec<Species>) -> Vec<Species> {
 
 /// Refuses a bed of `particles` particles (read from a file) that this
 /// machine could not analyse: the bound deposition puts on a run (3D, the
-/// default measures).
+/// default measures). [`check_analysis`] checks again once the measures are
+/// known.
 pub fn check_particles(particles: usize, what: &str) -> Result<()> {
+    check_analysis(particles, 3, &Measure::DEFAULT, what)
+}
+
+/// Refuses to analyse a bed of `particles` particles in `dim` dimensions with
+/// `measures` when that would need more memory than packbed may use (the pore
+/// space costs about eight times the rest).
+pub fn check_analysis(particles: usize, dim: u8, measures: &[Measure], what: &str) -> Result<()> {
     let memory = crate::input::memory_budget_bytes() as Real;
-    let needed = run_bytes(3, particles as Real, &Measure::DEFAULT);
+    let needed = run_bytes(dim, particles as Real, measures);
     if needed > memory {
         return Err(Error::Impossible(format!(
-            "{what} holds {particles} particles and would need about {:.2} GB to analyse, \
-             more than the {:.2} GB packbed may use",
+            "{what} holds {particles} particles and would need about {:.2} GB to analyse \
+             with these measures, more than the {:.2} GB packbed may use",
             needed / 1e9,
             memory / 1e9
         )));
