@@ -752,12 +752,7 @@ pub struct Plan<const D: usize> {
     pub large_radius: Real,
 }
 
-/// Smallest and largest lengths (radii, box extents) packbed works with. The
-/// geometry squares lengths (and multiplies squares), so far outside this range
-/// they leave the normal range of floating point: radii of 1e-100 gave beds with
-/// overlapping particles, and 1e160 made the run spin for ever. Any unit system
-/// fits inside (nanometres in metres are 1e-9).
-pub const LENGTH_RANGE: (Real, Real) = (1e-30, 1e30);
+pub use crate::math::LENGTH_RANGE;
 
 /// Why lengths from `shortest` to `longest` cannot be worked with, if they
 /// leave [`LENGTH_RANGE`].

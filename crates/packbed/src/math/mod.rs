@@ -12,6 +12,13 @@ use std::ops::{Add, AddAssign, Div, Index, IndexMut, Mul, Neg, Sub, SubAssign};
 /// The real number type of all geometry.
 pub type Real = f64;
 
+/// Smallest and largest lengths (radii, box extents, table sizes) packbed
+/// works with. The geometry squares lengths (and multiplies squares), so far
+/// outside this range they leave the normal range of floating point: radii of
+/// 1e-100 gave beds with overlapping particles, and 1e160 made the run spin
+/// for ever. Any unit system fits inside (nanometres in metres are 1e-9).
+pub const LENGTH_RANGE: (Real, Real) = (1e-30, 1e30);
+
 /// A point or direction in `D`-dimensional space; the last component is height.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vector<const D: usize>(pub [Real; D]);

@@ -421,7 +421,7 @@ impl SizeTable {
         // Sizes are cubed into volumes and masses: beyond packbed's length
         // range a cube overflows to infinity or vanishes, and the weights with it.
         let positive_size = |line: usize, s: Real| {
-            let (lo, hi) = crate::config::LENGTH_RANGE;
+            let (lo, hi) = crate::math::LENGTH_RANGE;
             match s * scale {
                 _ if s <= 0.0 => Err(err(line, format!("a size must be positive, got {s}"))),
                 x if (lo..=hi).contains(&x) => Ok(x),
