@@ -31,7 +31,10 @@ impl<const D: usize> Engine<'_, D> {
             .fold(Real::INFINITY, Real::min);
         let floor_area: Real = (0..D - 1).map(|k| c.size[k]).product();
         let footprint = (2.0 * r_min).powi(D as i32 - 1);
-        let patience = BASE_LAYER_PATIENCE * ((floor_area / footprint).ceil() as u64).max(1);
+        // Saturating: a floor of 1e20 footprints (a box of 1e10 diameters) would
+        // overflow the product.
+        let patience =
+            BASE_LAYER_PATIENCE.saturating_mul(((floor_area / footprint).ceil() as u64).max(1));
         let mut failures = 0;
         while failures < patience && (self.bed.len() as u64) < target {
             let (s, r) = self.draw_particle();
