@@ -95,8 +95,8 @@ def wall_sets(bed, axis, exact, tol_abs=ABS_TOL):
     return set(np.nonzero(x - r <= tol_abs)[0].tolist()), set(np.nonzero(w - x - r <= tol_abs)[0].tolist())
 
 
-def spans(n, large, edges, lo, hi):
-    """Whether a cluster of large particles links lo to hi (union-find)."""
+def union_find(n, edges):
+    """The root finder of the clusters that `edges` join among n particles."""
     parent = list(range(n))
 
     def find(a):
@@ -106,8 +106,13 @@ def spans(n, large, edges, lo, hi):
         return a
 
     for i, j in edges:
-        if large[i] and large[j]:
-            parent[find(i)] = find(j)
+        parent[find(i)] = find(j)
+    return find
+
+
+def spans(n, large, edges, lo, hi):
+    """Whether a cluster of large particles links lo to hi."""
+    find = union_find(n, [(i, j) for i, j in edges if large[i] and large[j]])
     roots = {find(i) for i in lo if large[i]}
     return any(find(j) in roots for j in hi if large[j])
 
@@ -601,16 +606,7 @@ def structure(x, r, size, tol):
     edges = [(i, j) for i, j, _ in pairs_within(bed, tol) if large[i] and large[j]]
     nl = int(large.sum())
     adj = adjacency(n, edges)
-    parent = list(range(n))
-
-    def find(a):
-        while parent[a] != a:
-            parent[a] = parent[parent[a]]
-            a = parent[a]
-        return a
-
-    for i, j in edges:
-        parent[find(i)] = find(j)
+    find = union_find(n, edges)
     sizes = {}
     for i in range(n):
         if large[i]:

@@ -88,15 +88,9 @@ impl Scratch {
     /// Runs `packbed` in `work/`, killing it and failing if it still runs after
     /// `secs` seconds: a guard against a command that would never end.
     pub fn within(&self, args: &[&str], secs: u64) -> Outcome {
-        let child = Command::new(env!("CARGO_BIN_EXE_packbed"))
-            .args(args)
-            .current_dir(&self.work)
-            .stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        wait_within(child, args, secs)
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_packbed"));
+        cmd.args(args);
+        run_within(cmd, self, args, secs)
     }
 
     /// The `summary.json` of the output directory `work/<out>`.
@@ -182,8 +176,15 @@ pub fn within_memory(s: &Scratch, args: &[&str], secs: u64, mib: u64) -> Outcome
     let script = format!("ulimit -v {} && exec \"$0\" \"$@\"", mib * 1024);
     let mut full = vec!["-c", &script, env!("CARGO_BIN_EXE_packbed")];
     full.extend_from_slice(args);
-    let child = Command::new("sh")
-        .args(&full)
+    let mut cmd = Command::new("sh");
+    cmd.args(&full);
+    run_within(cmd, s, args, secs)
+}
+
+/// Runs `cmd` in `s`'s work directory with no input, its output captured, and
+/// waits for it as [`wait_within`] does.
+fn run_within(mut cmd: Command, s: &Scratch, args: &[&str], secs: u64) -> Outcome {
+    let child = cmd
         .current_dir(&s.work)
         .stdin(Stdio::null())
         .stdout(Stdio::piped())

@@ -164,11 +164,13 @@ impl Plot {
             .map(|&t| text_width(&format_tick(t, tick_step(&yticks)), small))
             .fold(0.0, f64::max);
         // A name of any length (a species named by a sentence) is shortened
-        // to a quarter of the width rather than crowding out the plot.
+        // to 40 % of the width rather than crowding out the plot; names that
+        // fitted before (the pore plot's "constrictions (39018 in the slab)")
+        // stay whole.
         let names: Vec<String> = self
             .legend_names()
             .iter()
-            .map(|n| fit(n, small, 0.25 * w))
+            .map(|n| fit(n, small, 0.4 * w))
             .collect();
         let legend_w = if names.len() > 1 {
             names
