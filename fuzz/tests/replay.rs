@@ -5,6 +5,10 @@
 
 use std::fs;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Longest a regression input may run: a hang once found must stay fixed.
+const LIVENESS_SECONDS: f64 = 10.0;
 
 type Target = fn(&[u8]) -> bool;
 
@@ -39,8 +43,17 @@ fn seeds_are_accepted_and_regressions_survived() {
         for input in inputs("regressions", target) {
             let data = fs::read(&input).expect("regression input");
             // Accepted or refused, both fine: what it must not do is panic
-            // or abort, as it once did.
+            // or abort, as it once did, or run without end (the `hang-*`
+            // inputs took 20 s to forever; fixed, each takes well under a
+            // second). The bound is for liveness only, far from any speed.
+            let start = Instant::now();
             let _ = run(&data);
+            let took = start.elapsed().as_secs_f64();
+            assert!(
+                took < LIVENESS_SECONDS,
+                "{target}: {} took {took:.0} s",
+                input.display()
+            );
         }
     }
     packbed_fuzz::remove_scratch();

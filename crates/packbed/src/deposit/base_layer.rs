@@ -20,21 +20,8 @@ impl<const D: usize> Engine<'_, D> {
     pub(super) fn base_layer(&mut self) {
         let target = self.target();
         let c = self.plan.container;
-        // How many of the smallest particles would tile the floor: a scale for
-        // how long to keep trying at random.
-        let r_min = self
-            .plan
-            .species
-            .iter()
-            .filter(|s| s.ratio > 0.0)
-            .map(|s| s.size.bounds().0)
-            .fold(Real::INFINITY, Real::min);
         let floor_area: Real = (0..D - 1).map(|k| c.size[k]).product();
-        let footprint = (2.0 * r_min).powi(D as i32 - 1);
-        // Saturating: a floor of 1e20 footprints (a box of 1e10 diameters) would
-        // overflow the product.
-        let patience =
-            BASE_LAYER_PATIENCE.saturating_mul(((floor_area / footprint).ceil() as u64).max(1));
+        let patience = random_phase_patience::<D>(&self.plan.species, floor_area);
         let mut failures = 0;
         while failures < patience && (self.bed.len() as u64) < target {
             let (s, r) = self.draw_particle();
@@ -130,6 +117,41 @@ impl<const D: usize> Engine<'_, D> {
         self.report.base_layer_sweep = (self.bed.len() - before) as u64;
         self.report.base_layer = self.bed.len() as u64;
     }
+}
+
+/// How many failed placements in a row end the random phase: ten times the
+/// number of the smallest particles that would tile the floor, a scale for how
+/// long the floor takes to saturate. A species so rare that it would not be
+/// drawn once in that many tries (a number share of 1e-99 beside one of the
+/// bulk) sets no scale: waiting for it would never end, and the sweep puts it
+/// into the gaps anyway.
+fn random_phase_patience<const D: usize>(
+    species: &[crate::species::Species],
+    floor_area: Real,
+) -> u64 {
+    let total: Real = species.iter().map(|s| s.ratio).sum();
+    // Saturating: a floor of 1e20 footprints (a box of 1e10 diameters) would
+    // overflow the product.
+    let patience_for = |r: Real| {
+        let footprint = (2.0 * r).powi(D as i32 - 1);
+        BASE_LAYER_PATIENCE.saturating_mul(((floor_area / footprint).ceil() as u64).max(1))
+    };
+    let drawn: Vec<(Real, Real)> = species
+        .iter()
+        .filter(|s| s.ratio > 0.0)
+        .map(|s| (s.size.bounds().0, s.ratio / total))
+        .collect();
+    let seen = drawn
+        .iter()
+        .filter(|&&(r, share)| share * patience_for(r) as Real >= 1.0)
+        .map(|&(r, _)| r)
+        .fold(Real::INFINITY, Real::min);
+    let r = if seen.is_finite() {
+        seen
+    } else {
+        drawn.iter().map(|&(r, _)| r).fold(0.0, Real::max)
+    };
+    patience_for(r)
 }
 
 /// True if a sphere of radius `r` centred at `p` overlaps nothing by more than
@@ -268,4 +290,44 @@ fn corner_point<const D: usize>(s: &[Surface<D>; D], out: &mut Vec<Vector<D>>) {
         }
     }
     out.push(p);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::species::{Shape, SizeDist, Species};
+
+    fn species(radius: Real, ratio: Real) -> Species {
+        Species {
+            name: format!("r{radius}"),
+            shape: Shape::Sphere,
+            size: SizeDist::Fixed(radius),
+            ratio,
+        }
+    }
+
+    #[test]
+    fn patience_is_ten_footprints_of_the_smallest_radius_drawn() {
+        // Floor 400 x 400: 400 footprints of radius 10 (20 x 20), 16 of radius 50.
+        let floor = 400.0 * 400.0;
+        let mix = [species(50.0, 1.0), species(10.0, 6.0)];
+        assert_eq!(random_phase_patience::<3>(&mix, floor), 4000);
+        // In 2D the floor is a length: 400 / 20 = 20 footprints.
+        assert_eq!(random_phase_patience::<2>(&mix, 400.0), 200);
+        // A ratio of 0 is never drawn; a share of 1e-3 still is, often enough.
+        let few = [species(50.0, 1.0), species(10.0, 1e-3), species(1.0, 0.0)];
+        assert_eq!(random_phase_patience::<3>(&few, floor), 4000);
+    }
+
+    #[test]
+    fn a_species_not_drawn_once_in_the_patience_sets_no_scale() {
+        let floor = 400.0 * 400.0;
+        // Share 1e-99 of radius 10: 4000 tries would draw it 4e-96 times.
+        let rare = [species(50.0, 1e100), species(10.0, 1.0)];
+        assert_eq!(random_phase_patience::<3>(&rare, floor), 160);
+        // Nothing qualifies (a floor smaller than any footprint, many species):
+        // the largest radius, the shortest wait.
+        let tiny: Vec<Species> = (1..=20).map(|k| species(100.0 * k as Real, 1.0)).collect();
+        assert_eq!(random_phase_patience::<3>(&tiny, 1.0), 10);
+    }
 }

@@ -147,6 +147,12 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
             if is_stable(&keep, &p) {
                 return Some(snap(terrain, &keep, p, r, tol));
             }
+            if held_in_place(terrain, &keep, &p, r, tol) {
+                // Balanced on a crest, with touching walls or particles closing
+                // every way it could tip (a disc on a disc in a box one diameter
+                // wide): a zero-force contact blocks as well as a loaded one.
+                return Some(p);
+            }
             // Balanced but unstable (on top of a sphere, or of a circle): any
             // push tips it over; the push's direction is drawn at random.
             drew = true;
@@ -289,6 +295,85 @@ fn is_stable<const D: usize>(keep: &ContactSet<D>, p: &Vector<D>) -> bool {
     }
     let mut basis = [Vector::<D>::zero(); MAX_ACTIVE];
     orthonormal_normals(keep, p, &mut basis) == D
+}
+
+/// True if every direction tangent to `keep` (the ways a particle balanced on
+/// a crest could tip) runs into something already touching at `p`: a wall or a
+/// particle at zero gap. Only asked of a balanced, unstable particle, which in a
+/// random bed is rare, so the neighbour search here costs nothing overall.
+fn held_in_place<const D: usize>(
+    terrain: &Terrain<'_, D>,
+    keep: &ContactSet<D>,
+    p: &Vector<D>,
+    r: Real,
+    tol: Real,
+) -> bool {
+    let mut basis = [Vector::<D>::zero(); MAX_ACTIVE];
+    let rank = orthonormal_normals(keep, p, &mut basis);
+    // The tangent space: the unit axes with the contact normals taken out.
+    let mut tangents = [Vector::<D>::zero(); D];
+    let mut free = 0;
+    for k in 0..D {
+        let mut t = Vector::<D>::zero();
+        t[k] = 1.0;
+        for b in basis.iter().take(rank).chain(tangents.iter().take(free)) {
+            t -= *b * t.dot(b);
+        }
+        if let Some(u) = (t.norm() > 1e-6).then(|| t.normalized()).flatten() {
+            tangents[free] = u;
+            free += 1;
+        }
+    }
+    if free == 0 || free > 2 {
+        return free == 0;
+    }
+    // The touching obstacles' normals, as seen in the tangent space: each
+    // blocks the half of it that it faces.
+    let mut blocking: Vec<[Real; 2]> = Vec::new();
+    let mut add = |n: Vector<D>| {
+        let m = [
+            n.dot(&tangents[0]),
+            if free == 2 { n.dot(&tangents[1]) } else { 0.0 },
+        ];
+        if m[0].hypot(m[1]) > 1e-9 {
+            blocking.push(m);
+        }
+    };
+    let c = terrain.container;
+    let (walls, n_walls) = c.wall_array();
+    for &wall in &walls[..n_walls] {
+        let s = wall_obstacle(c, wall, r).surface;
+        if s.gap(p) <= tol {
+            add(s.normal_at(p));
+        }
+    }
+    terrain.grid.for_each_in_box(p, p, r, |id, shift, _| {
+        let s = Surface::Ball {
+            centre: terrain.centres[id as usize] + shift,
+            radius: r + terrain.radii[id as usize],
+        };
+        if s.gap(p) <= 2.0 * tol {
+            add(s.normal_at(p));
+        }
+    });
+    positively_spanning(&blocking, free)
+}
+
+/// True if the vectors leave no direction of the plane (or, for `dim` 1, of
+/// the line along the first component) free: no `d` with `m·d >= 0` for all.
+fn positively_spanning(vectors: &[[Real; 2]], dim: usize) -> bool {
+    if dim == 1 {
+        return vectors.iter().any(|m| m[0] > 0.0) && vectors.iter().any(|m| m[0] < 0.0);
+    }
+    // In the plane: no angular gap of half a turn or more between neighbours.
+    let mut angles: Vec<Real> = vectors.iter().map(|m| m[1].atan2(m[0])).collect();
+    if angles.len() < 3 {
+        return false;
+    }
+    angles.sort_by(Real::total_cmp);
+    let wrap = angles[0] + std::f64::consts::TAU - angles[angles.len() - 1];
+    let widest = angles.windows(2).map(|w| w[1] - w[0]).fold(wrap, Real::max);
+    widest < std::f64::consts::PI - 1e-9
 }
 
 /// Gram–Schmidt on the contact normals; returns the rank.

@@ -429,6 +429,78 @@ fn sphere_between_wall_and_sphere_tips_round_it() {
     }
 }
 
+#[test]
+fn disc_on_a_disc_in_a_box_one_diameter_wide_stays_on_it() {
+    // The walls touch both discs at zero gap and zero force: balanced on the
+    // crest, it has no way to tip. (It once tipped into a wall, stood still and
+    // drew again, 100,000 moves per drop and 1000 drops: 20 s, then an error.)
+    let b = bed([20.0, 200.0], false, &[([10.0, 10.0], 10.0)]);
+    close(
+        drop_one(&b, 10.0, Vector([10.0, 0.0]), 1).expect("rests"),
+        [10.0, 30.0],
+        1e-9,
+    );
+    let b = bed([20.0, 20.0, 200.0], false, &[([10.0, 10.0, 10.0], 10.0)]);
+    let p = drop_one(&b, 10.0, Vector([10.0, 10.0, 0.0]), 1).expect("rests");
+    close(p, [10.0, 10.0, 30.0], 1e-9);
+}
+
+#[test]
+fn on_a_crest_a_way_left_open_is_taken() {
+    // 3D, walls one diameter apart in x only: the crest blocks x but not y, so
+    // the sphere tips along y and comes down beside the first one on the floor.
+    let b = bed([20.0, 300.0, 300.0], false, &[([10.0, 150.0, 10.0], 10.0)]);
+    let p = drop_one(&b, 10.0, Vector([10.0, 150.0, 0.0]), 1).expect("rests");
+    assert!(
+        (p[0] - 10.0).abs() < 1e-9 && (p[2] - 10.0).abs() < 1e-9,
+        "{p:?}"
+    );
+    assert!(((p[1] - 150.0).abs() - 20.0).abs() < 1e-9, "{p:?}");
+    // 2D, one wall touching: the disc tips away from it, into the wedge
+    // between the disc and the far wall.
+    let b = bed([30.0, 200.0], false, &[([10.0, 10.0], 10.0)]);
+    let p = drop_one(&b, 10.0, Vector([10.0, 0.0]), 1).expect("rests");
+    close(p, [20.0, 10.0 + 300f64.sqrt()], 1e-9);
+}
+
+#[test]
+fn a_column_one_diameter_wide_fills_to_the_roof() {
+    for dim in [2u8, 3] {
+        let boxed = if dim == 2 {
+            "width = 20\nheight = 200"
+        } else {
+            "width = 20\ndepth = 20\nheight = 200"
+        };
+        let c = config(dim, 3, boxed, "until = \"roof\"", Sizes::One);
+        let what = format!("{dim}D column");
+        let n = if dim == 2 {
+            let (b, _) = run::<2>(&c);
+            assert_valid(&b, true, &what);
+            b.len()
+        } else {
+            let (b, _) = run::<3>(&c);
+            assert_valid(&b, true, &what);
+            b.len()
+        };
+        assert_eq!(n, 10, "{what}: a stack of ten");
+    }
+}
+
+#[test]
+fn a_species_too_rare_to_be_drawn_does_not_stall_the_base_layer() {
+    // Radius 100000 at ratio 1e100 beside radii 11 and 10 at ratios 111 and 10:
+    // the random phase once waited for ten failures per footprint of the
+    // smallest radius, about 1e10 draws of particles that no longer fit.
+    let toml = "dim = 3\nseed = 1\n\n[box]\nperiodic = true\n\n[fill]\ncount = 30\n\n\
+                [[species]]\nradius = 11\nratio = 111\n\n[[species]]\nradius = 100000\n\
+                ratio = 1e100\n\n[[species]]\nradius = 10\nratio = 10\n";
+    let c = crate::common::config(toml);
+    let (b, rep) = run::<3>(&c);
+    assert_eq!(b.len(), 30);
+    assert!(rep.base_layer > 0, "{rep:?}");
+    assert_valid(&b, false, "rare species");
+}
+
 // ---------------------------------------------------------------------------
 // 2. Reference values on large periodic beds
 // ---------------------------------------------------------------------------
