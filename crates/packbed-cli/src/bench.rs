@@ -54,6 +54,18 @@ pub struct BenchArgs {
 
 /// Runs `packbed bench`.
 pub fn bench(args: BenchArgs) -> Result<()> {
+    let spec = BenchBed {
+        dim: args.dim,
+        n: args.n,
+        chains: args.chains,
+        periodic: args.periodic,
+        sizes: match (args.gsd, &args.radii) {
+            (Some(g), _) => BenchSizes::Lognormal(g),
+            (None, Some(r)) => BenchSizes::Radii(r.clone()),
+            (None, None) => BenchSizes::Equal,
+        },
+        base_layer: args.base_layer,
+    };
     let (bed, mut r) = match &args.bed {
         Some(path) => {
             let bed = packbed::io::read::read_bed(path, None)?;
@@ -61,19 +73,6 @@ pub fn bench(args: BenchArgs) -> Result<()> {
             (bed, r)
         }
         None => {
-            let sizes = match (args.gsd, &args.radii) {
-                (Some(g), _) => BenchSizes::Lognormal(g),
-                (None, Some(r)) => BenchSizes::Radii(r.clone()),
-                (None, None) => BenchSizes::Equal,
-            };
-            let spec = BenchBed {
-                dim: args.dim,
-                n: args.n,
-                chains: args.chains,
-                periodic: args.periodic,
-                sizes,
-                base_layer: args.base_layer,
-            };
             let mut progress = Progress::new(&spec.config(), args.json);
             let built = bench::deposit(&spec, &mut |n| progress.update(n));
             progress.finish();
@@ -91,73 +90,28 @@ pub fn bench(args: BenchArgs) -> Result<()> {
     }
     if args.json {
         println!("{}", serde_json::to_string(&r)?);
-        return Ok(());
-    }
-    let walls = if r.periodic { "periodic" } else { "walls" };
-    let rss = r.peak_rss_bytes as f64 / (1 << 20) as f64;
-    match (args.bed.is_some(), args.chains) {
-        (true, _) => println!("packbed bench: {}D, {} particles, {walls}, read from file", r.dim, r.n),
-        (false, Some(beads)) => println!(
-            "packbed bench: {}D, {} chains of {beads} beads, {walls}: {:.3} s, {:.0} chains/s, {} re-drops, peak RSS {rss:.1} MiB",
-            r.dim, r.bodies, r.seconds, r.bodies_per_second, r.redrops
-        ),
-        (false, None) => println!(
-            "packbed bench: {}D, {} particles{}, {walls}: {:.3} s, {:.0} particles/s, peak RSS {rss:.1} MiB",
-            r.dim,
-            r.n,
-            sizes_note(&args),
-            r.seconds,
-            r.particles_per_second
-        ),
-    }
-    if args.bed.is_none() {
-        let dropped = r.bodies.saturating_sub(r.base_layer).max(1);
-        println!(
-            "  {} moves ({:.1} per dropped body), {:.3} µs per move; {} re-drops; {} base-layer particles",
-            r.moves,
-            r.moves as f64 / dropped as f64,
-            1e6 * r.seconds / r.moves.max(1) as f64,
-            r.redrops,
-            r.base_layer
-        );
-    }
-    if !r.analysis.is_empty() {
-        for (name, t) in &r.analysis {
-            println!("  {name:<28} {t:>9.3} s");
-        }
-        let all: f64 = r.analysis.iter().map(|e| e.1).sum();
-        println!(
-            "  contacts + packing + percolation (no enumeration): {:.3} s; all stages {all:.3} s",
-            bench::target_seconds(&r.analysis)
-        );
+    } else {
+        print!("{}", bench::text(&r, args.bed.is_none().then_some(&spec)));
     }
     Ok(())
 }
 
-/// How the radii were chosen, for the summary line.
-fn sizes_note(args: &BenchArgs) -> String {
-    match (args.gsd, &args.radii) {
-        (Some(g), _) => format!(" (lognormal radii, median 10, gsd {g})"),
-        (None, Some(r)) => {
-            let list: Vec<String> = r.iter().map(|x| x.to_string()).collect();
-            format!(" (radii {}, equal numbers)", list.join(", "))
-        }
-        (None, None) => String::new(),
+/// A number passing `ok`, for clap; `what` names what it must be.
+fn number_where(s: &str, ok: fn(f64) -> bool, what: &str) -> std::result::Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() && ok(x) => Ok(x),
+        _ => Err(format!("`{s}` is not {what}")),
     }
 }
 
 fn parse_gsd(s: &str) -> std::result::Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(g) if g.is_finite() && g >= 1.0 => Ok(g),
-        _ => Err(format!(
-            "`{s}` is not a geometric standard deviation (a number >= 1)"
-        )),
-    }
+    number_where(
+        s,
+        |g| g >= 1.0,
+        "a geometric standard deviation (a number >= 1)",
+    )
 }
 
 fn parse_radius(s: &str) -> std::result::Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(r) if r.is_finite() && r > 0.0 => Ok(r),
-        _ => Err(format!("`{s}` is not a radius (a positive number)")),
-    }
+    number_where(s, |r| r > 0.0, "a radius (a positive number)")
 }

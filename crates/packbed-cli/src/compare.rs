@@ -32,14 +32,7 @@ pub fn compare(args: CompareArgs) -> Result<()> {
         .collect();
     println!("packbed compare: {}", beds.join(" against "));
     print!("{}", c.to_text(&args.out));
-    println!(
-        "  files in {}: {}",
-        args.out.display(),
-        files
-            .iter()
-            .filter_map(|f| f.file_name().map(|n| n.to_string_lossy().into_owned()))
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
+    let names = packbed::output::text::file_names(&files);
+    println!("  files in {}: {names}", args.out.display());
     Ok(())
 }

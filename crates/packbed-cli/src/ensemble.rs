@@ -4,18 +4,20 @@
 
 use crate::overrides::{at_least_one, Overrides};
 use crate::run::{check_out_dir, read_config, source_name};
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::ProgressDrawTarget;
+use packbed::config::Config;
 use packbed::ensemble::{self, text, Options, Shard, Tick};
 use packbed::output::text::warning_lines;
 use std::path::PathBuf;
 
-/// Arguments of `packbed ensemble`.
+/// The replicates of `packbed ensemble` and `packbed slurm`: the config, its
+/// overrides and how many beds.
 #[derive(Debug, Args)]
-pub struct EnsembleArgs {
+pub struct Replicates {
     /// Config file (TOML); without it, the default bed. A `[sweep]` table runs
-    /// an ensemble for every value of one parameter.
+    /// every value of one parameter.
     #[arg(value_name = "CONFIG.toml")]
     pub config: Option<PathBuf>,
     #[command(flatten)]
@@ -23,6 +25,25 @@ pub struct EnsembleArgs {
     /// Replicate beds (per sweep value); default: `[ensemble] runs` of the config.
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = at_least_one)]
     pub runs: Option<usize>,
+}
+
+impl Replicates {
+    /// The config, checked for an ensemble (every sweep value), and the
+    /// number of replicates.
+    pub fn load(&self) -> Result<(Config, u64)> {
+        let config = read_config(self.config.as_deref(), &self.overrides)?;
+        let source = source_name(self.config.as_deref(), &self.overrides);
+        ensemble::validate(&config).with_context(|| source)?;
+        let runs = ensemble::runs_of(self.runs.map(|n| n as u64), &config)?;
+        Ok((config, runs))
+    }
+}
+
+/// Arguments of `packbed ensemble`.
+#[derive(Debug, Args)]
+pub struct EnsembleArgs {
+    #[command(flatten)]
+    pub replicates: Replicates,
     /// Worker threads (one bed per thread); default: all cores.
     #[arg(long, short, value_name = "J", allow_negative_numbers = true, value_parser = at_least_one)]
     pub jobs: Option<usize>,
@@ -62,14 +83,7 @@ pub struct MergeArgs {
 
 /// Runs `packbed ensemble`.
 pub fn ensemble(args: EnsembleArgs) -> Result<()> {
-    let config = read_config(args.config.as_deref(), &args.overrides)?;
-    let source = source_name(args.config.as_deref(), &args.overrides);
-    ensemble::validate(&config).with_context(|| source.clone())?;
-    let runs = match (args.runs, &config.ensemble) {
-        (Some(n), _) => n as u64,
-        (None, Some(e)) => e.runs,
-        (None, None) => bail!("--runs N is needed (the config has no `[ensemble] runs`)"),
-    };
+    let (config, runs) = args.replicates.load()?;
     let threads = ensemble::worker_threads(args.jobs);
     if let Some(j) = args.jobs.filter(|&j| j > threads) {
         eprintln!("packbed: note: --jobs {j} is more than the {threads} cores here; using {threads} threads");
@@ -108,10 +122,8 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
     let outcome = outcome?;
     if let Some(earlier) = outcome.reduced_from {
         eprintln!(
-            "packbed: note: {} held an ensemble of {earlier} replicates; --runs {runs} reuses those of {} that are finished, and the statistics are over the {runs} requested ({} stay on disk, unused)",
-            args.out.display(),
-            replicate_range(0, runs),
-            replicate_range(runs, earlier)
+            "packbed: note: {}",
+            text::reduced_note(&args.out, runs, earlier)
         );
     }
     if !args.quiet {
@@ -119,15 +131,6 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
     }
     eprint!("{}", warning_lines(&outcome.warnings));
     Ok(())
-}
-
-/// `replicate 3` or `replicates 3–9` for the replicates `lo..hi`.
-fn replicate_range(lo: u64, hi: u64) -> String {
-    if hi == lo + 1 {
-        format!("replicate {lo}")
-    } else {
-        format!("replicates {lo}–{}", hi - 1)
-    }
 }
 
 /// Runs `packbed merge`.

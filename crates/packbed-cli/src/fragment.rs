@@ -1,7 +1,7 @@
 //! `packbed fragment BED`: contact forces of a bed under load and the order
 //! its bonds break (`spec/fragmentation.md`).
 
-use crate::overrides::{numbers, Numbers};
+use crate::bed_file::{parsed, BedFileArgs};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use packbed::mechanics::{Breaks, Load, Options};
@@ -11,14 +11,14 @@ use std::path::PathBuf;
 /// Arguments of `packbed fragment`.
 #[derive(Debug, Args)]
 pub struct FragmentArgs {
-    /// The bed file (any file `packbed analyze` reads).
-    pub path: PathBuf,
+    #[command(flatten)]
+    pub bed: BedFileArgs,
     /// The load: shear (the source study's), compression or gravity.
-    #[arg(long, value_name = "LOAD", default_value = "shear")]
-    pub load: String,
+    #[arg(long, value_name = "LOAD", default_value = "shear", value_parser = parsed::<Load>)]
+    pub load: Load,
     /// Bonds to break: a number, or `failure` (until the bed fails).
-    #[arg(long, value_name = "N|failure", default_value = "failure")]
-    pub breaks: String,
+    #[arg(long, value_name = "N|failure", default_value = "failure", value_parser = parsed::<Breaks>)]
+    pub breaks: Breaks,
     /// Tangential over normal spring stiffness (k_n = 1).
     #[arg(
         long,
@@ -27,21 +27,6 @@ pub struct FragmentArgs {
         allow_hyphen_values = true
     )]
     pub kt_kn: f64,
-    /// Box: W,H (2D) or W,D,H (3D); wins over a box in the file or in the
-    /// summary.json beside it.
-    #[arg(long = "box", value_name = "W,[D,]H", allow_hyphen_values = true, value_parser = numbers)]
-    pub container: Option<Numbers>,
-    /// Periodic side boundaries (with --box).
-    #[arg(long)]
-    pub periodic: bool,
-    /// Contact tolerance relative to the smaller radius of each pair (0 to 1).
-    #[arg(
-        long,
-        value_name = "T",
-        default_value_t = 1e-6,
-        allow_hyphen_values = true
-    )]
-    pub contact_tol: f64,
     /// No pictures (forces.png|svg, breakage.png|svg).
     #[arg(long)]
     pub no_pictures: bool,
@@ -55,34 +40,24 @@ pub struct FragmentArgs {
 
 /// Runs `packbed fragment`.
 pub fn fragment(args: FragmentArgs) -> Result<()> {
-    let load: Load = args
-        .load
-        .parse()
-        .map_err(|e: packbed::Error| anyhow::anyhow!("--load: {}", e.message()))?;
-    let breaks: Breaks = args
-        .breaks
-        .parse()
-        .map_err(|e: packbed::Error| anyhow::anyhow!("--breaks: {}", e.message()))?;
     let options = Options {
-        load,
-        breaks,
+        load: args.load,
+        breaks: args.breaks,
         kt_over_kn: args.kt_kn,
     };
     if let Err(e) = options.check() {
         bail!("{}", e.message().replace("kt_over_kn", "--kt-kn"));
     }
-    if let Some(why) = packbed::config::contact_tol_problem(args.contact_tol, "--contact-tol") {
-        bail!("{why}");
-    }
-    let hint = crate::analyze::box_hint(args.container.as_ref(), args.periodic)?;
+    args.bed.check_contact_tol()?;
+    let hint = args.bed.hint()?;
     crate::run::check_out_dir(&args.out)?;
     // Each break re-solves the bed: thousands of them take minutes.
-    let mut progress = crate::progress::BreakProgress::new(breaks, args.quiet);
+    let mut progress = crate::progress::Progress::breaks(args.breaks, args.quiet);
     let done = packbed::fragment_file_with(
-        &args.path,
+        &args.bed.path,
         hint.as_ref(),
         &options,
-        args.contact_tol,
+        args.bed.contact_tol,
         &mut |n| progress.update(n),
     );
     progress.finish();

@@ -3,6 +3,7 @@
 //! (a failed Slurm job of `packbed slurm --wait`: exit code 1).
 
 mod analyze;
+mod bed_file;
 mod bench;
 mod compare;
 mod ensemble;
@@ -106,31 +107,8 @@ fn clap_exit(e: clap::Error) -> ExitCode {
             ExitCode::from(EXIT_USER_ERROR)
         }
         _ => {
-            // Clap's message spans lines (what is wrong, then a usage block):
-            // fold what is wrong into one line and keep the usage line.
-            let text = e.render().to_string();
-            let mut what = Vec::new();
-            let mut usage = None;
-            for line in text
-                .lines()
-                .map(str::trim)
-                .filter(|l| !l.is_empty() && !l.starts_with("For more information"))
-            {
-                if let Some(u) = line.strip_prefix("Usage: ") {
-                    usage = Some(u.to_string());
-                    break;
-                }
-                what.push(line.strip_prefix("error: ").unwrap_or(line));
-            }
-            let what = if what.is_empty() {
-                "invalid arguments".to_string()
-            } else {
-                what.join(" ")
-            };
-            match usage {
-                Some(u) => eprintln!("packbed: error: {what} (usage: {u})"),
-                None => eprintln!("packbed: error: {what} (see `packbed --help`)"),
-            }
+            let line = packbed::error::usage_line(&e.render().to_string());
+            eprintln!("packbed: error: {line}");
             ExitCode::from(EXIT_USER_ERROR)
         }
     }
@@ -164,23 +142,9 @@ fn install_signal_handler() {
 #[cfg(not(unix))]
 fn install_signal_handler() {}
 
-/// A panic is a bug in packbed, never the user's fault: say so in one line
-/// instead of the default message that suggests setting RUST_BACKTRACE.
+/// A panic is a bug in packbed, never the user's fault: one line that says so.
 fn install_panic_hook() {
     std::panic::set_hook(Box::new(|info| {
-        let msg = info
-            .payload()
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| info.payload().downcast_ref::<String>().cloned())
-            .unwrap_or_else(|| "unknown panic".into());
-        let at = info
-            .location()
-            .map(|l| format!(" at {}:{}", l.file(), l.line()))
-            .unwrap_or_default();
-        eprintln!(
-            "packbed: internal error (a bug in packbed, please report it): {}{at}",
-            msg.split_whitespace().collect::<Vec<_>>().join(" ")
-        );
+        eprintln!("packbed: {}", packbed::error::panic_line(info));
     }));
 }

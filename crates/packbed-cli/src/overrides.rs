@@ -3,17 +3,8 @@
 //! [`packbed::config::Overrides`], the same edits a sweep makes.
 
 use anyhow::Result;
-use clap::{Args, ValueEnum};
+use clap::Args;
 use packbed::config::{parse_numbers, BoxSpec, Config, Measure, Mode};
-
-/// `--mode` values.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum ModeArg {
-    /// Drop and roll under gravity.
-    Deposit,
-    /// Random sequential addition, no gravity.
-    Rsa,
-}
 
 /// `10,20` → numbers, for clap.
 pub fn numbers(text: &str) -> std::result::Result<Numbers, String> {
@@ -60,8 +51,8 @@ pub struct Overrides {
     #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub seed: Option<u64>,
     /// deposit (drop and roll) or rsa (random sequential addition).
-    #[arg(long, value_enum)]
-    pub mode: Option<ModeArg>,
+    #[arg(long, value_parser = crate::bed_file::named::<Mode>(&["deposit", "rsa"]))]
+    pub mode: Option<Mode>,
     /// Percolation threshold: particles with radius >= R count as large.
     #[arg(long, value_name = "R", allow_hyphen_values = true)]
     pub large: Option<f64>,
@@ -98,10 +89,7 @@ impl Overrides {
             periodic: self.periodic,
             count: self.count,
             seed: self.seed,
-            mode: self.mode.map(|m| match m {
-                ModeArg::Deposit => Mode::Deposit,
-                ModeArg::Rsa => Mode::Rsa,
-            }),
+            mode: self.mode,
             large: self.large,
             measures: self.measures.list.clone(),
         }

@@ -1,13 +1,12 @@
 //! `packbed render PATH`: draw a bed file.
 
-use crate::overrides::{numbers, Numbers};
+use crate::bed_file::BedFileArgs;
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
-use packbed::analysis::find_contacts;
-use packbed::bed::AnyBed;
-use packbed::io::read::{read_bed, BoxHint};
-use packbed::render::{self, ColorBy, Cut, RenderOptions, View};
-use std::path::{Path, PathBuf};
+use packbed::analysis::LargeRule;
+use packbed::io::read::read_bed;
+use packbed::render::{ColorBy, Cut, RenderOptions, View};
+use std::path::Path;
 
 /// What particle colours show.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -31,11 +30,11 @@ pub enum Color {
 /// Arguments of `packbed render`.
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// The bed file: particles.csv, plain `x y [z] r` table, LAMMPS dump, XYZ, bed.vtu.
-    pub path: PathBuf,
+    #[command(flatten)]
+    pub bed: BedFileArgs,
     /// Output picture, .png (2D and 3D) or .svg (2D); default: beside PATH as .png.
     #[arg(long, value_name = "FILE")]
-    pub out: Option<PathBuf>,
+    pub out: Option<std::path::PathBuf>,
     /// What colours show.
     #[arg(long, value_enum, default_value = "species")]
     pub color: Color,
@@ -61,15 +60,6 @@ pub struct RenderArgs {
     /// Samples per pixel along each axis in 3D (1 to 4).
     #[arg(long, default_value_t = 2)]
     pub supersample: u32,
-    /// Box for files without one: W,H (2D) or W,D,H (3D).
-    #[arg(long = "box", value_name = "BOX", value_parser = numbers)]
-    pub box_size: Option<Numbers>,
-    /// The box given with --box has periodic sides.
-    #[arg(long)]
-    pub periodic: bool,
-    /// Contact tolerance relative to the smaller radius, 0 to 1 (coordination, network, chains, force).
-    #[arg(long, default_value_t = 1e-6)]
-    pub contact_tol: f64,
     /// Radius from which particles count as large (chains); default the largest
     /// of the species' volume-median radii.
     #[arg(long, value_name = "R")]
@@ -81,49 +71,40 @@ pub struct RenderArgs {
 
 /// Runs `packbed render`.
 pub fn render(args: RenderArgs) -> Result<()> {
-    let out = match &args.out {
-        Some(o) => o.clone(),
-        None => args.path.with_extension("png"),
-    };
-    let svg = match out
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-    {
-        Some(e) if e == "svg" => true,
-        Some(e) if e == "png" => false,
-        _ => bail!(
-            "--out {}: the picture must end in .png or .svg",
-            out.display()
-        ),
-    };
-    if let Some(why) = packbed::config::contact_tol_problem(args.contact_tol, "--contact-tol") {
-        bail!("{why}");
-    }
-    if out == args.path {
+    let path = &args.bed.path;
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| path.with_extension("png"));
+    let on_out = || format!("--out {}", out.display());
+    packbed::picture_is_svg(&out).with_context(on_out)?;
+    args.bed.check_contact_tol()?;
+    if &out == path {
         bail!("--out {}: would overwrite the bed file", out.display());
     }
     let out_dir = out.parent().filter(|p| !p.as_os_str().is_empty());
-    packbed::output::check_out_dir(out_dir.unwrap_or(Path::new(".")))
-        .with_context(|| format!("--out {}", out.display()))?;
-    let hint = args.box_size.as_ref().map(|size| BoxHint {
-        size: size.clone(),
-        periodic: args.periodic,
-    });
-    let mut opts = RenderOptions {
+    packbed::output::check_out_dir(out_dir.unwrap_or(Path::new("."))).with_context(on_out)?;
+    let opts = RenderOptions {
         width: args.width,
         height: args.height,
         network: args.network || args.color == Color::Contacts,
-        contact_tol: args.contact_tol,
+        contact_tol: args.bed.contact_tol,
         outlines: !args.no_outlines,
         view: args.view.unwrap_or_default(),
         cut: args.cut.unwrap_or(Cut::None),
         supersample: args.supersample,
         title: args.title.clone(),
+        color: match args.color {
+            Color::Species | Color::Chains => ColorBy::Species,
+            Color::Contacts | Color::Coordination => ColorBy::Coordination,
+            Color::Height => ColorBy::Height,
+            Color::Radius => ColorBy::Radius,
+            Color::Force => ColorBy::Force,
+        },
         ..RenderOptions::default()
     };
     opts.check()?;
-    let bed = read_bed(&args.path, hint.as_ref())?;
+    let bed = read_bed(path, args.bed.hint()?.as_ref())?;
     // A 2D picture has no viewing direction and nothing in front to cut
     // away: taking the options silently would hide a mistaken file.
     let given: Vec<&str> = [
@@ -134,42 +115,15 @@ pub fn render(args: RenderArgs) -> Result<()> {
     .filter_map(|(o, g)| g.then_some(o))
     .collect();
     if bed.dim() == 2 && !given.is_empty() {
-        let path = args.path.display();
         bail!(
-            "{}: {path} is a 2D bed (views and cut-aways are for 3D beds)",
-            given.join(" and ")
+            "{}: {} is a 2D bed (views and cut-aways are for 3D beds)",
+            given.join(" and "),
+            path.display()
         );
     }
-    opts.color = match args.color {
-        Color::Species => ColorBy::Species,
-        Color::Contacts | Color::Coordination => ColorBy::Coordination,
-        Color::Height => ColorBy::Height,
-        Color::Radius => ColorBy::Radius,
-        Color::Force => ColorBy::Force,
-        Color::Chains => ColorBy::Classes(match &bed {
-            AnyBed::D2(b) => chains(b, &args)?,
-            AnyBed::D3(b) => chains(b, &args)?,
-        }),
-    };
-    let bytes = if svg {
-        render::render_svg(&bed, &opts)?.into_bytes()
-    } else {
-        render::render_png(&bed, &opts)?
-    };
-    packbed::output::write_file(&out, &bytes)
-        .with_context(|| format!("--out {}", out.display()))?;
-    Ok(())
-}
-
-fn chains<const D: usize>(
-    bed: &packbed::bed::Bed<D>,
-    args: &RenderArgs,
-) -> Result<render::Classes> {
-    let contacts = find_contacts(bed, args.contact_tol);
-    // The analysis' own rule, so that the picture and summary.json agree.
-    let large = args.large.map_or(
-        packbed::analysis::LargeRule::Median,
-        packbed::analysis::LargeRule::Radius,
-    );
-    Ok(render::chain_classes(bed, &contacts, large))
+    // The analysis' own rule for large particles, so that the picture and
+    // summary.json agree.
+    let chains = (args.color == Color::Chains)
+        .then(|| args.large.map_or(LargeRule::Median, LargeRule::Radius));
+    packbed::render_to(&bed, &out, &opts, chains).with_context(on_out)
 }

@@ -2,8 +2,7 @@
 //! scripts, the checks and the calls of `sbatch`/`squeue`/`scancel` are in
 //! `packbed::ensemble::slurm`; this file parses, dispatches and prints.
 
-use crate::overrides::{at_least_one, Overrides};
-use crate::run::{read_config, source_name};
+use crate::overrides::at_least_one;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use packbed::ensemble::slurm::{self, Plan, Resources, WaitOutcome};
@@ -13,15 +12,8 @@ use std::time::Duration;
 /// Arguments of `packbed slurm`.
 #[derive(Debug, Args)]
 pub struct SlurmArgs {
-    /// Config file (TOML); without it, the default bed. A `[sweep]` table
-    /// shards every value's replicates.
-    #[arg(value_name = "CONFIG.toml")]
-    pub config: Option<PathBuf>,
     #[command(flatten)]
-    pub overrides: Overrides,
-    /// Replicate beds (per sweep value); default: `[ensemble] runs` of the config.
-    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = at_least_one)]
-    pub runs: Option<usize>,
+    pub replicates: crate::ensemble::Replicates,
     /// Array tasks (shards), at most N.
     #[arg(long, value_name = "M", allow_negative_numbers = true, value_parser = at_least_one)]
     pub tasks: usize,
@@ -69,14 +61,7 @@ impl std::error::Error for JobsFailed {}
 
 /// Runs `packbed slurm`.
 pub fn slurm(args: SlurmArgs) -> Result<()> {
-    let config = read_config(args.config.as_deref(), &args.overrides)?;
-    let source = source_name(args.config.as_deref(), &args.overrides);
-    packbed::ensemble::validate(&config).with_context(|| source.clone())?;
-    let runs = match (args.runs, &config.ensemble) {
-        (Some(n), _) => n as u64,
-        (None, Some(e)) => e.runs,
-        (None, None) => bail!("--runs N is needed (the config has no `[ensemble] runs`)"),
-    };
+    let (config, runs) = args.replicates.load()?;
     if args.submit && !slurm::on_path("sbatch") {
         bail!("--submit: sbatch is not on PATH (run on a Slurm login node, or leave out --submit and submit the scripts by hand)");
     }
@@ -109,71 +94,26 @@ pub fn slurm(args: SlurmArgs) -> Result<()> {
     if plan.out.starts_with("/tmp") || plan.out.starts_with("/dev/shm") {
         eprintln!("packbed: note: {dir} is usually local to each node; on a cluster of several nodes put --out on a shared file system");
     }
-    println!(
-        "packbed slurm: {runs} replicates in {} array tasks, in {dir}{}",
-        plan.tasks,
-        if prepared.resumed {
-            " (resuming the shards there)"
-        } else {
-            ""
-        }
+    print!(
+        "{}",
+        slurm::prepared_text(&plan, runs, &prepared, args.submit)
     );
-    println!(
-        "  {}  the config every task runs",
-        plan.config_path().display()
-    );
-    println!("  {}  the job array", plan.array_path().display());
-    println!("  {}  the merge", plan.merge_path().display());
     if !args.submit {
-        println!("submit with:");
-        println!("  sbatch {}", plan.array_path().display());
-        println!(
-            "  sbatch --dependency=afterok:ARRAY_JOB_ID {}",
-            plan.merge_path().display()
-        );
         return Ok(());
     }
     let jobs = slurm::submit(&plan)?;
-    println!(
-        "submitted array job {} ({} tasks) and merge job {} (runs when every task succeeded)",
-        jobs.array, plan.tasks, jobs.merge
-    );
-    println!("logs: {}", plan.out.join(slurm::LOGS_DIR).display());
+    print!("{}", slurm::submitted_text(&plan, &jobs, args.wait));
     if !args.wait {
-        println!("the ensemble files appear in {dir} when the merge job ends; to resume, run the same command again");
         return Ok(());
     }
     match slurm::wait(&plan, &jobs, Duration::from_secs(2))? {
         WaitOutcome::Done => {
-            println!(
-                "done: ensemble files in {dir} (log {})",
-                plan.merge_log().display()
-            );
+            let log = plan.merge_log();
+            println!("done: ensemble files in {dir} (log {})", log.display());
             Ok(())
         }
         WaitOutcome::Failed(failures) => {
-            let list: Vec<String> = failures.iter().map(|f| f.to_string()).collect();
-            let merge_failed = failures.iter().any(|f| f.what == "the merge");
-            Err(JobsFailed(format!(
-                "{} {}: {}; {}; run the same command again to resume",
-                if merge_failed {
-                    "merge job"
-                } else {
-                    "array job"
-                },
-                if merge_failed {
-                    &jobs.merge
-                } else {
-                    &jobs.array
-                },
-                list.join("; "),
-                if merge_failed {
-                    "the shards are complete".to_string()
-                } else {
-                    format!("so the merge (job {}) did not run", jobs.merge)
-                }
-            ))
-            .into())
+            Err(JobsFailed(slurm::failed_text(&jobs, &failures)).into())
         }
     }
 }

@@ -270,3 +270,70 @@ pub fn peak_rss_bytes() -> Option<u64> {
     let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kb * 1024)
 }
+
+/// What `packbed bench` prints: the bed and its rates, the moves, and the time
+/// of each analysis stage; `spec` is the deposited bed (`None`: read from a file).
+pub fn text(r: &BenchResult, spec: Option<&BenchBed>) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let walls = if r.periodic { "periodic" } else { "walls" };
+    let rss = r.peak_rss_bytes as f64 / (1 << 20) as f64;
+    match spec {
+        None => {
+            let _ = writeln!(
+                s,
+                "packbed bench: {}D, {} particles, {walls}, read from file",
+                r.dim, r.n
+            );
+        }
+        Some(BenchBed {
+            chains: Some(beads),
+            ..
+        }) => {
+            let _ = writeln!(
+                s,
+                "packbed bench: {}D, {} chains of {beads} beads, {walls}: {:.3} s, {:.0} chains/s, {} re-drops, peak RSS {rss:.1} MiB",
+                r.dim, r.bodies, r.seconds, r.bodies_per_second, r.redrops
+            );
+        }
+        Some(b) => {
+            let sizes = match &b.sizes {
+                BenchSizes::Lognormal(g) => format!(" (lognormal radii, median 10, gsd {g})"),
+                BenchSizes::Radii(r) => {
+                    let list: Vec<String> = r.iter().map(|x| x.to_string()).collect();
+                    format!(" (radii {}, equal numbers)", list.join(", "))
+                }
+                BenchSizes::Equal => String::new(),
+            };
+            let _ = writeln!(
+                s,
+                "packbed bench: {}D, {} particles{sizes}, {walls}: {:.3} s, {:.0} particles/s, peak RSS {rss:.1} MiB",
+                r.dim, r.n, r.seconds, r.particles_per_second
+            );
+        }
+    }
+    if spec.is_some() {
+        let dropped = r.bodies.saturating_sub(r.base_layer).max(1);
+        let _ = writeln!(
+            s,
+            "  {} moves ({:.1} per dropped body), {:.3} µs per move; {} re-drops; {} base-layer particles",
+            r.moves,
+            r.moves as f64 / dropped as f64,
+            1e6 * r.seconds / r.moves.max(1) as f64,
+            r.redrops,
+            r.base_layer
+        );
+    }
+    if !r.analysis.is_empty() {
+        for (name, t) in &r.analysis {
+            let _ = writeln!(s, "  {name:<28} {t:>9.3} s");
+        }
+        let all: f64 = r.analysis.iter().map(|e| e.1).sum();
+        let _ = writeln!(
+            s,
+            "  contacts + packing + percolation (no enumeration): {:.3} s; all stages {all:.3} s",
+            target_seconds(&r.analysis)
+        );
+    }
+    s
+}

@@ -191,6 +191,53 @@ fn text_of(cause: &(dyn std::error::Error + 'static), name: &dyn Fn(&str) -> Str
     }
 }
 
+/// A usage error as an argument parser writes it (what is wrong over several
+/// lines, then a usage block and a pointer to the help) folded into one line:
+/// `what is wrong (usage: …)`.
+pub fn usage_line(text: &str) -> String {
+    let mut what = Vec::new();
+    let mut usage = None;
+    for line in text
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with("For more information"))
+    {
+        if let Some(u) = line.strip_prefix("Usage: ") {
+            usage = Some(u.to_string());
+            break;
+        }
+        what.push(line.strip_prefix("error: ").unwrap_or(line));
+    }
+    let what = if what.is_empty() {
+        "invalid arguments".to_string()
+    } else {
+        what.join(" ")
+    };
+    match usage {
+        Some(u) => format!("{what} (usage: {u})"),
+        None => format!("{what} (see `packbed --help`)"),
+    }
+}
+
+/// The one line a panic becomes: a bug in packbed, never the user's fault,
+/// said without the default advice to set RUST_BACKTRACE.
+pub fn panic_line(info: &std::panic::PanicHookInfo<'_>) -> String {
+    let payload = info.payload();
+    let msg = payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into());
+    let at = info
+        .location()
+        .map(|l| format!(" at {}:{}", l.file(), l.line()))
+        .unwrap_or_default();
+    format!(
+        "internal error (a bug in packbed, please report it): {}{at}",
+        msg.split_whitespace().collect::<Vec<_>>().join(" ")
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -120,8 +120,10 @@ pub use error::{Error, Result};
 pub use io::read::{read_bed, read_bed_report, BoxHint, BoxSource, ReadReport};
 pub use io::{AnalyzeSummary, RunSummary};
 pub use output::RunExtras;
+#[cfg(feature = "render")]
+pub use pipeline::render_to;
 pub use pipeline::{
     analyze_bed, analyze_file, analyze_read_bed, check_box_hint, fragment_file, fragment_file_with,
-    fragment_read_bed, run_bed, run_bed_or_stop, AnalyzedBed, AnyFragmentation, FinishedBed,
-    FragmentedBed,
+    fragment_read_bed, picture_is_svg, run_bed, run_bed_or_stop, AnalyzedBed, AnyFragmentation,
+    FinishedBed, FragmentedBed,
 };

@@ -188,6 +188,51 @@ fn read_timed(path: &Path, hint: Option<&BoxHint>) -> Result<(AnyBed, ReadReport
     Ok((bed, read, t.elapsed().as_secs_f64()))
 }
 
+/// True if the picture file `out` is an SVG, false for a PNG; any other
+/// extension is refused (before any work).
+pub fn picture_is_svg(out: &Path) -> Result<bool> {
+    match out
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        Some("svg") => Ok(true),
+        Some("png") => Ok(false),
+        _ => Err(Error::Impossible(
+            "the picture must end in .png or .svg".into(),
+        )),
+    }
+}
+
+/// `packbed render`: `bed` drawn into the picture file `out` (PNG, or SVG for
+/// 2D beds). `chains`: colour by the percolation analysis' chains, large
+/// particles by this rule, instead of `opts.color`.
+#[cfg(feature = "render")]
+pub fn render_to(
+    bed: &AnyBed,
+    out: &Path,
+    opts: &crate::render::RenderOptions,
+    chains: Option<crate::analysis::LargeRule>,
+) -> Result<()> {
+    use crate::render;
+    let svg = picture_is_svg(out)?;
+    let mut opts = opts.clone();
+    if let Some(large) = chains {
+        let classes = crate::bed::each_dim!(bed, b => {
+            let contacts = crate::analysis::find_contacts(b, opts.contact_tol);
+            render::chain_classes(b, &contacts, large)
+        });
+        opts.color = render::ColorBy::Classes(classes);
+    }
+    let bytes = if svg {
+        render::render_svg(bed, &opts)?.into_bytes()
+    } else {
+        render::render_png(bed, &opts)?
+    };
+    crate::output::write_file(out, &bytes)
+}
+
 /// Refuses a box given by the caller unless it has two or three positive sizes.
 pub fn check_box_hint(hint: &BoxHint) -> Result<()> {
     if !(2..=3).contains(&hint.size.len()) {

@@ -175,7 +175,7 @@ pub use crate::config::BULK_MIN_BODIES;
 impl Default for AnalysisOptions {
     fn default() -> Self {
         AnalysisOptions {
-            contact_tol: 1e-6,
+            contact_tol: crate::config::DEFAULT_CONTACT_TOL,
             percolation: PercolationOptions::default(),
             bulk_min_bodies: BULK_MIN_BODIES,
             angle_from: orientation::AngleFrom::Vertical,

@@ -514,21 +514,28 @@ impl AnalysisConfig {
     /// Refuses a negative or non-finite contact tolerance and a threshold
     /// radius that is not positive.
     pub fn check(&self) -> Result<()> {
-        if let Some(why) = contact_tol_problem(self.contact_tol, "analysis.contact_tol") {
+        self.check_naming(&|key| format!("analysis.{key}"))
+    }
+
+    /// [`Self::check`], each setting called what `name` makes of its key
+    /// (`contact_tol`): the command names its options, not the config's keys.
+    pub fn check_naming(&self, name: &dyn Fn(&str) -> String) -> Result<()> {
+        if let Some(why) = contact_tol_problem(self.contact_tol, &name("contact_tol")) {
             return Err(Error::config(why));
         }
         if let Some(r) = self.large_radius {
-            positive(r, "analysis.large_radius")?;
+            positive(r, &name("large_radius"))?;
         }
         self.flow.check()?;
         if let Some(rho) = self.solid_density {
-            positive(rho, "analysis.solid_density")?;
+            positive(rho, &name("solid_density"))?;
             if self.length_unit.is_none() {
-                return Err(Error::config(
-                    "analysis.solid_density (kg/m³) needs analysis.length_unit, the length of \
-                     one unit of the bed (m, mm, um or nm), to give the cake resistance in m/kg"
-                        .to_string(),
-                ));
+                return Err(Error::config(format!(
+                    "{} (kg/m³) needs {}, the length of one unit of the bed (m, mm, um or nm), \
+                     to give the cake resistance in m/kg",
+                    name("solid_density"),
+                    name("length_unit")
+                )));
             }
         }
         Ok(())
@@ -637,8 +644,12 @@ fn default_shape() -> String {
     "sphere".into()
 }
 fn default_contact_tol() -> Real {
-    1e-6
+    DEFAULT_CONTACT_TOL
 }
+
+/// The contact tolerance of every analysis unless told otherwise: a gap of at
+/// most this, relative to the smaller radius, is a contact.
+pub const DEFAULT_CONTACT_TOL: Real = 1e-6;
 fn default_species() -> Vec<SpeciesConfig> {
     [20.0, 10.0]
         .iter()

@@ -44,7 +44,7 @@ pub use merge::{merge, merge_with};
 pub use replicates::run;
 
 use crate::config::Config;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use serde_json::Value;
 use stats::Aggregate;
 use std::path::{Path, PathBuf};
@@ -225,6 +225,19 @@ pub fn check_runs(runs: u64) -> Result<()> {
 /// Validates a config for an ensemble (every sweep value) without running it.
 pub fn validate(config: &Config) -> Result<()> {
     points(config).map(drop)
+}
+
+/// The replicate beds (per sweep value) of an ensemble: those asked for, or
+/// the config's `[ensemble] runs`.
+pub fn runs_of(asked: Option<u64>, config: &Config) -> Result<u64> {
+    match (asked, &config.ensemble) {
+        (Some(n), _) => Ok(n),
+        (None, Some(e)) => Ok(e.runs),
+        (None, None) => Err(Error::setting(
+            "runs",
+            "give the number of replicate beds (the config has no `[ensemble] runs`)",
+        )),
+    }
 }
 
 /// Directory of replicate `i` under an ensemble directory.

@@ -23,6 +23,24 @@ const ON_SCREEN: [&str; 11] = [
     "permeability.k_z",
 ];
 
+/// The note of an ensemble rerun with fewer replicates than `out` holds.
+pub fn reduced_note(out: &Path, runs: u64, earlier: u64) -> String {
+    let range = |lo: u64, hi: u64| {
+        if hi == lo + 1 {
+            format!("replicate {lo}")
+        } else {
+            format!("replicates {lo}–{}", hi - 1)
+        }
+    };
+    format!(
+        "{} held an ensemble of {earlier} replicates; --runs {runs} reuses those of {} that are \
+         finished, and the statistics are over the {runs} requested ({} stay on disk, unused)",
+        out.display(),
+        range(0, runs),
+        range(runs, earlier)
+    )
+}
+
 /// A few lines for a person: what ran (`threads` for a run, `None` for a
 /// merge), the headline numbers, where the files are.
 pub fn summary(o: &Outcome, out: &Path, threads: Option<usize>) -> String {

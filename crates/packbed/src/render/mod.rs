@@ -98,7 +98,7 @@ impl Default for RenderOptions {
             height: 1000,
             color: ColorBy::Species,
             network: false,
-            contact_tol: 1e-6,
+            contact_tol: crate::config::DEFAULT_CONTACT_TOL,
             outlines: true,
             view: View::default(),
             cut: Cut::None,

@@ -1,7 +1,7 @@
 //! Running Slurm's commands for a [`Plan`]: `sbatch` (submit), `squeue`
 //! (what is queued), `scancel`, and waiting for the jobs to end.
 
-use super::{clear_statuses, ended, failed_tasks, parse_job_id, Ended, Failure, Plan};
+use super::{clear_statuses, ended, failed_tasks, parse_job_id, Ended, Failure, Job, Plan};
 use crate::error::{Error, Result};
 use std::fs;
 use std::path::Path;
@@ -237,7 +237,7 @@ pub fn wait(plan: &Plan, jobs: &Submitted, poll: Duration) -> Result<WaitOutcome
                 return Ok(match ended(&plan.merge_status()) {
                     Ended::Ok => WaitOutcome::Done,
                     e => WaitOutcome::Failed(vec![Failure {
-                        what: "the merge".into(),
+                        what: Job::Merge,
                         ended: e,
                         log: plan.merge_log(),
                     }]),

@@ -508,11 +508,29 @@ pub fn ended(path: &Path) -> Ended {
     }
 }
 
+/// One job of a submission: a task of the array, or the merge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Job {
+    /// Array task `k`.
+    Task(u64),
+    /// The merge job.
+    Merge,
+}
+
+impl std::fmt::Display for Job {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Job::Task(k) => write!(f, "task {k}"),
+            Job::Merge => f.write_str("the merge"),
+        }
+    }
+}
+
 /// A task or the merge that did not succeed.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Failure {
-    /// `task 3` or `the merge`.
-    pub what: String,
+    /// Which job.
+    pub what: Job,
     /// How it ended.
     pub ended: Ended,
     /// Its log file.
@@ -536,7 +554,7 @@ pub fn failed_tasks(plan: &Plan) -> Vec<Failure> {
         .filter_map(|k| {
             let e = ended(&plan.task_status(k));
             (e != Ended::Ok).then(|| Failure {
-                what: format!("task {k}"),
+                what: Job::Task(k),
                 ended: e,
                 log: plan.task_log(k),
             })
@@ -557,6 +575,74 @@ pub fn clear_statuses(plan: &Plan) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// What `packbed slurm` prints once the scripts are written: where, which
+/// files, and (unless it submits them) how to submit them by hand.
+pub fn prepared_text(plan: &Plan, runs: u64, prepared: &Prepared, submitting: bool) -> String {
+    let dir = plan.out.display();
+    let resuming = if prepared.resumed {
+        " (resuming the shards there)"
+    } else {
+        ""
+    };
+    let mut t = format!(
+        "packbed slurm: {runs} replicates in {} array tasks, in {dir}{resuming}\n\
+         \x20 {}  the config every task runs\n  {}  the job array\n  {}  the merge\n",
+        plan.tasks,
+        plan.config_path().display(),
+        plan.array_path().display(),
+        plan.merge_path().display()
+    );
+    if !submitting {
+        t += &format!(
+            "submit with:\n  sbatch {}\n  sbatch --dependency=afterok:ARRAY_JOB_ID {}\n",
+            plan.array_path().display(),
+            plan.merge_path().display()
+        );
+    }
+    t
+}
+
+/// What `packbed slurm --submit` prints once both jobs are queued.
+pub fn submitted_text(plan: &Plan, jobs: &Submitted, waiting: bool) -> String {
+    let mut t = format!(
+        "submitted array job {} ({} tasks) and merge job {} (runs when every task succeeded)\n\
+         logs: {}\n",
+        jobs.array,
+        plan.tasks,
+        jobs.merge,
+        plan.out.join(LOGS_DIR).display()
+    );
+    if !waiting {
+        t += &format!(
+            "the ensemble files appear in {} when the merge job ends; to resume, run the same \
+             command again\n",
+            plan.out.display()
+        );
+    }
+    t
+}
+
+/// The one line of a submission that failed: which job, which of its tasks
+/// and why, and what a rerun does.
+pub fn failed_text(jobs: &Submitted, failures: &[Failure]) -> String {
+    let list: Vec<String> = failures.iter().map(|f| f.to_string()).collect();
+    let (job, then) = if failures.iter().any(|f| f.what == Job::Merge) {
+        (
+            format!("merge job {}", jobs.merge),
+            "the shards are complete".to_string(),
+        )
+    } else {
+        (
+            format!("array job {}", jobs.array),
+            format!("so the merge (job {}) did not run", jobs.merge),
+        )
+    };
+    format!(
+        "{job}: {}; {then}; run the same command again to resume",
+        list.join("; ")
+    )
 }
 
 #[cfg(test)]
