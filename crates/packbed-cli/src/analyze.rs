@@ -62,7 +62,7 @@ pub fn analyze(args: AnalyzeArgs) -> Result<()> {
         bail!("{}", e.message());
     }
     // Refuse a bad export list or output folder before any work.
-    let extras = args.files.extras()?;
+    let extras = args.files.extras();
     let hint = args.bed.hint()?;
     crate::run::check_out_dir(&args.out)?;
     let analyzed = packbed::analyze_file(&args.bed.path, hint.as_ref(), &settings)?;
@@ -74,7 +74,7 @@ pub fn analyze(args: AnalyzeArgs) -> Result<()> {
         "{}",
         text::warning_lines(overlap.iter().chain(&written.warnings))
     );
-    if !args.files.quiet {
+    if !args.files.shown.quiet {
         print!(
             "{}",
             text::analyze_text(&analyzed.summary, &args.out, &written.files)

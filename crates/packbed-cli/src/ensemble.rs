@@ -56,12 +56,8 @@ pub struct EnsembleArgs {
     /// Also write every replicate's particles.csv and contact files.
     #[arg(long)]
     pub keep_beds: bool,
-    /// Skip the plots (plot_*.png, plot_*.svg) of the statistics.
-    #[arg(long)]
-    pub no_pictures: bool,
-    /// No progress bar and no summary on stdout.
-    #[arg(long, short)]
-    pub quiet: bool,
+    #[command(flatten)]
+    pub shown: crate::run::Shown,
 }
 
 /// Arguments of `packbed merge`.
@@ -73,12 +69,8 @@ pub struct MergeArgs {
     /// Directory for the joined ensemble.
     #[arg(long, value_name = "DIR", default_value = "packbed-ensemble")]
     pub out: PathBuf,
-    /// Skip the plots (plot_*.png, plot_*.svg) of the statistics.
-    #[arg(long)]
-    pub no_pictures: bool,
-    /// No summary on stdout.
-    #[arg(long, short)]
-    pub quiet: bool,
+    #[command(flatten)]
+    pub shown: crate::run::Shown,
 }
 
 /// Runs `packbed ensemble`.
@@ -98,11 +90,11 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
         jobs: args.jobs,
         shard,
         keep_beds: args.keep_beds,
-        pictures: !args.no_pictures,
+        pictures: !args.shown.no_pictures,
         stop: None,
     };
     let bar = crate::progress::terminal_bar(
-        args.quiet,
+        args.shown.quiet,
         None,
         ProgressDrawTarget::stderr(),
         "{spinner} {pos}/{len} beds  {per_sec}  ETA {eta}  [{bar:30}]",
@@ -126,7 +118,7 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
             text::reduced_note(&args.out, runs, earlier)
         );
     }
-    if !args.quiet {
+    if !args.shown.quiet {
         print!("{}", text::summary(&outcome, &args.out, Some(threads)));
     }
     eprint!("{}", warning_lines(&outcome.warnings));
@@ -136,8 +128,8 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
 /// Runs `packbed merge`.
 pub fn merge(args: MergeArgs) -> Result<()> {
     check_out_dir(&args.out)?;
-    let outcome = ensemble::merge_with(&args.dirs, &args.out, !args.no_pictures)?;
-    if !args.quiet {
+    let outcome = ensemble::merge_with(&args.dirs, &args.out, !args.shown.no_pictures)?;
+    if !args.shown.quiet {
         print!("{}", text::summary(&outcome, &args.out, None));
     }
     eprint!("{}", warning_lines(&outcome.warnings));

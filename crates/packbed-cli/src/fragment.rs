@@ -27,12 +27,8 @@ pub struct FragmentArgs {
         allow_hyphen_values = true
     )]
     pub kt_kn: f64,
-    /// No pictures (forces.png|svg, breakage.png|svg).
-    #[arg(long)]
-    pub no_pictures: bool,
-    /// No progress bar and no summary on stdout.
-    #[arg(long, short)]
-    pub quiet: bool,
+    #[command(flatten)]
+    pub shown: crate::run::Shown,
     /// Directory for the output files (created if needed).
     #[arg(long, value_name = "DIR", default_value = "packbed-fragment")]
     pub out: PathBuf,
@@ -52,7 +48,7 @@ pub fn fragment(args: FragmentArgs) -> Result<()> {
     let hint = args.bed.hint()?;
     crate::run::check_out_dir(&args.out)?;
     // Each break re-solves the bed: thousands of them take minutes.
-    let mut progress = crate::progress::Progress::breaks(args.breaks, args.quiet);
+    let mut progress = crate::progress::Progress::breaks(args.breaks, args.shown.quiet);
     let done = packbed::fragment_file_with(
         &args.bed.path,
         hint.as_ref(),
@@ -63,9 +59,9 @@ pub fn fragment(args: FragmentArgs) -> Result<()> {
     progress.finish();
     let done = done?;
     let written = done
-        .write(&args.out, !args.no_pictures)
+        .write(&args.out, !args.shown.no_pictures)
         .with_context(|| format!("--out {}", args.out.display()))?;
-    if !args.quiet {
+    if !args.shown.quiet {
         print!(
             "{}",
             text::fragment_text(&done.summary, &args.out, &written.files)

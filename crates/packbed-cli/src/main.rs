@@ -94,22 +94,24 @@ fn main() -> ExitCode {
     }
 }
 
-/// Help and version go to stdout with success; usage errors become one line.
+/// Help and version go to stdout with success (help for a missing command:
+/// to stderr, as an error); usage errors become one line.
 fn clap_exit(e: clap::Error) -> ExitCode {
-    use clap::error::ErrorKind;
+    use clap::error::ErrorKind::*;
+    let code = ExitCode::from(EXIT_USER_ERROR);
     match e.kind() {
-        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+        DisplayHelp | DisplayVersion | DisplayHelpOnMissingArgumentOrSubcommand => {
             let _ = e.print();
-            ExitCode::SUCCESS
-        }
-        ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
-            let _ = e.print();
-            ExitCode::from(EXIT_USER_ERROR)
+            if e.use_stderr() {
+                code
+            } else {
+                ExitCode::SUCCESS
+            }
         }
         _ => {
             let line = packbed::error::usage_line(&e.render().to_string());
             eprintln!("packbed: error: {line}");
-            ExitCode::from(EXIT_USER_ERROR)
+            code
         }
     }
 }

@@ -2,7 +2,6 @@
 //! file is optional): parsed here, applied by the library's
 //! [`packbed::config::Overrides`], the same edits a sweep makes.
 
-use anyhow::Result;
 use clap::Args;
 use packbed::config::{parse_numbers, BoxSpec, Config, Measure, Mode};
 
@@ -100,13 +99,8 @@ impl Overrides {
         self.settings().is_empty()
     }
 
-    /// Applies the overrides to `config`; an error names the option.
-    pub fn apply(&self, config: &mut Config) -> Result<()> {
-        for (name, edit) in self.settings().edits() {
-            config
-                .apply(&edit)
-                .map_err(|e| anyhow::anyhow!("{}", e.within(&format!("--{name}")).message()))?;
-        }
-        Ok(())
+    /// Applies the overrides to `config`.
+    pub fn apply(&self, config: &mut Config) -> packbed::Result<()> {
+        self.settings().apply(config)
     }
 }

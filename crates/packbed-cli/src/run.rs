@@ -5,7 +5,7 @@ use crate::progress::Progress;
 use anyhow::{Context, Result};
 use clap::Args;
 use packbed::config::Config;
-use packbed::io;
+use packbed::io::export::Format;
 use packbed::output::{text, RunExtras};
 use std::path::{Path, PathBuf};
 
@@ -24,13 +24,10 @@ pub struct RunArgs {
     pub out: PathBuf,
 }
 
-/// What `run` and `analyze` write besides their tables, and what they print.
+/// What a command shows besides its tables: pictures, progress, a summary.
 #[derive(Debug, Args)]
-pub struct FileArgs {
-    /// Also write these exports: a comma-separated list of vtk, dump, xyz.
-    #[arg(long, value_name = "LIST")]
-    pub export: Option<String>,
-    /// No pictures or plots (bed.png, bed.svg, plot_*.png|svg).
+pub struct Shown {
+    /// No pictures or plots (PNG, SVG).
     #[arg(long)]
     pub no_pictures: bool,
     /// No progress bar and no summary on stdout.
@@ -38,30 +35,40 @@ pub struct FileArgs {
     pub quiet: bool,
 }
 
+/// A list of export formats, one option value (an alias, as [`crate::overrides::Numbers`]).
+type Formats = Vec<Format>;
+
+/// What `run` and `analyze` write besides their tables, and what they print.
+#[derive(Debug, Args)]
+pub struct FileArgs {
+    /// Also write these exports: a comma-separated list of vtk, dump, xyz.
+    #[arg(long, value_name = "LIST", value_parser = |s: &str| Format::parse_list(s).map_err(|e| e.message()))]
+    pub export: Option<Formats>,
+    #[command(flatten)]
+    pub shown: Shown,
+}
+
 impl FileArgs {
     /// The pictures and exports to write.
-    pub fn extras(&self) -> Result<RunExtras> {
-        Ok(RunExtras {
-            pictures: !self.no_pictures,
-            exports: match &self.export {
-                Some(list) => io::export::Format::parse_list(list)?,
-                None => Vec::new(),
-            },
-        })
+    pub fn extras(&self) -> RunExtras {
+        RunExtras {
+            pictures: !self.shown.no_pictures,
+            exports: self.export.clone().unwrap_or_default(),
+        }
     }
 }
 
 /// Runs `packbed run`.
 pub fn run(args: RunArgs) -> Result<()> {
     let config = load(&args)?;
-    let extras = args.files.extras()?;
+    let extras = args.files.extras();
     check_out_dir(&args.out)?;
-    let mut progress = Progress::new(&config, args.files.quiet);
+    let mut progress = Progress::new(&config, args.files.shown.quiet);
     let finished = packbed::run_bed(&config, &mut |n| progress.update(n));
     progress.finish();
     let finished = finished?;
     let written = finished.write_with(&args.out, &extras)?;
-    if !args.files.quiet {
+    if !args.files.shown.quiet {
         print!(
             "{}",
             text::run_text(&finished.summary, &args.out, &written.files)

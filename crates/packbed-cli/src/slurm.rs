@@ -65,34 +65,24 @@ pub fn slurm(args: SlurmArgs) -> Result<()> {
     if args.submit && !slurm::on_path("sbatch") {
         bail!("--submit: sbatch is not on PATH (run on a Slurm login node, or leave out --submit and submit the scripts by hand)");
     }
-    let out =
-        std::path::absolute(&args.out).with_context(|| format!("--out {}", args.out.display()))?;
-    let binary = std::env::current_exe()
-        .and_then(|p| p.canonicalize())
-        .context("cannot find the path of the packbed binary")?;
-    let plan = Plan {
-        binary,
-        out,
-        runs,
-        tasks: args.tasks as u64,
-        resources: Resources {
-            partition: args.partition,
-            time: args.time,
-            cpus_per_task: args.cpus_per_task.map(|c| c.min(u32::MAX as usize) as u32),
-            mem: args.mem,
-            account: args.account,
-            extra: args.sbatch_args,
-        },
+    let resources = Resources {
+        partition: args.partition,
+        time: args.time,
+        cpus_per_task: args.cpus_per_task.map(|c| c.min(u32::MAX as usize) as u32),
+        mem: args.mem,
+        account: args.account,
+        extra: args.sbatch_args,
     };
+    let plan = Plan::for_this_binary(&args.out, runs, args.tasks as u64, resources)
+        .with_context(|| format!("--out {}", args.out.display()))?;
     if args.submit {
         for id in slurm::clear_queue(&plan)? {
             eprintln!("packbed: note: cancelled job {id} of an earlier submission: a task had failed, so it could never run");
         }
     }
     let prepared = slurm::prepare(&config, &plan)?;
-    let dir = plan.out.display();
-    if plan.out.starts_with("/tmp") || plan.out.starts_with("/dev/shm") {
-        eprintln!("packbed: note: {dir} is usually local to each node; on a cluster of several nodes put --out on a shared file system");
+    if let Some(note) = plan.local_dir_note() {
+        eprintln!("packbed: note: {note}");
     }
     print!(
         "{}",
@@ -109,7 +99,11 @@ pub fn slurm(args: SlurmArgs) -> Result<()> {
     match slurm::wait(&plan, &jobs, Duration::from_secs(2))? {
         WaitOutcome::Done => {
             let log = plan.merge_log();
-            println!("done: ensemble files in {dir} (log {})", log.display());
+            println!(
+                "done: ensemble files in {} (log {})",
+                plan.out.display(),
+                log.display()
+            );
             Ok(())
         }
         WaitOutcome::Failed(failures) => {

@@ -243,6 +243,17 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_usage_error_folds_into_one_line() {
+        let clap = "error: unexpected argument '--bogus' found\n\n  tip: use '-- --bogus'\n\n\
+                    Usage: packbed run [OPTIONS]\n\nFor more information, try '--help'.\n";
+        assert_eq!(
+            usage_line(clap),
+            "unexpected argument '--bogus' found tip: use '-- --bogus' (usage: packbed run [OPTIONS])"
+        );
+        assert_eq!(usage_line("\n"), "invalid arguments (see `packbed --help`)");
+    }
+
+    #[test]
     fn echoed_values_are_short_and_inert() {
         assert_eq!(echo("1.5e3"), "1.5e3");
         assert_eq!(echo("a\u{1b}[31mb\u{7}"), "a\\u{1b}[31mb\\u{7}");

@@ -449,3 +449,36 @@ impl FragmentedBed {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_picture_is_png_or_svg_by_its_extension() {
+        assert!(!picture_is_svg(Path::new("a/bed.png")).unwrap());
+        assert!(picture_is_svg(Path::new("bed.SVG")).unwrap());
+        for bad in ["bed.jpg", "bed", "png"] {
+            assert!(picture_is_svg(Path::new(bad)).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn the_replicates_are_those_asked_for_else_the_configs() {
+        let mut c = Config::default();
+        assert_eq!(crate::ensemble::runs_of(Some(7), &c).unwrap(), 7);
+        let e = crate::ensemble::runs_of(None, &c).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::Setting {
+                    setting: "runs",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        c.ensemble = Some(crate::config::EnsembleConfig { runs: 12 });
+        assert_eq!(crate::ensemble::runs_of(None, &c).unwrap(), 12);
+    }
+}

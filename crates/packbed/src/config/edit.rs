@@ -393,10 +393,15 @@ impl Overrides {
         e
     }
 
-    /// Applies every override to `config`; an error names the setting.
+    /// Applies every override to `config`; an error is the setting's
+    /// ([`Error::Setting`]), so that each caller names it its own way (the
+    /// command `--radii`, Python `radii`).
     pub fn apply(&self, config: &mut Config) -> Result<()> {
         for (name, edit) in self.edits() {
-            config.apply(&edit).map_err(|e| e.within(name))?;
+            config.apply(&edit).map_err(|e| match e {
+                Error::Config(message) => Error::setting(name, message),
+                other => other,
+            })?;
         }
         Ok(())
     }

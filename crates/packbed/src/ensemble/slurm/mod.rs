@@ -149,6 +149,41 @@ fn check_directive(setting: &'static str, value: &str, percent: bool, quoted: bo
 }
 
 impl Plan {
+    /// The plan of jobs that run this very binary, writing into `out` (made
+    /// absolute: the jobs start elsewhere).
+    pub fn for_this_binary(
+        out: &Path,
+        runs: u64,
+        tasks: u64,
+        resources: Resources,
+    ) -> Result<Plan> {
+        let io = |path: &Path, source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        };
+        let out = std::path::absolute(out).map_err(|e| io(out, e))?;
+        let exe = std::env::current_exe().map_err(|e| io(Path::new("the packbed binary"), e))?;
+        let binary = exe.canonicalize().map_err(|e| io(&exe, e))?;
+        Ok(Plan {
+            binary,
+            out,
+            runs,
+            tasks,
+            resources,
+        })
+    }
+
+    /// A note when `out` is on a file system usually local to each node.
+    pub fn local_dir_note(&self) -> Option<String> {
+        (self.out.starts_with("/tmp") || self.out.starts_with("/dev/shm")).then(|| {
+            format!(
+                "{} is usually local to each node; on a cluster of several nodes put --out on a \
+                 shared file system",
+                self.out.display()
+            )
+        })
+    }
+
     /// Checks the plan: `1 <= tasks <= runs`, an absolute `DIR` that
     /// `#SBATCH --output` can name, resource values that fit `#SBATCH` lines.
     pub fn check(&self) -> Result<()> {
@@ -650,6 +685,50 @@ mod tests {
     use super::jobs::is_job;
     use super::*;
     use std::process::Command;
+
+    #[test]
+    fn a_failed_submission_names_the_job_that_failed_and_what_a_rerun_does() {
+        let jobs = Submitted {
+            array: "11".into(),
+            merge: "12".into(),
+        };
+        let failure = |what, ended| Failure {
+            what,
+            ended,
+            log: PathBuf::from("/d/logs/x.out"),
+        };
+        let tasks = [
+            failure(Job::Task(3), Ended::Failed(2)),
+            failure(Job::Task(5), Ended::NoStatus),
+        ];
+        let t = failed_text(&jobs, &tasks);
+        assert!(t.starts_with("array job 11: task 3 failed with exit status 2; log: /d/logs/x.out; task 5 did not finish"), "{t}");
+        assert!(
+            t.ends_with("so the merge (job 12) did not run; run the same command again to resume"),
+            "{t}"
+        );
+        let t = failed_text(&jobs, &[failure(Job::Merge, Ended::Failed(1))]);
+        assert!(t.starts_with("merge job 12: the merge failed"), "{t}");
+        assert!(t.contains("the shards are complete"), "{t}");
+    }
+
+    #[test]
+    fn the_texts_list_the_scripts_and_how_to_submit_them() {
+        let p = plan(Path::new("/tmp/ens"));
+        let prepared = Prepared {
+            files: Vec::new(),
+            resumed: true,
+        };
+        let t = prepared_text(&p, 10, &prepared, false);
+        assert!(t.starts_with("packbed slurm: 10 replicates in 4 array tasks, in /tmp/ens (resuming the shards there)\n"), "{t}");
+        assert!(
+            t.contains("sbatch --dependency=afterok:ARRAY_JOB_ID /tmp/ens/merge.sh"),
+            "{t}"
+        );
+        assert!(!prepared_text(&p, 10, &prepared, true).contains("submit with"));
+        assert!(p.local_dir_note().is_some());
+        assert!(plan(Path::new("/scratch/ens")).local_dir_note().is_none());
+    }
 
     fn plan(out: &Path) -> Plan {
         Plan {
