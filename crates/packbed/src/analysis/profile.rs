@@ -17,6 +17,10 @@ use serde::Serialize;
 /// with the bed (imported data with an outlier), not a limit met in practice.
 pub const MAX_SLABS: usize = 1 << 22;
 
+/// At most this many (slab, species) cells, 32 MB of them: 80 species in 4
+/// million slabs once asked for 5 GB (found by the config fuzz target).
+pub const MAX_SLAB_CELLS: usize = 1 << 22;
+
 /// `packing.profile`: solid fraction in slabs of thickness `slab`, bottom to top.
 #[derive(Clone, Debug, Default, Serialize, PartialEq)]
 pub struct Profile {
@@ -70,7 +74,8 @@ pub(crate) fn slab_solids<const D: usize>(
         return empty;
     }
     let n = (h / slab).ceil();
-    if !(n >= 1.0 && n <= MAX_SLABS as Real) {
+    let cells = n * ns.max(1) as Real;
+    if !(n >= 1.0 && n <= MAX_SLABS as Real && cells <= MAX_SLAB_CELLS as Real) {
         return empty;
     }
     let n = n as usize;
@@ -168,6 +173,35 @@ mod tests {
         // Slabs sum to the global fraction.
         let mean: Real = p.iter().map(|e| e.1).sum::<Real>() / 8.0;
         assert!((mean - 10.0 * PI / 4.0 / 20.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn slabs_times_species_are_bounded_not_slabs_alone() {
+        // Two discs of species 0 and 79, 4e6 slabs high: 80 species × 4e6
+        // slabs would be 2.6 GB a table; no profile instead.
+        let mut bed = Bed::new(
+            Container {
+                size: Vector([10.0, 4e6 + 1.0]),
+                periodic: false,
+            },
+            Vec::new(),
+        );
+        bed.push(Vector([2.0, 0.5]), 0.5, 0);
+        bed.push(Vector([5.0, 4e6]), 0.5, 79);
+        let s = slab_solids(
+            &bed,
+            1.0,
+            &bed.radii.iter().map(|r| PI * r * r).collect::<Vec<_>>(),
+        );
+        assert!(s.edges.is_empty());
+        // One species in the same slabs: within both bounds, a profile.
+        bed.species[1] = 0;
+        let s = slab_solids(
+            &bed,
+            1.0,
+            &bed.radii.iter().map(|r| PI * r * r).collect::<Vec<_>>(),
+        );
+        assert!(s.edges.len() > 4_000_000);
     }
 
     proptest! {

@@ -6,7 +6,7 @@
 
 use crate::bed::Bed;
 use crate::math::Real;
-use crate::species::{passing_quantile, Shape, SizeDist, Species};
+use crate::species::{passing_quantile, SizeDist, Species};
 use serde::Serialize;
 
 /// Points of the curve over the window of a continuous distribution.
@@ -69,10 +69,7 @@ impl<'a> Mixture<'a> {
             .iter()
             .filter(|s| s.ratio > 0.0)
             .map(|s| {
-                let beads = match s.shape {
-                    Shape::Sphere => 1.0,
-                    Shape::Chain { beads, .. } => Real::from(beads),
-                };
+                let beads = Real::from(s.shape.beads());
                 (s.ratio / total, beads, &s.size)
             })
             .collect();
@@ -220,6 +217,7 @@ mod tests {
     use crate::bed::Bed;
     use crate::container::Container;
     use crate::math::Vector;
+    use crate::species::Shape;
 
     fn species(size: SizeDist) -> Species {
         Species {

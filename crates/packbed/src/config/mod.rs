@@ -1167,10 +1167,7 @@ impl Config {
         // Beads, not bodies: each bead of a chain is a particle of the bed.
         let beads = species
             .iter()
-            .map(|s| match s.shape {
-                Shape::Chain { beads, .. } => beads as Real,
-                Shape::Sphere => 1.0,
-            })
+            .map(|s| Real::from(s.shape.beads()))
             .fold(1.0, Real::max);
         let estimate = match fill {
             Fill::Count(n) => n as Real * beads,
@@ -1239,16 +1236,21 @@ impl<const D: usize> Plan<D> {
     /// See [`Config::estimated_particles`].
     pub fn estimated_particles(&self) -> u64 {
         if let Fill::Count(n) = self.fill {
-            return n;
+            // The last body may overshoot the count by all but one of its beads
+            // (one chain of 34444 beads for a count of 54).
+            let beads = self
+                .species
+                .iter()
+                .map(|s| s.shape.beads())
+                .max()
+                .unwrap_or(1);
+            return n.saturating_add(beads as u64 - 1);
         }
         // Mean volume per particle (bead), weighting each species by its ratio
         // and its beads per body.
         let (mut beads, mut volume) = (0.0, 0.0);
         for s in &self.species {
-            let n = match s.shape {
-                Shape::Sphere => 1.0,
-                Shape::Chain { beads, .. } => beads as Real,
-            };
+            let n = Real::from(s.shape.beads());
             beads += s.ratio * n;
             volume += s.ratio * n * crate::math::ball_volume::<D>(s.size.median());
         }
@@ -1388,14 +1390,7 @@ impl BoxConfig {
                     // 2D: 15 large diameters; 3D: 6. 2D chains stretch the box by beads/2.
                     let mut side = if D == 2 { 30.0 * r_max } else { 12.0 * r_max };
                     if D == 2 {
-                        let beads = species
-                            .iter()
-                            .map(|s| match s.shape {
-                                crate::species::Shape::Chain { beads, .. } => beads,
-                                _ => 1,
-                            })
-                            .max()
-                            .unwrap_or(1);
+                        let beads = species.iter().map(|s| s.shape.beads()).max().unwrap_or(1);
                         if beads > 2 {
                             side *= beads as Real / 2.0;
                         }
@@ -1463,5 +1458,14 @@ mod bounds_tests {
         assert_eq!(own_overlaps(100_000, 1e-6), 99_999);
         assert_eq!(own_overlaps(3, 1e-300), 2);
         assert_eq!(own_overlaps(66, 2.0 / 65.0), 64);
+    }
+
+    #[test]
+    fn a_count_estimate_includes_the_last_chains_overshoot() {
+        let mut c = Config::default();
+        c.apply(&Edit::Count(54)).unwrap();
+        assert_eq!(c.estimated_particles(), 54);
+        c.apply(&Edit::Beads(5)).unwrap();
+        assert_eq!(c.estimated_particles(), 58);
     }
 }

@@ -5,6 +5,7 @@
 use super::body::{Chain, Dropper, Sphere};
 use super::roll::Terrain;
 use super::Engine;
+use crate::config::Fill;
 use crate::container::Wall;
 use crate::geometry::{intersection_points, Surface};
 use crate::math::{Real, Vector};
@@ -14,6 +15,11 @@ use crate::species::Orientation;
 /// (per particle that fits on the floor); the sweep then fills what is left.
 const BASE_LAYER_PATIENCE: u64 = 10;
 
+/// The bed size a roof-filled bed's patience assumes at least: its estimate
+/// (by the mean particle) is rough, and no floor of an ordinary bed holds
+/// more than this many of its smallest particles.
+const ROOF_BED_AT_LEAST: u64 = 1_000_000;
+
 impl<const D: usize> Engine<'_, D> {
     /// Random particles resting on the floor until saturated, then the sweep
     /// ([`Self::sweep`]).
@@ -21,7 +27,15 @@ impl<const D: usize> Engine<'_, D> {
         let target = self.target();
         let c = self.plan.container;
         let floor_area: Real = (0..D - 1).map(|k| c.size[k]).product();
-        let patience = random_phase_patience::<D>(&self.plan.species, floor_area);
+        // Never more failures in a row than ten per particle the bed will
+        // hold: a floor of 1e31 footprints of a species drawn once in 1e17
+        // tries (radii 2e16 and 20) set a patience of 1e32 for a bed of 54.
+        let bed_size = match self.plan.fill {
+            Fill::Count(n) => n,
+            Fill::Roof { .. } => self.plan.estimated_particles().max(ROOF_BED_AT_LEAST),
+        };
+        let patience = random_phase_patience::<D>(&self.plan.species, floor_area)
+            .min(BASE_LAYER_PATIENCE.saturating_mul(bed_size.max(1)));
         let mut failures = 0;
         while failures < patience && (self.bed.len() as u64) < target {
             let (s, r) = self.draw_particle();

@@ -220,10 +220,7 @@ pub(crate) fn grid_levels<const D: usize>(species: &[Species]) -> Levels {
         .map(|_| {
             let s = &species[picker.pick(&mut rng)];
             let r = s.size.sample(&mut rng);
-            let beads = match s.shape {
-                Shape::Sphere => 1.0,
-                Shape::Chain { beads, .. } => Real::from(beads),
-            };
+            let beads = Real::from(s.shape.beads());
             (r, beads)
         })
         .collect();

@@ -249,6 +249,16 @@ pub enum Shape {
     },
 }
 
+impl Shape {
+    /// Particles (beads) per body: 1 for a sphere.
+    pub fn beads(&self) -> u32 {
+        match self {
+            Shape::Sphere => 1,
+            Shape::Chain { beads, .. } => *beads,
+        }
+    }
+}
+
 /// Orientation of a chain's axis when it enters the box.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Orientation {

@@ -501,6 +501,19 @@ fn a_species_too_rare_to_be_drawn_does_not_stall_the_base_layer() {
     assert_valid(&b, false, "rare species");
 }
 
+#[test]
+fn a_floor_too_wide_to_saturate_does_not_stall_the_base_layer() {
+    // Radius 2.2e16 nearly always, radius 20 once in 2e17 draws: the floor of
+    // a box sized for 54 of the large ones holds 1e31 of the small, and the
+    // random phase once waited for ten failures in a row per footprint.
+    let toml = "dim = 3\nseed = 1\n\n[box]\nperiodic = true\n\n[fill]\ncount = 54\n\n\
+                [[species]]\nradius = 2.2222222222222222e16\nratio = 1.1191110111179e20\n\n\
+                [[species]]\nradius = 20\nratio = 500\n";
+    let (b, _) = run::<3>(&crate::common::config(toml));
+    assert_eq!(b.len(), 54);
+    assert_valid(&b, false, "wide floor");
+}
+
 // ---------------------------------------------------------------------------
 // 2. Reference values on large periodic beds
 // ---------------------------------------------------------------------------
