@@ -73,7 +73,7 @@ pub fn bench(args: BenchArgs) -> Result<()> {
             (bed, r)
         }
         None => {
-            let mut progress = Progress::new(&spec.config(), args.json);
+            let mut progress = Progress::new(spec.config().estimated_particles(), args.json);
             let built = bench::deposit(&spec, &mut |n| progress.update(n));
             progress.finish();
             built.context("bench")?

@@ -2,7 +2,6 @@
 //! run has lasted long enough for them to help.
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use packbed::config::Config;
 use packbed::mechanics::Breaks;
 use std::io::IsTerminal;
 use std::time::{Duration, Instant};
@@ -20,12 +19,12 @@ pub struct Progress {
 }
 
 impl Progress {
-    /// Particles placed in the bed of `config`; silent if `quiet` or stderr
+    /// Particles placed against an `estimate`; silent if `quiet` or stderr
     /// is not a terminal.
-    pub fn new(config: &Config, quiet: bool) -> Progress {
+    pub fn new(estimate: u64, quiet: bool) -> Progress {
         Progress::with(
             quiet,
-            Some(config.estimated_particles()),
+            Some(estimate),
             "{spinner} {human_pos}/~{human_len} particles  {msg}  [{bar:30}]",
         )
     }

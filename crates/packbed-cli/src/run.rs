@@ -60,11 +60,18 @@ impl FileArgs {
 
 /// Runs `packbed run`.
 pub fn run(args: RunArgs) -> Result<()> {
-    let config = load(&args)?;
+    let config = read_config(args.config.as_deref(), &args.overrides)?;
+    // Planned (validated) once, before any work or output.
+    let plan = config
+        .planned()
+        .with_context(|| source_name(args.config.as_deref(), &args.overrides))?;
     let extras = args.files.extras();
     check_out_dir(&args.out)?;
-    let mut progress = Progress::new(&config, args.files.shown.quiet);
-    let finished = packbed::run_bed(&config, &mut |n| progress.update(n));
+    let mut progress = Progress::new(plan.estimated_particles(), args.files.shown.quiet);
+    let finished = packbed::run_planned(&config, &plan, &mut |n| {
+        progress.update(n);
+        std::ops::ControlFlow::Continue(())
+    });
     progress.finish();
     let finished = finished?;
     let written = finished.write_with(&args.out, &extras)?;
@@ -76,16 +83,6 @@ pub fn run(args: RunArgs) -> Result<()> {
     }
     eprint!("{}", text::warning_lines(&written.warnings));
     Ok(())
-}
-
-/// The config file (or the default) with the overrides applied, validated.
-fn load(args: &RunArgs) -> Result<Config> {
-    let config = read_config(args.config.as_deref(), &args.overrides)?;
-    // Validate now, so that a bad config fails before any work or output.
-    config
-        .validate()
-        .with_context(|| source_name(args.config.as_deref(), &args.overrides))?;
-    Ok(config)
 }
 
 /// The config file (or the default) with the overrides applied, not validated.

@@ -124,6 +124,6 @@ pub use output::RunExtras;
 pub use pipeline::render_to;
 pub use pipeline::{
     analyze_bed, analyze_file, analyze_read_bed, check_box_hint, fragment_file, fragment_file_with,
-    fragment_read_bed, picture_is_svg, run_bed, run_bed_or_stop, AnalyzedBed, AnyFragmentation,
-    FinishedBed, FragmentedBed,
+    fragment_read_bed, picture_is_svg, run_bed, run_bed_or_stop, run_planned, AnalyzedBed,
+    AnyFragmentation, FinishedBed, FragmentedBed,
 };

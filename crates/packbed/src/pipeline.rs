@@ -43,8 +43,18 @@ pub fn run_bed(config: &Config, progress: &mut dyn FnMut(u64)) -> Result<Finishe
 /// [`run_bed`] that stops with [`Error::Interrupted`](crate::Error::Interrupted)
 /// when `progress` breaks (checked every 4096 particles).
 pub fn run_bed_or_stop(config: &Config, progress: &mut Progress) -> Result<FinishedBed> {
+    run_planned(config, &config.planned()?, progress)
+}
+
+/// [`run_bed_or_stop`] of `config` planned already (`plan` is
+/// `config.planned()`): a run plans its config once.
+pub fn run_planned(
+    config: &Config,
+    plan: &crate::config::AnyPlan,
+    progress: &mut Progress,
+) -> Result<FinishedBed> {
     let start = Instant::now();
-    let (bed, deposit) = crate::deposit::build(config, progress)?;
+    let (bed, deposit) = crate::deposit::build_planned(plan, progress)?;
     let (contacts, summary) = match &bed {
         AnyBed::D2(b) => analyse(config, b, &deposit, start)?,
         AnyBed::D3(b) => analyse(config, b, &deposit, start)?,

@@ -742,6 +742,25 @@ pub enum Fill {
     Count(u64),
 }
 
+/// A plan of either dimension, as [`Config::planned`] makes it.
+#[derive(Clone, Debug)]
+pub enum AnyPlan {
+    /// A 2D plan.
+    D2(Plan<2>),
+    /// A 3D plan.
+    D3(Plan<3>),
+}
+
+impl AnyPlan {
+    /// See [`Config::estimated_particles`].
+    pub fn estimated_particles(&self) -> u64 {
+        match self {
+            AnyPlan::D2(p) => p.estimated_particles(),
+            AnyPlan::D3(p) => p.estimated_particles(),
+        }
+    }
+}
+
 /// A validated configuration in the engine's terms, for dimension `D`.
 #[derive(Clone, Debug)]
 pub struct Plan<const D: usize> {
@@ -1099,9 +1118,15 @@ impl Config {
 
     /// Validates the configuration for its own dimension (see [`Config::plan`]).
     pub fn validate(&self) -> Result<()> {
+        self.planned().map(drop)
+    }
+
+    /// The plan of this config in its own dimension: validated once, its PSD
+    /// tables read once, then passed down to the deposition.
+    pub fn planned(&self) -> Result<AnyPlan> {
         match self.dim {
-            2 => self.plan::<2>().map(drop),
-            3 => self.plan::<3>().map(drop),
+            2 => self.plan::<2>().map(AnyPlan::D2),
+            3 => self.plan::<3>().map(AnyPlan::D3),
             d => Err(Error::config(format!("dim must be 2 or 3, got {d}"))),
         }
     }
@@ -1226,8 +1251,8 @@ impl Config {
     /// the config is invalid. For progress bars.
     pub fn estimated_particles(&self) -> u64 {
         match self.dim {
-            2 => self.plan::<2>().map_or(0, |p| p.estimated_particles()),
-            _ => self.plan::<3>().map_or(0, |p| p.estimated_particles()),
+            2 | 3 => self.planned().map_or(0, |p| p.estimated_particles()),
+            _ => 0,
         }
     }
 }

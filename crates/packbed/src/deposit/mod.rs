@@ -9,7 +9,7 @@ pub(crate) mod roll;
 pub mod rsa;
 
 use crate::bed::{AnyBed, Bed};
-use crate::config::{BaseLayerKind, Config, Fill, Mode, Plan};
+use crate::config::{AnyPlan, BaseLayerKind, Config, Fill, Mode, Plan};
 use crate::error::{Error, Result};
 use crate::grid::{Grid, Levels};
 use crate::math::{Real, Vector};
@@ -242,11 +242,13 @@ pub fn deposit<const D: usize>(
 
 /// Builds the bed a configuration describes, in its dimension.
 pub fn build(config: &Config, progress: &mut Progress) -> Result<(AnyBed, DepositReport)> {
-    match config.dim {
-        2 => deposit(&config.plan::<2>()?, progress).map(|(b, r)| (AnyBed::D2(b), r)),
-        3 => deposit(&config.plan::<3>()?, progress).map(|(b, r)| (AnyBed::D3(b), r)),
-        d => Err(crate::error::Error::config(format!(
-            "dim must be 2 or 3, got {d}"
-        ))),
+    build_planned(&config.planned()?, progress)
+}
+
+/// [`build`] of a config planned already.
+pub fn build_planned(plan: &AnyPlan, progress: &mut Progress) -> Result<(AnyBed, DepositReport)> {
+    match plan {
+        AnyPlan::D2(p) => deposit(p, progress).map(|(b, r)| (AnyBed::D2(b), r)),
+        AnyPlan::D3(p) => deposit(p, progress).map(|(b, r)| (AnyBed::D3(b), r)),
     }
 }
