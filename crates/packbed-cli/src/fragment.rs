@@ -4,7 +4,7 @@
 use crate::bed_file::{parsed, BedFileArgs};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use packbed::mechanics::{Breaks, Load, Options};
+use packbed::mechanics::{Breaks, FragmentationConfig, Load};
 use packbed::output::text;
 use std::path::PathBuf;
 
@@ -36,7 +36,7 @@ pub struct FragmentArgs {
 
 /// Runs `packbed fragment`.
 pub fn fragment(args: FragmentArgs) -> Result<()> {
-    let options = Options {
+    let options = FragmentationConfig {
         load: args.load,
         breaks: args.breaks,
         kt_over_kn: args.kt_kn,

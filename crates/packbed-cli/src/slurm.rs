@@ -5,7 +5,7 @@
 use crate::overrides::at_least_one;
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use packbed::ensemble::slurm::{self, Plan, Resources, WaitOutcome};
+use packbed::ensemble::slurm::{self, JobArray, Resources, WaitOutcome};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -73,7 +73,7 @@ pub fn slurm(args: SlurmArgs) -> Result<()> {
         account: args.account,
         extra: args.sbatch_args,
     };
-    let plan = Plan::for_this_binary(&args.out, runs, args.tasks as u64, resources)
+    let plan = JobArray::for_this_binary(&args.out, runs, args.tasks as u64, resources)
         .with_context(|| format!("--out {}", args.out.display()))?;
     if args.submit {
         for id in slurm::clear_queue(&plan)? {

@@ -9,7 +9,7 @@ use crate::errors::{config as config_error, to_py};
 use numpy::ndarray::ArrayView1;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use packbed::io::tables::particles_header;
-use packbed::mechanics::Options as FragmentOptions;
+use packbed::mechanics::FragmentationConfig as FragmentOptions;
 use packbed::{AnalysisConfig, AnyBed, BoxHint, BoxSource, FinishedBed, ReadReport, RunExtras};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;

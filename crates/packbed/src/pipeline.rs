@@ -322,7 +322,7 @@ pub struct FragmentedBed {
 pub fn fragment_file(
     path: &Path,
     hint: Option<&BoxHint>,
-    options: &mechanics::Options,
+    options: &mechanics::FragmentationConfig,
     contact_tol: crate::math::Real,
 ) -> Result<FragmentedBed> {
     fragment_file_with(path, hint, options, contact_tol, &mut |_| {})
@@ -332,7 +332,7 @@ pub fn fragment_file(
 pub fn fragment_file_with(
     path: &Path,
     hint: Option<&BoxHint>,
-    options: &mechanics::Options,
+    options: &mechanics::FragmentationConfig,
     contact_tol: crate::math::Real,
     progress: &mut dyn FnMut(u64),
 ) -> Result<FragmentedBed> {
@@ -358,7 +358,7 @@ pub fn fragment_read_bed(
     source: &str,
     bed: AnyBed,
     read: &ReadReport,
-    options: &mechanics::Options,
+    options: &mechanics::FragmentationConfig,
     contact_tol: crate::math::Real,
     read_seconds: f64,
 ) -> Result<FragmentedBed> {
@@ -377,7 +377,7 @@ fn fragment_bed(
     source: &str,
     bed: AnyBed,
     read: &ReadReport,
-    options: &mechanics::Options,
+    options: &mechanics::FragmentationConfig,
     contact_tol: crate::math::Real,
     read_seconds: f64,
     progress: &mut dyn FnMut(u64),
@@ -409,7 +409,7 @@ fn fragment_read<const D: usize>(
     bed: &Bed<D>,
     (read, options, contact_tol, read_seconds): (
         &ReadReport,
-        &mechanics::Options,
+        &mechanics::FragmentationConfig,
         crate::math::Real,
         f64,
     ),

@@ -14,7 +14,7 @@ pub mod spring;
 
 use crate::analysis::Contacts;
 use crate::bed::Bed;
-pub use crate::config::fragmentation::{Breaks, FragmentationConfig as Options, Load};
+pub use crate::config::fragmentation::{Breaks, FragmentationConfig, Load};
 use crate::error::{Error, Result};
 use crate::math::{Real, Vector};
 pub use loads::{AppliedLoad, TOTAL};
@@ -109,7 +109,7 @@ impl<const D: usize> Fragmentation<D> {
 pub fn fragment<const D: usize>(
     bed: &Bed<D>,
     contacts: &Contacts,
-    options: &Options,
+    options: &FragmentationConfig,
 ) -> Result<Fragmentation<D>> {
     solve_and_break(bed, contacts, options, true, &mut |_| {})
 }
@@ -119,7 +119,7 @@ pub fn fragment<const D: usize>(
 pub fn fragment_with<const D: usize>(
     bed: &Bed<D>,
     contacts: &Contacts,
-    options: &Options,
+    options: &FragmentationConfig,
     progress: &mut dyn FnMut(u64),
 ) -> Result<Fragmentation<D>> {
     solve_and_break(bed, contacts, options, true, progress)
@@ -130,7 +130,7 @@ pub fn fragment_with<const D: usize>(
 pub fn forces<const D: usize>(
     bed: &Bed<D>,
     contacts: &Contacts,
-    options: &Options,
+    options: &FragmentationConfig,
 ) -> Result<Fragmentation<D>> {
     solve_and_break(bed, contacts, options, false, &mut |_| {})
 }
@@ -138,7 +138,7 @@ pub fn forces<const D: usize>(
 fn solve_and_break<const D: usize>(
     bed: &Bed<D>,
     contacts: &Contacts,
-    options: &Options,
+    options: &FragmentationConfig,
     breaking: bool,
     progress: &mut dyn FnMut(u64),
 ) -> Result<Fragmentation<D>> {
@@ -437,7 +437,7 @@ mod tests {
             ],
         );
         let contacts = crate::analysis::find_contacts(&bed, 1e-6);
-        let options = Options::default();
+        let options = FragmentationConfig::default();
         let intact = forces(&bed, &contacts, &options).unwrap();
         let broken = fragment(&bed, &contacts, &options).unwrap();
         assert!(intact.steps.is_empty() && intact.summary.breaks == 0);

@@ -376,7 +376,7 @@ pub fn palette<const D: usize>(
                     &owned
                 }
             };
-            let options = crate::mechanics::Options::default();
+            let options = crate::mechanics::FragmentationConfig::default();
             let frag = crate::mechanics::forces(bed, contacts, &options)?;
             let f = fragmentation::particle_forces(bed, &frag);
             let largest = f.iter().copied().fold(0.0, f64::max);

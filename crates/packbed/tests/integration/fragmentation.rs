@@ -19,7 +19,7 @@ use packbed::bed::Bed;
 use packbed::container::Wall;
 use packbed::math::{Real, Vector};
 use packbed::mechanics::solver::{Solver, Springs};
-use packbed::mechanics::{fragment, Breaks, Fragmentation, Load, Options};
+use packbed::mechanics::{fragment, Breaks, Fragmentation, FragmentationConfig, Load};
 use packbed::AnyBed;
 
 type V3 = [Real; 3];
@@ -702,7 +702,7 @@ fn compare<const D: usize>(
     let what = format!("{what}, {}, kt {kt}", load.name());
     let contacts = find_contacts(bed, 1e-6);
     let net = network(bed, &contacts, load);
-    let options = Options {
+    let options = FragmentationConfig {
         load,
         breaks,
         kt_over_kn: kt,
@@ -943,7 +943,12 @@ fn dense_reference_hand_made_chains() {
     // that disc's image at x = 8: n = (1, √3)/2, point (7.5, 1 + 1.5√3),
     // arm from the reference point (−0.5, √3/2) (not 7.5 − 0 = 7.5 wide).
     let bed = straddling_chain();
-    let f = fragment(&bed, &find_contacts(&bed, 1e-6), &Options::default()).unwrap();
+    let f = fragment(
+        &bed,
+        &find_contacts(&bed, 1e-6),
+        &FragmentationConfig::default(),
+    )
+    .unwrap();
     assert!((f.bodies.reach[0] - 2.0).abs() < 1e-12);
     let x0 = f.bodies.reference[0][0].rem_euclid(8.0);
     assert!(x0.abs() < 1e-12 || (x0 - 8.0).abs() < 1e-12, "{x0}");
@@ -960,9 +965,9 @@ fn dense_reference_hand_made_chains() {
     let f = fragment(
         &bed,
         &find_contacts(&bed, 1e-6),
-        &Options {
+        &FragmentationConfig {
             load: Load::Gravity,
-            ..Options::default()
+            ..FragmentationConfig::default()
         },
     )
     .unwrap();
@@ -1046,7 +1051,7 @@ fn the_study_s_relaxation_agrees() {
         let frag = fragment(
             &bed,
             &contacts,
-            &Options {
+            &FragmentationConfig {
                 load,
                 breaks: Breaks::Count(1),
                 kt_over_kn: 1.0,
@@ -1334,7 +1339,7 @@ fn check_equilibrium<const D: usize>(
     let frag = fragment(
         bed,
         contacts,
-        &Options {
+        &FragmentationConfig {
             load,
             breaks: Breaks::Count(1),
             kt_over_kn: kt,

@@ -11,8 +11,8 @@ mod ensemble;
 mod fragmentation;
 mod length_scale;
 mod physics;
+mod regressions;
 #[cfg(feature = "render")]
 mod render;
 mod rsa;
 mod sizes;
-mod trust;

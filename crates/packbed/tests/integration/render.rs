@@ -915,11 +915,11 @@ fn deposited<const D: usize>(periodic: bool, count: u64) -> Bed<D> {
 
 #[test]
 fn fragmentation_pictures_2d_draw_every_bond_and_number_every_break() {
-    use packbed::mechanics::{fragment, Options};
+    use packbed::mechanics::{fragment, FragmentationConfig};
     for periodic in [false, true] {
         let bed = deposited::<2>(periodic, 120);
         let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
-        let frag = fragment(&bed, &contacts, &Options::default()).unwrap();
+        let frag = fragment(&bed, &contacts, &FragmentationConfig::default()).unwrap();
         let what = format!("2D periodic {periodic}");
         let pics = check_fragmentation_pictures(&bed, &frag, &what);
         if periodic {
@@ -939,12 +939,12 @@ fn fragmentation_pictures_2d_draw_every_bond_and_number_every_break() {
 
 #[test]
 fn fragmentation_pictures_3d_are_a_projection_with_numbered_breaks() {
-    use packbed::mechanics::{fragment, Breaks, Options};
+    use packbed::mechanics::{fragment, Breaks, FragmentationConfig};
     let bed = deposited::<3>(false, 150);
     let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
-    let options = Options {
+    let options = FragmentationConfig {
         breaks: Breaks::Count(12),
-        ..Options::default()
+        ..FragmentationConfig::default()
     };
     let frag = fragment(&bed, &contacts, &options).unwrap();
     let pics = check_fragmentation_pictures(&bed, &frag, "3D");
@@ -961,12 +961,12 @@ fn fragmentation_pictures_3d_are_a_projection_with_numbered_breaks() {
 
 #[test]
 fn many_breaks_are_coloured_by_order_and_only_the_first_numbered() {
-    use packbed::mechanics::{fragment, Breaks, Options};
+    use packbed::mechanics::{fragment, Breaks, FragmentationConfig};
     let bed = deposited::<3>(false, 150);
     let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
-    let options = Options {
+    let options = FragmentationConfig {
         breaks: Breaks::Count(60),
-        ..Options::default()
+        ..FragmentationConfig::default()
     };
     let frag = fragment(&bed, &contacts, &options).unwrap();
     assert_eq!(frag.steps.len(), 60);
@@ -997,10 +997,10 @@ fn many_breaks_are_coloured_by_order_and_only_the_first_numbered() {
 
 #[test]
 fn fragmentation_pictures_refuse_another_beds_fragmentation() {
-    use packbed::mechanics::{fragment, Options};
+    use packbed::mechanics::{fragment, FragmentationConfig};
     let bed = bed2();
     let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
-    let frag = fragment(&bed, &contacts, &Options::default()).unwrap();
+    let frag = fragment(&bed, &contacts, &FragmentationConfig::default()).unwrap();
     let mut other = bed.clone();
     other.push(Vector([100.0, 120.0]), 5.0, 1);
     let e = render::fragmentation_pictures(&other, &frag).unwrap_err();
@@ -1009,11 +1009,11 @@ fn fragmentation_pictures_refuse_another_beds_fragmentation() {
 
 #[test]
 fn force_colours_follow_the_bond_forces_under_shear() {
-    use packbed::mechanics::{fragment, Options};
+    use packbed::mechanics::{fragment, FragmentationConfig};
     let bed = bed2();
     let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
     let pal = render::palette(&bed, &ColorBy::Force, Some(&contacts)).unwrap();
-    let frag = fragment(&bed, &contacts, &Options::default()).unwrap();
+    let frag = fragment(&bed, &contacts, &FragmentationConfig::default()).unwrap();
     let f = render::fragmentation::particle_forces(&bed, &frag);
     let top = f.iter().copied().fold(0.0, f64::max);
     assert!(top > 0.0 && f.iter().all(|v| v.is_finite() && *v >= 0.0));
@@ -1053,7 +1053,7 @@ fn fragment_pictures_that_cannot_be_drawn_leave_the_tables_and_a_warning() {
         size: vec![100.0, 100.0],
         periodic: false,
     };
-    let options = packbed::mechanics::Options {
+    let options = packbed::mechanics::FragmentationConfig {
         load: packbed::mechanics::Load::Gravity,
         breaks: packbed::mechanics::Breaks::Count(1),
         kt_over_kn: 1.0,

@@ -1,7 +1,7 @@
-//! Running Slurm's commands for a [`Plan`]: `sbatch` (submit), `squeue`
+//! Running Slurm's commands for a [`JobArray`]: `sbatch` (submit), `squeue`
 //! (what is queued), `scancel`, and waiting for the jobs to end.
 
-use super::{clear_statuses, ended, failed_tasks, parse_job_id, Ended, Failure, Job, Plan};
+use super::{clear_statuses, ended, failed_tasks, parse_job_id, Ended, Failure, Job, JobArray};
 use crate::error::{Error, Result};
 use std::fs;
 use std::path::Path;
@@ -64,7 +64,7 @@ pub struct Submitted {
 }
 
 /// Submits `array.sh`, then `merge.sh` depending on it (`afterok`).
-pub fn submit(plan: &Plan) -> Result<Submitted> {
+pub fn submit(plan: &JobArray) -> Result<Submitted> {
     clear_statuses(plan)?;
     let sbatch = |args: &[&str]| -> Result<String> {
         let out = slurm_command("sbatch", args, &plan.out)?;
@@ -150,7 +150,7 @@ pub fn queue() -> Result<Vec<QueuedJob>> {
 /// `DependencyNeverSatisfied`) and returns their ids; refuses while other
 /// jobs of earlier submissions there are queued or running, since two tasks
 /// writing one shard would spoil it.
-pub fn clear_queue(plan: &Plan) -> Result<Vec<String>> {
+pub fn clear_queue(plan: &JobArray) -> Result<Vec<String>> {
     let Ok(real) = fs::canonicalize(&plan.out) else {
         return Ok(Vec::new());
     };
@@ -198,7 +198,7 @@ pub enum WaitOutcome {
 /// Waits until the array and the merge of `jobs` have left the queue,
 /// polling `squeue` every `poll`, and reads their status files. A merge that
 /// can never run (a task failed) is cancelled rather than waited for.
-pub fn wait(plan: &Plan, jobs: &Submitted, poll: Duration) -> Result<WaitOutcome> {
+pub fn wait(plan: &JobArray, jobs: &Submitted, poll: Duration) -> Result<WaitOutcome> {
     let mut squeue_errors = 0;
     let mut grace = 0;
     loop {

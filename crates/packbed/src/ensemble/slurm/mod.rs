@@ -63,7 +63,7 @@ pub struct Resources {
 
 /// What `packbed slurm` arranges: everything the scripts are made of.
 #[derive(Clone, Debug)]
-pub struct Plan {
+pub struct JobArray {
     /// Absolute path of the `packbed` binary the jobs run.
     pub binary: PathBuf,
     /// Absolute output directory `DIR`.
@@ -148,7 +148,7 @@ fn check_directive(setting: &'static str, value: &str, percent: bool, quoted: bo
     }
 }
 
-impl Plan {
+impl JobArray {
     /// The plan of jobs that run this very binary, writing into `out` (made
     /// absolute: the jobs start elsewhere).
     pub fn for_this_binary(
@@ -156,7 +156,7 @@ impl Plan {
         runs: u64,
         tasks: u64,
         resources: Resources,
-    ) -> Result<Plan> {
+    ) -> Result<JobArray> {
         let io = |path: &Path, source| Error::Io {
             path: path.to_path_buf(),
             source,
@@ -164,7 +164,7 @@ impl Plan {
         let out = std::path::absolute(out).map_err(|e| io(out, e))?;
         let exe = std::env::current_exe().map_err(|e| io(Path::new("the packbed binary"), e))?;
         let binary = exe.canonicalize().map_err(|e| io(&exe, e))?;
-        Ok(Plan {
+        Ok(JobArray {
             binary,
             out,
             runs,
@@ -436,7 +436,7 @@ pub struct Prepared {
 /// and the `shards/` and `logs/` directories. Nothing is written when a check
 /// fails: a `DIR` that is not new, empty or an ensemble of this config, shards
 /// of another task count, a directory that cannot be written.
-pub fn prepare(config: &Config, plan: &Plan) -> Result<Prepared> {
+pub fn prepare(config: &Config, plan: &JobArray) -> Result<Prepared> {
     plan.check()?;
     super::validate(config)?;
     let (text, task) = config_text(config, plan.runs)?;
@@ -584,7 +584,7 @@ impl std::fmt::Display for Failure {
 }
 
 /// The tasks of `plan` that did not succeed, by their status files.
-pub fn failed_tasks(plan: &Plan) -> Vec<Failure> {
+pub fn failed_tasks(plan: &JobArray) -> Vec<Failure> {
     (0..plan.tasks)
         .filter_map(|k| {
             let e = ended(&plan.task_status(k));
@@ -598,7 +598,7 @@ pub fn failed_tasks(plan: &Plan) -> Vec<Failure> {
 }
 
 /// Removes the status files of earlier submissions, before submitting again.
-pub fn clear_statuses(plan: &Plan) -> Result<()> {
+pub fn clear_statuses(plan: &JobArray) -> Result<()> {
     let mut paths: Vec<PathBuf> = (0..plan.tasks).map(|k| plan.task_status(k)).collect();
     paths.push(plan.merge_status());
     for p in paths {
@@ -614,7 +614,7 @@ pub fn clear_statuses(plan: &Plan) -> Result<()> {
 
 /// What `packbed slurm` prints once the scripts are written: where, which
 /// files, and (unless it submits them) how to submit them by hand.
-pub fn prepared_text(plan: &Plan, runs: u64, prepared: &Prepared, submitting: bool) -> String {
+pub fn prepared_text(plan: &JobArray, runs: u64, prepared: &Prepared, submitting: bool) -> String {
     let dir = plan.out.display();
     let resuming = if prepared.resumed {
         " (resuming the shards there)"
@@ -640,7 +640,7 @@ pub fn prepared_text(plan: &Plan, runs: u64, prepared: &Prepared, submitting: bo
 }
 
 /// What `packbed slurm --submit` prints once both jobs are queued.
-pub fn submitted_text(plan: &Plan, jobs: &Submitted, waiting: bool) -> String {
+pub fn submitted_text(plan: &JobArray, jobs: &Submitted, waiting: bool) -> String {
     let mut t = format!(
         "submitted array job {} ({} tasks) and merge job {} (runs when every task succeeded)\n\
          logs: {}\n",
@@ -730,8 +730,8 @@ mod tests {
         assert!(plan(Path::new("/scratch/ens")).local_dir_note().is_none());
     }
 
-    fn plan(out: &Path) -> Plan {
-        Plan {
+    fn plan(out: &Path) -> JobArray {
+        JobArray {
             binary: PathBuf::from("/opt/pack bed/bin/packbed"),
             out: out.to_path_buf(),
             runs: 10,
@@ -847,7 +847,7 @@ mod tests {
     fn checks() {
         let ok = plan(Path::new("/scratch/x"));
         assert!(ok.check().is_ok());
-        let msg = |p: Plan| p.check().unwrap_err().to_string();
+        let msg = |p: JobArray| p.check().unwrap_err().to_string();
         let mut p = ok.clone();
         p.tasks = 11;
         assert!(msg(p).starts_with("tasks: 11 tasks for 10 replicates"));
@@ -913,7 +913,7 @@ mod tests {
             seed: 7,
             ..Config::default()
         };
-        let p = Plan {
+        let p = JobArray {
             out: out.clone(),
             runs: 3,
             tasks: 2,
@@ -947,7 +947,7 @@ mod tests {
     fn nothing_written_on_bad_plan() {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("ens");
-        let p = Plan {
+        let p = JobArray {
             out: out.clone(),
             runs: 3,
             tasks: 5,

@@ -1,4 +1,4 @@
-//! Regression tests of the "trust" review: the source study's fill rule, beds
+//! Regression tests: the source study's fill rule, beds
 //! that must never be written, and measures whose definitions were wrong.
 //! Each test failed on the code before its fix.
 
