@@ -165,6 +165,10 @@ pub fn analyze_read_bed(
     settings.check()?;
     let measures = settings.measures.as_deref().unwrap_or(&Measure::DEFAULT);
     crate::config::check_analysis(bed.len(), bed.dim(), measures, source)?;
+    let spread = crate::bed::each_dim!(&bed, b => spread_in_diameters(b));
+    if let Some(why) = crate::config::pore_space_extent_problem(measures, spread) {
+        return Err(Error::Impossible(format!("{source}: {why}")));
+    }
     let (contacts, summary) = match &bed {
         AnyBed::D2(b) => analyze_read(source, b, read, settings, read_seconds),
         AnyBed::D3(b) => analyze_read(source, b, read, settings, read_seconds),
@@ -241,6 +245,25 @@ pub fn render_to(
         render::render_png(bed, &opts)?
     };
     crate::output::write_file(out, &bytes)
+}
+
+/// The widest side of the box around the particles' centres, in smallest
+/// diameters (0 for an empty bed).
+fn spread_in_diameters<const D: usize>(bed: &Bed<D>) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; D], [f64::NEG_INFINITY; D]);
+    for c in &bed.centres {
+        for k in 0..D {
+            lo[k] = lo[k].min(c[k]);
+            hi[k] = hi[k].max(c[k]);
+        }
+    }
+    let d_min = 2.0 * bed.radii.iter().copied().fold(f64::INFINITY, f64::min);
+    let widest = (0..D).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+    if bed.is_empty() || d_min.is_nan() || d_min <= 0.0 {
+        0.0
+    } else {
+        widest / d_min
+    }
 }
 
 /// Refuses a box given by the caller unless it has two or three positive sizes.
