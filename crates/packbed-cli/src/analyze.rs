@@ -1,7 +1,8 @@
 //! `packbed analyze PATH`: analyse an existing bed file and write the run's
 //! outputs minus the bed files (summary.json, contacts.csv, wall_contacts.csv).
 
-use crate::bed_file::{named, BedFileArgs};
+use crate::bed_file::BedFileArgs;
+use crate::overrides::named;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use packbed::analysis::orientation::AngleFrom;

@@ -51,23 +51,3 @@ impl BedFileArgs {
         }
     }
 }
-
-/// A value the library parses (`--load shear`), for clap.
-pub fn parsed<T: std::str::FromStr<Err = packbed::Error>>(
-    text: &str,
-) -> std::result::Result<T, String> {
-    text.parse().map_err(|e: packbed::Error| e.message())
-}
-
-/// One of `names`, spelt as in a config file (`um`) and read as the library
-/// reads it there, for clap (which lists `names` in the help).
-pub fn named<T>(names: &'static [&'static str]) -> impl clap::builder::TypedValueParser<Value = T>
-where
-    T: serde::de::DeserializeOwned + Clone + Send + Sync + 'static,
-{
-    use clap::builder::TypedValueParser;
-    use serde::de::value::{Error, StrDeserializer};
-    clap::builder::PossibleValuesParser::new(names).try_map(|s: String| {
-        T::deserialize(StrDeserializer::<Error>::new(&s)).map_err(|e| e.to_string())
-    })
-}

@@ -1,7 +1,8 @@
 //! `packbed fragment BED`: contact forces of a bed under load and the order
 //! its bonds break (`spec/fragmentation.md`).
 
-use crate::bed_file::{parsed, BedFileArgs};
+use crate::bed_file::BedFileArgs;
+use crate::overrides::parsed;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use packbed::mechanics::{Breaks, FragmentationConfig, Load};

@@ -1,4 +1,5 @@
-//! The command-line overrides of the common config settings (so that a config
+//! The value parsers of the command's options, and the command-line
+//! overrides of the common config settings (so that a config
 //! file is optional): parsed here, applied by the library's
 //! [`packbed::config::Overrides`], the same edits a sweep makes.
 
@@ -50,7 +51,7 @@ pub struct Overrides {
     #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub seed: Option<u64>,
     /// deposit (drop and roll) or rsa (random sequential addition).
-    #[arg(long, value_parser = crate::bed_file::named::<Mode>(&["deposit", "rsa"]))]
+    #[arg(long, value_parser = named::<Mode>(&["deposit", "rsa"]))]
     pub mode: Option<Mode>,
     /// Percolation threshold: particles with radius >= R count as large.
     #[arg(long, value_name = "R", allow_hyphen_values = true)]
@@ -103,4 +104,24 @@ impl Overrides {
     pub fn apply(&self, config: &mut Config) -> packbed::Result<()> {
         self.settings().apply(config)
     }
+}
+
+/// A value the library parses (`--load shear`), for clap.
+pub fn parsed<T: std::str::FromStr<Err = packbed::Error>>(
+    text: &str,
+) -> std::result::Result<T, String> {
+    text.parse().map_err(|e: packbed::Error| e.message())
+}
+
+/// One of `names`, spelt as in a config file (`um`) and read as the library
+/// reads it there, for clap (which lists `names` in the help).
+pub fn named<T>(names: &'static [&'static str]) -> impl clap::builder::TypedValueParser<Value = T>
+where
+    T: serde::de::DeserializeOwned + Clone + Send + Sync + 'static,
+{
+    use clap::builder::TypedValueParser;
+    use serde::de::value::{Error, StrDeserializer};
+    clap::builder::PossibleValuesParser::new(names).try_map(|s: String| {
+        T::deserialize(StrDeserializer::<Error>::new(&s)).map_err(|e| e.to_string())
+    })
 }
