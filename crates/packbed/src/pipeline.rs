@@ -257,9 +257,9 @@ fn spread_in_diameters<const D: usize>(bed: &Bed<D>) -> f64 {
             hi[k] = hi[k].max(c[k]);
         }
     }
-    let d_min = 2.0 * bed.radii.iter().copied().fold(f64::INFINITY, f64::min);
+    let d_min = 2.0 * bed.r_min();
     let widest = (0..D).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
-    if bed.is_empty() || d_min.is_nan() || d_min <= 0.0 {
+    if d_min.is_nan() || d_min <= 0.0 {
         0.0
     } else {
         widest / d_min
