@@ -199,14 +199,18 @@ pub fn config(data: &[u8]) -> bool {
     };
     let mut accepted = true;
     for c in &points {
-        let planned = match c.dim {
-            2 => c.plan::<2>().is_ok(),
-            _ => c.plan::<3>().is_ok(),
-        };
-        if planned && c.estimated_particles() <= SMALL as u64 {
+        let plan = c.planned();
+        // A deposited bed holds what is drawn, so the guess is close; RSA
+        // rejects large sizes and fills gaps with small ones, so only the
+        // bound keeps its beds small.
+        let small = plan.as_ref().is_ok_and(|p| match c.mode {
+            Mode::Rsa => p.particles_at_most(),
+            Mode::Deposit => p.estimated_particles(),
+        } <= SMALL as u64);
+        if small {
             let _ = packbed::run_bed(c, &mut |_| {});
         }
-        accepted &= planned;
+        accepted &= plan.is_ok();
     }
     accepted
 }

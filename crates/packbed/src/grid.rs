@@ -273,6 +273,12 @@ impl<const D: usize> Grid<D> {
         grid
     }
 
+    /// The cell width along the first axis of the level holding radius `r`.
+    #[cfg(test)]
+    pub(crate) fn cell_width_for(&self, r: Real) -> Real {
+        self.levels[self.plan.of(r)].cell[0]
+    }
+
     /// Reserves room for `n` particles.
     pub fn reserve(&mut self, n: usize) {
         self.next.reserve(n);
