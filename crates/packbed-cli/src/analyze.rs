@@ -5,9 +5,7 @@ use crate::bed_file::BedFileArgs;
 use crate::overrides::named;
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use packbed::analysis::orientation::AngleFrom;
-use packbed::config::{AnalysisConfig, LengthUnit};
-use packbed::output::text;
+use packbed::{text, AnalysisConfig, AngleFrom, LengthUnit};
 use std::path::PathBuf;
 
 /// Arguments of `packbed analyze`.
@@ -20,7 +18,7 @@ pub struct AnalyzeArgs {
     #[arg(long, value_name = "R", allow_hyphen_values = true)]
     pub large: Option<f64>,
     /// Bulk measures are null when the bulk region holds fewer bodies.
-    #[arg(long, value_name = "N", default_value_t = packbed::analysis::BULK_MIN_BODIES)]
+    #[arg(long, value_name = "N", default_value_t = packbed::BULK_MIN_BODIES)]
     pub bulk_min_bodies: u64,
     /// Measure chain angles from the vertical (default) or from the horizontal
     /// (as the source study did).

@@ -5,7 +5,7 @@
 use crate::overrides::{numbers, Numbers};
 use anyhow::{bail, Result};
 use clap::Args;
-use packbed::io::read::BoxHint;
+use packbed::BoxHint;
 use std::path::PathBuf;
 
 /// A bed file and how to read it.
@@ -22,7 +22,7 @@ pub struct BedFileArgs {
     #[arg(long)]
     pub periodic: bool,
     /// Contact tolerance relative to the smaller radius of each pair (0 to 1).
-    #[arg(long, value_name = "T", default_value_t = packbed::config::DEFAULT_CONTACT_TOL,
+    #[arg(long, value_name = "T", default_value_t = packbed::DEFAULT_CONTACT_TOL,
           allow_hyphen_values = true)]
     pub contact_tol: f64,
 }
@@ -45,7 +45,7 @@ impl BedFileArgs {
 
     /// Refuses a contact tolerance outside 0..=1 before any work.
     pub fn check_contact_tol(&self) -> Result<()> {
-        match packbed::config::contact_tol_problem(self.contact_tol, "--contact-tol") {
+        match packbed::contact_tol_problem(self.contact_tol, "--contact-tol") {
             Some(why) => bail!("{why}"),
             None => Ok(()),
         }

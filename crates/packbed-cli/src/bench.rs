@@ -68,7 +68,7 @@ pub fn bench(args: BenchArgs) -> Result<()> {
     };
     let (bed, mut r) = match &args.bed {
         Some(path) => {
-            let bed = packbed::io::read::read_bed(path, None)?;
+            let bed = packbed::read_bed(path, None)?;
             let r = bench::measured(&bed, None);
             (bed, r)
         }

@@ -2,7 +2,7 @@
 
 use anyhow::Result;
 use clap::Args;
-use packbed::ensemble::compare::{compare as compare_groups, read_groups, write_comparison};
+use packbed::compare::{compare as compare_groups, read_groups, write_comparison};
 use std::path::PathBuf;
 
 /// Arguments of `packbed compare`.
@@ -32,7 +32,7 @@ pub fn compare(args: CompareArgs) -> Result<()> {
         .collect();
     println!("packbed compare: {}", beds.join(" against "));
     print!("{}", c.to_text(&args.out));
-    let names = packbed::output::text::file_names(&files);
+    let names = packbed::text::file_names(&files);
     println!("  files in {}: {names}", args.out.display());
     Ok(())
 }

@@ -7,9 +7,7 @@ use crate::run::{check_out_dir, read_config, source_name};
 use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::ProgressDrawTarget;
-use packbed::config::Config;
-use packbed::ensemble::{self, text, Options, Shard, Tick};
-use packbed::output::text::warning_lines;
+use packbed::{text, Config, EnsembleOptions, Shard, Tick};
 use std::path::PathBuf;
 
 /// The replicates of `packbed ensemble` and `packbed slurm`: the config, its
@@ -33,8 +31,8 @@ impl Replicates {
     pub fn load(&self) -> Result<(Config, u64)> {
         let config = read_config(self.config.as_deref(), &self.overrides)?;
         let source = source_name(self.config.as_deref(), &self.overrides);
-        ensemble::validate(&config).with_context(|| source)?;
-        let runs = ensemble::runs_of(self.runs.map(|n| n as u64), &config)?;
+        packbed::validate_ensemble(&config).with_context(|| source)?;
+        let runs = packbed::ensemble_runs(self.runs.map(|n| n as u64), &config)?;
         Ok((config, runs))
     }
 }
@@ -76,7 +74,7 @@ pub struct MergeArgs {
 /// Runs `packbed ensemble`.
 pub fn ensemble(args: EnsembleArgs) -> Result<()> {
     let (config, runs) = args.replicates.load()?;
-    let threads = ensemble::worker_threads(args.jobs);
+    let threads = packbed::worker_threads(args.jobs);
     if let Some(j) = args.jobs.filter(|&j| j > threads) {
         eprintln!("packbed: note: --jobs {j} is more than the {threads} cores here; using {threads} threads");
     }
@@ -85,7 +83,7 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
         None => Shard::ALL,
     };
     check_out_dir(&args.out)?;
-    let opts = Options {
+    let opts = EnsembleOptions {
         runs,
         jobs: args.jobs,
         shard,
@@ -107,7 +105,7 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
             b.set_position(t.done);
         }
     };
-    let outcome = ensemble::run(&config, &opts, &args.out, &tick);
+    let outcome = packbed::run_ensemble(&config, &opts, &args.out, &tick);
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
@@ -119,19 +117,22 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
         );
     }
     if !args.shown.quiet {
-        print!("{}", text::summary(&outcome, &args.out, Some(threads)));
+        print!(
+            "{}",
+            text::ensemble_text(&outcome, &args.out, Some(threads))
+        );
     }
-    eprint!("{}", warning_lines(&outcome.warnings));
+    eprint!("{}", text::warning_lines(&outcome.warnings));
     Ok(())
 }
 
 /// Runs `packbed merge`.
 pub fn merge(args: MergeArgs) -> Result<()> {
     check_out_dir(&args.out)?;
-    let outcome = ensemble::merge_with(&args.dirs, &args.out, !args.shown.no_pictures)?;
+    let outcome = packbed::merge_ensembles(&args.dirs, &args.out, !args.shown.no_pictures)?;
     if !args.shown.quiet {
-        print!("{}", text::summary(&outcome, &args.out, None));
+        print!("{}", text::ensemble_text(&outcome, &args.out, None));
     }
-    eprint!("{}", warning_lines(&outcome.warnings));
+    eprint!("{}", text::warning_lines(&outcome.warnings));
     Ok(())
 }

@@ -5,8 +5,8 @@ use crate::bed_file::BedFileArgs;
 use crate::overrides::parsed;
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use packbed::mechanics::{Breaks, FragmentationConfig, Load};
-use packbed::output::text;
+use packbed::text;
+use packbed::{Breaks, FragmentationConfig, Load};
 use std::path::PathBuf;
 
 /// Arguments of `packbed fragment`.

@@ -87,7 +87,7 @@ fn main() -> ExitCode {
         Err(e) => {
             eprintln!(
                 "packbed: error: {}",
-                packbed::error::one_line_naming(e.as_ref(), &|s| format!("--{s}"))
+                packbed::one_line_naming(e.as_ref(), &|s| format!("--{s}"))
             );
             ExitCode::from(EXIT_USER_ERROR)
         }
@@ -109,7 +109,7 @@ fn clap_exit(e: clap::Error) -> ExitCode {
             }
         }
         _ => {
-            let line = packbed::error::usage_line(&e.render().to_string());
+            let line = packbed::usage_line(&e.render().to_string());
             eprintln!("packbed: error: {line}");
             code
         }
@@ -129,7 +129,7 @@ fn install_signal_handler() {
     };
     std::thread::spawn(move || {
         if let Some(signal) = signals.forever().next() {
-            packbed::io::atomic::abandon_in_flight();
+            packbed::abandon_in_flight();
             let name = if signal == SIGINT {
                 "SIGINT"
             } else {
@@ -147,6 +147,6 @@ fn install_signal_handler() {}
 /// A panic is a bug in packbed, never the user's fault: one line that says so.
 fn install_panic_hook() {
     std::panic::set_hook(Box::new(|info| {
-        eprintln!("packbed: {}", packbed::error::panic_line(info));
+        eprintln!("packbed: {}", packbed::panic_line(info));
     }));
 }

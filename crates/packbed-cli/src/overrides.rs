@@ -1,10 +1,10 @@
 //! The value parsers of the command's options, and the command-line
 //! overrides of the common config settings (so that a config
 //! file is optional): parsed here, applied by the library's
-//! [`packbed::config::Overrides`], the same edits a sweep makes.
+//! [`packbed::Overrides`], the same edits a sweep makes.
 
 use clap::Args;
-use packbed::config::{parse_numbers, BoxSpec, Config, Measure, Mode};
+use packbed::{parse_numbers, BoxSpec, Config, Measure, Mode};
 
 /// `10,20` → numbers, for clap.
 pub fn numbers(text: &str) -> std::result::Result<Numbers, String> {
@@ -79,8 +79,8 @@ fn measure_list(text: &str) -> std::result::Result<MeasureList, String> {
 
 impl Overrides {
     /// The library's overrides.
-    fn settings(&self) -> packbed::config::Overrides {
-        packbed::config::Overrides {
+    fn settings(&self) -> packbed::Overrides {
+        packbed::Overrides {
             dim: self.dim,
             radii: self.radii.clone(),
             ratio: self.ratio.clone(),

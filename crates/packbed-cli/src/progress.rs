@@ -2,7 +2,7 @@
 //! run has lasted long enough for them to help.
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use packbed::mechanics::Breaks;
+use packbed::Breaks;
 use std::io::IsTerminal;
 use std::time::{Duration, Instant};
 

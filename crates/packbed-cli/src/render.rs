@@ -3,9 +3,8 @@
 use crate::bed_file::BedFileArgs;
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
-use packbed::analysis::LargeRule;
-use packbed::io::read::read_bed;
 use packbed::render::{ColorBy, Cut, RenderOptions, View};
+use packbed::{read_bed, LargeRule};
 use std::path::Path;
 
 /// What particle colours show.
@@ -83,7 +82,7 @@ pub fn render(args: RenderArgs) -> Result<()> {
         bail!("--out {}: would overwrite the bed file", out.display());
     }
     let out_dir = out.parent().filter(|p| !p.as_os_str().is_empty());
-    packbed::output::check_out_dir(out_dir.unwrap_or(Path::new("."))).with_context(on_out)?;
+    packbed::check_out_dir(out_dir.unwrap_or(Path::new("."))).with_context(on_out)?;
     let opts = RenderOptions {
         width: args.width,
         height: args.height,

@@ -4,9 +4,7 @@ use crate::overrides::Overrides;
 use crate::progress::Progress;
 use anyhow::{Context, Result};
 use clap::Args;
-use packbed::config::Config;
-use packbed::io::export::Format;
-use packbed::output::{text, RunExtras};
+use packbed::{text, Config, ExportFormat as Format, RunExtras};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `packbed run`.
@@ -109,5 +107,5 @@ pub fn source_name(path: Option<&Path>, overrides: &Overrides) -> String {
 /// Refuses an output directory that cannot be created or written before the
 /// run, so that a long run does not fail at its very end.
 pub fn check_out_dir(out: &Path) -> Result<()> {
-    packbed::output::check_out_dir(out).with_context(|| format!("--out {}", out.display()))
+    packbed::check_out_dir(out).with_context(|| format!("--out {}", out.display()))
 }

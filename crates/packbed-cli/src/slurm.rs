@@ -1,11 +1,11 @@
 //! `packbed slurm`: an ensemble as a Slurm job array and a merge job. The
 //! scripts, the checks and the calls of `sbatch`/`squeue`/`scancel` are in
-//! `packbed::ensemble::slurm`; this file parses, dispatches and prints.
+//! `packbed::slurm`; this file parses, dispatches and prints.
 
 use crate::overrides::at_least_one;
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use packbed::ensemble::slurm::{self, JobArray, Resources, WaitOutcome};
+use packbed::slurm::{self, JobArray, Resources, WaitOutcome};
 use std::path::PathBuf;
 use std::time::Duration;
 

@@ -8,8 +8,7 @@ use crate::detached::{self, Shared};
 use crate::errors::{config as config_error, to_py};
 use numpy::ndarray::ArrayView1;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
-use packbed::io::tables::particles_header;
-use packbed::mechanics::FragmentationConfig as FragmentOptions;
+use packbed::particles_header;
 use packbed::{AnalysisConfig, AnyBed, BoxHint, BoxSource, FinishedBed, ReadReport, RunExtras};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -189,12 +188,12 @@ impl Bed {
                 "pores: {why}"
             )));
         };
-        let dict = |columns: Vec<(String, packbed::analysis::pores::Column)>| -> PyResult<Bound<'py, PyDict>> {
+        let dict = |columns: Vec<(String, packbed::PoreColumn)>| -> PyResult<Bound<'py, PyDict>> {
             let d = PyDict::new(py);
             for (name, column) in columns {
                 match column {
-                    packbed::analysis::pores::Column::Int(v) => d.set_item(name, PyArray1::from_vec(py, v))?,
-                    packbed::analysis::pores::Column::Float(v) => d.set_item(name, PyArray1::from_vec(py, v))?,
+                    packbed::PoreColumn::Int(v) => d.set_item(name, PyArray1::from_vec(py, v))?,
+                    packbed::PoreColumn::Float(v) => d.set_item(name, PyArray1::from_vec(py, v))?,
                 }
             }
             Ok(d)
@@ -224,8 +223,8 @@ impl Bed {
         let tol = settings.contact_tol;
         settings.check().map_err(to_py)?;
         let contacts = py.detach(|| match bed {
-            AnyBed::D2(b) => packbed::analysis::find_contacts(b, tol),
-            AnyBed::D3(b) => packbed::analysis::find_contacts(b, tol),
+            AnyBed::D2(b) => packbed::find_contacts(b, tol),
+            AnyBed::D3(b) => packbed::find_contacts(b, tol),
         });
         let i: Vec<u32> = contacts.pairs.iter().map(|c| c.i).collect();
         let j: Vec<u32> = contacts.pairs.iter().map(|c| c.j).collect();
@@ -252,7 +251,7 @@ impl Bed {
             pictures,
             exports: Vec::new(),
         };
-        packbed::output::check_out_dir(&out).map_err(|e| to_py(e.within("out")))?;
+        packbed::check_out_dir(&out).map_err(|e| to_py(e.within("out")))?;
         match &self.origin {
             Origin::Built(f) => {
                 if settings_json != "{}" {
@@ -295,11 +294,12 @@ impl Bed {
     ) -> PyResult<String> {
         let value: toml::Value =
             serde_json::from_str(options_json).map_err(|e| config_error(e.to_string()))?;
-        let options: FragmentOptions = value.try_into().map_err(|e: toml::de::Error| {
-            config_error(format!("fragmentation: {}", e.message().trim()))
-        })?;
+        let options: packbed::FragmentationConfig =
+            value.try_into().map_err(|e: toml::de::Error| {
+                config_error(format!("fragmentation: {}", e.message().trim()))
+            })?;
         if let Some(dir) = &out {
-            packbed::output::check_out_dir(dir).map_err(|e| to_py(e.within("out")))?;
+            packbed::check_out_dir(dir).map_err(|e| to_py(e.within("out")))?;
         }
         let (source, report) = self.source();
         let bed = self.bed();

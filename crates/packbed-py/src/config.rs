@@ -4,8 +4,7 @@
 //! builds from.
 
 use crate::errors::{config as config_error, to_py};
-use packbed::config::{BoxSpec, Edit, Measure, Mode};
-use packbed::{Config, Overrides};
+use packbed::{BoxSpec, Config, Edit, Measure, Mode, Overrides};
 use pyo3::prelude::*;
 use std::path::Path;
 
@@ -150,7 +149,7 @@ pub fn resolve_config(
             .apply(&Edit::Periodic(false))
             .map_err(|e| to_py(e.within("periodic")))?;
     }
-    packbed::ensemble::validate(&config).map_err(to_py)?;
+    packbed::validate_ensemble(&config).map_err(to_py)?;
     canonical(&config)
 }
 

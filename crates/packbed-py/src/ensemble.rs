@@ -6,7 +6,7 @@
 use crate::config::load;
 use crate::detached::{self, Shared};
 use crate::errors::to_py;
-use packbed::ensemble::{self as library, Options, Shard, Tick};
+use packbed::{EnsembleOptions, Shard, Tick};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::atomic::Ordering;
@@ -48,9 +48,9 @@ pub fn ensemble(
         Some((index, count)) => Shard { index, count },
         None => Shard::ALL,
     };
-    packbed::output::check_out_dir(&out).map_err(|e| to_py(e.within("out")))?;
+    packbed::check_out_dir(&out).map_err(|e| to_py(e.within("out")))?;
     detached::run(py, progress, |shared: &Shared| {
-        let options = Options {
+        let options = EnsembleOptions {
             runs,
             jobs,
             shard,
@@ -62,7 +62,7 @@ pub fn ensemble(
             shared.done.store(t.done, Ordering::Relaxed);
             shared.total.store(t.total, Ordering::Relaxed);
         };
-        library::run(&config, &options, &out, &tick)
+        packbed::run_ensemble(&config, &options, &out, &tick)
             .map(|o| made(&o))
             .map_err(to_py)
     })
@@ -73,7 +73,7 @@ pub fn ensemble(
 #[pyo3(signature = (dirs, out, pictures=true))]
 pub fn merge(py: Python<'_>, dirs: Vec<PathBuf>, out: PathBuf, pictures: bool) -> PyResult<Made> {
     detached::run(py, None, |_| {
-        library::merge_with(&dirs, &out, pictures)
+        packbed::merge_ensembles(&dirs, &out, pictures)
             .map(|o| made(&o))
             .map_err(to_py)
     })
@@ -89,8 +89,8 @@ pub fn compare(
     out: PathBuf,
     pictures: bool,
 ) -> PyResult<(String, Vec<PathBuf>)> {
-    use packbed::ensemble::compare as library;
-    packbed::output::check_out_dir(&out).map_err(|e| to_py(e.within("out")))?;
+    use packbed::compare as library;
+    packbed::check_out_dir(&out).map_err(|e| to_py(e.within("out")))?;
     detached::run(py, None, |_| {
         let groups = library::read_groups(&dirs).map_err(to_py)?;
         let c = library::compare(&groups).map_err(to_py)?;

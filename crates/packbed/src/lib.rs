@@ -112,7 +112,34 @@ mod pipeline;
 pub mod render;
 pub mod species;
 
-pub use analysis::{AnalysisOptions, Contacts, Summary};
+// The front door: everything the command and the Python package use is here,
+// at the root, so that the modules below can change shape without them.
+pub use analysis::orientation::AngleFrom;
+pub use analysis::pores::Column as PoreColumn;
+pub use analysis::{find_contacts, AnalysisOptions, Contacts, LargeRule, Summary, BULK_MIN_BODIES};
+pub use config::{contact_tol_problem, parse_numbers, LengthUnit, Mode, DEFAULT_CONTACT_TOL};
+/// Ensembles side by side.
+pub use ensemble::compare;
+/// Slurm job arrays of an ensemble.
+pub use ensemble::slurm;
+pub use ensemble::{
+    merge_with as merge_ensembles, runs_of as ensemble_runs, validate as validate_ensemble,
+    worker_threads, Shard, Tick,
+};
+pub use error::{one_line_naming, panic_line, usage_line};
+pub use io::atomic::abandon_in_flight;
+pub use io::export::Format as ExportFormat;
+pub use io::tables::particles_header;
+pub use mechanics::{Breaks, FragmentationConfig, Load};
+pub use output::check_out_dir;
+
+/// What packbed prints on screen: the texts of every command, in one place.
+pub mod text {
+    pub use crate::ensemble::text::{ensemble_text, reduced_note};
+    pub use crate::output::text::{
+        analyze_text, file_names, fragment_text, overlap_warning, run_text, warning_lines,
+    };
+}
 pub use bed::{AnyBed, Bed};
 pub use config::{AnalysisConfig, BoxSpec, Config, Edit, Measure, Overrides};
 pub use ensemble::{run as run_ensemble, Options as EnsembleOptions, Outcome};

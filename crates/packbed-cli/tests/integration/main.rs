@@ -10,6 +10,7 @@ mod ensemble;
 mod files;
 mod filtration;
 mod fragment;
+mod front_door;
 mod python;
 mod render;
 mod slurm;

@@ -43,7 +43,7 @@ pub fn reduced_note(out: &Path, runs: u64, earlier: u64) -> String {
 
 /// A few lines for a person: what ran (`threads` for a run, `None` for a
 /// merge), the headline numbers, where the files are.
-pub fn summary(o: &Outcome, out: &Path, threads: Option<usize>) -> String {
+pub fn ensemble_text(o: &Outcome, out: &Path, threads: Option<usize>) -> String {
     let mut t = String::new();
     let beds: u64 = o.points.iter().map(|p| p.aggregate.replicates).sum();
     let built: u64 = o.points.iter().map(|p| p.built).sum();
@@ -220,7 +220,7 @@ mod tests {
             reduced_from: None,
             warnings: Vec::new(),
         };
-        summary(&o, Path::new("e"), Some(2))
+        ensemble_text(&o, Path::new("e"), Some(2))
     }
 
     #[test]
