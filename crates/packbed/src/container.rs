@@ -35,7 +35,28 @@ impl Wall {
     }
 }
 
+/// The names `box.preset` accepts.
+pub const PRESETS: [&str; 1] = ["thesis"];
+
 impl<const D: usize> Container<D> {
+    /// The size of the preset box `name` (one of [`PRESETS`]) for particles of
+    /// radius up to `r_max` in chains of up to `beads`; `None` for an unknown
+    /// name. `thesis`, the source study's boxes: a cube 6 large diameters wide
+    /// in 3D, a square 15 wide in 2D, stretched by `beads / 2` for 2D chains
+    /// longer than two beads.
+    pub fn preset_size(name: &str, r_max: Real, beads: u32) -> Option<Vector<D>> {
+        match name {
+            "thesis" => {
+                let mut side = if D == 2 { 30.0 * r_max } else { 12.0 * r_max };
+                if D == 2 && beads > 2 {
+                    side *= Real::from(beads) / 2.0;
+                }
+                Some(Vector([side; D]))
+            }
+            _ => None,
+        }
+    }
+
     /// Width along horizontal axis `k`.
     #[inline]
     pub fn extent(&self, k: usize) -> Real {
@@ -138,5 +159,29 @@ impl<const D: usize> Container<D> {
             }
         }
         d
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_thesis_boxes_are_six_diameters_in_3d_and_fifteen_in_2d() {
+        let cube = Container::<3>::preset_size("thesis", 10.0, 1).unwrap();
+        assert_eq!(cube.0, [120.0; 3]);
+        let square = Container::<2>::preset_size("thesis", 10.0, 2).unwrap();
+        assert_eq!(square.0, [300.0; 2]);
+        // 2D chains of 6 beads stretch it threefold; 3D chains do not.
+        let stretched = Container::<2>::preset_size("thesis", 10.0, 6).unwrap();
+        assert_eq!(stretched.0, [900.0; 2]);
+        assert_eq!(
+            Container::<3>::preset_size("thesis", 10.0, 6).unwrap().0,
+            [120.0; 3]
+        );
+        assert!(Container::<3>::preset_size("large", 10.0, 1).is_none());
+        assert!(PRESETS
+            .iter()
+            .all(|p| Container::<2>::preset_size(p, 1.0, 1).is_some()));
     }
 }

@@ -1,0 +1,477 @@
+//! `[analysis]`: the measures a run computes and their settings (contact
+//! tolerance, bulk slab, flow, length unit, orientation reference).
+
+use super::positive;
+use crate::error::{Error, Result};
+use crate::math::Real;
+use serde::{Deserialize, Serialize};
+
+/// `[analysis]`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnalysisConfig {
+    /// Contact tolerance relative to the smaller radius.
+    #[serde(default = "default_contact_tol")]
+    pub contact_tol: Real,
+    /// Percolation: particles with `r >=` this are large (default: largest class).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub large_radius: Option<Real>,
+    /// Bulk measures are null when the bulk region holds fewer bodies than this.
+    #[serde(default = "default_bulk_min_bodies")]
+    pub bulk_min_bodies: u64,
+    /// Chain angles from the `vertical` (default) or the `horizontal`.
+    #[serde(default, skip_serializing_if = "AngleFrom::is_vertical")]
+    pub chain_angle_from: AngleFrom,
+    /// The measures to compute (default: [`Measure::DEFAULT`], all but the pore space); the
+    /// contacts are always found.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measures: Option<Vec<Measure>>,
+    /// Density of the solid in kg/m³: the specific cake resistance and the
+    /// solids' mass per area (needs `length_unit`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solid_density: Option<Real>,
+    /// The length of one unit of the bed's lengths (`m`, `mm`, `um`, `nm`):
+    /// permeabilities in m² and the cake resistance in m/kg.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub length_unit: Option<LengthUnit>,
+    /// `[analysis.flow]`: the flow through the pore network.
+    #[serde(default, skip_serializing_if = "FlowConfig::is_default")]
+    pub flow: FlowConfig,
+}
+
+/// `[analysis.flow]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FlowConfig {
+    /// Fluid viscosity (default 1; `k` does not depend on it).
+    #[serde(default = "default_viscosity")]
+    pub viscosity: Real,
+    /// Axes to drive the flow along, of `x`, `y`, `z` (default: z, and x and y
+    /// on periodic beds).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axes: Option<Vec<FlowAxis>>,
+    /// The flow region `[z_lo, z_hi]` (default: the bulk slab).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slab: Option<[Real; 2]>,
+}
+
+/// An axis of `[analysis.flow] axes`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FlowAxis {
+    /// Along x.
+    X,
+    /// Along y (3D).
+    Y,
+    /// Along z, through the cake.
+    Z,
+}
+
+fn default_viscosity() -> Real {
+    1.0
+}
+
+impl Default for FlowConfig {
+    fn default() -> Self {
+        FlowConfig {
+            viscosity: default_viscosity(),
+            axes: None,
+            slab: None,
+        }
+    }
+}
+
+impl FlowConfig {
+    /// True when nothing is set, so that configs which do not use it keep
+    /// their serialised form.
+    pub fn is_default(&self) -> bool {
+        *self == FlowConfig::default()
+    }
+
+    fn check(&self) -> Result<()> {
+        positive(self.viscosity, "analysis.flow.viscosity")?;
+        if let Some(axes) = &self.axes {
+            if axes.is_empty() {
+                return Err(Error::config(
+                    "analysis.flow.axes is empty: name at least one of x, y, z",
+                ));
+            }
+        }
+        if let Some([lo, hi]) = self.slab {
+            if !(lo.is_finite() && hi.is_finite() && hi > lo) {
+                return Err(Error::config(format!(
+                    "analysis.flow.slab must be [z_lo, z_hi] with z_lo < z_hi, got [{lo}, {hi}]"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The length of one unit of a bed's lengths (`[analysis] length_unit`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum LengthUnit {
+    /// Metre.
+    #[serde(rename = "m")]
+    Metre,
+    /// Millimetre.
+    #[serde(rename = "mm")]
+    Millimetre,
+    /// Micrometre (`um` or `µm`).
+    #[serde(rename = "um", alias = "µm", alias = "μm")]
+    Micrometre,
+    /// Nanometre.
+    #[serde(rename = "nm")]
+    Nanometre,
+}
+
+impl LengthUnit {
+    /// The config name: `m`, `mm`, `um` or `nm`.
+    pub fn name(self) -> &'static str {
+        match self {
+            LengthUnit::Metre => "m",
+            LengthUnit::Millimetre => "mm",
+            LengthUnit::Micrometre => "um",
+            LengthUnit::Nanometre => "nm",
+        }
+    }
+
+    /// The symbol for axes and legends: `m`, `mm`, `µm`, `nm`.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            LengthUnit::Micrometre => "µm",
+            u => u.name(),
+        }
+    }
+
+    /// Metres per unit.
+    pub fn metres(self) -> Real {
+        match self {
+            LengthUnit::Metre => 1.0,
+            LengthUnit::Millimetre => 1e-3,
+            LengthUnit::Micrometre => 1e-6,
+            LengthUnit::Nanometre => 1e-9,
+        }
+    }
+}
+
+/// A set of measures (a copyable value for the analysis options).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Measures(u8);
+
+impl Measures {
+    /// Every measure.
+    pub fn all() -> Measures {
+        Measures::of(&Measure::ALL)
+    }
+
+    /// The measures of a run that chooses none: all but the pore space, whose
+    /// triangulation and flow solve cost more than the rest together on a
+    /// large bed (BENCHMARKS.md) and are asked for by name.
+    pub fn default_set() -> Measures {
+        Measures::of(&Measure::DEFAULT)
+    }
+
+    /// These measures.
+    pub fn of(list: &[Measure]) -> Measures {
+        Measures(list.iter().fold(0, |bits, m| bits | m.bit()))
+    }
+
+    /// True when `m` is in the set.
+    pub fn has(self, m: Measure) -> bool {
+        self.0 & m.bit() != 0
+    }
+
+    /// The names of the default measures not in the set, in summary order
+    /// (the measures asked for by name are not "left out" when absent).
+    pub fn left_out(self) -> Vec<&'static str> {
+        Measure::DEFAULT
+            .into_iter()
+            .filter(|&m| !self.has(m))
+            .map(Measure::name)
+            .collect()
+    }
+}
+
+impl Default for Measures {
+    fn default() -> Self {
+        Measures::default_set()
+    }
+}
+
+/// One measure of a bed that the user may choose (`[analysis] measures`,
+/// `--measures`): e.g. a bed meant as the start of a DEM run needs no
+/// percolation, the slowest measure of a large bed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Measure {
+    /// `packing.*`: global, bulk, regional packing fractions and the profile.
+    Packing,
+    /// `coordination.*`: coordination numbers.
+    Coordination,
+    /// `percolation.*`: chains of large particles from wall to wall.
+    Percolation,
+    /// `voids.*`: the voids of the contact network (2D beds).
+    Voids,
+    /// `orientation.*`: chain orientation (beds with chains).
+    Orientation,
+    /// `segregation.*`: size segregation.
+    Segregation,
+    /// `pores.*`: the pores and constrictions of the regular triangulation.
+    Pores,
+    /// `permeability.*`: Stokes flow through the pore network.
+    Permeability,
+}
+
+impl Measure {
+    /// Every measure, in the order of `summary.json`.
+    pub const ALL: [Measure; 8] = [
+        Measure::Packing,
+        Measure::Coordination,
+        Measure::Percolation,
+        Measure::Voids,
+        Measure::Orientation,
+        Measure::Segregation,
+        Measure::Pores,
+        Measure::Permeability,
+    ];
+
+    /// The measures computed when none are chosen: the first six of [`Measure::ALL`].
+    pub const DEFAULT: [Measure; 6] = {
+        let a = Measure::ALL;
+        [a[0], a[1], a[2], a[3], a[4], a[5]]
+    };
+
+    /// The name in configs, options and `summary.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Measure::Packing => "packing",
+            Measure::Coordination => "coordination",
+            Measure::Percolation => "percolation",
+            Measure::Voids => "voids",
+            Measure::Orientation => "orientation",
+            Measure::Segregation => "segregation",
+            Measure::Pores => "pores",
+            Measure::Permeability => "permeability",
+        }
+    }
+
+    fn bit(self) -> u8 {
+        1 << Measure::ALL.iter().position(|&m| m == self).unwrap_or(0)
+    }
+
+    /// `packing,coordination` → measures; `all` → every measure.
+    pub fn parse_list(text: &str) -> std::result::Result<Vec<Measure>, String> {
+        if text.trim() == "all" {
+            return Ok(Measure::ALL.to_vec());
+        }
+        text.split(',')
+            .map(|name| {
+                let name = name.trim();
+                if name == "all" {
+                    // Accepting it would hide a list that meant something
+                    // narrower; the message says how to write either.
+                    return Err(format!(
+                        "`all` cannot be part of a list (it already means every measure): \
+                         give `all` alone, or only the measures wanted, as in `{}`",
+                        text.split(',')
+                            .map(str::trim)
+                            .filter(|n| *n != "all")
+                            .map(crate::error::echo)
+                            .collect::<Vec<_>>()
+                            .join(",")
+                    ));
+                }
+                Measure::ALL
+                    .into_iter()
+                    .find(|m| m.name() == name)
+                    .ok_or_else(|| {
+                        let known: Vec<&str> = Measure::ALL.iter().map(|m| m.name()).collect();
+                        format!(
+                            "unknown measure `{}` (choose from {}, or all)",
+                            crate::error::echo(name),
+                            known.join(", ")
+                        )
+                    })
+            })
+            .collect()
+    }
+}
+
+impl Default for AnalysisConfig {
+    fn default() -> Self {
+        AnalysisConfig {
+            contact_tol: default_contact_tol(),
+            large_radius: None,
+            bulk_min_bodies: default_bulk_min_bodies(),
+            chain_angle_from: AngleFrom::Vertical,
+            measures: None,
+            solid_density: None,
+            length_unit: None,
+            flow: FlowConfig::default(),
+        }
+    }
+}
+
+impl AnalysisConfig {
+    /// Refuses a negative or non-finite contact tolerance and a threshold
+    /// radius that is not positive.
+    pub fn check(&self) -> Result<()> {
+        self.check_naming(&|key| format!("analysis.{key}"))
+    }
+
+    /// [`Self::check`], each setting called what `name` makes of its key
+    /// (`contact_tol`): the command names its options, not the config's keys.
+    pub fn check_naming(&self, name: &dyn Fn(&str) -> String) -> Result<()> {
+        if let Some(why) = contact_tol_problem(self.contact_tol, &name("contact_tol")) {
+            return Err(Error::config(why));
+        }
+        if let Some(r) = self.large_radius {
+            positive(r, &name("large_radius"))?;
+        }
+        self.flow.check()?;
+        if let Some(rho) = self.solid_density {
+            positive(rho, &name("solid_density"))?;
+            if self.length_unit.is_none() {
+                return Err(Error::config(format!(
+                    "{} (kg/m³) needs {}, the length of one unit of the bed (m, mm, um or nm), \
+                     to give the cake resistance in m/kg",
+                    name("solid_density"),
+                    name("length_unit")
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+fn default_bulk_min_bodies() -> u64 {
+    BULK_MIN_BODIES
+}
+
+/// Default minimum of bodies in the bulk region for bulk measures: the source
+/// study's small boxes hold about 4, whose packing fraction (up to 0.765, above
+/// the densest packing) is noise, not a bulk value.
+pub const BULK_MIN_BODIES: u64 = 50;
+
+/// The direction chain angles are measured from (`analysis.chain_angle_from`,
+/// `packbed analyze --chain-angle-from`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AngleFrom {
+    /// From the vertical: signed −90°–90° in 2D, polar 0°–90° in 3D (default).
+    #[default]
+    Vertical,
+    /// From the horizontal, as the source study: 0°–180° in 2D, 0°–90° in 3D.
+    Horizontal,
+}
+
+impl AngleFrom {
+    /// True for the default, so that configs which do not choose keep their
+    /// serialised form (and ensemble fingerprints) unchanged.
+    pub fn is_vertical(&self) -> bool {
+        *self == AngleFrom::Vertical
+    }
+
+    /// The name used in configs and in `summary.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            AngleFrom::Vertical => "vertical",
+            AngleFrom::Horizontal => "horizontal",
+        }
+    }
+
+    /// This convention's angle of an axis whose angle from vertical is `a`
+    /// (signed in 2D, polar in 3D), degrees.
+    pub fn convert(self, a: Real) -> Real {
+        match self {
+            AngleFrom::Vertical => a,
+            AngleFrom::Horizontal => 90.0 - a,
+        }
+    }
+
+    /// The range of the angles in dimension `d`, degrees.
+    pub fn range(self, d: usize) -> (Real, Real) {
+        match (self, d) {
+            (AngleFrom::Vertical, 2) => (-90.0, 90.0),
+            (AngleFrom::Horizontal, 2) => (0.0, 180.0),
+            _ => (0.0, 90.0),
+        }
+    }
+}
+
+fn default_contact_tol() -> Real {
+    DEFAULT_CONTACT_TOL
+}
+
+/// The contact tolerance of every analysis unless told otherwise: a gap of at
+/// most this, relative to the smaller radius, is a contact.
+pub const DEFAULT_CONTACT_TOL: Real = 1e-6;
+
+/// Largest contact tolerance, relative to the smaller radius. Beyond it two
+/// spheres a radius apart would count as touching, and the contact search, sized
+/// by the tolerance, grows with its cube.
+pub const MAX_CONTACT_TOL: Real = 1.0;
+
+/// Why the contact tolerance `tol` (named `what`) is refused, if it is.
+pub fn contact_tol_problem(tol: Real, what: &str) -> Option<String> {
+    if !(tol.is_finite() && tol >= 0.0) {
+        Some(format!("{what} must be a non-negative number, got {tol}"))
+    } else if tol > MAX_CONTACT_TOL {
+        Some(format!(
+            "{what} is {tol}, but at most {MAX_CONTACT_TOL}: it is a gap relative to the \
+             smaller radius, and a larger gap no longer means touching"
+        ))
+    } else {
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn measure_lists_are_read_by_name_or_all() {
+        assert_eq!(
+            Measure::parse_list("packing, pores").unwrap(),
+            [Measure::Packing, Measure::Pores]
+        );
+        assert_eq!(Measure::parse_list(" all ").unwrap(), Measure::ALL);
+        let e = Measure::parse_list("all,packing").unwrap_err();
+        assert!(
+            e.contains("give `all` alone") && e.contains("`packing`"),
+            "{e}"
+        );
+        let e = Measure::parse_list("packing,porez").unwrap_err();
+        assert!(e.contains("unknown measure `porez`"), "{e}");
+        for m in Measure::ALL {
+            assert_eq!(Measure::parse_list(m.name()).unwrap(), [m]);
+        }
+    }
+
+    #[test]
+    fn the_default_set_leaves_out_the_pore_space() {
+        let d = Measures::default_set();
+        assert!(Measure::DEFAULT.iter().all(|&m| d.has(m)));
+        assert!(!d.has(Measure::Pores) && !d.has(Measure::Permeability));
+        // What is left out is named against the default set.
+        assert!(d.left_out().is_empty() && Measures::all().left_out().is_empty());
+        let only = Measures::of(&[Measure::Packing, Measure::Pores]);
+        assert_eq!(only.left_out().len(), Measure::DEFAULT.len() - 1);
+        assert!(!only.left_out().contains(&"packing"));
+    }
+
+    #[test]
+    fn analysis_settings_are_checked_with_their_names() {
+        assert!(AnalysisConfig::default().check().is_ok());
+        let bad = AnalysisConfig {
+            contact_tol: -1.0,
+            ..AnalysisConfig::default()
+        };
+        let e = bad
+            .check_naming(&|s| format!("--{}", s.replace('_', "-")))
+            .unwrap_err();
+        assert!(e.to_string().contains("contact"), "{e}");
+    }
+}
