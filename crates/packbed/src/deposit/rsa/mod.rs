@@ -444,12 +444,17 @@ impl<'p, const D: usize> Rsa<'p, D> {
         for corner in &voxels.corners {
             // The balls that meet this voxel: only they can hold a child.
             balls.clear();
-            // A ball holding a child holds its far corners: its centre lies
-            // within its radius plus `r_min` of both ends of the voxel along
-            // every axis (the grid widens the box by each level's radius).
-            let (qlo, qhi) = (*corner + voxels.side, *corner);
+            // A ball holding a child holds both ends of the child along every
+            // axis, so its centre lies within its radius plus `r_min` of the
+            // voxel's middle, where the children meet (the grid widens the
+            // point by each level's radius). Searching only within reach of
+            // both ends of the whole voxel, as before, missed balls holding a
+            // child: harmless while cells were wide, a child kept that a ball
+            // holds is only sampled in vain, but it made the trials depend on
+            // the grid.
+            let middle = *corner + voxels.side * 0.5;
             self.grid
-                .for_each_in_box(&qlo, &qhi, self.r_min, |j, shift, _| {
+                .for_each_in_box(&middle, &middle, self.r_min, |j, shift, _| {
                     let centre = self.bed.centres[j as usize] + shift;
                     let rr = self.bed.radii[j as usize] + self.r_min;
                     if nearest2(corner, &voxels.side, &centre) < rr * rr {
@@ -530,6 +535,62 @@ mod tests {
         assert!(run.bed.radii.iter().filter(|&&r| r == 2.0).count() > run.bed.len() - 5);
         let cell = run.grid.cell_width_for(2.0);
         assert!((4.0..8.0).contains(&cell), "cell {cell}");
+    }
+
+    #[test]
+    fn refining_keeps_exactly_the_children_no_ball_holds() {
+        for text in [
+            MIX,
+            "dim = 3\nmode = \"rsa\"\n[box]\nwidth = 50\nheight = 50\n\
+                      [fill]\ncount = 3000\n[[species]]\nradius = 3\n",
+        ] {
+            let plan = plan(text);
+            let mut run = Rsa::new(&plan).unwrap();
+            run.blind(&mut |_| std::ops::ControlFlow::Continue(()));
+            let mut rng = RunRng::seed_from_u64(11);
+            let side = Vector([run.r_min * 0.5; 3]);
+            let corners: Vec<Vector<3>> = (0..3000)
+                .map(|_| {
+                    let (lo, hi) = (run.lo, run.hi - side);
+                    Vector([0, 1, 2].map(|k| rng.random_range(lo[k]..hi[k])))
+                })
+                .collect();
+            let voxels = Voxels { side, corners };
+            let kept = run.refine(&voxels, &mut Vec::new());
+            // Every ball meeting the voxel, found without the grid.
+            let mut want = Vec::new();
+            for corner in &voxels.corners {
+                let balls: Vec<Ball<3>> = (0..run.bed.len())
+                    .map(|j| (run.bed.centres[j], run.bed.radii[j] + run.r_min))
+                    .filter(|(c, rr)| nearest2(corner, &side, c) < rr * rr)
+                    .map(|(centre, rr)| Ball {
+                        centre,
+                        radius2: rr * rr,
+                    })
+                    .collect();
+                if covered(corner, &side, &balls) {
+                    continue;
+                }
+                for child in 0..8usize {
+                    let c = Vector([0, 1, 2].map(|k| {
+                        corner[k]
+                            + if child >> k & 1 == 1 {
+                                side[k] * 0.5
+                            } else {
+                                0.0
+                            }
+                    }));
+                    if !covered(&c, &(side * 0.5), &balls) {
+                        want.push(c);
+                    }
+                }
+            }
+            assert!(
+                want.len() < 8 * voxels.corners.len(),
+                "some children are held"
+            );
+            assert_eq!(kept.corners, want);
+        }
     }
 
     #[test]
