@@ -4,13 +4,13 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use packbed::config::Config;
-use packbed::ensemble::{self, Options, Shard};
+use packbed::ensemble::{self, EnsembleOptions, Shard};
 
 fn ensemble_500(cr: &mut Criterion) {
     let mut c = Config::default();
     c.species[0].radius = Some(10.0);
     c.species[1].radius = Some(20.0);
-    let opts = Options {
+    let opts = EnsembleOptions {
         runs: 500,
         jobs: None,
         shard: Shard::ALL,

@@ -142,7 +142,7 @@ pub mod text {
 }
 pub use bed::{AnyBed, Bed};
 pub use config::{AnalysisConfig, BoxSpec, Config, Edit, Measure, Overrides};
-pub use ensemble::{run as run_ensemble, Options as EnsembleOptions, Outcome};
+pub use ensemble::{run as run_ensemble, EnsembleOptions, Outcome};
 pub use error::{Error, Result};
 pub use io::read::{read_bed, read_bed_report, BoxHint, BoxSource, ReadReport};
 pub use io::{AnalyzeSummary, RunSummary};

@@ -35,7 +35,7 @@ pub enum Supports {
 
 /// What [`check_bed_with`] checks, and with which tolerances.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Checks {
+pub struct InvariantChecks {
     /// Gap tolerance, relative to the (smaller) radius: pairs with `gap ≤ tol·r`
     /// touch, overlaps beyond `tol·r` are violations, and so are particles sticking
     /// out of a wall by more than `tol·r`. An overlapping pair still counts as a
@@ -52,11 +52,11 @@ pub struct Checks {
     pub rest: bool,
 }
 
-impl Checks {
+impl InvariantChecks {
     /// The model's invariants with gap tolerance `tol`: no roof check, supports
     /// from earlier bodies, rest residual 1e-7.
     pub fn new(tol: Real) -> Self {
-        Checks {
+        InvariantChecks {
             tol,
             rest_tol: 1e-7,
             roof: false,
@@ -177,9 +177,9 @@ impl fmt::Display for Report {
     }
 }
 
-/// Checks the model's invariants (see [`Checks::new`]) with gap tolerance `tol`.
+/// Checks the model's invariants (see [`InvariantChecks::new`]) with gap tolerance `tol`.
 pub fn check_bed<const D: usize>(bed: &Bed<D>, tol: Real) -> Report {
-    check_bed_with(bed, &Checks::new(tol))
+    check_bed_with(bed, &InvariantChecks::new(tol))
 }
 
 /// A contact seen from one particle: its normal (from the contact point towards
@@ -193,7 +193,7 @@ struct Touch<const D: usize> {
 }
 
 /// Checks `bed` as configured by `checks`.
-pub fn check_bed_with<const D: usize>(bed: &Bed<D>, checks: &Checks) -> Report {
+pub fn check_bed_with<const D: usize>(bed: &Bed<D>, checks: &InvariantChecks) -> Report {
     let n = bed.len();
     let tol = checks.tol;
     let mut report = Report {
@@ -678,9 +678,9 @@ mod tests {
         }));
         let roof = check_bed_with(
             &bed,
-            &Checks {
+            &InvariantChecks {
                 roof: true,
-                ..Checks::new(1e-9)
+                ..InvariantChecks::new(1e-9)
             },
         );
         assert_eq!(roof.outside, 2);
@@ -701,9 +701,9 @@ mod tests {
         assert_eq!(not_at_rest(&earlier), vec![1, 2], "{earlier}");
         let all = check_bed_with(
             &bed,
-            &Checks {
+            &InvariantChecks {
                 supports: Supports::All,
-                ..Checks::new(1e-9)
+                ..InvariantChecks::new(1e-9)
             },
         );
         assert_eq!(not_at_rest(&all), vec![2], "{all}");
@@ -723,9 +723,9 @@ mod tests {
         assert!(!not_at_rest(&r).contains(&2), "{r}");
         let below = check_bed_with(
             &wedge,
-            &Checks {
+            &InvariantChecks {
                 supports: Supports::Below,
-                ..Checks::new(1e-9)
+                ..InvariantChecks::new(1e-9)
             },
         );
         assert!(not_at_rest(&below).contains(&2), "{below}");

@@ -6,7 +6,7 @@ use super::*;
 use crate::container::Container;
 use crate::error::{Error, Result};
 use crate::math::{Real, Vector};
-use crate::species::{Orientation, Shape, SizeDist, SizeTable, Species, Within};
+use crate::species::{EntryOrientation, Shape, SizeDist, SizeTable, Species, Within};
 
 /// When deposition stops.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -143,9 +143,9 @@ impl SpeciesConfig {
                     )));
                 }
                 let orientation = match self.orientation.as_deref() {
-                    None | Some("vertical") => Orientation::Vertical,
-                    Some("random") => Orientation::Random,
-                    Some("horizontal") => Orientation::Horizontal,
+                    None | Some("vertical") => EntryOrientation::Vertical,
+                    Some("random") => EntryOrientation::Random,
+                    Some("horizontal") => EntryOrientation::Horizontal,
                     Some(o) => {
                         return Err(Error::config(format!(
                         "{at}.orientation: unknown `{o}` (expected vertical, random or horizontal)"

@@ -9,7 +9,7 @@ use crate::config::Fill;
 use crate::container::Wall;
 use crate::geometry::{intersection_points, Surface};
 use crate::math::{Real, Vector};
-use crate::species::Orientation;
+use crate::species::EntryOrientation;
 
 /// Consecutive failed random placements after which the floor counts as saturated
 /// (per particle that fits on the floor); the sweep then fills what is left.
@@ -43,7 +43,7 @@ impl<const D: usize> Engine<'_, D> {
                 // A chain lies flat on the floor, at a random azimuth.
                 let chain = Chain {
                     shape,
-                    orientation: Orientation::Horizontal,
+                    orientation: EntryOrientation::Horizontal,
                 };
                 let mut pose = chain.enter(&c, &mut self.rng);
                 pose.com[D - 1] = r;

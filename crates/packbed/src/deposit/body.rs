@@ -9,7 +9,7 @@ use crate::bed::Bed;
 use crate::container::Container;
 use crate::grid::Grid;
 use crate::math::{Real, Vector};
-use crate::species::Orientation;
+use crate::species::EntryOrientation;
 use rand::{RngExt, SeedableRng};
 
 /// A kind of body the engine drops.
@@ -89,7 +89,7 @@ impl<const D: usize> Dropper<D> for Sphere {
 #[derive(Clone, Copy)]
 pub(crate) struct Chain {
     pub shape: ChainShape,
-    pub orientation: Orientation,
+    pub orientation: EntryOrientation,
 }
 
 impl<const D: usize> Dropper<D> for Chain {
@@ -103,14 +103,14 @@ impl<const D: usize> Dropper<D> for Chain {
         let shape = self.shape;
         for attempt in 0..=64 {
             let orientation = if attempt == 64 {
-                Orientation::Vertical
+                EntryOrientation::Vertical
             } else {
                 self.orientation
             };
             let axis = match orientation {
-                Orientation::Vertical => Vector::up(),
-                Orientation::Random => random_axis::<D>(rng, false),
-                Orientation::Horizontal => random_axis::<D>(rng, true),
+                EntryOrientation::Vertical => Vector::up(),
+                EntryOrientation::Random => random_axis::<D>(rng, false),
+                EntryOrientation::Horizontal => random_axis::<D>(rng, true),
             };
             let extent = |k: usize| axis[k].abs() * shape.half_length() + shape.r;
             let (com, fits) = entry_position(container, rng, extent, 1e-12 * shape.r);
@@ -246,7 +246,7 @@ pub fn drop_onto<const D: usize>(
             // The orientation only draws entries, and the entry is given.
             let chain = Chain {
                 shape,
-                orientation: Orientation::Vertical,
+                orientation: EntryOrientation::Vertical,
             };
             drop_alone(bed, &chain, start, seed)
         }

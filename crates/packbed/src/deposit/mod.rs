@@ -13,7 +13,7 @@ use crate::config::{AnyPlan, BaseLayerKind, Config, Fill, Mode, Plan};
 use crate::error::{Error, Result};
 use crate::grid::{Grid, Levels};
 use crate::math::{Real, Vector};
-use crate::species::{Orientation, Shape, Species, SpeciesPicker};
+use crate::species::{EntryOrientation, Shape, Species, SpeciesPicker};
 use body::{Chain, Dropper, Sphere};
 use chain::ChainShape;
 use rand::SeedableRng;
@@ -103,7 +103,7 @@ impl<'p, const D: usize> Engine<'p, D> {
     }
 
     /// The chain shape of species `s` with bead radius `r`, if it is a chain.
-    fn chain_of(&self, s: u32, r: Real) -> Option<(ChainShape, Orientation)> {
+    fn chain_of(&self, s: u32, r: Real) -> Option<(ChainShape, EntryOrientation)> {
         match self.plan.species[s as usize].shape {
             Shape::Sphere => None,
             Shape::Chain {

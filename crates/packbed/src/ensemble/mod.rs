@@ -67,7 +67,7 @@ pub const SWEEP_FILES: [&str; 2] = ["sweep.csv", "sweep.md"];
 
 /// How to run an ensemble.
 #[derive(Clone, Debug)]
-pub struct Options {
+pub struct EnsembleOptions {
     /// Replicates per config (per sweep value), at least 1.
     pub runs: u64,
     /// Threads; `None`: all cores.
@@ -85,10 +85,10 @@ pub struct Options {
     pub stop: Option<Arc<AtomicBool>>,
 }
 
-impl Default for Options {
+impl Default for EnsembleOptions {
     /// One replicate, all cores, the whole ensemble, summaries only, with plots.
     fn default() -> Self {
-        Options {
+        EnsembleOptions {
             runs: 1,
             jobs: None,
             shard: Shard::ALL,

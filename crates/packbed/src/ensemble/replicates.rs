@@ -3,7 +3,7 @@
 
 use super::manifest::{check_out, config_key, io_err, write_manifest, Manifest, MANIFEST};
 use super::write::{write_point, write_sweep};
-use super::{points, run_dir, seeds, worker_threads, Options, Outcome, PointResult, Tick};
+use super::{points, run_dir, seeds, worker_threads, EnsembleOptions, Outcome, PointResult, Tick};
 use crate::config::Config;
 use crate::error::{Error, Result};
 use crate::io::Staging;
@@ -82,7 +82,7 @@ fn replicate(
 /// worker threads as replicates finish.
 pub fn run(
     config: &Config,
-    opts: &Options,
+    opts: &EnsembleOptions,
     out: &Path,
     progress: &(dyn Fn(Tick) + Sync),
 ) -> Result<Outcome> {

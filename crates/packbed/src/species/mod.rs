@@ -245,7 +245,7 @@ pub enum Shape {
         /// Centre distance in bead radii.
         spacing: Real,
         /// Orientation of the axis on entry.
-        orientation: Orientation,
+        orientation: EntryOrientation,
     },
 }
 
@@ -261,7 +261,7 @@ impl Shape {
 
 /// Orientation of a chain's axis when it enters the box.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Orientation {
+pub enum EntryOrientation {
     /// Upright (the source study's choice); the first tilt goes to a random side.
     #[default]
     Vertical,
@@ -271,13 +271,13 @@ pub enum Orientation {
     Horizontal,
 }
 
-impl Orientation {
+impl EntryOrientation {
     /// The config name: `vertical`, `random` or `horizontal`.
     pub fn name(&self) -> &'static str {
         match self {
-            Orientation::Vertical => "vertical",
-            Orientation::Random => "random",
-            Orientation::Horizontal => "horizontal",
+            EntryOrientation::Vertical => "vertical",
+            EntryOrientation::Random => "random",
+            EntryOrientation::Horizontal => "horizontal",
         }
     }
 }

@@ -1,7 +1,7 @@
 //! Helpers every test module shares: configs from TOML, deposition of a plan,
 //! and the checker's verdict.
 
-use packbed::analysis::validate::{check_bed_with, Checks, Report};
+use packbed::analysis::validate::{check_bed_with, InvariantChecks, Report};
 use packbed::bed::Bed;
 use packbed::config::Config;
 use packbed::deposit::{deposit, DepositReport};
@@ -24,7 +24,7 @@ pub fn run<const D: usize>(c: &Config) -> (Bed<D>, DepositReport) {
 
 /// The checker's report on `b` under `checks`; panics naming `what` unless
 /// the bed passes, every particle counted.
-pub fn assert_checked<const D: usize>(b: &Bed<D>, checks: &Checks, what: &str) -> Report {
+pub fn assert_checked<const D: usize>(b: &Bed<D>, checks: &InvariantChecks, what: &str) -> Report {
     let rep = check_bed_with(b, checks);
     assert!(rep.is_ok(), "{what}: {rep}");
     assert_eq!(rep.particles, b.len());

@@ -3,7 +3,9 @@
 //! example config valid.
 
 use packbed::config::Config;
-use packbed::ensemble::{self, seeds, Options, Shard, ENSEMBLE_FILES, MANIFEST, SWEEP_FILES};
+use packbed::ensemble::{
+    self, seeds, EnsembleOptions, Shard, ENSEMBLE_FILES, MANIFEST, SWEEP_FILES,
+};
 use serde_json::Value;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -25,8 +27,8 @@ fn sweep_config() -> Config {
     Config::from_toml(&text, "test").unwrap()
 }
 
-fn opts(runs: u64, jobs: usize, shard: Shard) -> Options {
-    Options {
+fn opts(runs: u64, jobs: usize, shard: Shard) -> EnsembleOptions {
+    EnsembleOptions {
         runs,
         jobs: Some(jobs),
         shard,
@@ -36,7 +38,7 @@ fn opts(runs: u64, jobs: usize, shard: Shard) -> Options {
     }
 }
 
-fn run(config: &Config, o: &Options, out: &Path) -> ensemble::Outcome {
+fn run(config: &Config, o: &EnsembleOptions, out: &Path) -> ensemble::Outcome {
     ensemble::run(config, o, out, &|_| {}).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -395,7 +397,7 @@ fn stop_interrupts_builds_and_ensembles() {
     let t = tempfile::tempdir().unwrap();
     let dir = t.path();
     let stop = Arc::new(AtomicBool::new(true));
-    let o = Options {
+    let o = EnsembleOptions {
         stop: Some(stop.clone()),
         ..opts(3, 1, Shard::ALL)
     };

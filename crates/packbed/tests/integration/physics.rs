@@ -15,7 +15,7 @@
 
 use crate::common::{assert_checked, run, TOL};
 use packbed::analysis::analyze;
-use packbed::analysis::validate::{check_bed, check_bed_with, Checks, Report};
+use packbed::analysis::validate::{check_bed, check_bed_with, InvariantChecks, Report};
 use packbed::bed::{AnyBed, Bed};
 use packbed::config::{BaseLayerKind, Config, Fill};
 use packbed::deposit::{build, deposit, drop_onto, DepositReport, Entry};
@@ -92,9 +92,9 @@ fn close<const D: usize>(p: Vector<D>, q: [Real; D], tol: Real) {
 
 /// The checker's verdict with the model's tolerance, panicking with the report.
 fn assert_valid<const D: usize>(b: &Bed<D>, roof: bool, what: &str) -> Report {
-    let checks = Checks {
+    let checks = InvariantChecks {
         roof,
-        ..Checks::new(TOL)
+        ..InvariantChecks::new(TOL)
     };
     assert_checked(b, &checks, what)
 }
@@ -221,9 +221,9 @@ fn invariants_check<const D: usize>(
     if !b.radii.iter().all(|&r| r >= lo && r <= hi) {
         bad.push("radius out of the distribution's bounds".into());
     }
-    let checks = Checks {
+    let checks = InvariantChecks {
         roof,
-        ..Checks::new(TOL)
+        ..InvariantChecks::new(TOL)
     };
     let report = check_bed_with(&b, &checks);
     if !report.is_ok() || report.particles != b.len() {

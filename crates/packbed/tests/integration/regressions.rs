@@ -4,14 +4,14 @@
 
 use crate::common::{assert_checked, config, run, TOL};
 use packbed::analysis::analyze;
-use packbed::analysis::validate::{check_bed_with, Checks};
+use packbed::analysis::validate::{check_bed_with, InvariantChecks};
 use packbed::bed::Bed;
 use packbed::config::{Config, Fill};
 
 fn assert_valid<const D: usize>(b: &Bed<D>, what: &str) {
-    let checks = Checks {
+    let checks = InvariantChecks {
         roof: true,
-        ..Checks::new(TOL)
+        ..InvariantChecks::new(TOL)
     };
     assert_checked(b, &checks, what);
 }
@@ -123,7 +123,7 @@ fn chains_as_long_as_the_box_is_wide_settle_inside_it() {
             .map(|i| b.centres[i][2] - b.radii[i])
             .fold(f64::INFINITY, f64::min);
         assert!(lowest >= -1e-9, "seed {seed}: a bead reaches z = {lowest}");
-        let rep = check_bed_with(&b, &Checks::new(1e-9));
+        let rep = check_bed_with(&b, &InvariantChecks::new(1e-9));
         assert!(rep.is_ok(), "seed {seed}: {rep}");
     }
 }

@@ -11,7 +11,7 @@
 
 use crate::common::{assert_checked, run};
 use packbed::analysis::analyze;
-use packbed::analysis::validate::Checks;
+use packbed::analysis::validate::InvariantChecks;
 use packbed::bed::Bed;
 use packbed::config::Config;
 use packbed::math::{Real, Vector};
@@ -34,10 +34,10 @@ fn lognormal_min() -> Real {
 
 /// No overlap beyond 1e-12 of a radius, every particle inside the box.
 fn assert_valid<const D: usize>(b: &Bed<D>, what: &str) {
-    let checks = Checks {
+    let checks = InvariantChecks {
         roof: true,
         rest: false,
-        ..Checks::new(1e-12)
+        ..InvariantChecks::new(1e-12)
     };
     assert_checked(b, &checks, what);
 }

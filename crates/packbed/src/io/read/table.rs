@@ -210,7 +210,7 @@ fn parse_chain(s: &str) -> Option<Shape> {
     Some(Shape::Chain {
         beads,
         spacing,
-        orientation: crate::species::Orientation::default(),
+        orientation: crate::species::EntryOrientation::default(),
     })
 }
 
@@ -225,7 +225,7 @@ mod tests {
             Some(Shape::Chain {
                 beads: 5,
                 spacing: 1.0,
-                orientation: crate::species::Orientation::default(),
+                orientation: crate::species::EntryOrientation::default(),
             })
         );
         assert_eq!(parse_chain("sphere"), None);
