@@ -96,6 +96,27 @@ impl<const D: usize> Bed<D> {
         ids.len()
     }
 
+    /// The bed in a few words, for titles: `3D bed, 1200 spheres in 240
+    /// bodies, periodic sides`.
+    pub fn describe(&self) -> String {
+        let what = match (D, self.len()) {
+            (2, 1) => "disc",
+            (2, _) => "discs",
+            (_, 1) => "sphere",
+            _ => "spheres",
+        };
+        let mut t = format!("{D}D bed, {} {what}", self.len());
+        let bodies = self.body_count();
+        if bodies != self.len() {
+            let noun = if bodies == 1 { "body" } else { "bodies" };
+            t.push_str(&format!(" in {bodies} {noun}"));
+        }
+        if self.container.periodic {
+            t.push_str(", periodic sides");
+        }
+        t
+    }
+
     /// Appends a particle that is a body of its own (numbered after the last body).
     pub fn push(&mut self, centre: Vector<D>, radius: Real, species: u32) {
         let body = self.bodies.last().map_or(0, |&b| b + 1);
@@ -235,5 +256,20 @@ impl AnyBed {
     /// Total solid volume (area in 2D).
     pub fn solid_volume(&self) -> Real {
         each_dim!(self, b => b.solid_volume())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_bed_describes_its_particles_bodies_and_sides() {
+        let one = Bed::of_discs([10.0, 10.0], false, &[(5.0, 1.0, 1.0)]);
+        assert_eq!(one.describe(), "2D bed, 1 disc");
+        let mut two = Bed::of_discs([10.0, 10.0], true, &[(2.0, 1.0, 1.0), (4.0, 1.0, 1.0)]);
+        assert_eq!(two.describe(), "2D bed, 2 discs, periodic sides");
+        two.bodies = vec![0, 0];
+        assert_eq!(two.describe(), "2D bed, 2 discs in 1 body, periodic sides");
     }
 }

@@ -506,25 +506,6 @@ fn badge(canvas: &mut dyn Canvas, x: f64, y: f64, text: &str, size: f64, class: 
     );
 }
 
-/// "2D bed, 120 discs" (", in 40 bodies"; ", periodic sides").
-fn describe<const D: usize>(bed: &Bed<D>) -> String {
-    let what = match (D, bed.len()) {
-        (2, 1) => "disc",
-        (2, _) => "discs",
-        (_, 1) => "sphere",
-        _ => "spheres",
-    };
-    let mut t = format!("{D}D bed, {} {what}", bed.len());
-    let bodies = bed.body_count();
-    if bodies != bed.len() {
-        t.push_str(&format!(" in {bodies} bodies"));
-    }
-    if bed.container.periodic {
-        t.push_str(", periodic sides");
-    }
-    t
-}
-
 /// Rows that explain the 3D projection's depth cue.
 fn depth_rows<const D: usize>() -> Vec<Row> {
     if D == 3 {
@@ -613,7 +594,7 @@ pub fn draw_forces<const D: usize>(
     let title = format!(
         "Bond forces under {}: {}, {} bonds",
         frag.summary.load.name(),
-        describe(bed),
+        bed.describe(),
         frag.bonds.len()
     );
     scene.furnish(canvas, &title, &rows);
@@ -738,7 +719,7 @@ pub fn draw_breakage<const D: usize>(
     let title = format!(
         "Breakage under {}: {}, {} of {} bonds broken, {end}",
         sm.load.name(),
-        describe(bed),
+        bed.describe(),
         frag.steps.len(),
         frag.bonds.len()
     );

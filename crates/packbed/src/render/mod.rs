@@ -449,20 +449,7 @@ fn species_label<const D: usize>(bed: &Bed<D>, s: usize) -> String {
 
 /// The default title: dimension, count, what colours show.
 pub(crate) fn default_title<const D: usize>(bed: &Bed<D>, opts: &RenderOptions) -> String {
-    let what = match (D, bed.len()) {
-        (2, 1) => "disc",
-        (2, _) => "discs",
-        (_, 1) => "sphere",
-        _ => "spheres",
-    };
-    let mut t = format!("{}D bed, {} {what}", D, bed.len());
-    let bodies = bed.body_count();
-    if bodies != bed.len() {
-        t.push_str(&format!(" in {bodies} bodies"));
-    }
-    if bed.container.periodic {
-        t.push_str(", periodic sides");
-    }
+    let mut t = bed.describe();
     if opts.network {
         t.push_str(", contact network");
     }
