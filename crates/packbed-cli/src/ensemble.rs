@@ -3,7 +3,7 @@
 //! prints a short summary.
 
 use crate::overrides::{at_least_one, Overrides};
-use crate::run::{check_out_dir, read_config, source_name};
+use crate::run::check_out_dir;
 use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::ProgressDrawTarget;
@@ -29,9 +29,10 @@ impl Replicates {
     /// The config, checked for an ensemble (every sweep value), and the
     /// number of replicates.
     pub fn load(&self) -> Result<(Config, u64)> {
-        let config = read_config(self.config.as_deref(), &self.overrides)?;
-        let source = source_name(self.config.as_deref(), &self.overrides);
-        packbed::validate_ensemble(&config).with_context(|| source)?;
+        let settings = self.overrides.settings();
+        let config = settings.applied_to_file(self.config.as_deref())?;
+        packbed::validate_ensemble(&config)
+            .with_context(|| settings.source(self.config.as_deref()))?;
         let runs = packbed::ensemble_runs(self.runs.map(|n| n as u64), &config)?;
         Ok((config, runs))
     }

@@ -4,7 +4,7 @@
 //! [`packbed::Overrides`], the same edits a sweep makes.
 
 use clap::Args;
-use packbed::{parse_numbers, BoxSpec, Config, Measure, Mode};
+use packbed::{parse_numbers, BoxSpec, Measure, Mode};
 
 /// `10,20` → numbers, for clap.
 pub fn numbers(text: &str) -> std::result::Result<Numbers, String> {
@@ -79,7 +79,7 @@ fn measure_list(text: &str) -> std::result::Result<MeasureList, String> {
 
 impl Overrides {
     /// The library's overrides.
-    fn settings(&self) -> packbed::Overrides {
+    pub fn settings(&self) -> packbed::Overrides {
         packbed::Overrides {
             dim: self.dim,
             radii: self.radii.clone(),
@@ -93,16 +93,6 @@ impl Overrides {
             large: self.large,
             measures: self.measures.list.clone(),
         }
-    }
-
-    /// True when no override is given.
-    pub fn is_empty(&self) -> bool {
-        self.settings().is_empty()
-    }
-
-    /// Applies the overrides to `config`.
-    pub fn apply(&self, config: &mut Config) -> packbed::Result<()> {
-        self.settings().apply(config)
     }
 }
 

@@ -4,7 +4,7 @@ use crate::overrides::Overrides;
 use crate::progress::Progress;
 use anyhow::{Context, Result};
 use clap::Args;
-use packbed::{text, Config, ExportFormat as Format, RunExtras};
+use packbed::{text, ExportFormat as Format, RunExtras};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `packbed run`.
@@ -58,11 +58,12 @@ impl FileArgs {
 
 /// Runs `packbed run`.
 pub fn run(args: RunArgs) -> Result<()> {
-    let config = read_config(args.config.as_deref(), &args.overrides)?;
+    let settings = args.overrides.settings();
+    let config = settings.applied_to_file(args.config.as_deref())?;
     // Planned (validated) once, before any work or output.
     let plan = config
         .planned()
-        .with_context(|| source_name(args.config.as_deref(), &args.overrides))?;
+        .with_context(|| settings.source(args.config.as_deref()))?;
     let extras = args.files.extras();
     check_out_dir(&args.out)?;
     let mut progress = Progress::new(plan.estimated_particles(), args.files.shown.quiet);
@@ -81,27 +82,6 @@ pub fn run(args: RunArgs) -> Result<()> {
     }
     eprint!("{}", text::warning_lines(&written.warnings));
     Ok(())
-}
-
-/// The config file (or the default) with the overrides applied, not validated.
-pub fn read_config(path: Option<&Path>, overrides: &Overrides) -> Result<Config> {
-    let mut config = match path {
-        Some(path) => Config::from_file(path)?,
-        None => Config::default(),
-    };
-    overrides.apply(&mut config)?;
-    Ok(config)
-}
-
-/// Where the settings came from, to say where to look when they are wrong.
-pub fn source_name(path: Option<&Path>, overrides: &Overrides) -> String {
-    let file = path.map(|p| p.display().to_string());
-    match (file, overrides.is_empty()) {
-        (Some(f), true) => f,
-        (Some(f), false) => format!("{f} with command-line options"),
-        (None, false) => "command-line options".into(),
-        (None, true) => "default config".into(),
-    }
 }
 
 /// Refuses an output directory that cannot be created or written before the

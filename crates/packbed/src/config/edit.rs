@@ -6,6 +6,7 @@
 use super::{Config, Measure, Mode, SweepValue};
 use crate::error::{Error, Result};
 use crate::math::Real;
+use std::path::Path;
 use std::str::FromStr;
 
 /// One change to a config. Edits are applied before validation, so every
@@ -405,11 +406,52 @@ impl Overrides {
         }
         Ok(())
     }
+
+    /// The config file at `path` (the default bed without one) with these
+    /// overrides applied; not validated.
+    pub fn applied_to_file(&self, path: Option<&Path>) -> Result<Config> {
+        let mut config = match path {
+            Some(path) => Config::from_file(path)?,
+            None => Config::default(),
+        };
+        self.apply(&mut config)?;
+        Ok(config)
+    }
+
+    /// Where the settings came from (the file at `path`, these overrides),
+    /// to say where to look when they are wrong.
+    pub fn source(&self, path: Option<&Path>) -> String {
+        let file = path.map(|p| p.display().to_string());
+        match (file, self.is_empty()) {
+            (Some(f), true) => f,
+            (Some(f), false) => format!("{f} with command-line options"),
+            (None, false) => "command-line options".into(),
+            (None, true) => "default config".into(),
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_source_names_the_file_and_the_overrides() {
+        let none = Overrides::default();
+        let seed = Overrides {
+            seed: Some(3),
+            ..Overrides::default()
+        };
+        let file = Path::new("bed.toml");
+        assert_eq!(none.source(Some(file)), "bed.toml");
+        assert_eq!(
+            seed.source(Some(file)),
+            "bed.toml with command-line options"
+        );
+        assert_eq!(seed.source(None), "command-line options");
+        assert_eq!(none.source(None), "default config");
+        assert_eq!(seed.applied_to_file(None).unwrap().seed, 3);
+    }
 
     fn edited(edits: &[Edit]) -> Result<Config> {
         let mut c = Config::default();
