@@ -26,7 +26,7 @@ use crate::config::{Fill, Plan};
 use crate::container::Container;
 use crate::deposit::{DepositReport, Progress, RunRng};
 use crate::error::{Error, Result};
-use crate::grid::{Grid, Levels};
+use crate::grid::Grid;
 use crate::math::{Real, Vector};
 use crate::species::{Shape, SizeDist, Species, SpeciesPicker};
 use rand::{RngExt, SeedableRng};
@@ -57,8 +57,6 @@ const SMALLEST_VOXEL: Real = 1e-10;
 /// The grid is first refitted to the radii placed at this bed size, then at
 /// every doubling.
 const FIRST_REGRID: usize = 4096;
-/// Radii sampled from the bed, evenly over its order, to refit the grid.
-const REGRID_SAMPLE: usize = 4096;
 
 /// Builds an RSA bed for a validated plan.
 pub fn rsa<const D: usize>(
@@ -97,8 +95,6 @@ struct Rsa<'p, const D: usize> {
     hi: Vector<D>,
     /// Particles to place at most.
     target: u64,
-    /// Particles the plan expects; the grid is sized for at least this many.
-    estimate: usize,
     /// Bed size at which the grid is next refitted to the radii placed.
     regrid_at: usize,
     /// The caller asked to stop (its progress broke): the bed counts as full.
@@ -167,7 +163,6 @@ impl<'p, const D: usize> Rsa<'p, D> {
             lo,
             hi,
             target,
-            estimate: plan.estimated_particles() as usize,
             regrid_at: FIRST_REGRID,
             stopped: false,
         })
@@ -243,18 +238,13 @@ impl<'p, const D: usize> Rsa<'p, D> {
     /// Refitting at every doubling of the bed keeps the cost linear; the
     /// searches' answers do not depend on the grid, so neither does the bed.
     fn regrid(&mut self) {
-        let n = self.bed.len();
-        let sample: Vec<(Real, Real)> = (0..REGRID_SAMPLE)
-            .map(|i| (self.bed.radii[i * n / REGRID_SAMPLE], 1.0))
-            .collect();
-        let levels = Levels::for_sizes::<D>(self.r_max, &sample);
-        let mut grid = Grid::for_particles(&self.container, &levels, self.estimate.max(2 * n));
-        grid.reserve(self.estimate.max(2 * n));
-        for (i, (c, &r)) in self.bed.centres.iter().zip(&self.bed.radii).enumerate() {
-            grid.insert(i as u32, c, r);
-        }
-        self.grid = grid;
-        self.regrid_at = n.saturating_mul(2);
+        self.grid = Grid::of_particles(
+            &self.container,
+            &self.bed.centres,
+            &self.bed.radii,
+            self.r_max,
+        );
+        self.regrid_at = self.bed.len().saturating_mul(2);
     }
 
     /// Draws the species and radius of the next particle.
