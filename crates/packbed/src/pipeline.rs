@@ -4,7 +4,7 @@
 //! replicate's `summary.json` is exactly what `run` would write for its seed.
 
 use crate::analysis::{Contacts, Summary};
-use crate::bed::{AnyBed, Bed};
+use crate::bed::{each_dim, AnyBed, Bed};
 use crate::config::{AnalysisConfig, Config, Measure};
 use crate::deposit::DepositReport;
 use crate::deposit::Progress;
@@ -55,10 +55,7 @@ pub fn run_planned(
 ) -> Result<FinishedBed> {
     let start = Instant::now();
     let (bed, deposit) = crate::deposit::build_planned(plan, progress)?;
-    let (contacts, summary) = match &bed {
-        AnyBed::D2(b) => analyse(config, b, &deposit, start)?,
-        AnyBed::D3(b) => analyse(config, b, &deposit, start)?,
-    };
+    let (contacts, summary) = each_dim!(&bed, b => analyse(config, b, &deposit, start)?);
     Ok(FinishedBed {
         bed,
         contacts,
@@ -112,14 +109,9 @@ impl FinishedBed {
     /// Writes the run's files plus pictures, plots and exports, atomically;
     /// a picture that cannot be drawn is a warning (see [`Written`]).
     pub fn write_with(&self, dir: &Path, extras: &RunExtras) -> Result<Written> {
-        match &self.bed {
-            AnyBed::D2(b) => {
-                crate::output::write_run_with(dir, b, &self.contacts, &self.summary, extras)
-            }
-            AnyBed::D3(b) => {
-                crate::output::write_run_with(dir, b, &self.contacts, &self.summary, extras)
-            }
-        }
+        each_dim!(&self.bed, b => {
+            crate::output::write_run_with(dir, b, &self.contacts, &self.summary, extras)
+        })
     }
 }
 
@@ -165,14 +157,12 @@ pub fn analyze_read_bed(
     settings.check()?;
     let measures = settings.measures.as_deref().unwrap_or(&Measure::DEFAULT);
     crate::config::check_analysis(bed.len(), bed.dim(), measures, source)?;
-    let spread = crate::bed::each_dim!(&bed, b => spread_in_diameters(b));
+    let spread = each_dim!(&bed, b => spread_in_diameters(b));
     if let Some(why) = crate::config::pore_space_extent_problem(measures, spread) {
         return Err(Error::Impossible(format!("{source}: {why}")));
     }
-    let (contacts, summary) = match &bed {
-        AnyBed::D2(b) => analyze_read(source, b, read, settings, read_seconds),
-        AnyBed::D3(b) => analyze_read(source, b, read, settings, read_seconds),
-    };
+    let (contacts, summary) =
+        each_dim!(&bed, b => analyze_read(source, b, read, settings, read_seconds));
     Ok(AnalyzedBed {
         bed,
         contacts,
@@ -185,10 +175,7 @@ pub fn analyze_read_bed(
 pub fn analyze_bed(bed: &AnyBed, settings: &AnalysisConfig) -> Result<(Contacts, Summary)> {
     settings.check()?;
     let options = settings.options();
-    Ok(match bed {
-        AnyBed::D2(b) => crate::analysis::analyze_with(b, &options),
-        AnyBed::D3(b) => crate::analysis::analyze_with(b, &options),
-    })
+    Ok(each_dim!(bed, b => crate::analysis::analyze_with(b, &options)))
 }
 
 /// Reads the bed file at `path` after checking the caller's box `hint`; also
@@ -233,7 +220,7 @@ pub fn render_to(
     let svg = picture_is_svg(out)?;
     let mut opts = opts.clone();
     if let Some(large) = chains {
-        let classes = crate::bed::each_dim!(bed, b => {
+        let classes = each_dim!(bed, b => {
             let contacts = crate::analysis::find_contacts(b, opts.contact_tol);
             render::chain_classes(b, &contacts, large)
         });
@@ -308,14 +295,9 @@ impl AnalyzedBed {
     /// Writes the analysis files (`output::ANALYZE_FILES`) plus pictures,
     /// plots and exports into `dir`, atomically.
     pub fn write_with(&self, dir: &Path, extras: &RunExtras) -> Result<Written> {
-        match &self.bed {
-            AnyBed::D2(b) => {
-                crate::output::write_analysis(dir, b, &self.contacts, &self.summary, extras)
-            }
-            AnyBed::D3(b) => {
-                crate::output::write_analysis(dir, b, &self.contacts, &self.summary, extras)
-            }
-        }
+        each_dim!(&self.bed, b => {
+            crate::output::write_analysis(dir, b, &self.contacts, &self.summary, extras)
+        })
     }
 }
 

@@ -191,19 +191,7 @@ impl Network {
         }
         // Half-edges around each vertex, sorted by angle (counter-clockwise).
         let nv = net.pos.len();
-        let mut start = vec![0usize; nv + 1];
-        for &f in &net.from {
-            start[f as usize + 1] += 1;
-        }
-        for v in 0..nv {
-            start[v + 1] += start[v];
-        }
-        let mut fill = start.clone();
-        let mut around = vec![0u32; m];
-        for (e, &f) in net.from.iter().enumerate() {
-            around[fill[f as usize]] = e as u32;
-            fill[f as usize] += 1;
-        }
+        let (start, mut around) = crate::math::sparse::group_by_key(&net.from, nv);
         let angle: Vec<Real> = net.disp.iter().map(|d| d[1].atan2(d[0])).collect();
         let mut slot = vec![0usize; m];
         for v in 0..nv {

@@ -2,7 +2,7 @@
 
 use super::manifest::{check_out, first_difference, write_manifest, Manifest, Shard, MANIFEST};
 use super::write::{write_point, write_sweep};
-use super::{points, run_dir, seeds, Outcome, PointResult};
+use super::{points, run_dir, seeds, Outcome};
 use crate::error::{Error, Result};
 use crate::io::Staging;
 use std::fs;
@@ -174,9 +174,9 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
     outcome.wall_seconds = wall;
     for (p, values) in merged {
         let dir = out.join(&p.dir);
-        let (aggregate, files) = write_point(
+        let point = write_point(
             p,
-            &dir,
+            dir,
             first.runs,
             Shard::ALL,
             &values,
@@ -185,15 +185,7 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
             pictures,
             &mut outcome.warnings,
         )?;
-        outcome.points.push(PointResult {
-            label: p.label.clone(),
-            dir,
-            percolation_asked: p.asks_for_percolation(),
-            aggregate,
-            built: 0,
-            resumed: values.len() as u64,
-            files,
-        });
+        outcome.points.push(point);
     }
     outcome.files = vec![out.join(MANIFEST)];
     outcome.files.extend(write_sweep(

@@ -3,7 +3,7 @@
 
 use super::manifest::{check_out, config_key, io_err, write_manifest, Manifest, MANIFEST};
 use super::write::{write_point, write_sweep};
-use super::{points, run_dir, seeds, worker_threads, EnsembleOptions, Outcome, PointResult, Tick};
+use super::{points, run_dir, seeds, worker_threads, EnsembleOptions, Outcome, Tick};
 use crate::config::Config;
 use crate::error::{Error, Result};
 use crate::io::Staging;
@@ -163,9 +163,9 @@ pub fn run(
     };
     for (p, dir, values, built) in results {
         let resumed = values.len() as u64 - built;
-        let (aggregate, files) = write_point(
+        let point = write_point(
             p,
-            &dir,
+            dir,
             opts.runs,
             opts.shard,
             &values,
@@ -174,15 +174,7 @@ pub fn run(
             opts.pictures,
             &mut outcome.warnings,
         )?;
-        outcome.points.push(PointResult {
-            label: p.label.clone(),
-            dir,
-            percolation_asked: p.asks_for_percolation(),
-            aggregate,
-            built,
-            resumed,
-            files,
-        });
+        outcome.points.push(point);
     }
     outcome.files = vec![out.join(MANIFEST)];
     outcome.files.extend(write_sweep(

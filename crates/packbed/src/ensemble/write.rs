@@ -47,14 +47,13 @@ pub(super) fn stage_plots(
     Ok(())
 }
 
-/// Writes the statistics files of one point; returns its aggregate and the
-/// files written.
+/// Writes the statistics files of one point into `dir`; returns its result.
 #[allow(clippy::too_many_arguments)]
 // Without pictures there is no plot to warn about.
 #[cfg_attr(not(feature = "render"), allow(unused_variables, clippy::ptr_arg))]
 pub(super) fn write_point(
     p: &Point,
-    dir: &Path,
+    dir: PathBuf,
     runs: u64,
     shard: Shard,
     values: &[Value],
@@ -62,7 +61,7 @@ pub(super) fn write_point(
     wall: f64,
     pictures: bool,
     warnings: &mut Vec<String>,
-) -> Result<(Aggregate, Vec<PathBuf>)> {
+) -> Result<PointResult> {
     let aggregate = stats::measures_of(values)?;
     let timing = stats::timings_of(values)?;
     let header = tables::Header {
@@ -97,7 +96,7 @@ pub(super) fn write_point(
             serde_json::to_string_pretty(&timing_json).unwrap_or_default()
         ),
     ];
-    let mut s = Staging::new(dir)?;
+    let mut s = Staging::new(&dir)?;
     for (name, text) in ENSEMBLE_FILES.iter().zip(&texts) {
         s.stage(name, |w| w.write_all(text.as_bytes()))?;
     }
@@ -117,7 +116,15 @@ pub(super) fn write_point(
         return Err(crate::output::no_pictures());
     }
     let files = s.commit()?;
-    Ok((aggregate, files))
+    Ok(PointResult {
+        label: p.label.clone(),
+        dir,
+        percolation_asked: p.asks_for_percolation(),
+        aggregate,
+        built,
+        resumed,
+        files,
+    })
 }
 
 /// Writes a sweep's comparison into `out` (or, without a sweep, lists the files

@@ -289,6 +289,16 @@ pub struct AnalyzeTiming {
     pub triangulation_seconds: Option<f64>,
 }
 
+impl Checks {
+    fn of(overlaps: &Overlaps, read: &ReadReport) -> Checks {
+        Checks {
+            overlapping_pairs: overlaps.overlapping_pairs,
+            max_overlap: overlaps.max_overlap,
+            wrapped_centres: read.wrapped,
+        }
+    }
+}
+
 impl AnalyzeSummary {
     /// Gathers the summary of an analysed bed file.
     pub fn new<const D: usize>(
@@ -311,11 +321,7 @@ impl AnalyzeSummary {
                 bodies: bed.body_count() as u64,
             },
             settings,
-            checks: Checks {
-                overlapping_pairs: overlaps.overlapping_pairs,
-                max_overlap: overlaps.max_overlap,
-                wrapped_centres: read.wrapped,
-            },
+            checks: Checks::of(overlaps, read),
             analysis: analysis.clone(),
             timing,
         }
@@ -568,11 +574,7 @@ impl FragmentSummary {
                 bodies: bed.body_count() as u64,
             },
             settings,
-            checks: Checks {
-                overlapping_pairs: overlaps.overlapping_pairs,
-                max_overlap: overlaps.max_overlap,
-                wrapped_centres: read.wrapped,
-            },
+            checks: Checks::of(overlaps, read),
             fragmentation: fragmentation.clone(),
             force_note: force_note(
                 fragmentation.load,

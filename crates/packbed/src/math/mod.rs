@@ -236,6 +236,7 @@ pub(crate) mod normal;
 pub mod predicates;
 mod rotation;
 pub mod sparse;
+pub mod v3;
 
 pub use lsq::{least_squares_qr, nnls, nnls_gen, nnls_qr, solve_pivoted, MAX_GEN_COLUMNS};
 pub use rotation::{moment, rotate};

@@ -208,28 +208,53 @@ fn perturbed_3d(
         return -s * o4;
     }
     // D = 0: D(ε) = -Σ ε_i (-1)^i O_i, result = -sign(D(ε)) · O_4.
-    let pts = [p[0], p[1], p[2], p[3], q];
-    let ranks = [rank[0], rank[1], rank[2], rank[3], rank_q];
+    let o4_q = |o: &[[f64; 3]]| orient3d(o[0], o[1], o[2], o[3]);
+    tie_break(
+        &[p[0], p[1], p[2], p[3], q],
+        &[rank[0], rank[1], rank[2], rank[3], rank_q],
+        o4_q,
+        o4,
+    )
+}
+
+/// The sign of a power test whose determinant is zero, from the perturbation
+/// of the highest-ranked point whose minor (`orient` of the other points) is
+/// not zero; the minor of `q` (last of `pts`) is the cell's own orientation
+/// `o`, never zero here. In 3D the even minors count `+`, in 2D `-`: the sign
+/// of `(-1)^i` flips with the lifted determinant's size.
+fn tie_break<const D: usize>(
+    pts: &[[f64; D]],
+    ranks: &[u64],
+    orient: impl Fn(&[[f64; D]]) -> Sign,
+    o: Sign,
+) -> Sign {
+    let q = pts.len() - 1;
+    let even: Sign = if D == 3 { 1 } else { -1 };
     let mut order = [0usize, 1, 2, 3, 4];
+    let order = &mut order[..pts.len()];
     order.sort_unstable_by(|&a, &b| ranks[b].cmp(&ranks[a]).then(a.cmp(&b)));
-    for &i in &order {
-        if i == 4 {
-            return 1; // O_4 = orient3d(p): (-1)^4 · O_4 · O_4 > 0.
+    for &i in order.iter() {
+        if i == q {
+            return 1; // the minor of q is o itself: ± o · o, the sign making it positive.
         }
-        let mut o = [[0.0; 3]; 4];
+        let mut minor = [[0.0; D]; 4];
         let mut k = 0;
         for (j, pt) in pts.iter().enumerate() {
             if j != i {
-                o[k] = *pt;
+                minor[k] = *pt;
                 k += 1;
             }
         }
-        let oi = orient3d(o[0], o[1], o[2], o[3]);
+        let oi = orient(&minor[..q]);
         if oi != 0 {
-            return if i % 2 == 0 { oi * o4 } else { -oi * o4 };
+            return if i % 2 == 0 {
+                even * oi * o
+            } else {
+                -even * oi * o
+            };
         }
     }
-    unreachable!("the minor of q is orient3d(p) != 0")
+    unreachable!("the minor of q is the cell's orientation, not 0")
 }
 
 /// Symbolically perturbed [`power_test_2d`]: never `0` for non-collinear `p`.
@@ -275,28 +300,13 @@ fn perturbed_2d(
         return s * o3;
     }
     // D = 0: D(ε) = -Σ ε_i (-1)^i O_i, result = sign(D(ε)) · O_3.
-    let pts = [p[0], p[1], p[2], q];
-    let ranks = [rank[0], rank[1], rank[2], rank_q];
-    let mut order = [0usize, 1, 2, 3];
-    order.sort_unstable_by(|&a, &b| ranks[b].cmp(&ranks[a]).then(a.cmp(&b)));
-    for &i in &order {
-        if i == 3 {
-            return 1; // -(-1)^3 · O_3 · O_3 > 0.
-        }
-        let mut o = [[0.0; 2]; 3];
-        let mut k = 0;
-        for (j, pt) in pts.iter().enumerate() {
-            if j != i {
-                o[k] = *pt;
-                k += 1;
-            }
-        }
-        let oi = orient2d(o[0], o[1], o[2]);
-        if oi != 0 {
-            return if i % 2 == 0 { -oi * o3 } else { oi * o3 };
-        }
-    }
-    unreachable!("the minor of q is orient2d(p) != 0")
+    let o3_q = |o: &[[f64; 2]]| orient2d(o[0], o[1], o[2]);
+    tie_break(
+        &[p[0], p[1], p[2], q],
+        &[rank[0], rank[1], rank[2], rank_q],
+        o3_q,
+        o3,
+    )
 }
 
 /// Sign of the 5×5 lifted determinant D (rows p0..p3, q), filtered.

@@ -153,13 +153,7 @@ pub fn blocks<const D: usize>(g: &BondGeometry<D>, k: &[[Real; 3]; 3]) -> [[[Rea
 mod tests {
     use super::*;
 
-    fn cross3(a: [Real; 3], b: [Real; 3]) -> [Real; 3] {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    }
+    use crate::math::v3::cross as cross3;
 
     #[test]
     fn motion_is_translation_plus_rotation_cross_arm() {

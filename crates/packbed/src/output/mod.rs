@@ -78,16 +78,7 @@ pub fn write_run_with<const D: usize>(
         psd,
         extras,
     )?;
-    let mut summary = std::borrow::Cow::Borrowed(summary);
-    if !missing.is_empty() {
-        summary.to_mut().warnings.extend(missing);
-    }
-    // Rendered before touching the disk: a bad value must not leave a directory.
-    let json = summary.to_json()?;
-    Ok(Written {
-        files: stage_dir(dir, Some(bed), contacts, &files, &json)?,
-        warnings: summary.warnings.clone(),
-    })
+    stage_dir(dir, Some(bed), contacts, files, missing, summary)
 }
 
 /// Names of the files [`write_analysis`] writes: a run's files minus the bed.
@@ -113,38 +104,71 @@ pub fn write_analysis<const D: usize>(
         None,
         extras,
     )?;
-    let mut summary = std::borrow::Cow::Borrowed(summary);
-    if !missing.is_empty() {
-        summary.to_mut().warnings.extend(missing);
+    stage_dir::<D, _>(dir, None, contacts, files, missing, summary)
+}
+
+/// A `summary.json` that names under `warnings` what its directory lacks.
+trait WarnedSummary: Clone {
+    fn warnings(&self) -> &Vec<String>;
+    fn warnings_mut(&mut self) -> &mut Vec<String>;
+    fn to_json(&self) -> Result<String>;
+}
+
+impl WarnedSummary for RunSummary {
+    fn warnings(&self) -> &Vec<String> {
+        &self.warnings
     }
-    let json = summary.to_json()?;
-    Ok(Written {
-        files: stage_dir::<D>(dir, None, contacts, &files, &json)?,
-        warnings: summary.warnings.clone(),
-    })
+    fn warnings_mut(&mut self) -> &mut Vec<String> {
+        &mut self.warnings
+    }
+    fn to_json(&self) -> Result<String> {
+        RunSummary::to_json(self)
+    }
+}
+
+impl WarnedSummary for AnalyzeSummary {
+    fn warnings(&self) -> &Vec<String> {
+        &self.warnings
+    }
+    fn warnings_mut(&mut self) -> &mut Vec<String> {
+        &mut self.warnings
+    }
+    fn to_json(&self) -> Result<String> {
+        AnalyzeSummary::to_json(self)
+    }
 }
 
 /// Stages the tables (`particles.csv` only with a bed), the extra files and,
 /// last, so that a complete `summary.json` means a complete directory, the
-/// summary; then commits them together.
-fn stage_dir<const D: usize>(
+/// summary, naming the `missing` pictures; then commits them together.
+fn stage_dir<const D: usize, S: WarnedSummary>(
     dir: &Path,
     bed: Option<&Bed<D>>,
     contacts: &Contacts,
-    files: &[(String, Vec<u8>)],
-    json: &str,
-) -> Result<Vec<PathBuf>> {
+    files: Vec<(String, Vec<u8>)>,
+    missing: Vec<String>,
+    summary: &S,
+) -> Result<Written> {
+    let mut summary = std::borrow::Cow::Borrowed(summary);
+    if !missing.is_empty() {
+        summary.to_mut().warnings_mut().extend(missing);
+    }
+    // Rendered before touching the disk: a bad value must not leave a directory.
+    let json = summary.to_json()?;
     let mut out = Staging::new(dir)?;
     if let Some(bed) = bed {
         out.stage(RUN_FILES[0], |w| tables::write_particles(w, bed))?;
     }
     out.stage(RUN_FILES[1], |w| tables::write_contacts(w, contacts))?;
     out.stage(RUN_FILES[2], |w| tables::write_wall_contacts(w, contacts))?;
-    for (name, bytes) in files {
+    for (name, bytes) in &files {
         out.stage(name, |w| w.write_all(bytes))?;
     }
     out.stage(RUN_FILES[3], |w| w.write_all(json.as_bytes()))?;
-    out.commit()
+    Ok(Written {
+        files: out.commit()?,
+        warnings: summary.warnings().clone(),
+    })
 }
 
 /// `(file name, contents)` of the pictures, plots and exports `extras` asks

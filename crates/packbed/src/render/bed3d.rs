@@ -16,6 +16,7 @@ use super::frame;
 use super::{contacts_if_needed, default_title, picture_palette, RenderOptions};
 use crate::bed::Bed;
 use crate::error::{Error, Result};
+use crate::math::v3::{cross, dot};
 use rayon::prelude::*;
 
 /// The viewing direction: where the camera sits, seen from the box centre.
@@ -125,18 +126,6 @@ impl std::str::FromStr for Cut {
         }
         Ok(Cut::Slab { axis, lo, hi })
     }
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 fn normalize(a: [f64; 3]) -> [f64; 3] {

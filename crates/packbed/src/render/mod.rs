@@ -208,6 +208,17 @@ pub(crate) fn contacts_if_needed<const D: usize>(
         .then(|| find_contacts(bed, opts.contact_tol))
 }
 
+/// The contacts given, or those of `bed` at the default tolerance.
+fn given_or_found<'a, const D: usize>(
+    contacts: Option<&'a Contacts>,
+    bed: &Bed<D>,
+) -> std::borrow::Cow<'a, Contacts> {
+    match contacts {
+        Some(c) => std::borrow::Cow::Borrowed(c),
+        None => std::borrow::Cow::Owned(find_contacts(bed, crate::config::DEFAULT_CONTACT_TOL)),
+    }
+}
+
 /// A viridis colouring of `values` from 0 to `top`, with a five-step legend.
 fn continuous(values: &[f64], top: f64, heading: String) -> Palette {
     let colours = values.iter().map(|&v| colour::viridis(v / top)).collect();
@@ -329,15 +340,8 @@ pub fn palette<const D: usize>(
             })
         }
         ColorBy::Coordination => {
-            let owned;
-            let contacts = match contacts {
-                Some(c) => c,
-                None => {
-                    owned = find_contacts(bed, 1e-6);
-                    &owned
-                }
-            };
-            let z = coordination(bed, contacts);
+            let contacts = given_or_found(contacts, bed);
+            let z = coordination(bed, &contacts);
             let zmax = z.iter().copied().max().unwrap_or(0).max(1);
             let colours = z
                 .iter()
@@ -368,16 +372,9 @@ pub fn palette<const D: usize>(
             Ok(continuous_between(&bed.radii, lo, hi, "radius".into()))
         }
         ColorBy::Force => {
-            let owned;
-            let contacts = match contacts {
-                Some(c) => c,
-                None => {
-                    owned = find_contacts(bed, 1e-6);
-                    &owned
-                }
-            };
+            let contacts = given_or_found(contacts, bed);
             let options = crate::mechanics::FragmentationConfig::default();
-            let frag = crate::mechanics::forces(bed, contacts, &options)?;
+            let frag = crate::mechanics::forces(bed, &contacts, &options)?;
             let f = fragmentation::particle_forces(bed, &frag);
             let largest = f.iter().copied().fold(0.0, f64::max);
             let top = if largest > 0.0 { largest } else { 1.0 };

@@ -17,6 +17,7 @@ use crate::common::{config, run};
 use packbed::analysis::{find_contacts, Contacts};
 use packbed::bed::Bed;
 use packbed::container::Wall;
+use packbed::math::v3::{add, cross, dot, norm, scale, sub};
 use packbed::math::{Real, Vector};
 use packbed::mechanics::solver::{Solver, Springs};
 use packbed::mechanics::{fragment, Breaks, Fragmentation, FragmentationConfig, Load};
@@ -38,28 +39,6 @@ fn pad<const D: usize>(v: &Vector<D>) -> V3 {
     let mut o = [0.0; 3];
     o[..D].copy_from_slice(&v.0);
     o
-}
-fn add(a: V3, b: V3) -> V3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-fn sub(a: V3, b: V3) -> V3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn scale(a: V3, s: Real) -> V3 {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-fn dot(a: V3, b: V3) -> Real {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: V3, b: V3) -> V3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn norm(a: V3) -> Real {
-    dot(a, a).sqrt()
 }
 fn unit(k: usize) -> V3 {
     let mut e = [0.0; 3];

@@ -24,6 +24,10 @@
 //!   do not overlap inside the cell; otherwise void volumes are approximations
 //!   (and are clamped at zero).
 
+use crate::math::v3::{
+    add as add3, cross as cross3, dot as dot3, norm as norm3, scale as scale3, sub as sub3,
+};
+
 /// Volume (area in 2D) of a cell and its void part.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CellVolume {
@@ -63,28 +67,6 @@ const FLAT_TOL: f64 = 1e-10;
 type V3 = [f64; 3];
 type V2 = [f64; 2];
 
-fn sub3(a: V3, b: V3) -> V3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn add3(a: V3, b: V3) -> V3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-fn scale3(a: V3, s: f64) -> V3 {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-fn dot3(a: V3, b: V3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross3(a: V3, b: V3) -> V3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn norm3(a: V3) -> f64 {
-    dot3(a, a).sqrt()
-}
 fn sub2(a: V2, b: V2) -> V2 {
     [a[0] - b[0], a[1] - b[1]]
 }
@@ -119,16 +101,21 @@ fn sign(x: f64) -> f64 {
 }
 
 /// Offsets of `pts[1..]` from `pts[0]`, divided by the largest offset
-/// component, plus that scale. `None` when an input is not finite or all points coincide,
-/// since no frame exists then.
-fn frame3<const N: usize>(pts: &[V3; N]) -> Option<(f64, [V3; N])> {
-    if !pts.iter().flatten().all(|x| x.is_finite()) {
+/// component, plus that scale, and the radii `r` in that frame. `None` when an
+/// input is not finite or all points coincide, since no frame exists then.
+fn framed<const D: usize, const N: usize, const M: usize>(
+    pts: &[[f64; D]; N],
+    r: &[f64; M],
+) -> Option<(f64, [[f64; D]; N], [f64; M])> {
+    if !pts.iter().flatten().chain(r).all(|x| x.is_finite()) {
         return None;
     }
-    let mut d = [[0.0; 3]; N];
+    let mut d = [[0.0; D]; N];
     let mut l: f64 = 0.0;
     for (di, p) in d.iter_mut().zip(pts) {
-        *di = sub3(*p, pts[0]);
+        for (x, (a, o)) in di.iter_mut().zip(p.iter().zip(&pts[0])) {
+            *x = a - o;
+        }
         // Max-norm: a Euclidean norm would square, and underflow or overflow
         // at the very scales this frame exists to handle.
         l = di.iter().fold(l, |m, x| m.max(x.abs()));
@@ -136,40 +123,13 @@ fn frame3<const N: usize>(pts: &[V3; N]) -> Option<(f64, [V3; N])> {
     if !(l.is_finite() && l > 0.0) {
         return None;
     }
-    for di in d.iter_mut() {
-        *di = scale3(*di, 1.0 / l);
+    // 3D scales by the reciprocal and 2D divides, as each did before the two
+    // shared this code: the pore files stay byte-identical across versions.
+    let inv = 1.0 / l;
+    for x in d.iter_mut().flatten() {
+        *x = if D == 3 { *x * inv } else { *x / l };
     }
-    Some((l, d))
-}
-
-fn frame2<const N: usize>(pts: &[V2; N]) -> Option<(f64, [V2; N])> {
-    if !pts.iter().flatten().all(|x| x.is_finite()) {
-        return None;
-    }
-    let mut d = [[0.0; 2]; N];
-    let mut l: f64 = 0.0;
-    for (di, p) in d.iter_mut().zip(pts) {
-        *di = sub2(*p, pts[0]);
-        // Max-norm: a Euclidean norm would square, and underflow or overflow
-        // at the very scales this frame exists to handle.
-        l = di.iter().fold(l, |m, x| m.max(x.abs()));
-    }
-    if !(l.is_finite() && l > 0.0) {
-        return None;
-    }
-    for di in d.iter_mut() {
-        *di = [di[0] / l, di[1] / l];
-    }
-    Some((l, d))
-}
-
-/// Radii in the frame of scale `l`; `None` if any radius is not finite.
-fn scaled_radii<const N: usize>(r: &[f64; N], l: f64) -> Option<[f64; N]> {
-    if r.iter().all(|x| x.is_finite()) {
-        Some(r.map(|x| x / l))
-    } else {
-        None
-    }
+    Some((l, d, r.map(|x| x / l)))
 }
 
 /// For a cell with vertex offsets `d` (vertex 0 at the origin) and radii `r`,
@@ -291,8 +251,7 @@ fn angle3(u: V3, v: V3) -> f64 {
 /// `1e-10`), when two or more of them coincide so that they span no volume,
 /// or when an input is not finite.
 pub fn power_centre_3d(c: &[[f64; 3]; 4], r: &[f64; 4]) -> Option<([f64; 3], f64)> {
-    let (l, d) = frame3(c)?;
-    let rs = scaled_radii(r, l)?;
+    let (l, d, rs) = framed(c, r)?;
     let (q, _) = power_and_slope_3d(&[d[1], d[2], d[3]], &rs)?;
     let p = add3(c[0], scale3(q, l)).map(fin);
     Some((p, fin(power_value(norm3(q), rs[0]) * l * l)))
@@ -301,8 +260,7 @@ pub fn power_centre_3d(c: &[[f64; 3]; 4], r: &[f64; 4]) -> Option<([f64; 3], f64
 /// 2D analogue of [`power_centre_3d`] for three weighted points; `None` when
 /// the centres are (nearly) collinear or an input is not finite.
 pub fn power_centre_2d(c: &[[f64; 2]; 3], r: &[f64; 3]) -> Option<([f64; 2], f64)> {
-    let (l, d) = frame2(c)?;
-    let rs = scaled_radii(r, l)?;
+    let (l, d, rs) = framed(c, r)?;
     let (q, _) = power_and_slope_2d(&[d[1], d[2]], &rs)?;
     let p = [fin(c[0][0] + q[0] * l), fin(c[0][1] + q[1] * l)];
     Some((p, fin(power_value(norm2(q), rs[0]) * l * l)))
@@ -319,10 +277,7 @@ pub fn power_centre_2d(c: &[[f64; 2]; 3], r: &[f64; 3]) -> Option<([f64; 2], f64
 /// overlap enough to close the pore), when the cell is flat (see
 /// [`power_centre_3d`]), or when an input is not finite.
 pub fn pore_body_radius_3d(c: &[[f64; 3]; 4], r: &[f64; 4]) -> f64 {
-    let Some((l, d)) = frame3(c) else {
-        return 0.0;
-    };
-    let Some(rs) = scaled_radii(r, l) else {
+    let Some((l, d, rs)) = framed(c, r) else {
         return 0.0;
     };
     let Some((q, w)) = power_and_slope_3d(&[d[1], d[2], d[3]], &rs) else {
@@ -338,10 +293,7 @@ pub fn pore_body_radius_3d(c: &[[f64; 3]; 4], r: &[f64; 4]) -> f64 {
 /// the same root rule and fallbacks as [`pore_body_radius_3d`] (0.0 for
 /// collinear centres or no positive root).
 pub fn pore_body_radius_2d(c: &[[f64; 2]; 3], r: &[f64; 3]) -> f64 {
-    let Some((l, d)) = frame2(c) else {
-        return 0.0;
-    };
-    let Some(rs) = scaled_radii(r, l) else {
+    let Some((l, d, rs)) = framed(c, r) else {
         return 0.0;
     };
     fin(apollonius_2d_scaled(&[d[1], d[2]], &rs) * l)
@@ -360,10 +312,7 @@ pub fn cell_volumes_3d(c: &[[f64; 3]; 4], r: &[f64; 4]) -> CellVolume {
         void_volume: 0.0,
         clamped: true,
     };
-    let Some((l, d)) = frame3(c) else {
-        return DEGENERATE;
-    };
-    let Some(rs) = scaled_radii(r, l) else {
+    let Some((l, d, rs)) = framed(c, r) else {
         return DEGENERATE;
     };
     let volume = dot3(d[1], cross3(d[2], d[3])).abs() / 6.0;
@@ -393,10 +342,7 @@ pub fn cell_volumes_2d(c: &[[f64; 2]; 3], r: &[f64; 3]) -> CellVolume {
         void_volume: 0.0,
         clamped: true,
     };
-    let Some((l, d)) = frame2(c) else {
-        return DEGENERATE;
-    };
-    let Some(rs) = scaled_radii(r, l) else {
+    let Some((l, d, rs)) = framed(c, r) else {
         return DEGENERATE;
     };
     let area = cross2(d[1], d[2]).abs() / 2.0;
@@ -422,10 +368,7 @@ pub fn cell_volumes_2d(c: &[[f64; 2]; 3], r: &[f64; 3]) -> CellVolume {
 /// Returns 0.0 when no root is positive (the spheres close the throat), when
 /// the centres are (nearly) collinear, or when an input is not finite.
 pub fn constriction_radius_3d(c: &[[f64; 3]; 3], r: &[f64; 3]) -> f64 {
-    let Some((l, d)) = frame3(c) else {
-        return 0.0;
-    };
-    let Some(rs) = scaled_radii(r, l) else {
+    let Some((l, d, rs)) = framed(c, r) else {
         return 0.0;
     };
     // In-plane orthonormal basis (e1 along d1); the 2D solver rejects
@@ -447,12 +390,9 @@ pub fn constriction_radius_3d(c: &[[f64; 3]; 3], r: &[f64; 3]) -> f64 {
 /// `(|c_0 − c_1| − r_0 − r_1) / 2`, clamped at 0 when they touch or overlap
 /// (and 0.0 for non-finite inputs).
 pub fn constriction_radius_2d(c: &[[f64; 2]; 2], r: &[f64; 2]) -> f64 {
-    let Some((l, d)) = frame2(c) else {
+    let Some((l, d, rs)) = framed(c, r) else {
         // Coincident centres: the discs overlap unless both radii are 0,
         // and then the gap is 0 as well.
-        return 0.0;
-    };
-    let Some(rs) = scaled_radii(r, l) else {
         return 0.0;
     };
     fin((0.5 * (norm2(d[1]) - rs[0] - rs[1])).max(0.0) * l)
@@ -546,10 +486,7 @@ const DEGENERATE_THROAT: Throat = Throat {
 /// area and no side, hence zero volume/surface. Non-finite inputs or all
 /// points coincident give an all-zero throat.
 pub fn throat_3d(p1: [f64; 3], p2: [f64; 3], c: &[[f64; 3]; 3], r: &[f64; 3]) -> Throat {
-    let Some((l, d)) = frame3(&[c[0], c[1], c[2], p1, p2]) else {
-        return DEGENERATE_THROAT;
-    };
-    let Some(rs) = scaled_radii(r, l) else {
+    let Some((l, d, rs)) = framed(&[c[0], c[1], c[2], p1, p2], r) else {
         return DEGENERATE_THROAT;
     };
     let f = [d[0], d[1], d[2]];
@@ -589,10 +526,7 @@ pub fn throat_3d(p1: [f64; 3], p2: [f64; 3], c: &[[f64; 3]; 3], r: &[f64; 3]) ->
 /// solid perimeter `Σ r θ`; same sign rule (side of the line through the
 /// edge), same fallbacks.
 pub fn throat_2d(p1: [f64; 2], p2: [f64; 2], c: &[[f64; 2]; 2], r: &[f64; 2]) -> Throat {
-    let Some((l, d)) = frame2(&[c[0], c[1], p1, p2]) else {
-        return DEGENERATE_THROAT;
-    };
-    let Some(rs) = scaled_radii(r, l) else {
+    let Some((l, d, rs)) = framed(&[c[0], c[1], p1, p2], r) else {
         return DEGENERATE_THROAT;
     };
     let e = d[1];

@@ -418,47 +418,17 @@ pub(crate) fn power_test<const D: usize>(
     q: u32,
 ) -> i8 {
     let p = |i: u32| &points[i as usize];
-    let qp = p(q);
+    let w = |i: u32| weights[i as usize];
+    let r = |i: u32| ranks[i as usize];
     match D {
         2 => {
             let at = |i: u32| [p(i)[0], p(i)[1]];
-            power_test_2d_oriented(
-                [at(v[0]), at(v[1]), at(v[2])],
-                [
-                    weights[v[0] as usize],
-                    weights[v[1] as usize],
-                    weights[v[2] as usize],
-                ],
-                [
-                    ranks[v[0] as usize],
-                    ranks[v[1] as usize],
-                    ranks[v[2] as usize],
-                ],
-                [qp[0], qp[1]],
-                weights[q as usize],
-                ranks[q as usize],
-            )
+            let v = [v[0], v[1], v[2]];
+            power_test_2d_oriented(v.map(at), v.map(w), v.map(r), at(q), w(q), r(q))
         }
         _ => {
             let at = |i: u32| [p(i)[0], p(i)[1], p(i)[2]];
-            power_test_3d_oriented(
-                [at(v[0]), at(v[1]), at(v[2]), at(v[3])],
-                [
-                    weights[v[0] as usize],
-                    weights[v[1] as usize],
-                    weights[v[2] as usize],
-                    weights[v[3] as usize],
-                ],
-                [
-                    ranks[v[0] as usize],
-                    ranks[v[1] as usize],
-                    ranks[v[2] as usize],
-                    ranks[v[3] as usize],
-                ],
-                [qp[0], qp[1], qp[2]],
-                weights[q as usize],
-                ranks[q as usize],
-            )
+            power_test_3d_oriented(v.map(at), v.map(w), v.map(r), at(q), w(q), r(q))
         }
     }
 }

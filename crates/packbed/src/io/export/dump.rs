@@ -19,11 +19,7 @@ pub fn boundary_flags<const D: usize>(periodic: bool) -> [&'static str; 3] {
 /// 1-based as LAMMPS numbers them (`id = row + 1`, `type = species + 1`,
 /// `mol = body + 1`).
 pub(super) fn write<const D: usize>(w: &mut dyn Write, x: &Export<D>) -> std::io::Result<()> {
-    let Export {
-        bed,
-        coordination,
-        box3: b,
-    } = *x;
+    let (bed, coordination, b) = (x.bed, x.coordination, x.box3);
     let flags = boundary_flags::<D>(bed.container.periodic);
     writeln!(w, "ITEM: TIMESTEP\n0")?;
     writeln!(w, "ITEM: NUMBER OF ATOMS\n{}", bed.len())?;

@@ -7,11 +7,7 @@ use std::io::Write;
 /// VTK XML unstructured grid: one vertex cell per particle, point data `radius`,
 /// `species`, `body`, `coordination`, `id`; field data `box`, `periodic`, `dim`.
 pub(super) fn write<const D: usize>(w: &mut dyn Write, x: &Export<D>) -> std::io::Result<()> {
-    let Export {
-        bed,
-        coordination,
-        box3: b,
-    } = *x;
+    let (bed, coordination, b) = (x.bed, x.coordination, x.box3);
     let n = bed.len();
     writeln!(w, r#"<?xml version="1.0"?>"#)?;
     writeln!(

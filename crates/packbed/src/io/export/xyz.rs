@@ -8,11 +8,7 @@ use std::io::Write;
 /// `Properties=species:I:1:pos:R:3:radius:R:1:body:I:1:coordination:I:1`, `pbc`
 /// and `dim`, then one line per particle.
 pub(super) fn write<const D: usize>(w: &mut dyn Write, x: &Export<D>) -> std::io::Result<()> {
-    let Export {
-        bed,
-        coordination,
-        box3: b,
-    } = *x;
+    let (bed, coordination, b) = (x.bed, x.coordination, x.box3);
     let p = bed.container.periodic;
     let tf = |x: bool| if x { "T" } else { "F" };
     let (pbc, oz) = if D == 2 {

@@ -403,24 +403,13 @@ fn galerkin(a: &Csr, p: &Prolongator) -> Csr {
     }
     // Pᵀ in compressed rows (P's columns), then Pᵀ (A P) row by row with a
     // dense accumulator: memory for the product only, not for every term.
-    let mut t_ptr = vec![0usize; nc + 1];
-    for &c in &p.col {
-        t_ptr[c as usize + 1] += 1;
-    }
-    for c in 0..nc {
-        t_ptr[c + 1] += t_ptr[c];
-    }
-    let mut fill = t_ptr.clone();
-    let mut t_row = vec![0u32; p.col.len()];
-    let mut t_val = vec![0.0; p.col.len()];
+    let (t_ptr, order) = super::group_by_key(&p.col, nc);
+    let mut row_of = vec![0u32; p.col.len()];
     for i in 0..n {
-        for m in p.ptr[i]..p.ptr[i + 1] {
-            let c = p.col[m] as usize;
-            t_row[fill[c]] = i as u32;
-            t_val[fill[c]] = p.val[m];
-            fill[c] += 1;
-        }
+        row_of[p.ptr[i]..p.ptr[i + 1]].fill(i as u32);
     }
+    let t_row: Vec<u32> = order.iter().map(|&m| row_of[m as usize]).collect();
+    let t_val: Vec<Real> = order.iter().map(|&m| p.val[m as usize]).collect();
     let mut ptr = vec![0usize];
     let mut col = Vec::new();
     let mut val = Vec::new();
