@@ -185,21 +185,56 @@ def run_dirs(d):
     return sorted(glob.glob(os.path.join(d, "runs", "*")))
 
 
+def sweeps(root, most):
+    """Each sweep directory of `root` with its first `most` run directories."""
+    for sd in sweep_dirs(root):
+        yield sd, run_dirs(sd)[:most]
+
+
+def against_study(sd, runs, study):
+    """The label of a sweep directory, its number of beds, and the study's
+    (beds with a chain, mean chains, mean length) there, dashes where the
+    study has no such ratio."""
+    lab = label(sd)
+    return lab, len(runs), study.get(lab, ("-", "-", "-"))
+
+
+def mean_text(values):
+    return f"{np.mean(values):.2f}" if values else "-"
+
+
+def print_head(titles, align, extra):
+    """Prints a markdown table head: the columns `titles` ("a | b") aligned
+    as `align` ("--- | ---:"), then a numeric column per title in `extra`."""
+    print(f"| {titles} | {' | '.join(extra)} |")
+    print(f"| {align} | " + " | ".join("---:" for _ in extra) + " |")
+
+
+def is_large(r):
+    # 20 is the large radius of every sweep here; the margin keeps a radius
+    # that came back from text as 19.999999999 large.
+    return r >= 20 * (1 - 1e-9)
+
+
+def contact_graph(bed):
+    """Particle count, mask of the large particles, and the contacts by the
+    study's rule (gap <= ABS_TOL) of a bed."""
+    edges = [(i, j) for i, j, _ in pairs_within(bed, ABS_TOL)]
+    return len(bed["r"]), is_large(bed["r"]), edges
+
+
 # ---------------------------------------------------------------- A and B
 def exp_walls_and_search(root, sample):
     print(f"\n### A/B: wall equality and the study's chain search on packbed's beds ({root})\n")
     print("| ratio | beds | wall-touching particles (gap <= 0.01) | of them x == r exactly | beds with a chain: clusters span | study search, walls by x == r | study search, walls by gap <= 0.01 | beds where the search misses an existing chain | mean chains (study search, gap walls) | mean length |")
     print("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
-    for sd in sweep_dirs(root):
-        runs = run_dirs(sd)[:sample]
+    for sd, runs in sweeps(root, sample):
         touch = exact = 0
         pb = st_exact = st_tol = missed = 0
         nchains, lengths = [], []
         for rd in runs:
             bed = load_bed(rd)
-            n = len(bed["r"])
-            large = bed["r"] >= 20 * (1 - 1e-9)
-            edges = [(i, j) for i, j, _ in pairs_within(bed, ABS_TOL)]
+            n, large, edges = contact_graph(bed)
             adj = adjacency(n, edges)
             any_pb = any_e = any_t = False
             bed_chains = []
@@ -299,14 +334,13 @@ def exp_diluted(root, gap_pool, runs_per_ratio, study, source="the emulated plac
     print(f"\n### D: packbed's 3D beds, each contact given a gap drawn from {source} (P(gap <= 0.01) = {p_keep:.3f})\n")
     print("| ratio | beds | with a chain, packbed exact | with a chain, emulated gaps | study | mean chains (study search) | study mean chains | mean length | study mean length | mean large-large contacts per large sphere, exact → emulated |")
     print("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |")
-    for sd in sweep_dirs(root):
-        runs = run_dirs(sd)[:runs_per_ratio]
+    for sd, runs in sweeps(root, runs_per_ratio):
         pb = em = 0
         nch, lens, zl0, zl1 = [], [], [], []
         for rd in runs:
             bed = load_bed(rd)
             n = len(bed["r"])
-            large = bed["r"] >= 20 * (1 - 1e-9)
+            large = is_large(bed["r"])
             exact_edges = [(i, j) for i, j, g in pairs_within(bed, 1e-5)]
             drawn = rng.choice(gap_pool, size=len(exact_edges))
             kept = [e for e, g in zip(exact_edges, drawn) if g <= ABS_TOL]
@@ -326,10 +360,8 @@ def exp_diluted(root, gap_pool, runs_per_ratio, study, source="the emulated plac
             em += a1
             nch.append(len(chains))
             lens.extend(len(c) for c in chains)
-        k = len(runs)
-        lab = label(sd)
-        ref = study.get(lab, ("-", "-", "-"))
-        ml = f"{np.mean(lens):.2f}" if lens else "-"
+        lab, k, ref = against_study(sd, runs, study)
+        ml = mean_text(lens)
         print(f"| {lab} | {k} | {100 * pb / k:.0f} % | {100 * em / k:.0f} % | {ref[0]} % | {np.mean(nch):.2f} | {ref[1]} | {ml} | {ref[2]} | {np.mean(zl0):.2f} → {np.mean(zl1):.2f} |")
 
 
@@ -339,19 +371,15 @@ def exp_directed_and_diluted(root, runs_per_ratio, study, ps):
     probability p (random bond dilution), against the study's table."""
     rng = np.random.default_rng(11)
     print("\n### F: 3D, a directed search (every step advances along the axis) and random contact dilution\n")
-    head = " | ".join(f"kept p = {p}" for p in ps)
-    print(f"| ratio | beds | study: with a chain / mean chains / mean length | packbed: with a chain | directed search: with a chain / mean chains / mean length | {head} |")
-    print("| --- | ---: | --- | ---: | --- | " + " | ".join("---:" for _ in ps) + " |")
-    for sd in sweep_dirs(root):
-        runs = run_dirs(sd)[:runs_per_ratio]
+    print_head("ratio | beds | study: with a chain / mean chains / mean length | packbed: with a chain | directed search: with a chain / mean chains / mean length",
+               "--- | ---: | --- | ---: | ---", [f"kept p = {p}" for p in ps])
+    for sd, runs in sweeps(root, runs_per_ratio):
         pb = dr = 0
         dil = [0] * len(ps)
         nch, lens = [], []
         for rd in runs:
             bed = load_bed(rd)
-            n = len(bed["r"])
-            large = bed["r"] >= 20 * (1 - 1e-9)
-            edges = [(i, j) for i, j, _ in pairs_within(bed, ABS_TOL)]
+            n, large, edges = contact_graph(bed)
             adj = adjacency(n, edges)
             a0 = a1 = False
             ad = [False] * len(ps)
@@ -371,10 +399,8 @@ def exp_directed_and_diluted(root, runs_per_ratio, study, ps):
                 dil[k] += ad[k]
             nch.append(len(chains))
             lens.extend(len(c) for c in chains)
-        k = len(runs)
-        lab = label(sd)
-        ref = study.get(lab, ("-", "-", "-"))
-        ml = f"{np.mean(lens):.2f}" if lens else "-"
+        lab, k, ref = against_study(sd, runs, study)
+        ml = mean_text(lens)
         cells = " | ".join(f"{100 * v / k:.0f} %" for v in dil)
         print(f"| {lab} | {k} | {ref[0]} % / {ref[1]} / {ref[2]} | {100 * pb / k:.0f} % | {100 * dr / k:.0f} % / {np.mean(nch):.2f} / {ml} | {cells} |")
 
@@ -388,14 +414,11 @@ def exp_first_chain(root, runs_per_ratio, study, q):
     print(f"\n### G: 3D, one chain per start, neighbours tried furthest-advance first (exact contacts; contacts kept with p = {q})\n")
     print("| ratio | beds | study: with a chain / mean chains / mean length | exact: with a chain / mean chains / mean length | kept p: with a chain / mean chains / mean length |")
     print("| --- | ---: | --- | --- | --- |")
-    for sd in sweep_dirs(root):
-        runs = run_dirs(sd)[:runs_per_ratio]
+    for sd, runs in sweeps(root, runs_per_ratio):
         res = [[0, [], []], [0, [], []]]
         for rd in runs:
             bed = load_bed(rd)
-            n = len(bed["r"])
-            large = bed["r"] >= 20 * (1 - 1e-9)
-            edges = [(i, j) for i, j, _ in pairs_within(bed, ABS_TOL)]
+            n, large, edges = contact_graph(bed)
             draws = rng.random(len(edges))
             for slot, es in enumerate([edges, [e for e, u in zip(edges, draws) if u < q]]):
                 chains = []
@@ -410,10 +433,8 @@ def exp_first_chain(root, runs_per_ratio, study, q):
                 res[slot][0] += bool(chains)
                 res[slot][1].append(len(chains))
                 res[slot][2].extend(len(c) for c in chains)
-        k = len(runs)
-        lab = label(sd)
-        ref = study.get(lab, ("-", "-", "-"))
-        cells = [f"{100 * a / k:.0f} % / {np.mean(b):.2f} / " + (f"{np.mean(c):.2f}" if c else "-") for a, b, c in res]
+        lab, k, ref = against_study(sd, runs, study)
+        cells = [f"{100 * a / k:.0f} % / {np.mean(b):.2f} / {mean_text(c)}" for a, b, c in res]
         print(f"| {lab} | {k} | {ref[0]} % / {ref[1]} / {ref[2]} | {cells[0]} | {cells[1]} |")
 
 
@@ -522,17 +543,12 @@ def exp_wall_terminals(root, runs_per_ratio, study, qs):
     study's test x == r held exactly for a share q of them)."""
     rng = np.random.default_rng(17)
     print("\n### W: 3D, wall-touching particles recognised with probability q (contacts exact)\n")
-    head = " | ".join(f"q = {q}" for q in qs)
-    print(f"| ratio | beds | study | {head} |")
-    print("| --- | ---: | ---: | " + " | ".join("---:" for _ in qs) + " |")
-    for sd in sweep_dirs(root):
-        runs = run_dirs(sd)[:runs_per_ratio]
+    print_head("ratio | beds | study", "--- | ---: | ---:", [f"q = {q}" for q in qs])
+    for sd, runs in sweeps(root, runs_per_ratio):
         hits = [0] * len(qs)
         for rd in runs:
             bed = load_bed(rd)
-            n = len(bed["r"])
-            large = bed["r"] >= 20 * (1 - 1e-9)
-            edges = [(i, j) for i, j, _ in pairs_within(bed, ABS_TOL)]
+            n, large, edges = contact_graph(bed)
             u = rng.random((2, 2, n))
             for k, q in enumerate(qs):
                 a = False
@@ -542,10 +558,9 @@ def exp_wall_terminals(root, runs_per_ratio, study, qs):
                     hi = {i for i in hi if u[axis, 1, i] < q}
                     a |= spans(n, large, edges, lo, hi)
                 hits[k] += a
-        k = len(runs)
-        lab = label(sd)
+        lab, k, ref = against_study(sd, runs, study)
         cells = " | ".join(f"{100 * h / k:.0f} %" for h in hits)
-        print(f"| {lab} | {k} | {study.get(lab, ('-',))[0]} % | {cells} |")
+        print(f"| {lab} | {k} | {ref[0]} % | {cells} |")
 
 
 def tolerance_difference(root, runs_per_ratio):
@@ -568,9 +583,7 @@ def recheck_misses(root):
     for sd in sweep_dirs(root):
         for rd in run_dirs(sd):
             b = load_bed(rd)
-            n = len(b["r"])
-            large = b["r"] >= 20 * (1 - 1e-9)
-            edges = [(i, j) for i, j, _ in pairs_within(b, ABS_TOL)]
+            n, large, edges = contact_graph(b)
             adj = adjacency(n, edges)
             found = capped = False
             spans_any = False
@@ -601,7 +614,7 @@ def structure(x, r, size, tol):
     discs, share of large discs with at least 4 large neighbours, and the mean
     |psi_6| of large discs over their large contacts."""
     n = len(r)
-    large = r >= 20 * (1 - 1e-9)
+    large = is_large(r)
     bed = {"x": x, "r": r}
     edges = [(i, j) for i, j, _ in pairs_within(bed, tol) if large[i] and large[j]]
     nl = int(large.sum())
@@ -693,7 +706,7 @@ def exp_2d_order(ratio, beds):
             bed = {"x": x, "r": r, "size": [600.0, 600.0], "dim": 2}
             rows.append(structure(x, r, bed["size"], ABS_TOL))
             lo, hi = wall_sets(bed, 0, False)
-            chains += spans(len(r), r >= 20 * (1 - 1e-9), [(i, j) for i, j, _ in pairs_within(bed, ABS_TOL)], lo, hi)
+            chains += spans(*contact_graph(bed), lo, hi)
         m = np.mean(rows, axis=0)
         print(f"| {'fixed sequence' if cyclic else 'random'} | {100 * chains / beds:.0f} % | {m[0]:.3f} | {m[1]:.3f} |")
 
@@ -740,8 +753,7 @@ def exp_2d(root, runs_per_ratio, grid_beds):
             pack.append(bed["summary"]["packing"]["global"])
             ndisc.append(len(bed["r"]))
             lo, hi = wall_sets(bed, 0, False)
-            large = bed["r"] >= 20 * (1 - 1e-9)
-            chains += spans(len(bed["r"]), large, [(i, j) for i, j, _ in pairs_within(bed, ABS_TOL)], lo, hi)
+            chains += spans(*contact_graph(bed), lo, hi)
         m = np.mean(rows, axis=0)
         print(f"| {lab} | packbed | {np.mean(ndisc):.0f} | {np.mean(pack):.4f} | {m[0]:.3f} | {m[1]:.3f} | {m[2]:.3f} | {m[3]:.3f} | {100 * chains / len(rows):.0f} % |")
         rows, chains, pack, ndisc = [], 0, [], []
@@ -752,8 +764,7 @@ def exp_2d(root, runs_per_ratio, grid_beds):
             pack.append(float((math.pi * r ** 2).sum() / 600.0 ** 2))
             ndisc.append(len(r))
             lo, hi = wall_sets(bed, 0, False)
-            large = r >= 20 * (1 - 1e-9)
-            chains += spans(len(r), large, [(i, j) for i, j, _ in pairs_within(bed, ABS_TOL)], lo, hi)
+            chains += spans(*contact_graph(bed), lo, hi)
         m = np.mean(rows, axis=0)
         print(f"| {lab} | contour grid | {np.mean(ndisc):.0f} | {np.mean(pack):.4f} | {m[0]:.3f} | {m[1]:.3f} | {m[2]:.3f} | {m[3]:.3f} | {100 * chains / len(rows):.0f} % (study {STUDY_2D.get(lab, '-')} %) |")
 

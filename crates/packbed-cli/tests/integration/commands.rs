@@ -1,7 +1,9 @@
 //! Integration tests of the `packbed` command: each runs the built binary in a
 //! fresh temporary directory and checks exit code, messages and files.
 
-use crate::common::{assert_config_refused, assert_user_error, Outcome, Scratch};
+use crate::common::{
+    assert_config_refused, assert_contains, assert_user_error, words, Outcome, Scratch,
+};
 use packbed::config::Config;
 use serde_json::Value;
 use std::path::Path;
@@ -128,7 +130,7 @@ fn out_path_that_is_a_file_is_refused() {
     let f = s.input("taken", "not a directory");
     let o = s.packbed(&["run", "--out", f.to_str().unwrap()]);
     assert_eq!(o.code, 2, "{}", o.stderr);
-    assert!(o.stderr.contains("not a directory"), "{}", o.stderr);
+    assert_contains(&o.stderr, "not a directory");
     assert_eq!(std::fs::read_to_string(&f).unwrap(), "not a directory");
     // Below a file: refused before the run, not after it.
     let below = f.join("sub");
@@ -210,8 +212,8 @@ fn small_run(s: &Scratch, out: &str, extra: &[&str]) -> Outcome {
 fn run_writes_the_files_of_the_contract() {
     let s = Scratch::new();
     let o = small_run(&s, "out", &[]);
-    assert!(o.stdout.contains("packing fraction"), "{}", o.stdout);
-    assert!(o.stdout.contains("out"), "{}", o.stdout);
+    assert_contains(&o.stdout, "packing fraction");
+    assert_contains(&o.stdout, "out");
     let mut names: Vec<_> = std::fs::read_dir(s.work.join("out"))
         .unwrap()
         .map(|e| e.unwrap().file_name().into_string().unwrap())
@@ -276,16 +278,8 @@ fn size_windows_are_shown_on_screen_and_in_the_summary() {
     let o = s.ok(&["run", c.to_str().unwrap(), "--out", "w"]);
     let bounded = "r ~ lognormal(median 10, gsd 2) in [8, 12]";
     let default = "r ~ lognormal(median 10, gsd 2) in [1.25, 80] (±3 sd)";
-    assert!(
-        o.stdout.contains(&format!("{bounded}, ratio 1")),
-        "{}",
-        o.stdout
-    );
-    assert!(
-        o.stdout.contains(&format!("{default}, ratio 1")),
-        "{}",
-        o.stdout
-    );
+    assert_contains(&o.stdout, &format!("{bounded}, ratio 1"));
+    assert_contains(&o.stdout, &format!("{default}, ratio 1"));
     let v = s.summary("w");
     assert_eq!(v["species"][0]["size"], bounded);
     assert_eq!(v["species"][1]["size"], default);
@@ -315,8 +309,7 @@ fn bad_size_bounds_are_refused() {
 #[test]
 fn summary_has_every_key_scripts_rely_on() {
     let s = Scratch::new();
-    let o = s.packbed(&["run", "--radii", "10,20", "--out", "out3", "--quiet"]);
-    assert_eq!(o.code, 0, "{}", o.stderr);
+    let o = s.ok(&["run", "--radii", "10,20", "--out", "out3", "--quiet"]);
     assert!(o.stdout.is_empty(), "--quiet: {}", o.stdout);
     let v = s.summary("out3");
     for key in packbed::io::summary::SUMMARY_KEYS {
@@ -396,9 +389,8 @@ fn same_seed_gives_identical_files() {
 #[test]
 fn default_run_needs_no_arguments() {
     let s = Scratch::new();
-    let o = s.packbed(&["run"]);
-    assert_eq!(o.code, 0, "{}", o.stderr);
-    assert!(o.stdout.contains("3D"), "{}", o.stdout);
+    let o = s.ok(&["run"]);
+    assert_contains(&o.stdout, "3D");
     let v = s.summary("packbed-out");
     assert_eq!(v["dim"], 3);
     assert_eq!(v["seed"], 1);
@@ -409,24 +401,9 @@ fn default_run_needs_no_arguments() {
 #[test]
 fn overrides_reach_the_bed() {
     let s = Scratch::new();
-    let o = s.packbed(&[
-        "run",
-        "--dim",
-        "2",
-        "--radii",
-        "8",
-        "--box",
-        "200,150",
-        "--periodic",
-        "--count",
-        "120",
-        "--seed",
-        "9",
-        "--out",
-        "o",
-        "--quiet",
-    ]);
-    assert_eq!(o.code, 0, "{}", o.stderr);
+    s.ok(&words(
+        "run --dim 2 --radii 8 --box 200,150 --periodic --count 120 --seed 9 --out o --quiet",
+    ));
     let v = s.summary("o");
     assert_eq!(v["counts"]["particles"], 120);
     assert_eq!(v["box"]["width"], 200.0);
@@ -439,8 +416,7 @@ fn overrides_reach_the_bed() {
 #[test]
 fn bench_json_is_one_object_with_the_keys() {
     let s = Scratch::new();
-    let o = s.packbed(&["bench", "--dim", "2", "--n", "300", "--periodic", "--json"]);
-    assert_eq!(o.code, 0, "{}", o.stderr);
+    let o = s.ok(&["bench", "--dim", "2", "--n", "300", "--periodic", "--json"]);
     assert_eq!(o.stdout.lines().count(), 1, "{}", o.stdout);
     let v: Value = serde_json::from_str(&o.stdout).unwrap();
     for key in [
@@ -462,18 +438,7 @@ fn bench_json_is_one_object_with_the_keys() {
 #[test]
 fn bench_deposits_chains_and_counts_them() {
     let s = Scratch::new();
-    let o = s.packbed(&[
-        "bench",
-        "--dim",
-        "2",
-        "--chains",
-        "5",
-        "--n",
-        "40",
-        "--periodic",
-        "--json",
-    ]);
-    assert_eq!(o.code, 0, "{}", o.stderr);
+    let o = s.ok(&words("bench --dim 2 --chains 5 --n 40 --periodic --json"));
     let v: Value = serde_json::from_str(&o.stdout).unwrap();
     assert_eq!(v["bodies"], 40);
     assert_eq!(v["n"], 200);
@@ -487,8 +452,7 @@ fn bench_deposits_chains_and_counts_them() {
 fn bench_times_every_analysis_stage_of_a_bed_file() {
     let s = Scratch::new();
     small_run(&s, "b", &["-q", "--no-pictures"]);
-    let o = s.packbed(&["bench", "--bed", "b/particles.csv", "--json"]);
-    assert_eq!(o.code, 0, "{}", o.stderr);
+    let o = s.ok(&["bench", "--bed", "b/particles.csv", "--json"]);
     let v: Value = serde_json::from_str(&o.stdout).unwrap();
     let stages: Vec<&str> = v["analysis"]
         .as_array()
@@ -522,13 +486,11 @@ fn analyze_reproduces_the_numbers_of_run() {
     for (dim, extra) in [("2", vec!["--periodic"]), ("3", vec![]), ("2", vec![])] {
         let mut args = vec!["run", "--dim", dim, "--count", "400", "--out", "r", "-q"];
         args.extend(extra.iter().copied());
-        let o = s.packbed(&args);
-        assert_eq!(o.code, 0, "{}", o.stderr);
-        let o = s.packbed(&["analyze", "r/particles.csv", "--out", "a"]);
-        assert_eq!(o.code, 0, "{}", o.stderr);
-        assert!(o.stdout.contains("percolation"), "{}", o.stdout);
-        let run: Value = serde_json::from_str(&s.read("r/summary.json")).unwrap();
-        let ana: Value = serde_json::from_str(&s.read("a/summary.json")).unwrap();
+        s.ok(&args);
+        let o = s.ok(&["analyze", "r/particles.csv", "--out", "a"]);
+        assert_contains(&o.stdout, "percolation");
+        let run = s.summary("r");
+        let ana = s.summary("a");
         for key in [
             "packing",
             "percolation",
@@ -566,17 +528,8 @@ fn analyze_reproduces_the_numbers_of_run() {
         assert_eq!(s.read("r/contacts.csv"), s.read("a/contacts.csv"));
         assert_eq!(s.read("r/wall_contacts.csv"), s.read("a/wall_contacts.csv"));
         // A different threshold changes the large set.
-        let o = s.packbed(&[
-            "analyze",
-            "r/particles.csv",
-            "--out",
-            "b",
-            "--large",
-            "5",
-            "-q",
-        ]);
-        assert_eq!(o.code, 0, "{}", o.stderr);
-        let b: Value = serde_json::from_str(&s.read("b/summary.json")).unwrap();
+        s.ok(&words("analyze r/particles.csv --out b --large 5 -q"));
+        let b = s.summary("b");
         assert_eq!(b["percolation"]["large_bodies"], b["counts"]["bodies"]);
         for d in ["r", "a", "b"] {
             std::fs::remove_dir_all(s.work.join(d)).unwrap();
@@ -596,30 +549,15 @@ fn analyze_refuses_bad_input() {
         &["bad.csv:3", "oops"],
     );
     let plain = s.input("plain.csv", "1 1 1\n3 1 1\n");
-    assert_user_error(&s, &["analyze", plain.to_str().unwrap()], &["give the box"]);
+    let plain = plain.to_str().unwrap();
+    assert_user_error(&s, &["analyze", plain], &["give the box"]);
     assert_user_error(
         &s,
-        &[
-            "analyze",
-            plain.to_str().unwrap(),
-            "--box",
-            "4,10",
-            "--contact-tol",
-            "-1",
-        ],
+        &["analyze", plain, "--box", "4,10", "--contact-tol", "-1"],
         &["--contact-tol"],
     );
-    let o = s.packbed(&[
-        "analyze",
-        plain.to_str().unwrap(),
-        "--box",
-        "4,10",
-        "--out",
-        "p",
-        "-q",
-    ]);
-    assert_eq!(o.code, 0, "{}", o.stderr);
-    let v: Value = serde_json::from_str(&s.read("p/summary.json")).unwrap();
+    s.ok(&["analyze", plain, "--box", "4,10", "--out", "p", "-q"]);
+    let v = s.summary("p");
     assert_eq!(v["percolation"]["shortest_chain"], 2);
     // Two corner voids and one between the discs on the floor.
     assert_eq!(v["voids"]["count"], 3);
@@ -628,15 +566,8 @@ fn analyze_refuses_bad_input() {
 #[test]
 fn rsa_mode_runs_the_thesis_box_to_saturation() {
     let s = Scratch::new();
-    let o = s.packbed(&[
-        "run", "--mode", "rsa", "--dim", "2", "--radii", "10", "--out", "rsa",
-    ]);
-    assert_eq!(o.code, 0, "{}", o.stderr);
-    assert!(
-        o.stdout.contains("random sequential addition, saturated"),
-        "{}",
-        o.stdout
-    );
+    let o = s.ok(&words("run --mode rsa --dim 2 --radii 10 --out rsa"));
+    assert_contains(&o.stdout, "random sequential addition, saturated");
     let v = s.summary("rsa");
     assert_eq!(v["mode"], "rsa");
     assert_eq!(v["box"]["width"], 300.0);
@@ -654,23 +585,14 @@ fn rsa_mode_runs_the_thesis_box_to_saturation() {
 #[test]
 fn analyze_exports_round_trip() {
     let s = Scratch::new();
-    let o = s.packbed(&["run", "--count", "300", "--out", "r", "-q"]);
-    assert_eq!(o.code, 0, "{}", o.stderr);
-    let o = s.packbed(&[
-        "analyze",
-        "r/particles.csv",
-        "--export",
-        "vtk,dump,xyz",
-        "--out",
-        "a",
-        "-q",
-    ]);
-    assert_eq!(o.code, 0, "{}", o.stderr);
-    let first: Value = serde_json::from_str(&s.read("a/summary.json")).unwrap();
+    s.ok(&["run", "--count", "300", "--out", "r", "-q"]);
+    s.ok(&words(
+        "analyze r/particles.csv --export vtk,dump,xyz --out a -q",
+    ));
+    let first = s.summary("a");
     for (file, out) in [("a/bed.dump", "d"), ("a/bed.xyz", "x"), ("a/bed.vtu", "v")] {
-        let o = s.packbed(&["analyze", file, "--out", out, "-q", "--no-pictures"]);
-        assert_eq!(o.code, 0, "{file}: {}", o.stderr);
-        let again: Value = serde_json::from_str(&s.read(&format!("{out}/summary.json"))).unwrap();
+        s.ok(&["analyze", file, "--out", out, "-q", "--no-pictures"]);
+        let again = s.summary(out);
         for key in ["/packing/global", "/packing/bulk", "/coordination/mean"] {
             assert_eq!(first.pointer(key), again.pointer(key), "{file}: {key}");
         }
@@ -681,17 +603,11 @@ fn analyze_exports_round_trip() {
     }
     // A bad export list is refused before any output.
     let bed = s.work.join("r/particles.csv");
+    let bed = bed.to_str().unwrap();
     let fresh = Scratch::new();
     assert_user_error(
         &fresh,
-        &[
-            "analyze",
-            bed.to_str().unwrap(),
-            "--export",
-            "png",
-            "--out",
-            "z",
-        ],
+        &["analyze", bed, "--export", "png", "--out", "z"],
         &["--export"],
     );
 }
@@ -701,8 +617,7 @@ fn analyze_exports_round_trip() {
 #[test]
 fn run_writes_the_regional_packing_plot() {
     let s = Scratch::new();
-    let o = s.packbed(&["run", "--out", "r", "-q"]);
-    assert_eq!(o.code, 0, "{}", o.stderr);
+    s.ok(&["run", "--out", "r", "-q"]);
     let png = std::fs::read(s.work.join("r/plot_regions.png")).unwrap();
     assert_eq!(&png[1..4], b"PNG");
     let width = u32::from_be_bytes([png[16], png[17], png[18], png[19]]);
@@ -753,11 +668,7 @@ fn chain_angles_from_the_horizontal_on_request() {
         &format!("{bed}[analysis]\nchain_angle_from = \"horizontal\"\n"),
     );
     let o = s.ok(&["run", h.to_str().unwrap(), "--out", "h"]);
-    assert!(
-        o.stdout.contains("mean angle from horizontal"),
-        "{}",
-        o.stdout
-    );
+    assert_contains(&o.stdout, "mean angle from horizontal");
     let v = s.input("v.toml", bed);
     s.ok(&["run", v.to_str().unwrap(), "--out", "v", "--quiet"]);
     let (h, v) = (s.summary("h"), s.summary("v"));
@@ -784,15 +695,9 @@ fn chain_angles_from_the_horizontal_on_request() {
         "{texts:?}"
     );
     // analyze gives the same numbers on the file, in either convention.
-    s.ok(&[
-        "analyze",
-        "v/particles.csv",
-        "--chain-angle-from",
-        "horizontal",
-        "--out",
-        "a",
-        "--quiet",
-    ]);
+    s.ok(&words(
+        "analyze v/particles.csv --chain-angle-from horizontal --out a --quiet",
+    ));
     let a = s.summary("a");
     assert_eq!(a["orientation"]["angle_from"], "horizontal");
     assert_eq!(a["settings"]["chain_angle_from"], "horizontal");
@@ -836,45 +741,18 @@ fn files_in(s: &Scratch, dir: &str) -> Vec<String> {
 #[test]
 fn screen_summaries_list_every_file_written() {
     let s = Scratch::new();
-    let o = s.ok(&[
-        "run",
-        "--dim",
-        "2",
-        "--radii",
-        "10",
-        "--box",
-        "diameters=6",
-        "--out",
-        "r",
-    ]);
+    let o = s.ok(&words("run --dim 2 --radii 10 --box diameters=6 --out r"));
     let mut names = listed(&o.stdout);
     names.sort();
     assert_eq!(names, files_in(&s, "r"), "{}", o.stdout);
     assert!(names.iter().any(|n| n == "bed.png"), "{names:?}");
-    let o = s.ok(&[
-        "analyze",
-        "r/particles.csv",
-        "--out",
-        "a",
-        "--export",
-        "xyz",
-    ]);
+    let o = s.ok(&words("analyze r/particles.csv --out a --export xyz"));
     let mut names = listed(&o.stdout);
     names.sort();
     assert_eq!(names, files_in(&s, "a"), "{}", o.stdout);
-    let o = s.ok(&[
-        "ensemble",
-        "--dim",
-        "2",
-        "--radii",
-        "10",
-        "--box",
-        "diameters=6",
-        "--runs",
-        "2",
-        "--out",
-        "e",
-    ]);
+    let o = s.ok(&words(
+        "ensemble --dim 2 --radii 10 --box diameters=6 --runs 2 --out e",
+    ));
     let mut names = listed(&o.stdout);
     names.sort();
     assert_eq!(names, files_in(&s, "e"), "{}", o.stdout);
@@ -895,18 +773,9 @@ fn screen_summary_counts_in_the_singular_and_by_name() {
     // Seven discs in a box of 3.33 diameters: one roof overflow (the fill
     // stops at the first), one cluster, one spanning cluster, one disjoint chain.
     let first_miss = s.input("first-miss.toml", "[fill]\nroof_misses = 0\n");
-    let o = s.ok(&[
-        "run",
-        first_miss.to_str().unwrap(),
-        "--dim",
-        "2",
-        "--radii",
-        "10",
-        "--box",
-        "diameters=3.3333333",
-        "--out",
-        "one",
-    ]);
+    let first_miss = first_miss.to_str().unwrap();
+    let args = words("--dim 2 --radii 10 --box diameters=3.3333333 --out one");
+    let o = s.ok(&[&["run", first_miss][..], &args].concat());
     for bad in [
         "1 roof overflows",
         "1 clusters",
@@ -924,7 +793,7 @@ fn screen_summary_counts_in_the_singular_and_by_name() {
         assert!(says(&o.stdout, good), "`{good}` not in\n{}", o.stdout);
     }
     // Box sizes without float noise on screen; summary.json keeps every digit.
-    assert!(o.stdout.contains("66.6667 × 66.6667 box"), "{}", o.stdout);
+    assert_contains(&o.stdout, "66.6667 × 66.6667 box");
     assert_eq!(s.summary("one")["box"]["width"], 66.666666);
 
     // Segregation by species name; the base layer of chains in bodies.
@@ -1019,16 +888,7 @@ fn errors_with_a_line_lead_with_file_and_line() {
 #[test]
 fn chosen_measures_leave_the_others_out_and_say_so() {
     let s = Scratch::new();
-    let dem = [
-        "run",
-        "--dim",
-        "2",
-        "--radii",
-        "10",
-        "--seed",
-        "3",
-        "--no-pictures",
-    ];
+    let dem = words("run --dim 2 --radii 10 --seed 3 --no-pictures");
     let full: Vec<&str> = dem.iter().copied().chain(["--out", "full"]).collect();
     s.ok(&full);
     let args: Vec<&str> = dem
@@ -1037,11 +897,9 @@ fn chosen_measures_leave_the_others_out_and_say_so() {
         .chain(["--measures", "packing,coordination", "--out", "some"])
         .collect();
     let o = s.ok(&args);
-    assert!(
-        o.stdout
-            .contains("left out: percolation, voids, orientation, segregation"),
-        "{}",
-        o.stdout
+    assert_contains(
+        &o.stdout,
+        "left out: percolation, voids, orientation, segregation",
     );
     let (all, some) = (s.summary("full"), s.summary("some"));
     for gone in ["percolation", "voids", "segregation"] {
@@ -1060,34 +918,17 @@ fn chosen_measures_leave_the_others_out_and_say_so() {
     // The contacts are always found and written.
     assert_eq!(s.read("full/contacts.csv"), s.read("some/contacts.csv"));
 
-    let o = s.ok(&[
-        "analyze",
-        "full/particles.csv",
-        "--measures",
-        "percolation",
-        "--out",
-        "a",
-        "--no-pictures",
-    ]);
-    assert!(o.stdout.contains("percolation (r >="), "{}", o.stdout);
+    let o = s.ok(&words(
+        "analyze full/particles.csv --measures percolation --out a --no-pictures",
+    ));
+    assert_contains(&o.stdout, "percolation (r >=");
     let a = s.summary("a");
     assert_eq!(a["percolation"], all["percolation"]);
     assert!(a.get("packing").is_none() && a.get("coordination").is_none());
 
-    s.ok(&[
-        "ensemble",
-        "--dim",
-        "2",
-        "--radii",
-        "10",
-        "--runs",
-        "2",
-        "--measures",
-        "packing",
-        "--no-pictures",
-        "--out",
-        "e",
-    ]);
+    s.ok(&words(
+        "ensemble --dim 2 --radii 10 --runs 2 --measures packing --no-pictures --out e",
+    ));
     let table = s.read("e/ensemble.csv");
     assert!(table.contains("packing.global"), "{table}");
     assert!(!table.contains("coordination.mean"), "{table}");

@@ -136,6 +136,18 @@ pub fn assert_user_error(s: &Scratch, args: &[&str], needles: &[&str]) {
     assert_eq!(s.entries(), before, "{args:?} left files");
 }
 
+/// The arguments of a command line written as one string, split at white
+/// space (for arguments without spaces of their own).
+pub fn words(line: &str) -> Vec<&str> {
+    line.split_whitespace().collect()
+}
+
+/// Fails with the whole `haystack` on screen when it lacks `needle`.
+#[track_caller]
+pub fn assert_contains(haystack: &str, needle: &str) {
+    assert!(haystack.contains(needle), "`{needle}` not in:\n{haystack}");
+}
+
 /// Writes the config `name` into `inputs/` and insists that `packbed run`
 /// refuses it as a user error naming every needle.
 pub fn assert_config_refused(s: &Scratch, name: &str, text: &str, needles: &[&str]) {

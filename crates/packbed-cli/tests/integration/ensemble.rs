@@ -1,7 +1,9 @@
 //! Integration tests of `packbed ensemble` and `packbed merge`: each runs the
 //! built binary in a fresh temporary directory.
 
-use crate::common::{assert_user_error, png_size, svg_texts, Scratch, SMALL, STAT_FILES};
+use crate::common::{
+    assert_contains, assert_user_error, png_size, svg_texts, words, Scratch, SMALL, STAT_FILES,
+};
 use serde_json::Value;
 
 fn args<'a>(head: &[&'a str], tail: &[&'a str]) -> Vec<&'a str> {
@@ -24,8 +26,8 @@ fn assert_same_stats(s: &Scratch, a: &str, b: &str, files: &[&str]) {
 fn ensemble_writes_its_files_and_table() {
     let s = Scratch::new();
     let o = s.ok(&args(SMALL, &["--runs", "6", "--out", "e"]));
-    assert!(o.stdout.contains("ensemble of 6 beds"), "{}", o.stdout);
-    assert!(o.stdout.contains("packing.global"), "{}", o.stdout);
+    assert_contains(&o.stdout, "ensemble of 6 beds");
+    assert_contains(&o.stdout, "packing.global");
     for f in STAT_FILES.iter().chain(&["timing.json", "manifest.json"]) {
         assert!(s.path("e").join(f).exists(), "{f}");
     }
@@ -170,7 +172,7 @@ fn jobs_and_shards_give_the_same_files() {
         ));
     }
     let o = s.ok(&["merge", "s2", "s0", "s1", "--out", "merged"]);
-    assert!(o.stdout.contains("ensemble of 9 beds"), "{}", o.stdout);
+    assert_contains(&o.stdout, "ensemble of 9 beds");
     assert_same_stats(&s, "j1", "merged", &STAT_FILES);
     let plots: Vec<String> = PLOTS
         .iter()
@@ -194,7 +196,7 @@ fn interrupted_ensemble_resumes() {
     std::fs::remove_dir_all(s.path("cut/runs/0005")).unwrap();
     std::fs::remove_file(s.path("cut/ensemble.json")).unwrap();
     let o = s.ok(&args(SMALL, &["--runs", "6", "--out", "cut"]));
-    assert!(o.stdout.contains("2 built, 4 resumed"), "{}", o.stdout);
+    assert_contains(&o.stdout, "2 built, 4 resumed");
     assert_same_stats(&s, "full", "cut", &STAT_FILES);
     // Another config into the same directory is refused.
     assert_user_error(
@@ -226,7 +228,7 @@ fn sweeps_write_one_row_per_value() {
     .display()
     .to_string();
     let o = s.ok(&["ensemble", &cfg, "--out", "sw"]);
-    assert!(o.stdout.contains("1:2.5"), "{}", o.stdout);
+    assert_contains(&o.stdout, "1:2.5");
     for d in ["00-ratio-1-1", "01-ratio-1-2.5"] {
         assert!(s.path(&format!("sw/sweep/{d}/ensemble.md")).exists(), "{d}");
         assert!(
@@ -323,24 +325,11 @@ fn bad_inputs_are_refused() {
         SMALL,
         &["--runs", "4", "--shard", "0/2", "--out", "a", "-q"],
     ));
-    s.ok(&[
-        "ensemble",
-        "--dim",
-        "2",
-        "--radii",
-        "20,10",
-        "--ratio",
-        "1,3",
-        "--box",
-        "diameters=8",
-        "--runs",
-        "4",
-        "--shard",
-        "1/2",
-        "--out",
-        "b",
-        "-q",
-    ]);
+    let other = words("--dim 2 --radii 20,10 --ratio 1,3 --box diameters=8");
+    s.ok(&args(
+        &other,
+        &["--runs", "4", "--shard", "1/2", "--out", "b", "-q"],
+    ));
     assert_user_error(
         &s,
         &["merge", "a", "b", "--out", "m"],
@@ -382,11 +371,7 @@ fn jobs_above_the_cores_are_capped_with_a_note() {
         "{}",
         o.stderr
     );
-    assert!(
-        o.stdout.contains(&format!("{cores} threads")),
-        "{}",
-        o.stdout
-    );
+    assert_contains(&o.stdout, &format!("{cores} threads"));
     let o = s.ok(&args(SMALL, &["--runs", "2", "--jobs", "1", "--out", "f"]));
     assert!(o.stderr.is_empty(), "{}", o.stderr);
 }
@@ -449,7 +434,7 @@ fn a_resume_never_reuses_a_damaged_replicate_summary() {
     let good = s.read(cut);
     std::fs::write(s.path(cut), &good[..good.len() / 2]).unwrap();
     let o = s.ok(&args(SMALL, &["--runs", "4", "--out", "e"]));
-    assert!(o.stdout.contains("1 built, 3 resumed"), "{}", o.stdout);
+    assert_contains(&o.stdout, "1 built, 3 resumed");
     let mut v: Value = serde_json::from_str(&good).unwrap();
     let rebuilt: Value = serde_json::from_str(&s.read(cut)).unwrap();
     assert_eq!(rebuilt["packing"], v["packing"]);

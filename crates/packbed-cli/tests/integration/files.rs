@@ -2,8 +2,9 @@
 //! refusals of inconsistent input, checks reported on input beds, CSV quoting,
 //! temporary files after interruptions, unwritable output directories.
 
-use crate::common::{assert_user_error, Scratch};
+use crate::common::{assert_contains, assert_user_error, words, Scratch};
 use serde_json::Value;
+use std::path::Path;
 
 // ---- counts ---------------------------------------------------------------
 
@@ -45,14 +46,10 @@ fn atom_count_below_the_rows_is_refused() {
         )
     };
     let short = s.input("short.dump", &dump(2));
-    assert_user_error(
-        &s,
-        &["analyze", short.to_str().unwrap(), "--out", "a"],
-        &["short.dump:12", "3 atom lines", "says 2"],
-    );
+    let needles = ["short.dump:12", "3 atom lines", "says 2"];
+    assert_user_error(&s, &analyze(&short, "a"), &needles);
     let whole = s.input("whole.dump", &dump(3));
-    s.ok(&["analyze", whole.to_str().unwrap(), "--out", "a", "-q"]);
-    assert_eq!(s.summary("a")["counts"]["particles"], 3);
+    assert_eq!(particles_read(&s, &whole, "a"), 3);
 
     let xyz = |n: usize| {
         format!(
@@ -61,18 +58,24 @@ fn atom_count_below_the_rows_is_refused() {
         )
     };
     let short = s.input("short.xyz", &xyz(1));
-    assert_user_error(
-        &s,
-        &["analyze", short.to_str().unwrap(), "--out", "b"],
-        &["short.xyz:4", "3 particle lines", "says 1"],
-    );
+    let needles = ["short.xyz:4", "3 particle lines", "says 1"];
+    assert_user_error(&s, &analyze(&short, "b"), &needles);
     let whole = s.input("whole.xyz", &xyz(3));
-    s.ok(&["analyze", whole.to_str().unwrap(), "--out", "b", "-q"]);
-    assert_eq!(s.summary("b")["counts"]["particles"], 3);
+    assert_eq!(particles_read(&s, &whole, "b"), 3);
     // A second frame after a complete first one is not extra rows.
     let frames = s.input("frames.xyz", &format!("{}{}", xyz(3), xyz(3)));
-    s.ok(&["analyze", frames.to_str().unwrap(), "--out", "c", "-q"]);
-    assert_eq!(s.summary("c")["counts"]["particles"], 3);
+    assert_eq!(particles_read(&s, &frames, "c"), 3);
+}
+
+/// `packbed analyze BED --out OUT`.
+fn analyze<'a>(bed: &'a Path, out: &'a str) -> [&'a str; 4] {
+    ["analyze", bed.to_str().unwrap(), "--out", out]
+}
+
+/// The particle count `packbed analyze` finds in `bed` (quietly, into `out`).
+fn particles_read(s: &Scratch, bed: &Path, out: &str) -> Value {
+    s.ok(&[&analyze(bed, out)[..], &["-q"]].concat());
+    s.summary(out)["counts"]["particles"].clone()
 }
 
 // ---- the box ----------------------------------------------------------------
@@ -92,11 +95,7 @@ fn given_box_wins_over_the_summary_beside() {
     assert!(run["box"].get("source").is_none(), "{}", run["box"]);
 
     let o = s.ok(&["analyze", "r/particles.csv", "--out", "a"]);
-    assert!(
-        o.stdout.contains("box from the summary.json"),
-        "{}",
-        o.stdout
-    );
+    assert_contains(&o.stdout, "box from the summary.json");
     let a = s.summary("a");
     assert_eq!(a["box"], {
         let mut b = run["box"].clone();
@@ -114,11 +113,7 @@ fn given_box_wins_over_the_summary_beside() {
         "--out",
         "b",
     ]);
-    assert!(
-        o.stdout.contains("box from the options, periodic sides"),
-        "{}",
-        o.stdout
-    );
+    assert_contains(&o.stdout, "box from the options, periodic sides");
     let b = s.summary("b");
     assert_eq!(b["box"]["width"].as_f64(), Some(w));
     assert_eq!(b["box"]["height"].as_f64(), Some(2.0 * h));
@@ -385,17 +380,7 @@ fn refused_before_the_work(s: &Scratch, args: &[&str], secs: u64) {
 #[test]
 fn unwritable_out_is_refused_before_the_work() {
     let s = Scratch::new();
-    s.ok(&[
-        "run",
-        "--dim",
-        "2",
-        "--count",
-        "50",
-        "--out",
-        "r",
-        "-q",
-        "--no-pictures",
-    ]);
+    s.ok(&words("run --dim 2 --count 50 --out r -q --no-pictures"));
     let bed = s.work.join("r/particles.csv");
     let bed = bed.to_str().unwrap();
     let config = s.input(
@@ -522,17 +507,7 @@ fn stale_temporary_files_are_removed_by_the_next_run() {
     for n in stale.iter().chain(&others) {
         std::fs::write(out.join(n), "half").unwrap();
     }
-    s.ok(&[
-        "run",
-        "--dim",
-        "2",
-        "--count",
-        "30",
-        "--out",
-        "r",
-        "-q",
-        "--no-pictures",
-    ]);
+    s.ok(&words("run --dim 2 --count 30 --out r -q --no-pictures"));
     for n in stale {
         assert!(!out.join(n).exists(), "{n} is still there");
     }
@@ -582,17 +557,7 @@ fn a_header_naming_a_column_twice_is_refused() {
 #[test]
 fn a_summary_of_another_dimension_beside_a_bed_is_refused() {
     let s = Scratch::new();
-    s.ok(&[
-        "run",
-        "--dim",
-        "2",
-        "--count",
-        "5",
-        "--out",
-        "b",
-        "-q",
-        "--no-pictures",
-    ]);
+    s.ok(&words("run --dim 2 --count 5 --out b -q --no-pictures"));
     let text = s
         .read("b/summary.json")
         .replacen("\"dim\": 2", "\"dim\": 3", 1);

@@ -1,22 +1,12 @@
 //! `packbed fragment`: the files it writes and the inputs it refuses.
 
-use crate::common::{assert_user_error, Scratch};
+use crate::common::{assert_contains, assert_user_error, words, Scratch};
 
 /// A 2D bed of equal discs written by `packbed run` into `work/bed`.
 fn bed(s: &Scratch) -> String {
-    s.ok(&[
-        "run",
-        "--dim",
-        "2",
-        "--radii",
-        "10",
-        "--seed",
-        "3",
-        "--out",
-        "bed",
-        "--no-pictures",
-        "-q",
-    ]);
+    s.ok(&words(
+        "run --dim 2 --radii 10 --seed 3 --out bed --no-pictures -q",
+    ));
     "bed/particles.csv".to_string()
 }
 
@@ -25,7 +15,7 @@ fn fragment_writes_bonds_breakage_and_summary() {
     let s = Scratch::new();
     let b = bed(&s);
     let o = s.ok(&["fragment", &b, "--out", "frag", "--no-pictures"]);
-    assert!(o.stdout.contains("under shear"), "{}", o.stdout);
+    assert_contains(&o.stdout, "under shear");
     let bonds = s.read("frag/bonds.csv");
     let mut lines = bonds.lines();
     assert_eq!(
@@ -52,11 +42,7 @@ fn fragment_writes_bonds_breakage_and_summary() {
         note.contains("shear stress τ") && note.contains("F = τ·A"),
         "{note}"
     );
-    assert!(
-        o.stdout.contains(&format!("  note: {note}\n")),
-        "{}",
-        o.stdout
-    );
+    assert_contains(&o.stdout, &format!("  note: {note}\n"));
     // No progress bar when stderr is not a terminal.
     assert_eq!(o.stderr, "");
     let breakage = s.read("frag/breakage.csv");

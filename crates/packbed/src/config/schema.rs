@@ -341,17 +341,16 @@ mod tests {
     #[test]
     fn an_unknown_key_is_refused_at_its_line() {
         let e = Config::from_toml("dim = 3\n\n[box]\nwidht = 200\n", "c.toml").unwrap_err();
-        match e {
-            Error::Data {
-                path,
-                line,
-                message,
-            } => {
-                assert_eq!((path.to_str(), line), (Some("c.toml"), 4));
-                assert!(message.contains("widht"), "{message}");
-            }
-            other => panic!("expected a FILE:LINE error, got {other:?}"),
-        }
+        let Error::Data {
+            path,
+            line,
+            message,
+        } = &e
+        else {
+            panic!("expected a FILE:LINE error, got {e:?}");
+        };
+        assert_eq!((path.to_str(), *line), (Some("c.toml"), 4));
+        assert!(message.contains("widht"), "{message}");
     }
 
     #[test]

@@ -614,24 +614,38 @@ mod tests {
         }
     }
 
+    /// The min, mean ± sd and max cells of each `(stats, kind)` are `want`.
+    fn assert_cells(cases: &[(Stats, Kind, [&str; 3])]) {
+        for (s, kind, want) in cases {
+            assert_eq!(cells(s, *kind), *want, "{s:?}");
+        }
+    }
+
+    /// The mean ± sd cell of each `(stats, kind)` is `want`.
+    fn assert_mean_cells(cases: &[(Stats, Kind, &str)]) {
+        for (s, kind, want) in cases {
+            assert_eq!(cells(s, *kind)[1], *want, "{s:?}");
+        }
+    }
+
     #[test]
     fn table_cells() {
-        assert_eq!(
-            cells(&st(500, 0.58321, 0.01234, 0.5512, 0.6102), Kind::Value),
-            ["0.5512", "0.5832 ± 0.0123", "0.6102"]
-        );
-        assert_eq!(
-            cells(&st(3, 4.393, 0.2, 4.0, 4.7), Kind::Value),
-            ["4", "4.393 ± 0.200", "4.700"]
-        );
-        assert_eq!(
-            cells(&st(4, 75.0, 50.0, 0.0, 100.0), Kind::Percent)[1],
-            "75.0 ± 50.0"
-        );
-        assert_eq!(
-            cells(&st(4, 120.0, 0.0, 120.0, 120.0), Kind::Value)[1],
-            "120 ± 0"
-        );
+        assert_cells(&[
+            (
+                st(500, 0.58321, 0.01234, 0.5512, 0.6102),
+                Kind::Value,
+                ["0.5512", "0.5832 ± 0.0123", "0.6102"],
+            ),
+            (
+                st(3, 4.393, 0.2, 4.0, 4.7),
+                Kind::Value,
+                ["4", "4.393 ± 0.200", "4.700"],
+            ),
+        ]);
+        assert_mean_cells(&[
+            (st(4, 75.0, 50.0, 0.0, 100.0), Kind::Percent, "75.0 ± 50.0"),
+            (st(4, 120.0, 0.0, 120.0, 120.0), Kind::Value, "120 ± 0"),
+        ]);
         assert_eq!(fixed(-0.00001, 3), "0.000");
     }
 
@@ -643,38 +657,50 @@ mod tests {
         }
     }
 
+    /// An aggregate of `replicates` beds holding `measures`.
+    fn aggregate(replicates: u64, measures: &[(&str, Kind, Stats)]) -> Aggregate {
+        Aggregate {
+            replicates,
+            measures: measures
+                .iter()
+                .map(|&(name, kind, s)| measure(name, kind, s))
+                .collect(),
+            ..Default::default()
+        }
+    }
+
     #[test]
     fn far_from_one_in_scientific_notation() {
         // A cake resistance and a permeability in m², as a PSD ensemble gave.
-        assert_eq!(
-            cells(
-                &st(
-                    10,
-                    1.4830690125e9,
-                    2.232717205e8,
-                    1.1412879505e9,
-                    1.8547281565e9
-                ),
-                Kind::Value
+        assert_cells(&[(
+            st(
+                10,
+                1.4830690125e9,
+                2.232717205e8,
+                1.1412879505e9,
+                1.8547281565e9,
             ),
-            ["1.141e9", "1.483e9 ± 2.2e8", "1.855e9"]
-        );
-        assert_eq!(
-            cells(
-                &st(10, 7.494e-13, 1.272e-13, 5.741e-13, 9.802e-13),
-                Kind::Value
-            )[1],
-            "7.494e-13 ± 1.3e-13"
-        );
-        // Counts stay whole however large.
-        assert_eq!(
-            cells(&st(2, 2500000.0, 0.0, 2500000.0, 2500000.0), Kind::Value)[1],
-            "2500000 ± 0"
-        );
-        assert_eq!(
-            cells(&st(2, 2500000.5, 0.75, 2500000.0, 2500001.0), Kind::Value)[1],
-            "2500000.50 ± 0.75"
-        );
+            Kind::Value,
+            ["1.141e9", "1.483e9 ± 2.2e8", "1.855e9"],
+        )]);
+        assert_mean_cells(&[
+            (
+                st(10, 7.494e-13, 1.272e-13, 5.741e-13, 9.802e-13),
+                Kind::Value,
+                "7.494e-13 ± 1.3e-13",
+            ),
+            // Counts stay whole however large.
+            (
+                st(2, 2500000.0, 0.0, 2500000.0, 2500000.0),
+                Kind::Value,
+                "2500000 ± 0",
+            ),
+            (
+                st(2, 2500000.5, 0.75, 2500000.0, 2500001.0),
+                Kind::Value,
+                "2500000.50 ± 0.75",
+            ),
+        ]);
     }
 
     #[test]
@@ -686,101 +712,69 @@ mod tests {
 
     #[test]
     fn settings_and_constant_bookkeeping_are_uninformative() {
+        use std::f64::consts::FRAC_PI_6;
         let same = |x: f64| st(10, x, 0.0, x, x);
-        let dropped =
-            |name: &str, kind: Kind, s: Stats| is_uninformative(&measure(name, kind, s), 10);
-        // Settings and indices, whatever their values.
-        assert!(dropped(
-            "packing.profile.slab",
-            Kind::Value,
-            st(10, 15.8, 0.5, 14.6, 16.4)
-        ));
-        assert!(dropped(
-            "coordination.by_species.powder.species",
-            Kind::Value,
-            same(0.0)
-        ));
-        // Bookkeeping that restates the config, but not when it varies.
-        assert!(dropped("counts.particles", Kind::Value, same(1500.0)));
-        assert!(dropped("species.powder.placed", Kind::Value, same(1500.0)));
-        assert!(dropped(
-            "coordination.by_species.powder.bodies",
-            Kind::Value,
-            same(1500.0)
-        ));
-        assert!(!dropped(
-            "counts.particles",
-            Kind::Value,
-            st(10, 1490.5, 3.0, 1486.0, 1495.0)
-        ));
-        // A bed missing the count: the row says so.
-        assert!(!dropped(
-            "counts.particles",
-            Kind::Value,
-            st(9, 1500.0, 0.0, 1500.0, 1500.0)
-        ));
-        // Results that agree in every bed stay (a simple cubic lattice: π/6).
-        assert!(!dropped(
-            "packing.global",
-            Kind::Value,
-            same(std::f64::consts::FRAC_PI_6)
-        ));
-        assert!(!dropped(
-            "percolation.large_bodies",
-            Kind::Value,
-            same(750.0)
-        ));
-        assert!(!dropped(
-            "percolation.spanning_clusters",
-            Kind::Value,
-            same(1.0)
-        ));
-        assert!(!dropped("percolation.spans", Kind::Percent, same(100.0)));
-        // The size distribution asked for, against the one placed.
-        assert!(dropped("psd.requested.d50", Kind::Value, same(20.0)));
-        assert!(dropped(
-            "psd.table[3].requested_mass_percent_passing",
-            Kind::Value,
-            same(12.5)
-        ));
-        assert!(!dropped(
-            "psd.placed.d50",
-            Kind::Value,
-            st(10, 19.5, 0.3, 19.1, 20.0)
-        ));
-        // A flag that explains a null, only when no bed raised it.
-        assert!(dropped(
-            "packing.bulk_region_empty",
-            Kind::Percent,
-            same(0.0)
-        ));
-        assert!(!dropped(
-            "packing.bulk_region_empty",
-            Kind::Percent,
-            st(10, 10.0, 31.6, 0.0, 100.0)
-        ));
+        let (v, p) = (Kind::Value, Kind::Percent);
+        let dropped = [
+            // Settings and indices, whatever their values.
+            ("packing.profile.slab", v, st(10, 15.8, 0.5, 14.6, 16.4)),
+            ("coordination.by_species.powder.species", v, same(0.0)),
+            // Bookkeeping that restates the config.
+            ("counts.particles", v, same(1500.0)),
+            ("species.powder.placed", v, same(1500.0)),
+            ("coordination.by_species.powder.bodies", v, same(1500.0)),
+            // The size distribution asked for.
+            ("psd.requested.d50", v, same(20.0)),
+            ("psd.table[3].requested_mass_percent_passing", v, same(12.5)),
+            // A flag that explains a null, when no bed raised it.
+            ("packing.bulk_region_empty", p, same(0.0)),
+        ];
+        let kept = [
+            // Bookkeeping that varies.
+            ("counts.particles", v, st(10, 1490.5, 3.0, 1486.0, 1495.0)),
+            // A bed missing the count: the row says so.
+            ("counts.particles", v, st(9, 1500.0, 0.0, 1500.0, 1500.0)),
+            // Results that agree in every bed stay (a simple cubic lattice: π/6).
+            ("packing.global", v, same(FRAC_PI_6)),
+            ("percolation.large_bodies", v, same(750.0)),
+            ("percolation.spanning_clusters", v, same(1.0)),
+            ("percolation.spans", p, same(100.0)),
+            // The size distribution placed.
+            ("psd.placed.d50", v, st(10, 19.5, 0.3, 19.1, 20.0)),
+            // A flag raised by a bed.
+            (
+                "packing.bulk_region_empty",
+                p,
+                st(10, 10.0, 31.6, 0.0, 100.0),
+            ),
+        ];
+        for (cases, drop) in [(dropped, true), (kept, false)] {
+            for (name, kind, s) in cases {
+                let m = measure(name, kind, s);
+                assert_eq!(is_uninformative(&m, 10), drop, "{m:?}");
+            }
+        }
     }
 
     #[test]
     fn sweep_md_leads_with_the_cake_and_leaves_the_caps_below() {
-        let a = Aggregate {
-            replicates: 4,
-            measures: vec![
-                measure("packing.global", Kind::Value, st(4, 0.6, 0.01, 0.59, 0.61)),
-                measure("cake.porosity", Kind::Value, st(4, 0.38, 0.01, 0.37, 0.39)),
-                measure(
+        let a = aggregate(
+            4,
+            &[
+                ("packing.global", Kind::Value, st(4, 0.6, 0.01, 0.59, 0.61)),
+                ("cake.porosity", Kind::Value, st(4, 0.38, 0.01, 0.37, 0.39)),
+                (
                     "percolation.spans",
                     Kind::Percent,
                     st(4, 75.0, 50.0, 0.0, 100.0),
                 ),
-                measure(
+                (
                     "percolation.cap_hit",
                     Kind::Percent,
                     st(4, 100.0, 0.0, 100.0, 100.0),
                 ),
             ],
-            ..Default::default()
-        };
+        );
         let rows = [SweepRow {
             label: "batch A",
             aggregate: &a,
@@ -807,34 +801,17 @@ mod tests {
             shard: None,
             sweep: None,
         };
-        let a = Aggregate {
-            replicates: 10,
-            measures: vec![
-                measure(
-                    "counts.particles",
-                    Kind::Value,
-                    st(10, 1500.0, 0.0, 1500.0, 1500.0),
-                ),
-                measure(
-                    "cake.porosity",
-                    Kind::Value,
-                    st(10, 0.3861, 0.011, 0.3712, 0.4041),
-                ),
-                measure("cake.d32", Kind::Value, st(9, 29.57, 1.34, 27.81, 31.39)),
-                measure(
-                    "packing.global",
-                    Kind::Value,
-                    st(10, 0.3626, 0.0197, 0.3352, 0.3964),
-                ),
-                measure(
-                    "permeability.k_z",
-                    Kind::Value,
-                    st(10, 0.81, 0.1, 0.7, 0.95),
-                ),
+        let v = Kind::Value;
+        let mut a = aggregate(
+            10,
+            &[
+                ("counts.particles", v, st(10, 1500.0, 0.0, 1500.0, 1500.0)),
+                ("cake.porosity", v, st(10, 0.3861, 0.011, 0.3712, 0.4041)),
+                ("cake.d32", v, st(9, 29.57, 1.34, 27.81, 31.39)),
+                ("packing.global", v, st(10, 0.3626, 0.0197, 0.3352, 0.3964)),
+                ("permeability.k_z", v, st(10, 0.81, 0.1, 0.7, 0.95)),
             ],
-            ..Default::default()
-        };
-        let mut a = a;
+        );
         for k in 0..25 {
             let name = format!("psd.table[{k}].placed_mass_percent_passing");
             let stats = st(
@@ -872,15 +849,10 @@ mod tests {
 
     #[test]
     fn csv_rows() {
-        let a = Aggregate {
-            replicates: 2,
-            measures: vec![Measure {
-                name: "packing.global".into(),
-                kind: Kind::Value,
-                stats: st(2, 0.5, 0.25, 0.25, 0.75),
-            }],
-            ..Default::default()
-        };
+        let a = aggregate(
+            2,
+            &[("packing.global", Kind::Value, st(2, 0.5, 0.25, 0.25, 0.75))],
+        );
         assert_eq!(
             ensemble_csv(&a),
             "name,n,mean,sd,min,max,kind\npacking.global,2,0.5,0.25,0.25,0.75,value\n"

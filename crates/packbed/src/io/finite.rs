@@ -93,6 +93,16 @@ macro_rules! ignore {
     };
 }
 
+// Tuples, structs and their variants are walked as sequences: the path needs
+// their length, not their names.
+macro_rules! as_seq {
+    ($($name:ident($($ignored:ty),*)),*) => {
+        $(fn $name(self, $(_: $ignored,)* len: usize) -> Result<Self::SerializeSeq, Stop> {
+            self.serialize_seq(Some(len))
+        })*
+    };
+}
+
 impl<'a> ser::Serializer for &'a mut Finder {
     type Ok = ();
     type Error = Stop;
@@ -150,36 +160,16 @@ impl<'a> ser::Serializer for &'a mut Finder {
             key: String::new(),
         })
     }
-    fn serialize_tuple(self, len: usize) -> Result<Compound<'a>, Stop> {
-        self.serialize_seq(Some(len))
-    }
-    fn serialize_tuple_struct(self, _: &'static str, len: usize) -> Result<Compound<'a>, Stop> {
-        self.serialize_seq(Some(len))
-    }
-    fn serialize_tuple_variant(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-        len: usize,
-    ) -> Result<Compound<'a>, Stop> {
-        self.serialize_seq(Some(len))
-    }
     fn serialize_map(self, len: Option<usize>) -> Result<Compound<'a>, Stop> {
         self.serialize_seq(len)
     }
-    fn serialize_struct(self, _: &'static str, len: usize) -> Result<Compound<'a>, Stop> {
-        self.serialize_seq(Some(len))
-    }
-    fn serialize_struct_variant(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-        len: usize,
-    ) -> Result<Compound<'a>, Stop> {
-        self.serialize_seq(Some(len))
-    }
+    as_seq!(
+        serialize_tuple(),
+        serialize_tuple_struct(&'static str),
+        serialize_tuple_variant(&'static str, u32, &'static str),
+        serialize_struct(&'static str),
+        serialize_struct_variant(&'static str, u32, &'static str)
+    );
 }
 
 // Sequences and tuples number their items; one body serves all four.

@@ -527,29 +527,21 @@ mod tests {
         assert_eq!(p.legend.len(), 1);
     }
 
+    /// Discs of species 0, 1 and 0 in a row, of radii 2, 1 and `third`.
+    fn two_species(third: f64) -> Bed<2> {
+        let discs = [
+            ([5.0, 5.0], 2.0, 0),
+            ([15.0, 5.0], 1.0, 1),
+            ([25.0, 5.0], third, 0),
+        ];
+        Bed::of_spheres([40.0, 20.0], false, discs)
+    }
+
     #[test]
     fn beds_of_fixed_sizes_colour_by_species_and_distributions_by_radius() {
         // Two species of one size each: the species tell the sizes apart.
-        let fixed = Bed::of_spheres(
-            [40.0, 20.0],
-            false,
-            [
-                ([5.0, 5.0], 2.0, 0),
-                ([15.0, 5.0], 1.0, 1),
-                ([25.0, 5.0], 2.0, 0),
-            ],
-        );
-        assert_eq!(default_color(&fixed), ColorBy::Species);
+        assert_eq!(default_color(&two_species(2.0)), ColorBy::Species);
         // A species whose sizes differ (a size distribution).
-        let spread = Bed::of_spheres(
-            [40.0, 20.0],
-            false,
-            [
-                ([5.0, 5.0], 2.0, 0),
-                ([15.0, 5.0], 1.0, 1),
-                ([25.0, 5.0], 2.2, 0),
-            ],
-        );
-        assert_eq!(default_color(&spread), ColorBy::Radius);
+        assert_eq!(default_color(&two_species(2.2)), ColorBy::Radius);
     }
 }

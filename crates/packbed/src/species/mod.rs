@@ -344,6 +344,10 @@ mod tests {
         }
     }
 
+    fn normal(mean: Real, sd: Real, lo: Real, hi: Real) -> SizeDist {
+        SizeDist::Normal { mean, sd, lo, hi }
+    }
+
     #[test]
     fn the_default_window_is_three_sd() {
         assert_eq!(SizeDist::lognormal_window(10.0, 2.0), (1.25, 80.0));
@@ -359,49 +363,30 @@ mod tests {
     fn symmetric_windows_keep_the_centre_as_median() {
         let (lo, hi) = SizeDist::lognormal_window(10.0, 1.3);
         assert_eq!(lognormal(10.0, 1.3, lo, hi).median(), 10.0);
-        assert_eq!(
-            SizeDist::Normal {
-                mean: 10.0,
-                sd: 2.0,
-                lo: 4.0,
-                hi: 16.0
-            }
-            .median(),
-            10.0
-        );
+        assert_eq!(normal(10.0, 2.0, 4.0, 16.0).median(), 10.0);
     }
 
     #[test]
     fn describe_names_the_window() {
-        assert_eq!(
-            lognormal(10.0, 2.0, 1.25, 80.0).describe(),
-            "r ~ lognormal(median 10, gsd 2) in [1.25, 80] (±3 sd)"
-        );
-        assert_eq!(
-            lognormal(10.0, 2.0, 2.0, 100.0).describe(),
-            "r ~ lognormal(median 10, gsd 2) in [2, 100]"
-        );
-        assert_eq!(
-            lognormal(10.0, 2.0, 2.0, 80.0).describe(),
-            "r ~ lognormal(median 10, gsd 2) in [2, 80] (max at +3 sd)"
-        );
-        assert_eq!(
-            lognormal(10.0, 1.3, 10.0 / 1.3f64.powf(3.0), 40.0).describe(),
-            "r ~ lognormal(median 10, gsd 1.3) in [4.55166, 40] (min at -3 sd)"
-        );
-        let normal = |mean, sd, lo, hi| SizeDist::Normal { mean, sd, lo, hi };
-        assert_eq!(
-            normal(10.0, 2.0, 4.0, 16.0).describe(),
-            "r ~ normal(mean 10, sd 2) in [4, 16] (±3 sd)"
-        );
-        assert_eq!(
-            normal(10.0, 5.0, 0.01, 25.0).describe(),
-            "r ~ normal(mean 10, sd 5) in [0.01, 25] (min just above 0, max at +3 sd)"
-        );
-        assert_eq!(
-            normal(10.0, 5.0, 0.01, 20.0).describe(),
-            "r ~ normal(mean 10, sd 5) in [0.01, 20] (min just above 0)"
-        );
+        let dists = [
+            lognormal(10.0, 2.0, 1.25, 80.0),
+            lognormal(10.0, 2.0, 2.0, 100.0),
+            lognormal(10.0, 2.0, 2.0, 80.0),
+            lognormal(10.0, 1.3, 10.0 / 1.3f64.powf(3.0), 40.0),
+            normal(10.0, 2.0, 4.0, 16.0),
+            normal(10.0, 5.0, 0.01, 25.0),
+            normal(10.0, 5.0, 0.01, 20.0),
+        ];
+        let described = [
+            "r ~ lognormal(median 10, gsd 2) in [1.25, 80] (±3 sd)",
+            "r ~ lognormal(median 10, gsd 2) in [2, 100]",
+            "r ~ lognormal(median 10, gsd 2) in [2, 80] (max at +3 sd)",
+            "r ~ lognormal(median 10, gsd 1.3) in [4.55166, 40] (min at -3 sd)",
+            "r ~ normal(mean 10, sd 2) in [4, 16] (±3 sd)",
+            "r ~ normal(mean 10, sd 5) in [0.01, 25] (min just above 0, max at +3 sd)",
+            "r ~ normal(mean 10, sd 5) in [0.01, 20] (min just above 0)",
+        ];
+        assert_eq!(dists.map(|d| d.describe()), described);
     }
 
     #[test]
@@ -418,12 +403,7 @@ mod tests {
             // Far out, the density falls so fast that the median hugs `lo`.
             assert!(d.median() < lo * 1.01, "[{lo}, {hi}]: {}", d.median());
         }
-        let below = SizeDist::Normal {
-            mean: 100.0,
-            sd: 1.0,
-            lo: 1.0,
-            hi: 2.0,
-        };
+        let below = normal(100.0, 1.0, 1.0, 2.0);
         for _ in 0..1000 {
             let r = below.sample(&mut rng);
             assert!((1.0..=2.0).contains(&r), "{r}");
@@ -447,12 +427,7 @@ mod tests {
             let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
             for d in [
                 lognormal(median, gsd, lo, hi),
-                SizeDist::Normal {
-                    mean: median,
-                    sd: median * (gsd - 1.0),
-                    lo,
-                    hi,
-                },
+                normal(median, median * (gsd - 1.0), lo, hi),
             ] {
                 prop_assert_eq!(d.bounds(), (lo, hi));
                 for _ in 0..200 {
