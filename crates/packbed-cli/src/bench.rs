@@ -26,12 +26,12 @@ pub struct BenchArgs {
     pub periodic: bool,
     /// Lognormal radii of median 10 and this geometric standard deviation
     /// (truncated as a config's are by default) instead of equal spheres.
-    #[arg(long, value_name = "G", conflicts_with = "radii", value_parser = parse_gsd)]
+    #[arg(long, value_name = "G", conflicts_with = "radii")]
     pub gsd: Option<f64>,
     /// One species per radius, in equal numbers (e.g. `10,50`), instead of
     /// equal spheres of radius 10.
-    #[arg(long, value_name = "R,R,...", value_delimiter = ',', value_parser = parse_radius)]
-    pub radii: Option<Vec<f64>>,
+    #[arg(long, value_name = "R,R,...", value_parser = crate::overrides::numbers)]
+    pub radii: Option<crate::overrides::Numbers>,
     /// Seed the floor with the random base layer first (timed with the rest).
     #[arg(long)]
     pub base_layer: bool,
@@ -80,11 +80,7 @@ pub fn bench(args: BenchArgs) -> Result<()> {
         }
     };
     if args.pores {
-        r.analysis = vec![(
-            "triangulation of the centres alone".to_string(),
-            bench::time_triangulation(&bed),
-        )];
-        r.analysis.extend(bench::time_pores(&bed));
+        r.analysis = bench::time_pores(&bed);
     } else if args.analysis || args.bed.is_some() {
         r.analysis = bench::time_analysis(&bed);
     }
@@ -94,24 +90,4 @@ pub fn bench(args: BenchArgs) -> Result<()> {
         print!("{}", bench::text(&r, args.bed.is_none().then_some(&spec)));
     }
     Ok(())
-}
-
-/// A number passing `ok`, for clap; `what` names what it must be.
-fn number_where(s: &str, ok: fn(f64) -> bool, what: &str) -> std::result::Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(x) if x.is_finite() && ok(x) => Ok(x),
-        _ => Err(format!("`{s}` is not {what}")),
-    }
-}
-
-fn parse_gsd(s: &str) -> std::result::Result<f64, String> {
-    number_where(
-        s,
-        |g| g >= 1.0,
-        "a geometric standard deviation (a number >= 1)",
-    )
-}
-
-fn parse_radius(s: &str) -> std::result::Result<f64, String> {
-    number_where(s, |r| r > 0.0, "a radius (a positive number)")
 }

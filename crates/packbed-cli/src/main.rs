@@ -79,7 +79,7 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) if e.downcast_ref::<slurm::JobsFailed>().is_some() => {
+        Err(e) if e.downcast_ref::<packbed::slurm::JobsFailed>().is_some() => {
             // The input was fine, a job on the cluster failed: exit code 1.
             eprintln!("packbed: error: {e}");
             ExitCode::FAILURE

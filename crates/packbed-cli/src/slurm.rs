@@ -5,7 +5,7 @@
 use crate::overrides::at_least_one;
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use packbed::slurm::{self, JobArray, Resources, WaitOutcome};
+use packbed::slurm::{self, JobArray, Resources};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -47,18 +47,6 @@ pub struct SlurmArgs {
     pub wait: bool,
 }
 
-/// A submission whose tasks or merge failed: exit code 1, not 2 (the input was fine).
-#[derive(Debug)]
-pub struct JobsFailed(pub String);
-
-impl std::fmt::Display for JobsFailed {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for JobsFailed {}
-
 /// Runs `packbed slurm`.
 pub fn slurm(args: SlurmArgs) -> Result<()> {
     let (config, runs) = args.replicates.load()?;
@@ -96,18 +84,9 @@ pub fn slurm(args: SlurmArgs) -> Result<()> {
     if !args.wait {
         return Ok(());
     }
-    match slurm::wait(&plan, &jobs, Duration::from_secs(2))? {
-        WaitOutcome::Done => {
-            let log = plan.merge_log();
-            println!(
-                "done: ensemble files in {} (log {})",
-                plan.out.display(),
-                log.display()
-            );
-            Ok(())
-        }
-        WaitOutcome::Failed(failures) => {
-            Err(JobsFailed(slurm::failed_text(&jobs, &failures)).into())
-        }
-    }
+    println!(
+        "{}",
+        slurm::wait_for_merge(&plan, &jobs, Duration::from_secs(2))??
+    );
+    Ok(())
 }

@@ -33,6 +33,33 @@ pub enum BenchSizes {
     Radii(Vec<f64>),
 }
 
+impl BenchSizes {
+    /// Refuses a geometric standard deviation below 1 and radii that are not
+    /// positive, naming the setting (`gsd`, `radii`).
+    pub fn check(&self) -> Result<()> {
+        let (setting, bad, what) = match self {
+            BenchSizes::Equal => return Ok(()),
+            BenchSizes::Lognormal(g) => (
+                "gsd",
+                [*g].into_iter().find(|g| !(*g >= 1.0 && g.is_finite())),
+                "a geometric standard deviation (a number >= 1)",
+            ),
+            BenchSizes::Radii(r) => (
+                "radii",
+                r.iter().copied().find(|r| !(*r > 0.0 && r.is_finite())),
+                "a radius (a positive number)",
+            ),
+        };
+        match bad {
+            Some(x) => Err(crate::error::Error::setting(
+                setting,
+                format!("`{x}` is not {what}"),
+            )),
+            None => Ok(()),
+        }
+    }
+}
+
 /// What to deposit.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BenchBed {
@@ -165,6 +192,7 @@ pub const TARGET_STAGES: [&str; 6] = [
 /// Deposits the bench bed, timing it; `progress` is called with the particles
 /// placed so far.
 pub fn deposit(bench: &BenchBed, progress: &mut dyn FnMut(u64)) -> Result<(AnyBed, BenchResult)> {
+    bench.sizes.check()?;
     let start = Instant::now();
     let (bed, report) = crate::deposit::build(&bench.config(), &mut |n| {
         progress(n);
@@ -204,21 +232,28 @@ pub fn time_analysis(bed: &AnyBed) -> Vec<(String, f64)> {
     time_measures(bed, &AnalysisOptions::default())
 }
 
-/// Seconds per stage of the pore measures (triangulation, network, flow) on
-/// `bed`, after the contacts and packing they need.
+/// Seconds to triangulate the bed's centres alone (first), then per stage of
+/// the pore measures (triangulation, network, flow) on `bed`, after the
+/// contacts and packing they need.
 pub fn time_pores(bed: &AnyBed) -> Vec<(String, f64)> {
     use crate::config::{Measure, Measures};
     let options = AnalysisOptions {
         measures: Measures::of(&[Measure::Packing, Measure::Pores, Measure::Permeability]),
         ..AnalysisOptions::default()
     };
-    time_measures(bed, &options)
+    let alone = (
+        "triangulation of the centres alone".to_string(),
+        time_triangulation(bed),
+    );
+    std::iter::once(alone)
+        .chain(time_measures(bed, &options))
+        .collect()
 }
 
 /// Seconds to triangulate the bed's own centres weighted by r² (no images,
 /// no network): the same work as CGAL's `Regular_triangulation_3` on the same
 /// points, for `scripts/bench-cgal.sh` beside it.
-pub fn time_triangulation(bed: &AnyBed) -> f64 {
+fn time_triangulation(bed: &AnyBed) -> f64 {
     fn timed<const D: usize>(bed: &Bed<D>) -> f64 {
         let points: Vec<[f64; D]> = bed.centres.iter().map(|c| c.0).collect();
         let weights: Vec<f64> = bed.radii.iter().map(|r| r * r).collect();

@@ -111,6 +111,7 @@ mod pipeline;
 #[cfg(feature = "render")]
 pub mod render;
 pub mod species;
+pub mod text;
 
 // The front door: everything the command and the Python package use is here,
 // at the root, so that the modules below can change shape without them.
@@ -133,13 +134,6 @@ pub use io::tables::particles_header;
 pub use mechanics::{Breaks, FragmentationConfig, Load};
 pub use output::check_out_dir;
 
-/// What packbed prints on screen: the texts of every command, in one place.
-pub mod text {
-    pub use crate::ensemble::text::{ensemble_text, reduced_note};
-    pub use crate::output::text::{
-        analyze_text, file_names, fragment_text, overlap_warning, run_text, warning_lines,
-    };
-}
 pub use bed::{AnyBed, Bed};
 pub use config::{AnalysisConfig, BoxSpec, Config, Edit, Measure, Overrides};
 pub use ensemble::{run as run_ensemble, EnsembleOptions, Outcome};

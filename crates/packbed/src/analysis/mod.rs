@@ -15,6 +15,7 @@ pub mod profile;
 pub mod psd;
 pub mod regions;
 pub mod segregation;
+pub mod stats;
 pub mod validate;
 pub mod voids;
 

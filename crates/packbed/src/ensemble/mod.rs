@@ -16,27 +16,25 @@
 //!   summaries, folded in replicate order: the same for any thread count, and
 //!   for shards joined by [`merge`];
 //! - `timing.json`: wall times, kept apart because they differ between runs;
-//! - `plot_*.png` and `plot_*.svg` ([`plots`]), unless pictures are off;
+//! - `plot_*.png` and `plot_*.svg` (`render::ensemble_plots`, beside the run
+//!   plots), unless pictures are off;
 //! - with a sweep, the per-value files are under `sweep/NN-label/`, and
 //!   `sweep.csv`, `sweep.md` and the `plot_sweep_*` plots compare the values.
 //!
 //! Modules: [`replicates`] (running them, resume), [`manifest`] (what
 //! identifies an ensemble directory, shards), [`merge`] (joining shards),
 //! [`write`] (the statistics files and plots), [`slurm`] (job scripts for a
-//! Slurm cluster), and [`stats`], [`tables`], [`plots`], [`seeds`], [`sweep`].
+//! Slurm cluster), and [`stats`] (from `analysis`), [`tables`], [`seeds`], [`sweep`].
 
 pub mod compare;
 pub(crate) mod manifest;
 pub(crate) mod merge;
-#[cfg(feature = "render")]
-pub(crate) mod plots;
 pub(crate) mod replicates;
 pub mod seeds;
 pub mod slurm;
-pub mod stats;
+pub use crate::analysis::stats;
 pub mod sweep;
 pub mod tables;
-pub mod text;
 mod write;
 
 pub use manifest::{fingerprint, Manifest, Shard, MANIFEST};

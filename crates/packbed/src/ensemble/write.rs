@@ -1,12 +1,12 @@
 //! The statistics files and plots of one point, and a sweep's comparison.
 
-#[cfg(feature = "render")]
-use super::plots;
-use super::stats::{self, Aggregate};
+use super::stats;
 use super::{tables, Point, PointResult, Shard, ENSEMBLE_FILES, SWEEP_FILES};
 use crate::config::Config;
 use crate::error::Result;
 use crate::io::Staging;
+#[cfg(feature = "render")]
+use crate::render::ensemble_plots as plots;
 #[cfg(feature = "render")]
 use rayon::prelude::*;
 use serde_json::{json, Value};
@@ -161,7 +161,7 @@ pub(super) fn write_sweep(
     if pictures {
         #[cfg(feature = "render")]
         {
-            let labelled: Vec<(&str, &Aggregate)> = points
+            let labelled: Vec<(&str, &stats::Aggregate)> = points
                 .iter()
                 .map(|p| (p.label.as_deref().unwrap_or(""), &p.aggregate))
                 .collect();

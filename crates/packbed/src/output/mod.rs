@@ -3,8 +3,6 @@
 //! none does. Above [`crate::io`] (the files) and [`crate::render`] (the
 //! pictures), so that neither needs the other.
 
-pub mod text;
-
 use crate::analysis::psd::PsdSummary;
 use crate::analysis::{coordination, Contacts};
 use crate::bed::Bed;

@@ -16,6 +16,7 @@ pub mod bed2d;
 pub mod bed3d;
 pub mod canvas;
 pub mod colour;
+pub(crate) mod ensemble_plots;
 pub mod fragmentation;
 pub(crate) mod frame;
 pub(crate) mod plot;

@@ -659,6 +659,29 @@ pub fn submitted_text(plan: &JobArray, jobs: &Submitted, waiting: bool) -> Strin
     t
 }
 
+/// A submission whose tasks or merge failed: the input was fine, so the
+/// command exits 1 rather than 2.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct JobsFailed(pub String);
+
+/// Waits for the merge of `jobs` ([`wait`]): the line saying where the
+/// ensemble's files are, or [`JobsFailed`] naming the tasks that failed.
+pub fn wait_for_merge(
+    plan: &JobArray,
+    jobs: &Submitted,
+    poll: std::time::Duration,
+) -> Result<std::result::Result<String, JobsFailed>> {
+    Ok(match wait(plan, jobs, poll)? {
+        WaitOutcome::Done => Ok(format!(
+            "done: ensemble files in {} (log {})",
+            plan.out.display(),
+            plan.merge_log().display()
+        )),
+        WaitOutcome::Failed(failures) => Err(JobsFailed(failed_text(jobs, &failures))),
+    })
+}
+
 /// The one line of a submission that failed: which job, which of its tasks
 /// and why, and what a rerun does.
 pub fn failed_text(jobs: &Submitted, failures: &[Failure]) -> String {

@@ -1,4 +1,6 @@
-//! Statistics over replicates, computed from the runs' `summary.json` documents.
+//! Statistics over replicates, computed from the runs' `summary.json` documents:
+//! what an ensemble, a merge and a comparison report, and what the ensemble
+//! plots draw (so it sits below both `ensemble` and `render`).
 //!
 //! The summary is walked generically, so every measure added to
 //! `analysis::Summary` is included without touching this module:

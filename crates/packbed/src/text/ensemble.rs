@@ -1,9 +1,9 @@
 //! The short summary of an ensemble or a merge for a person, as `packbed
 //! ensemble` prints it: what ran, the headline statistics, where the files are.
 
-use super::stats::Kind;
-use super::{tables, Outcome};
-use crate::output::text::{count, file_names};
+use super::run::{count, file_names};
+use crate::analysis::stats::Kind;
+use crate::ensemble::{tables, Outcome};
 use std::fmt::Write;
 use std::path::Path;
 
@@ -132,7 +132,7 @@ fn percent(x: f64) -> String {
 /// Percolation of an ensemble in one line (`None`: not measured): in how many
 /// beds a chain spans, per direction in 3D, and how often the enumeration of
 /// unique chains was capped; the rest is in `ensemble.md`.
-fn percolation_line(a: &super::stats::Aggregate) -> Option<String> {
+fn percolation_line(a: &crate::analysis::stats::Aggregate) -> Option<String> {
     let mean = |name: &str| {
         a.measures
             .iter()
@@ -158,9 +158,9 @@ fn percolation_line(a: &super::stats::Aggregate) -> Option<String> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::stats::{Aggregate, Measure, Stats};
-    use super::super::PointResult;
     use super::*;
+    use crate::analysis::stats::{Aggregate, Measure, Stats};
+    use crate::ensemble::PointResult;
     use std::path::PathBuf;
 
     fn percent(name: &str, beds_true: u64, beds: u64) -> Measure {

@@ -8,12 +8,11 @@
 //! headline measure's mean ± sd against the parameter, and the percentage of
 //! beds with a percolation chain.
 
-use super::stats::{Aggregate, Histogram, Series as StatSeries, Stats};
-use super::sweep::{SweepConfig, SweepValue};
+use super::plot::{format_number, BarGroup, Plot, PlotData, Series};
+use super::run_plots::{chain_angle_plot, length_label};
 use crate::analysis::orientation::AngleFrom;
-use crate::config::LengthUnit;
-use crate::render::plot::{format_number, BarGroup, Plot, PlotData, Series};
-use crate::render::run_plots::{chain_angle_plot, length_label};
+use crate::analysis::stats::{Aggregate, Histogram, Series as StatSeries, Stats};
+use crate::config::{LengthUnit, SweepConfig, SweepValue};
 
 /// Plots of one ensemble, as `(file stem, plot)`; only those whose measures
 /// the beds have.
@@ -480,7 +479,7 @@ fn against(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ensemble::stats::{Kind, Measure};
+    use crate::analysis::stats::{Kind, Measure};
     use crate::render::run_plots::isotropic_angles;
 
     fn stats(mean: f64, sd: f64) -> Stats {
