@@ -2,7 +2,6 @@
 //! `fragment`, `render`): the file, its box when the file has none, and the
 //! contact tolerance.
 
-use crate::overrides::{numbers, Numbers};
 use anyhow::{bail, Result};
 use clap::Args;
 use packbed::BoxHint;
@@ -16,8 +15,8 @@ pub struct BedFileArgs {
     pub path: PathBuf,
     /// Box: W,H (2D) or W,D,H (3D); wins over a box in the file or in the
     /// summary.json beside it.
-    #[arg(long = "box", value_name = "W,[D,]H", allow_hyphen_values = true, value_parser = numbers)]
-    pub container: Option<Numbers>,
+    #[arg(long = "box", value_name = "W,[D,]H", allow_hyphen_values = true, value_parser = packbed::parse_numbers)]
+    pub container: Option<packbed::Numbers>,
     /// Periodic side boundaries (with --box).
     #[arg(long)]
     pub periodic: bool,

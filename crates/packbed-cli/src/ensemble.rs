@@ -2,7 +2,7 @@
 //! The work is in `packbed::ensemble`; this file parses, shows progress and
 //! prints a short summary.
 
-use crate::overrides::{at_least_one, Overrides};
+use crate::parsers::at_least_one;
 use crate::run::check_out_dir;
 use anyhow::{Context, Result};
 use clap::Args;
@@ -19,7 +19,7 @@ pub struct Replicates {
     #[arg(value_name = "CONFIG.toml")]
     pub config: Option<PathBuf>,
     #[command(flatten)]
-    pub overrides: Overrides,
+    pub overrides: packbed::Overrides,
     /// Replicate beds (per sweep value); default: `[ensemble] runs` of the config.
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = at_least_one)]
     pub runs: Option<usize>,
@@ -29,7 +29,7 @@ impl Replicates {
     /// The config, checked for an ensemble (every sweep value), and the
     /// number of replicates.
     pub fn load(&self) -> Result<(Config, u64)> {
-        let settings = self.overrides.settings();
+        let settings = &self.overrides;
         let config = settings.applied_to_file(self.config.as_deref())?;
         packbed::validate_ensemble(&config)
             .with_context(|| settings.source(self.config.as_deref()))?;
@@ -117,13 +117,8 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
             text::reduced_note(&args.out, runs, earlier)
         );
     }
-    if !args.shown.quiet {
-        print!(
-            "{}",
-            text::ensemble_text(&outcome, &args.out, Some(threads))
-        );
-    }
-    eprint!("{}", text::warning_lines(&outcome.warnings));
+    let summary = || text::ensemble_text(&outcome, &args.out, Some(threads));
+    args.shown.report(summary, &outcome.warnings);
     Ok(())
 }
 
@@ -131,9 +126,7 @@ pub fn ensemble(args: EnsembleArgs) -> Result<()> {
 pub fn merge(args: MergeArgs) -> Result<()> {
     check_out_dir(&args.out)?;
     let outcome = packbed::merge_ensembles(&args.dirs, &args.out, !args.shown.no_pictures)?;
-    if !args.shown.quiet {
-        print!("{}", text::ensemble_text(&outcome, &args.out, None));
-    }
-    eprint!("{}", text::warning_lines(&outcome.warnings));
+    let summary = || text::ensemble_text(&outcome, &args.out, None);
+    args.shown.report(summary, &outcome.warnings);
     Ok(())
 }

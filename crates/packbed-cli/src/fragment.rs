@@ -2,7 +2,7 @@
 //! its bonds break (`spec/fragmentation.md`).
 
 use crate::bed_file::BedFileArgs;
-use crate::overrides::parsed;
+use crate::parsers::parsed;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use packbed::text;
@@ -42,8 +42,12 @@ pub fn fragment(args: FragmentArgs) -> Result<()> {
         breaks: args.breaks,
         kt_over_kn: args.kt_kn,
     };
-    if let Err(e) = options.check() {
-        bail!("{}", e.message().replace("kt_over_kn", "--kt-kn"));
+    let option = |key: &str| match key {
+        "kt_over_kn" => "--kt-kn".to_string(),
+        key => format!("--{key}"),
+    };
+    if let Err(e) = options.check_naming(&option) {
+        bail!("{}", e.message());
     }
     args.bed.check_contact_tol()?;
     let hint = args.bed.hint()?;
@@ -62,12 +66,7 @@ pub fn fragment(args: FragmentArgs) -> Result<()> {
     let written = done
         .write(&args.out, !args.shown.no_pictures)
         .with_context(|| format!("--out {}", args.out.display()))?;
-    if !args.shown.quiet {
-        print!(
-            "{}",
-            text::fragment_text(&done.summary, &args.out, &written.files)
-        );
-    }
-    eprint!("{}", text::warning_lines(&written.warnings));
+    let summary = || text::fragment_text(&done.summary, &args.out, &written.files);
+    args.shown.report(summary, &written.warnings);
     Ok(())
 }

@@ -8,7 +8,7 @@ mod bench;
 mod compare;
 mod ensemble;
 mod fragment;
-mod overrides;
+mod parsers;
 mod progress;
 mod render;
 mod run;

@@ -4,7 +4,7 @@ use crate::bed_file::BedFileArgs;
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use packbed::render::{ColorBy, Cut, RenderOptions, View};
-use packbed::{read_bed, LargeRule};
+use packbed::LargeRule;
 use std::path::Path;
 
 /// What particle colours show.
@@ -102,27 +102,26 @@ pub fn render(args: RenderArgs) -> Result<()> {
         },
         ..RenderOptions::default()
     };
-    opts.check()?;
-    let bed = read_bed(path, args.bed.hint()?.as_ref())?;
-    // A 2D picture has no viewing direction and nothing in front to cut
-    // away: taking the options silently would hide a mistaken file.
-    let given: Vec<&str> = [
+    let given_3d = [
         ("--view", args.view.is_some()),
         ("--cut", args.cut.is_some()),
-    ]
-    .into_iter()
-    .filter_map(|(o, g)| g.then_some(o))
-    .collect();
-    if bed.dim() == 2 && !given.is_empty() {
-        bail!(
-            "{}: {} is a 2D bed (views and cut-aways are for 3D beds)",
-            given.join(" and "),
-            path.display()
-        );
-    }
+    ];
+    let given_3d: Vec<&str> = given_3d
+        .iter()
+        .filter_map(|&(o, g)| g.then_some(o))
+        .collect();
     // The analysis' own rule for large particles, so that the picture and
     // summary.json agree.
     let chains = (args.color == Color::Chains)
         .then(|| args.large.map_or(LargeRule::Median, LargeRule::Radius));
-    packbed::render_to(&bed, &out, &opts, chains).with_context(on_out)
+    opts.check()?;
+    let hint = args.bed.hint()?;
+    Ok(packbed::render_file(
+        path,
+        hint.as_ref(),
+        &out,
+        &opts,
+        &given_3d,
+        chains,
+    )?)
 }

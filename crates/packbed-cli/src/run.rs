@@ -1,6 +1,5 @@
 //! `packbed run`: config (file and overrides) → deposition → analysis → files.
 
-use crate::overrides::Overrides;
 use crate::progress::Progress;
 use anyhow::{Context, Result};
 use clap::Args;
@@ -14,7 +13,7 @@ pub struct RunArgs {
     #[arg(value_name = "CONFIG.toml")]
     pub config: Option<PathBuf>,
     #[command(flatten)]
-    pub overrides: Overrides,
+    pub overrides: packbed::Overrides,
     #[command(flatten)]
     pub files: FileArgs,
     /// Directory for the output files (created if needed).
@@ -33,7 +32,22 @@ pub struct Shown {
     pub quiet: bool,
 }
 
-/// A list of export formats, one option value (an alias, as [`crate::overrides::Numbers`]).
+impl Shown {
+    /// Prints the summary `text` on stdout (unless quiet) and the `warnings`
+    /// on stderr (always).
+    pub fn report<S: AsRef<str>>(
+        &self,
+        text: impl FnOnce() -> String,
+        warnings: impl IntoIterator<Item = S>,
+    ) {
+        if !self.quiet {
+            print!("{}", text());
+        }
+        eprint!("{}", text::warning_lines(warnings));
+    }
+}
+
+/// A list of export formats, one option value (an alias, as [`packbed::Numbers`]).
 type Formats = Vec<Format>;
 
 /// What `run` and `analyze` write besides their tables, and what they print.
@@ -58,7 +72,7 @@ impl FileArgs {
 
 /// Runs `packbed run`.
 pub fn run(args: RunArgs) -> Result<()> {
-    let settings = args.overrides.settings();
+    let settings = &args.overrides;
     let config = settings.applied_to_file(args.config.as_deref())?;
     // Planned (validated) once, before any work or output.
     let plan = config
@@ -74,13 +88,8 @@ pub fn run(args: RunArgs) -> Result<()> {
     progress.finish();
     let finished = finished?;
     let written = finished.write_with(&args.out, &extras)?;
-    if !args.files.shown.quiet {
-        print!(
-            "{}",
-            text::run_text(&finished.summary, &args.out, &written.files)
-        );
-    }
-    eprint!("{}", text::warning_lines(&written.warnings));
+    let summary = || text::run_text(&finished.summary, &args.out, &written.files);
+    args.files.shown.report(summary, &written.warnings);
     Ok(())
 }
 

@@ -60,20 +60,29 @@ impl BenchSizes {
     }
 }
 
-/// What to deposit.
+/// What to deposit. With the `cli` feature these are options of `packbed
+/// bench` (the sizes aside), their documentation its help.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
 pub struct BenchBed {
-    /// 2 or 3.
+    /// Dimension: 2 (discs) or 3 (spheres).
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(2..=3)))]
     pub dim: u8,
-    /// Bodies to deposit (chains, with `chains`).
+    /// Number of particles to deposit (of chains, with `--chains`).
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 100_000, allow_negative_numbers = true, value_parser = clap::value_parser!(u64).range(1..)))]
     pub n: u64,
-    /// Beads per rigid chain; `None` for spheres.
+    /// Deposit rigid chains of this many beads (radius 10, spacing 1.0,
+    /// entering upright) instead of spheres; `--n` counts chains.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "BEADS", value_parser = clap::value_parser!(u32).range(1..=1000)))]
     pub chains: Option<u32>,
-    /// Periodic side boundaries.
+    /// Periodic side boundaries (no side walls).
+    #[cfg_attr(feature = "cli", arg(long))]
     pub periodic: bool,
     /// The radii.
+    #[cfg_attr(feature = "cli", arg(skip))]
     pub sizes: BenchSizes,
-    /// Seed the floor with the random base layer first (and time it).
+    /// Seed the floor with the random base layer first (timed with the rest).
+    #[cfg_attr(feature = "cli", arg(long))]
     pub base_layer: bool,
 }
 

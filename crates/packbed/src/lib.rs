@@ -135,16 +135,16 @@ pub use mechanics::{Breaks, FragmentationConfig, Load};
 pub use output::check_out_dir;
 
 pub use bed::{AnyBed, Bed};
-pub use config::{AnalysisConfig, BoxSpec, Config, Edit, Measure, Overrides};
+pub use config::{AnalysisConfig, BoxSpec, Config, Edit, Measure, MeasureList, Numbers, Overrides};
 pub use ensemble::{run as run_ensemble, EnsembleOptions, Outcome};
 pub use error::{Error, Result};
 pub use io::read::{read_bed, read_bed_report, BoxHint, BoxSource, ReadReport};
 pub use io::{AnalyzeSummary, RunSummary};
 pub use output::RunExtras;
-#[cfg(feature = "render")]
-pub use pipeline::render_to;
 pub use pipeline::{
     analyze_bed, analyze_file, analyze_read_bed, check_box_hint, fragment_file, fragment_file_with,
     fragment_read_bed, picture_is_svg, run_bed, run_bed_or_stop, run_planned, AnalyzedBed,
     AnyFragmentation, FinishedBed, FragmentedBed,
 };
+#[cfg(feature = "render")]
+pub use pipeline::{render_file, render_to};

@@ -206,6 +206,30 @@ pub fn picture_is_svg(out: &Path) -> Result<bool> {
     }
 }
 
+/// `packbed render`: the bed file `path` (its box from `hint` if it has none)
+/// read and drawn into `out` ([`render_to`]). `given_3d` names the 3D view
+/// and cut-away the caller was given: a 2D bed refuses them rather than
+/// ignore them without a word.
+#[cfg(feature = "render")]
+pub fn render_file(
+    path: &Path,
+    hint: Option<&BoxHint>,
+    out: &Path,
+    opts: &crate::render::RenderOptions,
+    given_3d: &[&str],
+    chains: Option<crate::analysis::LargeRule>,
+) -> Result<()> {
+    let bed = crate::io::read::read_bed(path, hint)?;
+    if bed.dim() == 2 && !given_3d.is_empty() {
+        return Err(Error::Impossible(format!(
+            "{}: {} is a 2D bed (views and cut-aways are for 3D beds)",
+            given_3d.join(" and "),
+            path.display()
+        )));
+    }
+    render_to(&bed, out, opts, chains)
+}
+
 /// `packbed render`: `bed` drawn into the picture file `out` (PNG, or SVG for
 /// 2D beds). `chains`: colour by the percolation analysis' chains, large
 /// particles by this rule, instead of `opts.color`.

@@ -339,32 +339,83 @@ impl Config {
 /// The common settings a caller may override on top of a config file (the
 /// options of `packbed run`, the keywords of `packbed.deposit`), applied in a
 /// fixed order: dimension, seed, mode, radii, ratio, beads, box, periodic,
-/// count, large radius, measures.
+/// count, large radius, measures. With the `cli` feature these are the
+/// command's options, their documentation its help.
 #[derive(Clone, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
 pub struct Overrides {
-    /// Dimension, 2 or 3.
+    /// Dimension: 2 (discs) or 3 (spheres).
+    #[cfg_attr(feature = "cli", arg(long, value_parser = clap::value_parser!(u8).range(2..=3)))]
     pub dim: Option<u8>,
-    /// Radii, one species each (see [`Edit::Radii`]).
-    pub radii: Option<Vec<Real>>,
-    /// Number ratios, one per species.
-    pub ratio: Option<Vec<Real>>,
-    /// Every species a rigid chain of this many beads.
+    /// Radii of the species, e.g. 10,20 (one species per radius).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "R,R,...", allow_hyphen_values = true, value_parser = parse_numbers))]
+    pub radii: Option<Numbers>,
+    /// Number ratios of the species, e.g. 1,2 (one per species).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N,N,...", allow_hyphen_values = true, value_parser = parse_numbers))]
+    pub ratio: Option<Numbers>,
+    /// Make every species a rigid chain of N beads.
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, value_name = "N", allow_negative_numbers = true)
+    )]
     pub beads: Option<u32>,
-    /// The box.
+    /// Box: thesis | W,H | W,D,H | diameters=N.
+    #[cfg_attr(
+        feature = "cli",
+        arg(long = "box", value_name = "BOX", allow_hyphen_values = true)
+    )]
     pub container: Option<BoxSpec>,
-    /// Periodic side boundaries (only ever switched on).
+    /// Periodic side boundaries (no side walls).
+    #[cfg_attr(feature = "cli", arg(long))]
     pub periodic: bool,
-    /// Exactly this many particles.
+    /// Place exactly N particles (the roof is ignored).
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, value_name = "N", allow_negative_numbers = true)
+    )]
     pub count: Option<u64>,
-    /// Seed.
+    /// Seed of the random generator.
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, value_name = "S", allow_negative_numbers = true)
+    )]
     pub seed: Option<u64>,
-    /// Deposition or RSA.
+    /// deposit (drop and roll) or rsa (random sequential addition).
+    #[cfg_attr(feature = "cli", arg(long, value_parser = named::<Mode>(&["deposit", "rsa"])))]
     pub mode: Option<Mode>,
-    /// Percolation threshold radius.
+    /// Percolation threshold: particles with radius >= R count as large.
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, value_name = "R", allow_hyphen_values = true)
+    )]
     pub large: Option<Real>,
-    /// The measures to compute.
-    pub measures: Option<Vec<Measure>>,
+    /// Measures to compute, e.g. packing,coordination (default: packing,
+    /// coordination, percolation, voids, orientation, segregation; add pores
+    /// and permeability for the pore space, or all).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "LIST", value_parser = Measure::parse_list))]
+    pub measures: Option<MeasureList>,
 }
+
+/// One of `names`, spelt as in a config file (`um`) and read as a config
+/// file is read, for an option (whose help lists `names`).
+#[cfg(feature = "cli")]
+pub fn named<T>(names: &'static [&'static str]) -> impl clap::builder::TypedValueParser<Value = T>
+where
+    T: serde::de::DeserializeOwned + Clone + Send + Sync + 'static,
+{
+    use clap::builder::TypedValueParser;
+    use serde::de::value::{Error, StrDeserializer};
+    clap::builder::PossibleValuesParser::new(names).try_map(|s: String| {
+        T::deserialize(StrDeserializer::<Error>::new(&s)).map_err(|e| e.to_string())
+    })
+}
+
+/// A comma-separated list of numbers, one setting (an alias, so that an
+/// argument parser takes it as one value and not as a repeated option).
+pub type Numbers = Vec<Real>;
+
+/// A comma-separated list of measures, one setting (an alias, as [`Numbers`]).
+pub type MeasureList = Vec<Measure>;
 
 impl Overrides {
     /// True when nothing is overridden.

@@ -112,16 +112,25 @@ impl Default for FragmentationConfig {
 }
 
 impl FragmentationConfig {
-    /// Refuses settings no bed can be broken with.
+    /// Refuses settings no bed can be broken with, naming them as a config
+    /// file does (`fragmentation.breaks`).
     pub fn check(&self) -> Result<()> {
+        self.check_naming(&|key| format!("fragmentation.{key}"))
+    }
+
+    /// [`FragmentationConfig::check`], with the settings named by `name`
+    /// (the command: `--kt-kn`).
+    pub fn check_naming(&self, name: &dyn Fn(&str) -> String) -> Result<()> {
         if let Breaks::Count(0) = self.breaks {
-            return Err(Error::config(
-                "fragmentation.breaks must be at least 1 (or \"failure\")",
-            ));
+            return Err(Error::config(format!(
+                "{} must be at least 1 (or \"failure\")",
+                name("breaks")
+            )));
         }
         if !(self.kt_over_kn.is_finite() && self.kt_over_kn >= 0.0) {
             return Err(Error::config(format!(
-                "fragmentation.kt_over_kn must be a number >= 0, got {}",
+                "{} must be a number >= 0, got {}",
+                name("kt_over_kn"),
                 self.kt_over_kn
             )));
         }

@@ -6,36 +6,52 @@ use crate::error::{Error, Result};
 use crate::math::Real;
 use serde::{Deserialize, Serialize};
 
-/// `[analysis]`.
+/// `[analysis]`. With the `cli` feature these are options of `packbed
+/// analyze` (the contact tolerance and the flow aside), their documentation
+/// its help.
 #[derive(Clone, Debug, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
 #[serde(deny_unknown_fields)]
 pub struct AnalysisConfig {
     /// Contact tolerance relative to the smaller radius.
     #[serde(default = "default_contact_tol")]
+    #[cfg_attr(feature = "cli", arg(skip = DEFAULT_CONTACT_TOL))]
     pub contact_tol: Real,
-    /// Percolation: particles with `r >=` this are large (default: largest class).
+    /// Percolation threshold: particles with radius >= R count as large
+    /// (default: the largest of the species' volume-median radii).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(
+        feature = "cli",
+        arg(long = "large", value_name = "R", allow_hyphen_values = true)
+    )]
     pub large_radius: Option<Real>,
-    /// Bulk measures are null when the bulk region holds fewer bodies than this.
+    /// Bulk measures are null when the bulk region holds fewer bodies.
     #[serde(default = "default_bulk_min_bodies")]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", default_value_t = BULK_MIN_BODIES))]
     pub bulk_min_bodies: u64,
-    /// Chain angles from the `vertical` (default) or the `horizontal`.
+    /// Measure chain angles from the vertical (default) or from the horizontal
+    /// (as the source study did).
     #[serde(default, skip_serializing_if = "AngleFrom::is_vertical")]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "FROM", default_value = "vertical", value_parser = super::named::<AngleFrom>(&["vertical", "horizontal"])))]
     pub chain_angle_from: AngleFrom,
-    /// The measures to compute (default: [`Measure::DEFAULT`], all but the pore space); the
-    /// contacts are always found.
+    /// Density of the solid in kg/m³ (with --length-unit): the specific cake
+    /// resistance and the solids' mass per area.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub measures: Option<Vec<Measure>>,
-    /// Density of the solid in kg/m³: the specific cake resistance and the
-    /// solids' mass per area (needs `length_unit`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "KG_PER_M3"))]
     pub solid_density: Option<Real>,
-    /// The length of one unit of the bed's lengths (`m`, `mm`, `um`, `nm`):
-    /// permeabilities in m² and the cake resistance in m/kg.
+    /// The length of one unit of the bed file's lengths: permeabilities in m².
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "UNIT", value_parser = super::named::<LengthUnit>(&["m", "mm", "um", "nm"])))]
     pub length_unit: Option<LengthUnit>,
+    /// Measures to compute, e.g. packing,coordination (default: packing,
+    /// coordination, percolation, voids, orientation, segregation; add pores
+    /// and permeability for the pore space, or all). Contacts are always found.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "LIST", value_parser = Measure::parse_list))]
+    pub measures: Option<super::MeasureList>,
     /// `[analysis.flow]`: the flow through the pore network.
     #[serde(default, skip_serializing_if = "FlowConfig::is_default")]
+    #[cfg_attr(feature = "cli", arg(skip))]
     pub flow: FlowConfig,
 }
 

@@ -7,8 +7,12 @@ mod measures;
 mod plan;
 mod schema;
 
+#[cfg(feature = "cli")]
+pub use edit::named;
 pub(crate) use edit::species_parameter;
-pub use edit::{parse_numbers, BoxSpec, Edit, Overrides, SizeEdit, SWEEP_PARAMETERS};
+pub use edit::{
+    parse_numbers, BoxSpec, Edit, MeasureList, Numbers, Overrides, SizeEdit, SWEEP_PARAMETERS,
+};
 
 pub use measures::*;
 pub use plan::*;

@@ -44,20 +44,31 @@ pub const SHARDS_DIR: &str = "shards";
 pub const LOGS_DIR: &str = "logs";
 
 /// Options of `sbatch` the scripts carry: those of `packbed slurm`, which
-/// the array and the merge share (the merge takes one CPU).
+/// the array and the merge share (the merge takes one CPU). With the `cli`
+/// feature these are the command's options, their documentation its help.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
 pub struct Resources {
-    /// `--partition`.
+    /// Slurm partition (`sbatch --partition`).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "P"))]
     pub partition: Option<String>,
-    /// `--time`, e.g. `1:00:00`.
+    /// Time limit of each job (`sbatch --time`), e.g. 1:00:00.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "T"))]
     pub time: Option<String>,
-    /// `--cpus-per-task` of the array tasks (their `--jobs`); default 1.
+    /// CPUs of each array task (its `--jobs`); default 1.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "C", allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(1..)))]
     pub cpus_per_task: Option<u32>,
-    /// `--mem`, e.g. `4G`.
+    /// Memory of each job (`sbatch --mem`), e.g. 4G.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "MEM"))]
     pub mem: Option<String>,
-    /// `--account`.
+    /// Account to charge (`sbatch --account`).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "A"))]
     pub account: Option<String>,
-    /// Further `sbatch` options, one option each, e.g. `--qos=short`.
+    /// A further sbatch option for both jobs, e.g. --sbatch-arg=--qos=short (repeatable).
+    #[cfg_attr(
+        feature = "cli",
+        arg(long = "sbatch-arg", value_name = "ARG", allow_hyphen_values = true)
+    )]
     pub extra: Vec<String>,
 }
 
