@@ -35,7 +35,7 @@ struct Cli {
 enum Command {
     /// Build one bed, analyse it and write its files (default bed without arguments).
     Run(run::RunArgs),
-    /// Analyse an existing bed file (packbed CSV, plain x y [z] r, LAMMPS dump, XYZ).
+    /// Analyse an existing bed file (packbed CSV, plain x y [z] r, LAMMPS dump, XYZ, VTU).
     Analyze(analyze::AnalyzeArgs),
     /// Contact forces of a bed file under load, and the order its bonds break.
     Fragment(fragment::FragmentArgs),

@@ -272,10 +272,7 @@ fn time_triangulation(bed: &AnyBed) -> f64 {
         std::hint::black_box(tri.slots());
         seconds
     }
-    match bed {
-        AnyBed::D2(b) => timed(b),
-        AnyBed::D3(b) => timed(b),
-    }
+    crate::bed::each_dim!(bed, b => timed(b))
 }
 
 fn time_measures(bed: &AnyBed, options: &AnalysisOptions) -> Vec<(String, f64)> {
@@ -284,10 +281,7 @@ fn time_measures(bed: &AnyBed, options: &AnalysisOptions) -> Vec<(String, f64)> 
         let _ = analyze_timed(bed, options, &mut times);
         times
     }
-    let times = match bed {
-        AnyBed::D2(b) => timed(b, options),
-        AnyBed::D3(b) => timed(b, options),
-    };
+    let times = crate::bed::each_dim!(bed, b => timed(b, options));
     let mut out: Vec<(String, f64)> = Vec::new();
     for (name, t) in times.0 {
         match out.iter_mut().find(|e| e.0 == name) {

@@ -203,13 +203,14 @@ impl AnalysisOptions {
     }
 }
 
-/// Runs every measure on a bed with default settings and this contact tolerance
-/// (relative to the smaller radius of each pair).
+/// Runs the default measures (all but the pore space) on a bed with default
+/// settings and this contact tolerance (relative to the smaller radius of
+/// each pair).
 pub fn analyze<const D: usize>(bed: &Bed<D>, contact_tol: Real) -> (Contacts, Summary) {
     analyze_with(bed, &AnalysisOptions::new(contact_tol, None))
 }
 
-/// Runs every measure on a bed.
+/// Finds the contacts and runs the measures `opts` asks for on a bed.
 pub fn analyze_with<const D: usize>(bed: &Bed<D>, opts: &AnalysisOptions) -> (Contacts, Summary) {
     analyze_timed(bed, opts, &mut StageTimes::default())
 }

@@ -9,6 +9,8 @@ use serde::{Deserialize, Serialize};
 /// `[analysis]`. With the `cli` feature these are options of `packbed
 /// analyze` (the contact tolerance and the flow aside), their documentation
 /// its help.
+// The fields' order is the keys' order in a config's echo and in an
+// ensemble's fingerprint: changing it would change both.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::Args))]
 #[serde(deny_unknown_fields)]
@@ -34,6 +36,12 @@ pub struct AnalysisConfig {
     #[serde(default, skip_serializing_if = "AngleFrom::is_vertical")]
     #[cfg_attr(feature = "cli", arg(long, value_name = "FROM", default_value = "vertical", value_parser = super::named::<AngleFrom>(&["vertical", "horizontal"])))]
     pub chain_angle_from: AngleFrom,
+    /// Measures to compute, e.g. packing,coordination (default: packing,
+    /// coordination, percolation, voids, orientation, segregation; add pores
+    /// and permeability for the pore space, or all). Contacts are always found.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "LIST", value_parser = Measure::parse_list))]
+    pub measures: Option<super::MeasureList>,
     /// Density of the solid in kg/m³ (with --length-unit): the specific cake
     /// resistance and the solids' mass per area.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -43,12 +51,6 @@ pub struct AnalysisConfig {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "cli", arg(long, value_name = "UNIT", value_parser = super::named::<LengthUnit>(&["m", "mm", "um", "nm"])))]
     pub length_unit: Option<LengthUnit>,
-    /// Measures to compute, e.g. packing,coordination (default: packing,
-    /// coordination, percolation, voids, orientation, segregation; add pores
-    /// and permeability for the pore space, or all). Contacts are always found.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[cfg_attr(feature = "cli", arg(long, value_name = "LIST", value_parser = Measure::parse_list))]
-    pub measures: Option<super::MeasureList>,
     /// `[analysis.flow]`: the flow through the pore network.
     #[serde(default, skip_serializing_if = "FlowConfig::is_default")]
     #[cfg_attr(feature = "cli", arg(skip))]

@@ -382,14 +382,20 @@ fn fragmentation_pictures<const D: usize>(
     }
 }
 
-/// Without the `render` feature there are no pictures to write.
+/// Without the `render` feature there are no pictures: asked for, they are
+/// the error that [`write_fragmentation`] turns into a warning, not a silent
+/// omission.
 #[cfg(not(feature = "render"))]
 fn fragmentation_pictures<const D: usize>(
     _bed: &Bed<D>,
     _frag: &crate::mechanics::Fragmentation<D>,
-    _pictures: bool,
+    pictures: bool,
 ) -> Result<Vec<(String, Vec<u8>)>> {
-    Ok(Vec::new())
+    if pictures {
+        Err(no_pictures())
+    } else {
+        Ok(Vec::new())
+    }
 }
 
 #[cfg(test)]
