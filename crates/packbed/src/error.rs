@@ -168,11 +168,16 @@ pub fn clean_line(text: &str) -> String {
 }
 
 /// The causes as "what: why", leaving out a cause whose text the message
-/// already quotes (I/O errors include their source).
+/// already quotes (I/O errors include their source). A config error under a
+/// context (the file, or "command-line options") drops its "config: " tag:
+/// the context already says where the setting came from.
 fn joined(causes: &[&(dyn std::error::Error + 'static)], name: &dyn Fn(&str) -> String) -> String {
     let mut text = String::new();
-    for cause in causes {
-        let c = text_of(*cause, name);
+    for (k, cause) in causes.iter().enumerate() {
+        let c = match cause.downcast_ref::<Error>() {
+            Some(Error::Config(m)) if k > 0 => m.clone(),
+            _ => text_of(*cause, name),
+        };
         if !text.contains(&c) {
             if !text.is_empty() {
                 text.push_str(": ");
@@ -251,6 +256,38 @@ mod tests {
             "unexpected argument '--bogus' found tip: use '-- --bogus' (usage: packbed run [OPTIONS])"
         );
         assert_eq!(usage_line("\n"), "invalid arguments (see `packbed --help`)");
+    }
+
+    /// A context over an error, as a caller's `with_context` makes one.
+    #[derive(Debug)]
+    struct Within(&'static str, Error);
+
+    impl std::fmt::Display for Within {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str(self.0)
+        }
+    }
+
+    impl std::error::Error for Within {
+        fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+            Some(&self.1)
+        }
+    }
+
+    #[test]
+    fn a_config_error_says_config_once() {
+        let bare = Error::config("box.width must be a positive number, got 0");
+        assert_eq!(
+            one_line(&bare),
+            "config: box.width must be a positive number, got 0"
+        );
+        let placed = Within("command-line options", bare);
+        assert_eq!(
+            one_line(&placed),
+            "command-line options: box.width must be a positive number, got 0"
+        );
+        let io = Within("run", Error::Impossible("too large".into()));
+        assert_eq!(one_line(&io), "run: too large");
     }
 
     #[test]
