@@ -41,7 +41,7 @@ impl BenchSizes {
             BenchSizes::Equal => return Ok(()),
             BenchSizes::Lognormal(g) => (
                 "gsd",
-                [*g].into_iter().find(|g| !(*g >= 1.0 && g.is_finite())),
+                (!(*g >= 1.0 && g.is_finite())).then_some(*g),
                 "a geometric standard deviation (a number >= 1)",
             ),
             BenchSizes::Radii(r) => (

@@ -115,6 +115,13 @@ fn bad_override_syntax_is_explained() {
     assert_user_error(&s, &["run", "--count", "-3"], &["--count"]);
     assert_user_error(&s, &["run", "--frobnicate"], &["--frobnicate"]);
     assert_user_error(&s, &["bench", "--n", "0"], &["--n"]);
+    assert_user_error(&s, &["bench", "--gsd", "0.5"], &["--gsd", "`0.5`", ">= 1"]);
+    assert_user_error(&s, &["bench", "--gsd", "NaN"], &["--gsd", "NaN"]);
+    assert_user_error(
+        &s,
+        &["bench", "--radii", "10,-2"],
+        &["--radii", "`-2`", "positive"],
+    );
     assert_user_error(&s, &["analyze"], &["analyze"]);
 }
 
