@@ -226,19 +226,26 @@ pub fn solve<const D: usize>(
     // The side axes share one matrix (every slab node free, one pinned per
     // component); z has its own (the nodes beyond the slab fixed).
     let sides: Vec<usize> = axes.iter().copied().filter(|&a| a != z).collect();
+    // The two systems on two threads (each solve is sequential and ordered:
+    // the answer does not depend on the threads).
+    let (along_z, across) = rayon::join(
+        || {
+            axes.contains(&z)
+                .then(|| solve_axis(&nodes, net.throats.len(), size, slab, &[z]))
+                .transpose()
+        },
+        || {
+            (!sides.is_empty())
+                .then(|| solve_axis(&nodes, net.throats.len(), size, slab, &sides))
+                .transpose()
+        },
+    );
     let mut results: Vec<(usize, AxisFlow, Vec<Real>, Vec<Real>)> = Vec::new();
-    if axes.contains(&z) {
-        for (f, p, q) in solve_axis(&nodes, net.throats.len(), size, slab, &[z])? {
-            results.push((z, f, p, q));
-        }
+    for (f, p, q) in along_z?.into_iter().flatten() {
+        results.push((z, f, p, q));
     }
-    if !sides.is_empty() {
-        for (k, (f, p, q)) in solve_axis(&nodes, net.throats.len(), size, slab, &sides)?
-            .into_iter()
-            .enumerate()
-        {
-            results.push((sides[k], f, p, q));
-        }
+    for (k, (f, p, q)) in across?.into_iter().flatten().enumerate() {
+        results.push((sides[k], f, p, q));
     }
     for &a in axes {
         let (_, mut f, p, q) = results

@@ -13,6 +13,7 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use faer::{Par, Side};
+use rayon::prelude::*;
 
 /// Dense blocks split a fixed number of ways, so that the sums (and the
 /// answer's last bits) do not depend on the number of threads.
@@ -35,7 +36,9 @@ const TOLERANCE: Real = 1e-12;
 /// (the direct solve then decides).
 fn iterative(diag: &[Real], off: &[(u32, u32, Real)], rhs: &[Vec<Real>]) -> Option<Vec<Vec<Real>>> {
     let mg = super::amg::Multigrid::new(super::amg::Csr::from_parts(diag, off))?;
-    rhs.iter()
+    // Each right-hand side on its own thread: the hierarchy is shared and
+    // read-only, and every solve runs in a fixed order whatever the threads.
+    rhs.par_iter()
         .map(|b| mg.solve(b, TOLERANCE, 1000).map(|(x, _)| x))
         .collect()
 }
