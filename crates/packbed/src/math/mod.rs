@@ -231,6 +231,7 @@ pub fn display_length(x: Real) -> String {
 /// (times a radius of gyration) in slot 2 (2D) or slots 3–5 (3D).
 pub type Gen = Vector<6>;
 
+pub(crate) mod hilbert;
 mod lsq;
 pub(crate) mod normal;
 pub mod predicates;

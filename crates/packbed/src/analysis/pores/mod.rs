@@ -5,7 +5,6 @@
 
 pub mod flow;
 pub mod geometry;
-mod hilbert;
 pub mod network;
 pub mod triangulation;
 

@@ -97,7 +97,7 @@ impl<const D: usize> Triangulation<D> {
             hidden: Vec::new(),
         };
         t.add_far_simplex();
-        let order = super::hilbert::order(points);
+        let order = crate::math::hilbert::order(points);
         let mut scratch = Scratch {
             mark: vec![0; t.points.len()],
             ..Scratch::default()

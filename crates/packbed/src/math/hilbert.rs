@@ -1,5 +1,6 @@
-//! The order of insertion: points along a Hilbert curve, so that each point is
-//! found a few cells from the one before it.
+//! Points along a Hilbert curve: the order of insertion of the triangulation
+//! (each point is found a few cells from the one before it) and of the flow
+//! unknowns (neighbours close in memory).
 
 /// Bits per axis of the curve's grid (2^16 cells per axis is finer than any
 /// bed's spacing needs for locality).
