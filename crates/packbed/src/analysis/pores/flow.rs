@@ -374,23 +374,17 @@ fn solve_axis<const D: usize>(
             off.push((ia, ib, -g));
         }
         for (k, &axis) in axes.iter().enumerate() {
-            if along_z {
-                // A fixed neighbour holds P = −z at its own height.
-                if ia != u32::MAX && fixed(b) {
-                    rhs[k][ia as usize] -= g * nodes.centre[b][z];
-                }
-                if ib != u32::MAX && fixed(a) {
-                    rhs[k][ib as usize] -= g * nodes.centre[a][z];
-                }
-            } else {
-                // P = −x + p̃: the drop of x across the link drives p̃.
-                let d = delta(l, axis);
-                if ia != u32::MAX {
-                    rhs[k][ia as usize] -= g * d;
-                }
-                if ib != u32::MAX {
-                    rhs[k][ib as usize] += g * d;
-                }
+            // P = −x + p̃ (z: p̃ = 0 on the fixed nodes): the drop of x across
+            // the link drives p̃. Solving for the departure from the mean
+            // gradient rather than for P itself starts the iteration at the
+            // linear profile, and measures its residual on the scale of the
+            // fluxes, not of the heights.
+            let d = delta(l, axis);
+            if ia != u32::MAX {
+                rhs[k][ia as usize] -= g * d;
+            }
+            if ib != u32::MAX {
+                rhs[k][ib as usize] += g * d;
             }
         }
     }
@@ -405,8 +399,7 @@ fn solve_axis<const D: usize>(
                 let base = -nodes.centre[p][axis];
                 let solved = (index[p] != u32::MAX).then(|| solution[k][index[p] as usize]);
                 match (along_z, solved) {
-                    (true, Some(x)) => x,
-                    (false, Some(x)) => base + x,
+                    (_, Some(x)) => base + x,
                     (true, None) if fixed(p) => base,
                     (false, None) if in_slab[p] => base,
                     _ => 0.0,

@@ -28,9 +28,12 @@ pub const DIRECT_LIMIT: usize = 30_000;
 /// direct factor (6·10^5 unknowns took 2.6 GB and 14 s per factor).
 const DIRECT_FALLBACK: usize = 300_000;
 
-/// Relative residual the iterative solve reaches: fluxes then balance to
-/// about 1e-11.
-const TOLERANCE: Real = 1e-12;
+/// Relative residual the iterative solve reaches. The flow solves for the
+/// departure from the mean gradient, so the residual is on the scale of the
+/// fluxes: at 1e-10 inflow and outflow balance to 7e-12 or better on a
+/// 10^5-sphere bed (the spec asks 1e-9) and `k` moves by 2e-10 from a solve
+/// to 1e-12, 16 % fewer steps.
+const TOLERANCE: Real = 1e-10;
 
 /// The iterative solve, `None` if the hierarchy cannot be built or CG stalls
 /// (the direct solve then decides).
