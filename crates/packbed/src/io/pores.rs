@@ -190,14 +190,14 @@ mod tests {
 
     fn tables() -> PoreTables {
         let pore = |x: f64| PoreRow {
-            particles: vec![0, 1, 2, 3],
-            images: vec![[0, 0], [1, 0], [0, 0], [0, -1]],
-            centre: vec![x, 1.0, 2.0],
+            particles: [0, 1, 2, 3],
+            images: [[0, 0], [1, 0], [0, 0], [0, -1]],
+            centre: [x, 1.0, 2.0],
             volume: 1.5,
             void_volume: 0.5,
             body_radius: 0.25,
             in_slab: true,
-            pressure: vec![-x],
+            pressure: [-x, 0.0, 0.0],
         };
         PoreTables {
             dim: 3,
@@ -210,14 +210,14 @@ mod tests {
                     shift: [0, 0],
                     constriction_radius: 0.1,
                     conductance: 2.0,
-                    flux: vec![3.0],
+                    flux: [3.0, 0.0, 0.0],
                 },
                 ThroatRow {
                     pores: [0, 1],
                     shift: [-1, 0],
                     constriction_radius: 0.2,
                     conductance: 1.0,
-                    flux: vec![-0.5],
+                    flux: [-0.5, 0.0, 0.0],
                 },
             ],
         }

@@ -55,13 +55,7 @@ fn iterative<const D: usize>(
     for (new, &old) in order.iter().enumerate() {
         new_of[old as usize] = new as u32;
     }
-    let diag: Vec<Real> = order.iter().map(|&o| diag[o as usize]).collect();
-    let off: Vec<(u32, u32, Real)> = off
-        .iter()
-        .map(|&(i, j, a)| (new_of[i as usize], new_of[j as usize], a))
-        .collect();
-    let mg = super::amg::Multigrid::new(super::amg::Csr::from_parts(&diag, &off))?;
-    drop(off);
+    let mg = super::amg::Multigrid::new(super::amg::Csr::renumbered(diag, off, &new_of))?;
     // Each right-hand side on its own thread: the hierarchy is shared and
     // read-only, and every solve runs in a fixed order whatever the threads.
     rhs.par_iter()
