@@ -30,10 +30,11 @@ const DIRECT_FALLBACK: usize = 300_000;
 
 /// Relative residual the iterative solve reaches. The flow solves for the
 /// departure from the mean gradient, so the residual is on the scale of the
-/// fluxes: at 1e-10 inflow and outflow balance to 7e-12 or better on a
-/// 10^5-sphere bed (the spec asks 1e-9) and `k` moves by 2e-10 from a solve
-/// to 1e-12, 16 % fewer steps.
-const TOLERANCE: Real = 1e-10;
+/// fluxes. At 1e-10 inflow and outflow balanced to 7e-12 on a 10^5-sphere bed
+/// of equal spheres but only to 4e-10 on the sieve examples' size
+/// distributions (the spec asks 1e-9); 1e-11 keeps them near 1e-11 for a
+/// few more steps.
+const TOLERANCE: Real = 1e-11;
 
 /// The iterative solve, `None` if the hierarchy cannot be built or CG stalls
 /// (the direct solve then decides).
