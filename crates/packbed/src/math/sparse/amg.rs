@@ -32,13 +32,16 @@ pub struct Csr {
 impl Csr {
     /// The matrix with diagonal `diag` and symmetric off-diagonal entries
     /// (`(i, j, a_ij)`, `i != j`, repeated pairs summed).
+    #[cfg(test)]
     pub fn from_parts(diag: &[Real], off: &[(u32, u32, Real)]) -> Csr {
         let identity: Vec<u32> = (0..diag.len() as u32).collect();
         Csr::renumbered(diag, off, &identity)
     }
 
-    /// [`Csr::from_parts`] with node `i` renumbered `new_of[i]`, without a
-    /// renumbered copy of the entries (at 6·10^6 pores each copy is 0.2 GB).
+    /// The matrix with diagonal `diag` and symmetric off-diagonal entries
+    /// (`(i, j, a_ij)`, `i != j`, repeated pairs summed), node `i`
+    /// renumbered `new_of[i]`, without a renumbered copy of the entries (at
+    /// 6·10^6 pores each copy is 0.2 GB).
     pub fn renumbered(diag: &[Real], off: &[(u32, u32, Real)], new_of: &[u32]) -> Csr {
         let n = diag.len();
         let mut count = vec![0usize; n + 1];
@@ -269,7 +272,7 @@ impl Multigrid {
         p.restrict(&here.residual, &mut here.coarse_rhs);
         self.cycle(level + 1, &here.coarse_rhs, &mut here.coarse_x, below);
         p.add_to(&here.coarse_x, x);
-        gauss_seidel(a, r, x, false);
+        backward_gauss_seidel(a, r, x);
     }
 
     /// Solves `A x = b` to a relative residual of `tol` by preconditioned
@@ -352,20 +355,15 @@ fn smooth_from_zero(a: &Csr, b: &[Real], x: &mut [Real], residual: &mut [Real]) 
     }
 }
 
-/// Gauss–Seidel sweep on `A x = b`, forward or backward.
-fn gauss_seidel(a: &Csr, b: &[Real], x: &mut [Real], forward: bool) {
-    let n = a.n();
-    let mut sweep = |i: usize| {
+/// Backward Gauss–Seidel sweep on `A x = b` (the forward one is
+/// [`smooth_from_zero`]): the pair keeps the cycle symmetric.
+fn backward_gauss_seidel(a: &Csr, b: &[Real], x: &mut [Real]) {
+    for i in (0..a.n()).rev() {
         let mut s = b[i];
         for k in a.ptr[i] + 1..a.ptr[i + 1] {
             s -= a.val[k] * x[a.col[k] as usize];
         }
         x[i] = s / a.diag(i);
-    };
-    if forward {
-        (0..n).for_each(&mut sweep);
-    } else {
-        (0..n).rev().for_each(&mut sweep);
     }
 }
 
