@@ -193,6 +193,20 @@ impl Trig {
             .map(|x| x.angle())
     }
 
+    /// False only if [`Trig::downcrossing`] with the same `tol` finds no
+    /// crossing by its first, cheap test: the same comparisons, without
+    /// branches, so that a batch of candidates can be sifted in one loop.
+    #[inline]
+    pub fn may_cross(&self, tol: Real) -> bool {
+        let f0 = self.a + self.c;
+        let inside = f0 < -tol;
+        let level = if f0 > tol { 0.0 } else { f0.min(0.0) - tol };
+        let c = self.c - level;
+        let k2 = self.a * self.a + self.b * self.b;
+        let misses = (c >= 0.0) & (c * c >= k2);
+        (inside & (self.b < 0.0)) | (!inside & !misses)
+    }
+
     /// Where the function first goes from non-negative to negative along the whole
     /// turn `t ∈ [0, 2π)`, as a point on the unit circle: no inverse trigonometric
     /// function is needed until the caller knows the crossing matters.
@@ -470,6 +484,23 @@ mod tests {
             prop_assert!((0.0..4.0).contains(&d1));
             if t1 < t2 - 1e-12 {
                 prop_assert!(d1 <= d2, "{t1} {t2} {d1} {d2}");
+            }
+        }
+
+        #[test]
+        fn may_cross_keeps_every_crossing(
+            a in -3.0f64..3.0, b in -3.0f64..3.0, c in -3.0f64..3.0,
+            // Values near the tolerance and near tangency, where the branches part.
+            near in any::<bool>(), tol in prop::sample::select(vec![0.0, 1e-12, 1e-3, 0.5]),
+        ) {
+            let f = if near { Trig { a, b, c: -a + tol * c.signum() } } else { Trig { a, b, c } };
+            if f.downcrossing(tol).is_some() {
+                prop_assert!(f.may_cross(tol), "{f:?} {tol}");
+            }
+            // Tangent circles: c*c == a*a + b*b exactly.
+            let g = Trig { a: 3.0, b: 4.0, c: 5.0 + tol * (c % 1.0) };
+            if g.downcrossing(tol).is_some() {
+                prop_assert!(g.may_cross(tol), "{g:?} {tol}");
             }
         }
 

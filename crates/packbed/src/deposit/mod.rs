@@ -1,6 +1,7 @@
 //! Sequential deposition: particles settle one at a time under gravity onto the
 //! bed already there (the drop-and-roll model of `spec/model.md`).
 
+mod arc_search;
 mod base_layer;
 mod body;
 pub mod chain;

@@ -6,6 +6,7 @@
 //! circle), so each move is "find the first event on the curve" in closed form:
 //! a new contact, or a contact force turning tensile (the contact is released).
 
+use super::arc_search::Batch;
 use super::obstacle::{is_floor, particle_key, wall_obstacle, Obstacle};
 use crate::bed::Bed;
 use crate::container::Container;
@@ -437,8 +438,9 @@ fn fall<const D: usize>(
     ));
     let (mut lo, hi) = (*p, *p);
     lo[D - 1] = 0.0;
-    // Best hits as (id, image shift); their identities are worked out at the end.
-    let mut best: [(u32, Vector<D>, u16); MAX_ACTIVE] = [(0, Vector::zero(), 0); MAX_ACTIVE];
+    // Best hits as (id, centre, inflated radius, image); their identities are
+    // worked out at the end.
+    let mut best = [(0u32, Vector::<D>::zero(), 0.0, 0u16); MAX_ACTIVE];
     let mut n_best = 0;
     terrain.grid.scan_down(&lo, &hi, r, |id, shift, image| {
         let c = terrain.centres[id as usize] + shift;
@@ -456,7 +458,7 @@ fn fall<const D: usize>(
                 n_best = 0;
             }
             if t <= best_t + tol && n_best < MAX_ACTIVE {
-                best[n_best] = (id, shift, image);
+                best[n_best] = (id, c, big_r, image);
                 n_best += 1;
             }
         }
@@ -467,12 +469,9 @@ fn fall<const D: usize>(
         // A sphere is hit before the floor: the floor is no contact.
         hits.clear();
     }
-    for &(id, shift, image) in &best[..n_best] {
+    for &(id, centre, radius, image) in &best[..n_best] {
         hits.push(Obstacle {
-            surface: Surface::Ball {
-                centre: terrain.centres[id as usize] + shift,
-                radius: r + terrain.radii[id as usize],
-            },
+            surface: Surface::Ball { centre, radius },
             key: particle_key(id, image),
         });
     }
@@ -633,35 +632,30 @@ fn first_contact_on_arc<const D: usize>(
         }
     }
     let (arc_lo, arc_hi) = arc.bounds_to(end);
+    let mut met = |x: Crossing, centre: Vector<D>, big_r: Real, id: u32, image: u16| {
+        let o = Obstacle {
+            surface: Surface::Ball {
+                centre,
+                radius: big_r,
+            },
+            // The identity is worked out only for obstacles actually met.
+            key: particle_key(id, image),
+        };
+        consider(x, o, hits);
+    };
+    // The grid walk only gathers; a branch-free sift of each batch leaves
+    // the few candidates worth an exact crossing (see `arc_search`).
+    let mut batch = Batch::<D>::new();
     terrain
         .grid
         .for_each_in_box(&arc_lo, &arc_hi, r, |id, shift, image| {
             let centre = terrain.centres[id as usize] + shift;
             let big_r = r + terrain.radii[id as usize];
-            // Cheap rejection: the obstacle's ball misses the arc's bounding box.
-            for k in 0..D {
-                if centre[k] < arc_lo[k] - big_r || centre[k] > arc_hi[k] + big_r {
-                    return;
-                }
+            if batch.push(&centre, big_r, id, image) {
+                batch.for_each_crossing(arc, &arc_lo, &arc_hi, tol, &mut met);
+                batch.len = 0;
             }
-            let Some(x) = arc
-                .ball_trig(&centre, big_r)
-                .downcrossing(2.0 * big_r * tol)
-            else {
-                return;
-            };
-            consider(
-                x,
-                Obstacle {
-                    surface: Surface::Ball {
-                        centre,
-                        radius: big_r,
-                    },
-                    // The identity is worked out only for obstacles actually met.
-                    key: particle_key(id, image),
-                },
-                hits,
-            );
         });
+    batch.for_each_crossing(arc, &arc_lo, &arc_hi, tol, &mut met);
     (best, if found { best_rank } else { Real::INFINITY })
 }
