@@ -89,7 +89,7 @@ impl<const D: usize, const N: usize> Candidates<D, N> {
             let mut w2 = 0.0;
             for k in 0..D {
                 let c = self.centre[k][i];
-                in_box &= !(c < lo[k] - big_r) & !(c > hi[k] + big_r);
+                in_box &= (c >= lo[k] - big_r) & (c <= hi[k] + big_r);
                 let w = arc.m[k] - c;
                 ua += arc.u[k] * w;
                 vb += arc.v[k] * w;
