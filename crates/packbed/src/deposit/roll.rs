@@ -120,6 +120,8 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
     let mut lambda = [0.0; MAX_ACTIVE];
     let mut keep = ContactSet::<D>::new();
     let mut hits = ContactSet::<D>::new();
+    // The arc search's batch, set up once per particle, not once per arc.
+    let mut batch = Batch::<D>::new();
     // Zero-length moves in a row, and the contacts after the last of them.
     let mut still = 0;
     let mut still_contacts: Option<ContactSet<D>> = None;
@@ -194,7 +196,9 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
             }
         }
         let (hit, hit_rank) =
-            first_contact_on_arc(terrain, &arc, &keep, r, &end, end_rank, tol, &mut hits);
+            first_contact_on_arc(
+            terrain, &arc, &keep, r, &end, end_rank, tol, &mut hits, &mut batch,
+        );
         p = arc.point_at(if hit_rank <= end_rank { &hit } else { &end });
         std::mem::swap(&mut active, &mut keep);
         if hit_rank <= end_rank {
@@ -599,6 +603,7 @@ fn first_contact_on_arc<const D: usize>(
     end_rank: Real,
     tol: Real,
     hits: &mut ContactSet<D>,
+    batch: &mut Batch<D>,
 ) -> (Crossing, Real) {
     let tie = 1e-12;
     let mut best = *end;
@@ -645,7 +650,7 @@ fn first_contact_on_arc<const D: usize>(
     };
     // The grid walk only gathers; a branch-free sift of each batch leaves
     // the few candidates worth an exact crossing (see `arc_search`).
-    let mut batch = Batch::<D>::new();
+    batch.len = 0;
     terrain
         .grid
         .for_each_in_box(&arc_lo, &arc_hi, r, |id, shift, image| {
