@@ -207,6 +207,26 @@ impl Trig {
         (inside & (self.b < 0.0)) | (!inside & !misses)
     }
 
+    /// True if the function stays above zero, by a wide margin, on the whole
+    /// arc from the start to `end` (at most half a turn): then its first
+    /// downcrossing, if any, lies more than `1e-8` of a turn beyond `end`
+    /// (the margin, `1e-8 (|a| + |b| + |c|)`, over the largest slope). The
+    /// minimum of `a cos t + b sin t + c` lies in the direction `(−a, −b)`;
+    /// outside the arc, the function's least value on it is at an end. No
+    /// square root, no division, no branch: a sift can ask it of every
+    /// candidate.
+    #[inline]
+    pub fn clear_until(&self, end: &Crossing) -> bool {
+        let ab = self.a.abs() + self.b.abs();
+        let margin = 1e-8 * (ab + self.c.abs());
+        let f0 = self.a + self.c;
+        let f1 = self.a * end.cos + self.b * end.sin + self.c;
+        let (mx, my) = (-self.a, -self.b);
+        let slack = 1e-9 * ab;
+        let min_on_arc = (my >= -slack) & (mx * end.sin - my * end.cos >= -slack);
+        (end.sin >= 0.0) & (f0 > margin) & (f1 > margin) & !min_on_arc
+    }
+
     /// Where the function first goes from non-negative to negative along the whole
     /// turn `t ∈ [0, 2π)`, as a point on the unit circle: no inverse trigonometric
     /// function is needed until the caller knows the crossing matters.
@@ -501,6 +521,24 @@ mod tests {
             let g = Trig { a: 3.0, b: 4.0, c: 5.0 + tol * (c % 1.0) };
             if g.downcrossing(tol).is_some() {
                 prop_assert!(g.may_cross(tol), "{g:?} {tol}");
+            }
+        }
+
+        #[test]
+        fn clear_until_means_no_crossing_until_well_past_the_end(
+            a in -3.0f64..3.0, b in -3.0f64..3.0, c in -3.0f64..3.0,
+            end in 0.0f64..std::f64::consts::PI,
+            tol in prop::sample::select(vec![0.0, 1e-12, 1e-6]),
+        ) {
+            let f = Trig { a, b, c };
+            let e = Crossing::at(end);
+            if f.clear_until(&e) {
+                for i in 0..=400 {
+                    prop_assert!(f.at(end * i as f64 / 400.0) > 0.0);
+                }
+                if let Some(x) = f.downcrossing(tol) {
+                    prop_assert!(x.diamond() > e.diamond() + 1e-9, "{f:?} {end} {x:?}");
+                }
             }
         }
 

@@ -678,11 +678,11 @@ fn first_contact_on_arc<const D: usize>(
         grid.for_each_in_box(&arc_lo, &arc_hi, r, |id, shift, image| {
             let (centre, big_r) = ball(id, shift);
             if batch.push(&centre, big_r, id, image) {
-                batch.for_each_crossing(arc, &arc_lo, &arc_hi, tol, &mut met);
+                batch.for_each_crossing(arc, &arc_lo, &arc_hi, end, tol, &mut met);
                 batch.len = 0;
             }
         });
-        batch.for_each_crossing(arc, &arc_lo, &arc_hi, tol, &mut met);
+        batch.for_each_crossing(arc, &arc_lo, &arc_hi, end, tol, &mut met);
     }
     (best, if found { best_rank } else { Real::INFINITY })
 }
