@@ -62,29 +62,78 @@ impl<const D: usize, const N: usize> Candidates<D, N> {
         (c, self.big_r[i], self.key[i].0, self.key[i].1)
     }
 
-    /// Bit `i - from` set for each candidate `i` in `from..from + 64` that may
-    /// be entered by `arc` before `end` within the box `[lo, hi]`: its ball
-    /// reaches the box, [`Trig::downcrossing`] of its ball function at
-    /// tolerance `2 R tol` would not stop at its first cheap rejection, and
-    /// the function is not clear of zero up to `end` ([`Trig::clear_until`]).
-    /// A candidate left out is one the scalar test rejects, or one entered so
-    /// far beyond `end` that the ranking would drop it; one kept may still be
-    /// rejected there.
+    /// Bit `i` set for each candidate `i` that may be entered by `arc`
+    /// before `end` within the box `[lo, hi]`: its ball reaches the box,
+    /// [`Trig::downcrossing`] of its ball function at tolerance `2 R tol`
+    /// would not stop at its first cheap rejection, and the function is not
+    /// clear of zero up to `end` ([`Trig::clear_until`]). A candidate left
+    /// out is one the scalar test rejects, or one entered so far beyond `end`
+    /// that the ranking would drop it; one kept may still be rejected there.
+    /// Every slot is computed (those past `len` hold old candidates or
+    /// zeros, and are masked off): a loop of fixed length, which the
+    /// compiler turns into vector instructions.
     #[inline]
     pub(crate) fn sift(
         &self,
-        from: usize,
         arc: &Arc<D>,
         lo: &Vector<D>,
         hi: &Vector<D>,
         end: &Crossing,
         tol: Real,
     ) -> u64 {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the processor has just said it has AVX-512F.
+            return unsafe { self.sift_avx512(arc, lo, hi, end, tol) };
+        }
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor has just said it has AVX2.
+            return unsafe { self.sift_avx2(arc, lo, hi, end, tol) };
+        }
+        self.sift_any(arc, lo, hi, end, tol)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn sift_avx512(
+        &self,
+        arc: &Arc<D>,
+        lo: &Vector<D>,
+        hi: &Vector<D>,
+        end: &Crossing,
+        tol: Real,
+    ) -> u64 {
+        self.sift_any(arc, lo, hi, end, tol)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn sift_avx2(
+        &self,
+        arc: &Arc<D>,
+        lo: &Vector<D>,
+        hi: &Vector<D>,
+        end: &Crossing,
+        tol: Real,
+    ) -> u64 {
+        self.sift_any(arc, lo, hi, end, tol)
+    }
+
+    #[inline(always)]
+    fn sift_any(
+        &self,
+        arc: &Arc<D>,
+        lo: &Vector<D>,
+        hi: &Vector<D>,
+        end: &Crossing,
+        tol: Real,
+    ) -> u64 {
+        const { assert!(N <= 64) };
         let two_rho = 2.0 * arc.rho;
         let rho2 = arc.rho * arc.rho;
-        let to = self.len.min(from + 64);
-        let mut bits = 0u64;
-        for i in from..to {
+        let mut keep = [false; N];
+        for (i, kept) in keep.iter_mut().enumerate() {
             let big_r = self.big_r[i];
             let mut in_box = true;
             let mut ua = 0.0;
@@ -103,8 +152,11 @@ impl<const D: usize, const N: usize> Candidates<D, N> {
                 b: two_rho * vb,
                 c: w2 + rho2 - big_r * big_r,
             };
-            let kept = in_box & t.may_cross(2.0 * big_r * tol) & !t.clear_until(end);
-            bits |= (kept as u64) << (i - from);
+            *kept = in_box & t.may_cross(2.0 * big_r * tol) & !t.clear_until(end);
+        }
+        let mut bits = 0u64;
+        for (i, &kept) in keep.iter().enumerate().take(self.len) {
+            bits |= u64::from(kept) << i;
         }
         bits
     }
@@ -125,10 +177,10 @@ impl<const D: usize, const N: usize> Candidates<D, N> {
         tol: Real,
         mut f: impl FnMut(Crossing, Vector<D>, Real, u32, u16),
     ) {
-        for from in (0..self.len).step_by(64) {
-            let mut kept = self.sift(from, arc, lo, hi, end, tol);
+        {
+            let mut kept = self.sift(arc, lo, hi, end, tol);
             while kept != 0 {
-                let i = from + kept.trailing_zeros() as usize;
+                let i = kept.trailing_zeros() as usize;
                 kept &= kept - 1;
                 let (centre, big_r, id, image) = self.get(i);
                 if let Some(x) = arc
@@ -210,6 +262,16 @@ mod tests {
                 .copied()
                 .collect();
             prop_assert_eq!(&got, &kept);
+            // Whatever instructions the processor offers, the sift keeps the
+            // same candidates as the portable loop.
+            batch.len = 0;
+            for (i, (c, big_r)) in balls.iter().enumerate().take(32) {
+                batch.push(&Vector(*c), *big_r, i as u32, 0);
+            }
+            prop_assert_eq!(
+                batch.sift(&arc, &lo, &hi, &end, tol),
+                batch.sift_any(&arc, &lo, &hi, &end, tol)
+            );
             for e in expected.iter().filter(|e| !got.contains(e)) {
                 prop_assert!(e.3 > end_rank + 1e-9, "{e:?} dropped, end {end_rank}");
             }
