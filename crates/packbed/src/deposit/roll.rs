@@ -664,10 +664,12 @@ fn first_contact_on_arc<const D: usize>(
             if outside {
                 return;
             }
-            if let Some(x) = arc
-                .ball_trig(&centre, big_r)
-                .downcrossing(2.0 * big_r * tol)
-            {
+            let f = arc.ball_trig(&centre, big_r);
+            // Entered, if at all, well beyond the end: the ranking drops it.
+            if f.clear_until(end) {
+                return;
+            }
+            if let Some(x) = f.downcrossing(2.0 * big_r * tol) {
                 met(x, centre, big_r, id, image);
             }
         });
