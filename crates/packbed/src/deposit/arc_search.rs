@@ -14,6 +14,16 @@
 use crate::geometry::{Arc, Crossing, Trig};
 use crate::math::{Real, Vector};
 
+/// An arc up to its end (at most half a turn), the box that holds it, and
+/// the contact tolerance: what a candidate is asked about.
+pub(crate) struct Sweep<const D: usize> {
+    pub arc: Arc<D>,
+    pub lo: Vector<D>,
+    pub hi: Vector<D>,
+    pub end: Crossing,
+    pub tol: Real,
+}
+
 /// Candidate centres (image shift added), inflated radii and identities, in
 /// the order the grid visits them.
 pub(crate) struct Candidates<const D: usize, const N: usize> {
@@ -25,6 +35,19 @@ pub(crate) struct Candidates<const D: usize, const N: usize> {
 
 /// A full batch of the direct search.
 pub(crate) type Batch<const D: usize> = Candidates<D, 32>;
+
+/// [`Candidates::sift`] compiled for one more instruction set: the same
+/// operations in the same order (no fused multiply-add), so the same bits,
+/// four or eight candidates to an instruction instead of two.
+macro_rules! sift_compiled_for {
+    ($name:ident, $feature:literal) => {
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = $feature)]
+        unsafe fn $name(&self, sweep: &Sweep<D>) -> u64 {
+            self.sift_any(sweep)
+        }
+    };
+}
 
 impl<const D: usize, const N: usize> Candidates<D, N> {
     pub(crate) fn new() -> Self {
@@ -73,63 +96,33 @@ impl<const D: usize, const N: usize> Candidates<D, N> {
     /// zeros, and are masked off): a loop of fixed length, which the
     /// compiler turns into vector instructions.
     #[inline]
-    pub(crate) fn sift(
-        &self,
-        arc: &Arc<D>,
-        lo: &Vector<D>,
-        hi: &Vector<D>,
-        end: &Crossing,
-        tol: Real,
-    ) -> u64 {
+    pub(crate) fn sift(&self, sweep: &Sweep<D>) -> u64 {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx512f") {
             // SAFETY: the processor has just said it has AVX-512F.
-            return unsafe { self.sift_avx512(arc, lo, hi, end, tol) };
+            return unsafe { self.sift_avx512(sweep) };
         }
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the processor has just said it has AVX2.
-            return unsafe { self.sift_avx2(arc, lo, hi, end, tol) };
+            return unsafe { self.sift_avx2(sweep) };
         }
-        self.sift_any(arc, lo, hi, end, tol)
+        self.sift_any(sweep)
     }
 
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    unsafe fn sift_avx512(
-        &self,
-        arc: &Arc<D>,
-        lo: &Vector<D>,
-        hi: &Vector<D>,
-        end: &Crossing,
-        tol: Real,
-    ) -> u64 {
-        self.sift_any(arc, lo, hi, end, tol)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn sift_avx2(
-        &self,
-        arc: &Arc<D>,
-        lo: &Vector<D>,
-        hi: &Vector<D>,
-        end: &Crossing,
-        tol: Real,
-    ) -> u64 {
-        self.sift_any(arc, lo, hi, end, tol)
-    }
+    sift_compiled_for!(sift_avx512, "avx512f");
+    sift_compiled_for!(sift_avx2, "avx2");
 
     #[inline(always)]
-    fn sift_any(
-        &self,
-        arc: &Arc<D>,
-        lo: &Vector<D>,
-        hi: &Vector<D>,
-        end: &Crossing,
-        tol: Real,
-    ) -> u64 {
+    fn sift_any(&self, sweep: &Sweep<D>) -> u64 {
         const { assert!(N <= 64) };
+        let Sweep {
+            arc,
+            lo,
+            hi,
+            end,
+            tol,
+        } = sweep;
         let two_rho = 2.0 * arc.rho;
         let rho2 = arc.rho * arc.rho;
         let mut keep = [false; N];
@@ -170,15 +163,12 @@ impl<const D: usize, const N: usize> Candidates<D, N> {
     #[inline]
     pub(crate) fn for_each_crossing(
         &self,
-        arc: &Arc<D>,
-        lo: &Vector<D>,
-        hi: &Vector<D>,
-        end: &Crossing,
-        tol: Real,
+        sweep: &Sweep<D>,
         mut f: impl FnMut(Crossing, Vector<D>, Real, u32, u16),
     ) {
         {
-            let mut kept = self.sift(arc, lo, hi, end, tol);
+            let mut kept = self.sift(sweep);
+            let Sweep { arc, tol, .. } = sweep;
             while kept != 0 {
                 let i = kept.trailing_zeros() as usize;
                 kept &= kept - 1;
@@ -231,6 +221,7 @@ mod tests {
             let end = Crossing { cos: end.cos(), sin: end.sin() };
             let (lo, hi) = arc.bounds_to(&end);
             let end_rank = end.diamond();
+            let sweep = Sweep { arc, lo, hi, end, tol };
             let mut expected = Vec::new();
             for (i, (c, big_r)) in balls.iter().enumerate() {
                 let c = Vector(*c);
@@ -249,11 +240,11 @@ mod tests {
             };
             for (i, (c, big_r)) in balls.iter().enumerate() {
                 if batch.push(&Vector(*c), *big_r, i as u32, 0) {
-                    batch.for_each_crossing(&arc, &lo, &hi, &end, tol, &mut met);
+                    batch.for_each_crossing(&sweep, &mut met);
                     batch.len = 0;
                 }
             }
-            batch.for_each_crossing(&arc, &lo, &hi, &end, tol, &mut met);
+            batch.for_each_crossing(&sweep, &mut met);
             // Those left out are entered well beyond the end; the rest come
             // in order, bit for bit.
             let kept: Vec<_> = expected
@@ -269,8 +260,8 @@ mod tests {
                 batch.push(&Vector(*c), *big_r, i as u32, 0);
             }
             prop_assert_eq!(
-                batch.sift(&arc, &lo, &hi, &end, tol),
-                batch.sift_any(&arc, &lo, &hi, &end, tol)
+                batch.sift(&sweep),
+                batch.sift_any(&sweep)
             );
             for e in expected.iter().filter(|e| !got.contains(e)) {
                 prop_assert!(e.3 > end_rank + 1e-9, "{e:?} dropped, end {end_rank}");

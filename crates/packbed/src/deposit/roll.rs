@@ -6,7 +6,7 @@
 //! circle), so each move is "find the first event on the curve" in closed form:
 //! a new contact, or a contact force turning tensile (the contact is released).
 
-use super::arc_search::Batch;
+use super::arc_search::{Batch, Sweep};
 use super::obstacle::{is_floor, particle_key, wall_obstacle, Obstacle};
 use crate::bed::Bed;
 use crate::container::Container;
@@ -676,15 +676,22 @@ fn first_contact_on_arc<const D: usize>(
     } else {
         // The grid walk only gathers; a branch-free sift of each batch leaves
         // the few candidates worth an exact crossing (see `arc_search`).
+        let sweep = Sweep {
+            arc: *arc,
+            lo: arc_lo,
+            hi: arc_hi,
+            end: *end,
+            tol,
+        };
         batch.len = 0;
         grid.for_each_in_box(&arc_lo, &arc_hi, r, |id, shift, image| {
             let (centre, big_r) = ball(id, shift);
             if batch.push(&centre, big_r, id, image) {
-                batch.for_each_crossing(arc, &arc_lo, &arc_hi, end, tol, &mut met);
+                batch.for_each_crossing(&sweep, &mut met);
                 batch.len = 0;
             }
         });
-        batch.for_each_crossing(arc, &arc_lo, &arc_hi, end, tol, &mut met);
+        batch.for_each_crossing(&sweep, &mut met);
     }
     (best, if found { best_rank } else { Real::INFINITY })
 }
