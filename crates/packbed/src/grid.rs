@@ -375,7 +375,7 @@ impl<const D: usize> Grid<D> {
                 continue;
             };
             let stopped = !self.for_each_column(level, &lo, &hi, |col, shift, image| {
-                for layer in z0..=z1 {
+                for layer in z0..z1 + 1 {
                     let mut id = level.head[layer * level.columns + col];
                     while id != EMPTY {
                         if f(id, shift, image) {
@@ -513,7 +513,7 @@ impl<const D: usize> Grid<D> {
             let (mut i, mut period) = row_of(0, first[0]);
             offset[0] = period as Real * self.extent[0];
             let mut image = image_code(period, 0);
-            for _ in first[0]..=last[0] {
+            for _ in first[0]..last[0] + 1 {
                 if !f(i as usize, offset, image) {
                     return false;
                 }
@@ -529,14 +529,14 @@ impl<const D: usize> Grid<D> {
             let ny = level.counts[1] as isize;
             let (mut iy, mut py) = row_of(1, first[1]);
             let (ix0, px0) = row_of(0, first[0]);
-            for _ in first[1]..=last[1] {
+            for _ in first[1]..last[1] + 1 {
                 offset[1] = py as Real * self.extent[1];
                 let row = iy as usize * nx as usize;
                 let image_y = image_code(py, 1);
                 let (mut ix, mut px) = (ix0, px0);
                 offset[0] = px as Real * self.extent[0];
                 let mut image = image_code(px, 0) | image_y;
-                for _ in first[0]..=last[0] {
+                for _ in first[0]..last[0] + 1 {
                     if !f(row + ix as usize, offset, image) {
                         return false;
                     }
