@@ -2,10 +2,15 @@
 //!
 //! Every predicate first evaluates its determinant in plain `f64` arithmetic together with a
 //! rigorous forward error bound (a dynamic filter: constant × "permanent", the same polynomial
-//! evaluated on absolute values). When the filter cannot certify the sign, the determinant is
-//! recomputed exactly with Shewchuk-style floating-point expansions (error-free `two_sum` /
-//! `two_product` transformations); the exact path works on the *untranslated* input values, so
-//! no rounded coordinate difference ever enters it.
+//! evaluated on absolute values). When the filter cannot certify the sign of a power test:
+//! 1. if every difference `p_i − q` is a double (no rounding: neighbouring points away from the
+//!    origin), the same translated determinant is evaluated in double-word arithmetic with its
+//!    own rigorous bound (about 1e-30 of the permanent), then, if still undecided, exactly;
+//! 2. otherwise the determinant is recomputed exactly on the *untranslated* input values, so
+//!    no rounded coordinate difference ever enters it.
+//!
+//! The exact evaluations use Shewchuk-style floating-point expansions (error-free `two_sum` /
+//! `two_product` transformations).
 //!
 //! # Conventions
 //!
@@ -366,7 +371,8 @@ fn power_det_sign_3d(p: &[[f64; 3]; 4], w: &[f64; 4], q: [f64; 3], wq: f64) -> S
     if det > bound || -det > bound {
         return sign_of(det);
     }
-    exp_sign(&power_det_3d_exact(p, w, q, wq))
+    translated_det_sign_3d(p, w, q, wq)
+        .unwrap_or_else(|| exp_sign(&power_det_3d_exact(p, w, q, wq)))
 }
 
 /// Sign of the 4×4 lifted determinant D (rows p0..p2, q), filtered.
@@ -404,7 +410,8 @@ fn power_det_sign_2d(p: &[[f64; 2]; 3], w: &[f64; 3], q: [f64; 2], wq: f64) -> S
     if det > bound || -det > bound {
         return sign_of(det);
     }
-    exp_sign(&power_det_2d_exact(p, w, q, wq))
+    translated_det_sign_2d(p, w, q, wq)
+        .unwrap_or_else(|| exp_sign(&power_det_2d_exact(p, w, q, wq)))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -594,6 +601,233 @@ fn lift_exact(x: &[f64], w: f64) -> Vec<f64> {
         acc = exp_sum(&acc, &[lo, hi]);
     }
     acc
+}
+
+/// The differences `p_i − q` when every one is a double (no rounding: true
+/// of neighbouring points, by Sterbenz's lemma, away from the origin).
+fn exact_differences<const D: usize, const N: usize>(
+    p: &[[f64; D]; N],
+    q: [f64; D],
+) -> Option<[[f64; D]; N]> {
+    let mut d = [[0.0; D]; N];
+    for (di, pi) in d.iter_mut().zip(p) {
+        for k in 0..D {
+            let (x, tail) = two_sum(pi[k], -q[k]);
+            if tail != 0.0 {
+                return None;
+            }
+            di[k] = x;
+        }
+    }
+    Some(d)
+}
+
+// ---------------------------------------------------------------------------------------------
+// The second filter: the translated determinant in double-word arithmetic (a value is an
+// unevaluated sum hi + lo, about 106 bits). Joldes, Muller & Popescu (2017, ACM TOMS 44:15)
+// prove relative errors of at most 3u²/(1 − 4u) for their AccurateDWPlusDW and 5u² for
+// DWTimesDW3 (below, with 2Sum in place of Fast2Sum, which is exact wherever Fast2Sum is and
+// everywhere else too); we count 8u² for either. A monomial of the determinant passes through
+// at most k such operations, so the error is at most ((1 + 8u²)^k − 1)·P with P the permanent,
+// as in the first filter. Near-cospherical sets, which a deposited bed is full of (spheres at
+// contact distance to the last bit), have |det| around 1e-16 of P: the first filter cannot
+// decide them, this one decides them at about a twentieth of the exact path's cost.
+// ---------------------------------------------------------------------------------------------
+
+/// A double-word number hi + lo.
+#[derive(Clone, Copy)]
+struct Dw(f64, f64);
+
+/// Exact product of two doubles as a double word.
+#[inline(always)]
+fn dw_prod(a: f64, b: f64) -> Dw {
+    let (x, y) = two_product(a, b);
+    Dw(x, y)
+}
+
+/// AccurateDWPlusDW (Joldes et al. 2017, Algorithm 6): relative error ≤ 3u²/(1 − 4u).
+#[inline(always)]
+fn dw_add(x: Dw, y: Dw) -> Dw {
+    let (sh, sl) = two_sum(x.0, y.0);
+    let (th, tl) = two_sum(x.1, y.1);
+    let c = sl + th;
+    let (vh, vl) = two_sum(sh, c);
+    let w = tl + vl;
+    let (zh, zl) = two_sum(vh, w);
+    Dw(zh, zl)
+}
+
+#[inline(always)]
+fn dw_sub(x: Dw, y: Dw) -> Dw {
+    dw_add(x, Dw(-y.0, -y.1))
+}
+
+/// DWTimesDW3 (Joldes et al. 2017, Algorithm 12): relative error ≤ 5u².
+#[inline(always)]
+fn dw_mul(x: Dw, y: Dw) -> Dw {
+    let (ch, cl1) = two_product(x.0, y.0);
+    let tl0 = x.1 * y.1;
+    let tl1 = x.0.mul_add(y.1, tl0);
+    let cl2 = x.1.mul_add(y.0, tl1);
+    let cl3 = cl1 + cl2;
+    let (zh, zl) = two_sum(ch, cl3);
+    Dw(zh, zl)
+}
+
+/// u² = 2^-106.
+const UNIT2: f64 = UNIT * UNIT;
+/// 3D: a monomial passes through at most 9 double-word operations (h: 3, n: 5, m·n: 6, the
+/// 6-term sum: 9): ((1 + 8u²)^9 − 1) < 73u², and the computed permanent is within (1 ± 13u)
+/// of the exact one. 128 leaves room.
+const DW_POWER3D_BOUND: f64 = 128.0 * UNIT2;
+/// 2D: at most 5 (h: 2, h·m: 3, the 3-term sum: 5): < 41u².
+const DW_POWER2D_BOUND: f64 = 64.0 * UNIT2;
+
+/// True when the double-word filter's error analysis holds for these differences and weight
+/// differences: every value stays a multiple of 2^-800 or so (no underflow) and below 2^600
+/// (no overflow), because every non-zero difference lies in [2^-100, 2^100] and every non-zero
+/// weight difference in [2^-200, 2^200].
+fn dw_in_range<const D: usize>(d: &[[f64; D]], dw: &[Dw]) -> bool {
+    let ok = |x: f64, lo: f64, hi: f64| x == 0.0 || (x.abs() >= lo && x.abs() <= hi);
+    let (lo1, hi1) = (2f64.powi(-100), 2f64.powi(100));
+    let (lo2, hi2) = (2f64.powi(-200), 2f64.powi(200));
+    d.iter().flatten().all(|&x| ok(x, lo1, hi1))
+        && dw.iter().all(|w| ok(w.0, lo2, hi2) && ok(w.1, lo2, hi2))
+}
+
+/// h_i = |d_i|² − dw_i in double words (3 operations deep).
+#[inline(always)]
+fn dw_lift<const D: usize>(d: &[f64; D], dw: Dw) -> Dw {
+    let mut acc = dw_prod(d[0], d[0]);
+    for &c in &d[1..] {
+        acc = dw_add(acc, dw_prod(c, c));
+    }
+    dw_sub(acc, dw)
+}
+
+/// Sign of the translated 3D lifted determinant from the double-word filter, when it decides.
+fn dw_det_sign_3d(d: &[[f64; 3]; 4], w: &[f64; 4], wq: f64) -> Option<Sign> {
+    let dw: [Dw; 4] = std::array::from_fn(|i| {
+        let (x, y) = two_sum(w[i], -wq);
+        Dw(x, y)
+    });
+    if !dw_in_range(d, &dw) {
+        return None;
+    }
+    let h: [Dw; 4] = std::array::from_fn(|i| dw_lift(&d[i], dw[i]));
+    let ha: [f64; 4] = std::array::from_fn(|i| {
+        d[i][0] * d[i][0] + d[i][1] * d[i][1] + d[i][2] * d[i][2] + dw[i].0.abs() + dw[i].1.abs()
+    });
+    let m = |i: usize, j: usize| dw_sub(dw_prod(d[i][0], d[j][1]), dw_prod(d[j][0], d[i][1]));
+    let pm = |i: usize, j: usize| (d[i][0] * d[j][1]).abs() + (d[j][0] * d[i][1]).abs();
+    let n = |i: usize, j: usize| {
+        dw_sub(
+            dw_mul(Dw(d[i][2], 0.0), h[j]),
+            dw_mul(Dw(d[j][2], 0.0), h[i]),
+        )
+    };
+    let pn = |i: usize, j: usize| d[i][2].abs() * ha[j] + d[j][2].abs() * ha[i];
+    let t = |a: (usize, usize), b: (usize, usize)| dw_mul(m(a.0, a.1), n(b.0, b.1));
+    let det = dw_add(
+        dw_add(
+            dw_sub(t((0, 1), (2, 3)), t((0, 2), (1, 3))),
+            dw_add(t((0, 3), (1, 2)), t((1, 2), (0, 3))),
+        ),
+        dw_sub(t((2, 3), (0, 1)), t((1, 3), (0, 2))),
+    );
+    let perm = ((pm(0, 1) * pn(2, 3) + pm(0, 2) * pn(1, 3))
+        + (pm(0, 3) * pn(1, 2) + pm(1, 2) * pn(0, 3)))
+        + (pm(2, 3) * pn(0, 1) + pm(1, 3) * pn(0, 2));
+    // |hi + lo| ≥ |hi|(1 − u): compare hi against the bound with that slack.
+    let bound = DW_POWER3D_BOUND * perm * (1.0 + 4.0 * UNIT);
+    (det.0.abs() > bound).then(|| sign_of(det.0))
+}
+
+/// Sign of the translated 2D lifted determinant from the double-word filter, when it decides.
+fn dw_det_sign_2d(d: &[[f64; 2]; 3], w: &[f64; 3], wq: f64) -> Option<Sign> {
+    let dw: [Dw; 3] = std::array::from_fn(|i| {
+        let (x, y) = two_sum(w[i], -wq);
+        Dw(x, y)
+    });
+    if !dw_in_range(d, &dw) {
+        return None;
+    }
+    let h: [Dw; 3] = std::array::from_fn(|i| dw_lift(&d[i], dw[i]));
+    let ha: [f64; 3] = std::array::from_fn(|i| {
+        d[i][0] * d[i][0] + d[i][1] * d[i][1] + dw[i].0.abs() + dw[i].1.abs()
+    });
+    let m = |i: usize, j: usize| dw_sub(dw_prod(d[i][0], d[j][1]), dw_prod(d[j][0], d[i][1]));
+    let pm = |i: usize, j: usize| (d[i][0] * d[j][1]).abs() + (d[j][0] * d[i][1]).abs();
+    let det = dw_add(
+        dw_sub(dw_mul(h[0], m(1, 2)), dw_mul(h[1], m(0, 2))),
+        dw_mul(h[2], m(0, 1)),
+    );
+    let perm = (ha[0] * pm(1, 2) + ha[1] * pm(0, 2)) + ha[2] * pm(0, 1);
+    let bound = DW_POWER2D_BOUND * perm * (1.0 + 4.0 * UNIT);
+    (det.0.abs() > bound).then(|| sign_of(det.0))
+}
+
+/// h = |d|² − (w − wq) exactly.
+fn lift_translated(d: &[f64], w: f64, wq: f64) -> Vec<f64> {
+    let mut acc = exp_sum(&[-w], &[wq]);
+    for &c in d {
+        let (hi, lo) = two_product(c, c);
+        acc = exp_sum(&acc, &[lo, hi]);
+    }
+    exp_compress(&acc)
+}
+
+/// Sign of the lifted determinant, exactly, from the differences to `q` when
+/// they are doubles: the 4×4 det[d_i, h_i] expanded along the lift column.
+/// The filter's own quantity, with far smaller numbers than the untranslated
+/// 5×5 (whose raw coordinates and lifts cancel over many components), so a
+/// deposited bed's near-cospherical sets, about one power test in 160, cost
+/// a fraction of the full expansion. `None` when a difference is not a double.
+fn translated_det_sign_3d(p: &[[f64; 3]; 4], w: &[f64; 4], q: [f64; 3], wq: f64) -> Option<Sign> {
+    let d = exact_differences(p, q)?;
+    if let Some(s) = dw_det_sign_3d(&d, w, wq) {
+        return Some(s);
+    }
+    let mut acc = Vec::new();
+    for i in 0..4 {
+        let mut rows = [[0.0; 3]; 3];
+        for (n, j) in (0..4).filter(|&j| j != i).enumerate() {
+            rows[n] = d[j];
+        }
+        let minor = exp_compress(&det3_exact(rows[0], rows[1], rows[2]));
+        let term = exp_mul(&lift_translated(&d[i], w[i], wq), &minor);
+        // Cofactor sign (−1)^(i + 3).
+        acc = if i % 2 == 0 {
+            exp_sum(&acc, &exp_neg(&term))
+        } else {
+            exp_sum(&acc, &term)
+        };
+    }
+    Some(exp_sign(&acc))
+}
+
+/// [`translated_det_sign_3d`] in 2D: det[d_i, h_i] (3×3) along the lift column.
+fn translated_det_sign_2d(p: &[[f64; 2]; 3], w: &[f64; 3], q: [f64; 2], wq: f64) -> Option<Sign> {
+    let d = exact_differences(p, q)?;
+    if let Some(s) = dw_det_sign_2d(&d, w, wq) {
+        return Some(s);
+    }
+    let mut acc = Vec::new();
+    for i in 0..3 {
+        let mut rows = [[0.0; 2]; 2];
+        for (n, j) in (0..3).filter(|&j| j != i).enumerate() {
+            rows[n] = d[j];
+        }
+        let minor = det2_exact(rows[0], rows[1]);
+        let term = exp_mul(&lift_translated(&d[i], w[i], wq), &minor);
+        // Cofactor sign (−1)^(i + 2).
+        acc = if i % 2 == 0 {
+            exp_sum(&acc, &term)
+        } else {
+            exp_sum(&acc, &exp_neg(&term))
+        };
+    }
+    Some(exp_sign(&acc))
 }
 
 /// Exact 5×5 lifted determinant D = Σ_i (-1)^i h_i O_i (rows p0..p3, q), untranslated.
@@ -961,6 +1195,9 @@ mod tests {
             let q = [rng.f64(), rng.f64(), rng.f64()];
             let wq = rng.f64();
             let d = exp_sign(&power_det_3d_exact(&p, &w, q, wq));
+            if let Some(t) = translated_det_sign_3d(&p, &w, q, wq) {
+                assert_eq!(t, d);
+            }
             let o = exp_sign(&orient3d_exact(p[0], p[1], p[2], p[3]));
             assert_eq!(o, oracle_orient3d(p[0], p[1], p[2], p[3]));
             assert_eq!(-d * o, oracle_power_3d(p, w, q, wq));
@@ -971,6 +1208,9 @@ mod tests {
                 [q[0], q[1]],
                 wq,
             ));
+            if let Some(t) = translated_det_sign_2d(&p2, &[w[0], w[1], w[2]], [q[0], q[1]], wq) {
+                assert_eq!(t, d2);
+            }
             let o2 = exp_sign(&orient2d_exact(p2[0], p2[1], p2[2]));
             assert_eq!(o2, oracle_orient2d(p2[0], p2[1], p2[2]));
             assert_eq!(
@@ -1230,6 +1470,18 @@ mod tests {
         }
         prop_assert!(want == 0 || pert == want);
         prop_assert_eq!(pert == 0, o == 0);
+        if o != 0 {
+            // The later stages on their own, wherever they apply: sign(D) = −want · o.
+            let det_sign = -want * o;
+            if let Some(d) = exact_differences(&p, q) {
+                if let Some(s) = dw_det_sign_3d(&d, &w, wq) {
+                    prop_assert_eq!(s, det_sign);
+                }
+            }
+            if let Some(s) = translated_det_sign_3d(&p, &w, q, wq) {
+                prop_assert_eq!(s, det_sign);
+            }
+        }
         for perm in permutations(4) {
             let pp = [0, 1, 2, 3].map(|i| p[perm[i]]);
             let ww = [0, 1, 2, 3].map(|i| w[perm[i]]);
@@ -1258,6 +1510,18 @@ mod tests {
         }
         prop_assert!(want == 0 || pert == want);
         prop_assert_eq!(pert == 0, o == 0);
+        if o != 0 {
+            // The later stages on their own: sign(D) = want · o.
+            let det_sign = want * o;
+            if let Some(d) = exact_differences(&p, q) {
+                if let Some(s) = dw_det_sign_2d(&d, &w, wq) {
+                    prop_assert_eq!(s, det_sign);
+                }
+            }
+            if let Some(s) = translated_det_sign_2d(&p, &w, q, wq) {
+                prop_assert_eq!(s, det_sign);
+            }
+        }
         for perm in permutations(3) {
             let pp = [0, 1, 2].map(|i| p[perm[i]]);
             let ww = [0, 1, 2].map(|i| w[perm[i]]);
