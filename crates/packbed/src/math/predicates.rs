@@ -198,6 +198,54 @@ pub fn power_test_3d_oriented(
     perturbed_3d(p, w, rank, q, wq, rank_q, 1)
 }
 
+/// [`power_test_3d_oriented`] with the ranks asked for only when the
+/// determinant is exactly zero (they are rarely needed, and a triangulation
+/// keeps them apart from the points).
+#[inline]
+pub fn power_test_3d_oriented_lazy(
+    p: [[f64; 3]; 4],
+    w: [f64; 4],
+    q: [f64; 3],
+    wq: f64,
+    ranks: impl FnOnce() -> ([u64; 4], u64),
+) -> Sign {
+    let s = power_det_sign_3d(&p, &w, q, wq);
+    if s != 0 {
+        return -s;
+    }
+    let (rank, rank_q) = ranks();
+    let o4_q = |o: &[[f64; 3]]| orient3d(o[0], o[1], o[2], o[3]);
+    tie_break(
+        &[p[0], p[1], p[2], p[3], q],
+        &[rank[0], rank[1], rank[2], rank[3], rank_q],
+        o4_q,
+        1,
+    )
+}
+
+/// [`power_test_2d_oriented`] with the ranks asked for only on a tie.
+#[inline]
+pub fn power_test_2d_oriented_lazy(
+    p: [[f64; 2]; 3],
+    w: [f64; 3],
+    q: [f64; 2],
+    wq: f64,
+    ranks: impl FnOnce() -> ([u64; 3], u64),
+) -> Sign {
+    let s = power_det_sign_2d(&p, &w, q, wq);
+    if s != 0 {
+        return s;
+    }
+    let (rank, rank_q) = ranks();
+    let o3_q = |o: &[[f64; 2]]| orient2d(o[0], o[1], o[2]);
+    tie_break(
+        &[p[0], p[1], p[2], q],
+        &[rank[0], rank[1], rank[2], rank_q],
+        o3_q,
+        1,
+    )
+}
+
 #[inline]
 fn perturbed_3d(
     p: [[f64; 3]; 4],
@@ -1721,18 +1769,26 @@ mod tests {
             let rank = [k * 5, k * 5 + 3, k * 5 + 1, k * 5 + 4];
             if orient3d(p[0], p[1], p[2], p[3]) > 0 {
                 checked3 += 1;
+                let want = power_test_3d_perturbed(p, w, rank, q, wq, k * 5 + 2);
+                assert_eq!(power_test_3d_oriented(p, w, rank, q, wq, k * 5 + 2), want);
                 assert_eq!(
-                    power_test_3d_oriented(p, w, rank, q, wq, k * 5 + 2),
-                    power_test_3d_perturbed(p, w, rank, q, wq, k * 5 + 2)
+                    power_test_3d_oriented_lazy(p, w, q, wq, || (rank, k * 5 + 2)),
+                    want
                 );
             }
             let p2 = [[p[0][0], p[0][1]], [p[1][0], p[1][1]], [p[2][0], p[2][1]]];
             if orient2d(p2[0], p2[1], p2[2]) > 0 {
                 checked2 += 1;
                 let r = [rank[0], rank[1], rank[2]];
+                let w2 = [w[0], w[1], w[2]];
+                let want = power_test_2d_perturbed(p2, w2, r, [q[0], q[1]], wq, k * 5 + 2);
                 assert_eq!(
-                    power_test_2d_oriented(p2, [w[0], w[1], w[2]], r, [q[0], q[1]], wq, k * 5 + 2),
-                    power_test_2d_perturbed(p2, [w[0], w[1], w[2]], r, [q[0], q[1]], wq, k * 5 + 2)
+                    power_test_2d_oriented(p2, w2, r, [q[0], q[1]], wq, k * 5 + 2),
+                    want
+                );
+                assert_eq!(
+                    power_test_2d_oriented_lazy(p2, w2, [q[0], q[1]], wq, || (r, k * 5 + 2)),
+                    want
                 );
             }
         }

@@ -16,7 +16,9 @@
 //! the input alone; the pore space is only ever read well inside it (periodic
 //! images, mirror images and the bulk slab keep the hull away).
 
-use crate::math::predicates::{orient2d, orient3d, power_test_2d_oriented, power_test_3d_oriented};
+use crate::math::predicates::{
+    orient2d, orient3d, power_test_2d_oriented_lazy, power_test_3d_oriented_lazy,
+};
 
 /// No neighbour (only across the facets of the far simplex).
 pub const NONE: u32 = u32::MAX;
@@ -24,24 +26,31 @@ pub const NONE: u32 = u32::MAX;
 /// A regular triangulation of weighted points in `D` dimensions.
 #[derive(Clone, Debug)]
 pub struct Triangulation<const D: usize> {
-    /// The points: the input, then the `D + 1` far corners.
-    points: Vec<[f64; D]>,
-    /// Weight of each point (radius squared for a sphere).
-    weights: Vec<f64>,
-    /// Priority of each point in the symbolic perturbation (distinct).
+    /// The points with their weights (radius squared for a sphere): the
+    /// input, then the `D + 1` far corners. Together, because a power test
+    /// reads both: one cache line per vertex instead of two.
+    sites: Vec<([f64; D], f64)>,
+    /// Priority of each point in the symbolic perturbation (distinct); read
+    /// only when a power test is exactly zero.
     ranks: Vec<u64>,
     /// Number of input points.
     input: usize,
-    /// Vertices of each cell, positively oriented; only the first `D + 1` are used.
-    cells: Vec<[u32; 4]>,
-    /// The neighbour across the facet opposite each vertex.
-    adjacent: Vec<[u32; 4]>,
-    /// False for a slot freed by an insertion and not yet reused.
-    alive: Vec<bool>,
+    /// The cells with their neighbours; a freed slot has vertex 0 `NONE`.
+    cells: Vec<Cell>,
     free: Vec<u32>,
     /// Input points that have no cell (their sphere lies within the power
     /// cells of others: only possible where spheres overlap).
     hidden: Vec<u32>,
+}
+
+/// A cell: its vertices, positively oriented (only the first `D + 1` used),
+/// and the neighbour across the facet opposite each. One 32-byte record, so
+/// that the conflict search reads one cache line per cell.
+#[derive(Clone, Copy, Debug)]
+#[repr(align(32))]
+struct Cell {
+    v: [u32; 4],
+    n: [u32; 4],
 }
 
 /// Work space of one insertion, kept between insertions to avoid allocation.
@@ -86,20 +95,21 @@ impl<const D: usize> Triangulation<D> {
         assert_eq!(points.len(), ranks.len());
         let input = points.len();
         let mut t = Triangulation {
-            points: points.to_vec(),
-            weights: weights.to_vec(),
+            sites: points
+                .iter()
+                .copied()
+                .zip(weights.iter().copied())
+                .collect(),
             ranks: ranks.to_vec(),
             input,
             cells: Vec::new(),
-            adjacent: Vec::new(),
-            alive: Vec::new(),
             free: Vec::new(),
             hidden: Vec::new(),
         };
         t.add_far_simplex();
         let order = crate::math::hilbert::order(points);
         let mut scratch = Scratch {
-            mark: vec![0; t.points.len()],
+            mark: vec![0; t.sites.len()],
             ..Scratch::default()
         };
         let mut rng = 0x9E37_79B9_7F4A_7C15u64;
@@ -123,12 +133,12 @@ impl<const D: usize> Triangulation<D> {
 
     /// Coordinates of point `i`.
     pub fn point(&self, i: u32) -> &[f64; D] {
-        &self.points[i as usize]
+        &self.sites[i as usize].0
     }
 
     /// Weight of point `i`.
     pub fn weight(&self, i: u32) -> f64 {
-        self.weights[i as usize]
+        self.sites[i as usize].1
     }
 
     /// Number of cell slots (alive or not); cell ids are below it.
@@ -138,18 +148,19 @@ impl<const D: usize> Triangulation<D> {
 
     /// The vertices of cell `c` (the first `D + 1` entries).
     pub fn vertices(&self, c: u32) -> &[u32] {
-        &self.cells[c as usize][..Self::V]
+        &self.cells[c as usize].v[..Self::V]
     }
 
     /// The neighbours of cell `c`, opposite each vertex.
     pub fn neighbours(&self, c: u32) -> &[u32] {
-        &self.adjacent[c as usize][..Self::V]
+        &self.cells[c as usize].n[..Self::V]
     }
 
     /// True when `c` is a cell of the triangulation of the input: alive and
     /// without a far corner.
     pub fn is_input_cell(&self, c: u32) -> bool {
-        self.alive[c as usize] && self.vertices(c).iter().all(|&v| (v as usize) < self.input)
+        // A freed slot's vertex 0 is NONE, beyond the input like a far corner.
+        self.vertices(c).iter().all(|&v| (v as usize) < self.input)
     }
 
     /// The cells of the input points' triangulation.
@@ -163,14 +174,14 @@ impl<const D: usize> Triangulation<D> {
         let mut lo = [f64::INFINITY; D];
         let mut hi = [f64::NEG_INFINITY; D];
         let mut w_max = 0.0f64;
-        for (p, &w) in self.points.iter().zip(&self.weights) {
+        for (p, w) in self.sites.iter().map(|s| (&s.0, s.1)) {
             for k in 0..D {
                 lo[k] = lo[k].min(p[k]);
                 hi[k] = hi[k].max(p[k]);
             }
             w_max = w_max.max(w);
         }
-        if self.points.is_empty() {
+        if self.sites.is_empty() {
             lo = [0.0; D];
             hi = [1.0; D];
         }
@@ -197,53 +208,49 @@ impl<const D: usize> Triangulation<D> {
                 };
             }
         }
-        let first = self.points.len() as u32;
+        let first = self.sites.len() as u32;
         let mut v = [0u32; 4];
         for (k, c) in corner.iter().enumerate().take(D + 1) {
-            self.points.push(*c);
-            self.weights.push(0.0);
+            self.sites.push((*c, 0.0));
             self.ranks.push(u64::MAX - k as u64);
             v[k] = first + k as u32;
         }
         if self.orient_of(&v) < 0 {
             v.swap(0, 1);
         }
-        self.cells.push(v);
-        self.adjacent.push([NONE; 4]);
-        self.alive.push(true);
+        self.cells.push(Cell { v, n: [NONE; 4] });
     }
 
     /// Orientation of the cell with these vertices.
     fn orient_of(&self, v: &[u32; 4]) -> i8 {
-        let p = |k: usize| &self.points[v[k] as usize];
+        let p = |k: usize| &self.sites[v[k] as usize].0;
         orient::<D>([p(0), p(1), p(2), p(if D == 3 { 3 } else { 0 })])
     }
 
     /// True when point `q` conflicts with cell `c` (lies inside its orthogonal
     /// sphere in the power sense, ties broken by the perturbation).
     fn conflicts(&self, c: u32, q: u32) -> bool {
-        let v = &self.cells[c as usize];
-        power_test::<D>(&self.points, &self.weights, &self.ranks, v, q) > 0
+        power_test::<D>(&self.sites, &self.ranks, &self.cells[c as usize].v, q) > 0
     }
 
     /// The cell that contains point `q`, by a stochastic visibility walk from `start`.
     fn locate(&self, q: u32, start: u32, rng: &mut u64) -> u32 {
-        let qp = &self.points[q as usize];
+        let qp = &self.sites[q as usize].0;
         let mut c = start;
         let mut from = NONE;
         'walk: loop {
-            let v = &self.cells[c as usize];
+            let Cell { v, n: adjacent } = &self.cells[c as usize];
             let offset = (next_random(rng) % Self::V as u64) as usize;
             for k in 0..Self::V {
                 let i = (offset + k) % Self::V;
-                let n = self.adjacent[c as usize][i];
+                let n = adjacent[i];
                 if n == from || n == NONE {
                     continue;
                 }
                 let mut p = [qp; 4];
                 for (j, pj) in p.iter_mut().enumerate().take(Self::V) {
                     if j != i {
-                        *pj = &self.points[v[j] as usize];
+                        *pj = &self.sites[v[j] as usize].0;
                     }
                 }
                 if D == 2 {
@@ -278,7 +285,7 @@ impl<const D: usize> Triangulation<D> {
         while let Some(c) = s.stack.pop() {
             s.conflict.push(c);
             for i in 0..Self::V {
-                let n = self.adjacent[c as usize][i];
+                let n = self.cells[c as usize].n[i];
                 let inside = n != NONE && {
                     let seen = s.visit[n as usize];
                     if seen.0 == stamp {
@@ -300,14 +307,14 @@ impl<const D: usize> Triangulation<D> {
         // Vertices of the removed cells that are on no boundary facet leave the
         // triangulation: q's sphere covers their power cell.
         for &(c, i, _) in &s.boundary {
-            for (j, &x) in self.cells[c as usize].iter().enumerate().take(Self::V) {
+            for (j, &x) in self.cells[c as usize].v.iter().enumerate().take(Self::V) {
                 if j != i {
                     s.mark[x as usize] = stamp;
                 }
             }
         }
         for &c in &s.conflict {
-            for &x in &self.cells[c as usize][..Self::V] {
+            for &x in &self.cells[c as usize].v[..Self::V] {
                 if s.mark[x as usize] != stamp {
                     s.mark[x as usize] = stamp;
                     if (x as usize) < self.input {
@@ -326,30 +333,27 @@ impl<const D: usize> Triangulation<D> {
         let mask = s.ridges.len() - 1;
         for b in 0..s.boundary.len() {
             let (old, i, outer) = s.boundary[b];
-            let mut v = self.cells[old as usize];
+            let mut v = self.cells[old as usize].v;
             v[i] = q;
+            let mut n = [NONE; 4];
+            n[i] = outer;
             let nc = match self.free.pop() {
                 Some(slot) => {
-                    self.cells[slot as usize] = v;
-                    self.adjacent[slot as usize] = [NONE; 4];
-                    self.alive[slot as usize] = true;
+                    self.cells[slot as usize] = Cell { v, n };
                     slot
                 }
                 None => {
-                    self.cells.push(v);
-                    self.adjacent.push([NONE; 4]);
-                    self.alive.push(true);
+                    self.cells.push(Cell { v, n });
                     s.visit.push((0, false));
                     (self.cells.len() - 1) as u32
                 }
             };
-            self.adjacent[nc as usize][i] = outer;
             if outer != NONE {
-                let back = self.adjacent[outer as usize][..Self::V]
+                let back = self.cells[outer as usize].n[..Self::V]
                     .iter()
                     .position(|&x| x == old)
                     .expect("the cell beyond a boundary facet links back to the removed cell");
-                self.adjacent[outer as usize][back] = nc;
+                self.cells[outer as usize].n[back] = nc;
             }
             // The facets through q: the ridge is the boundary facet less one vertex.
             for k in 0..Self::V {
@@ -378,8 +382,8 @@ impl<const D: usize> Triangulation<D> {
                     if r.1 == key {
                         // Paired: free the slot for nothing else to find.
                         s.ridges[slot].1 = u64::MAX;
-                        self.adjacent[nc as usize][k] = r.2;
-                        self.adjacent[r.2 as usize][r.3 as usize] = nc;
+                        self.cells[nc as usize].n[k] = r.2;
+                        self.cells[r.2 as usize].n[r.3 as usize] = nc;
                         break;
                     }
                     slot = (slot + 1) & mask;
@@ -388,7 +392,7 @@ impl<const D: usize> Triangulation<D> {
             s.created.push(nc);
         }
         for &c in &s.conflict {
-            self.alive[c as usize] = false;
+            self.cells[c as usize].v[0] = NONE;
             self.free.push(c);
         }
         s.created[0]
@@ -411,24 +415,24 @@ pub(crate) fn orient<const D: usize>(p: [&[f64; D]; 4]) -> i8 {
 /// The perturbed power test of point `q` against the cell with vertices `v`:
 /// positive when `q` conflicts.
 pub(crate) fn power_test<const D: usize>(
-    points: &[[f64; D]],
-    weights: &[f64],
+    sites: &[([f64; D], f64)],
     ranks: &[u64],
     v: &[u32; 4],
     q: u32,
 ) -> i8 {
-    let p = |i: u32| &points[i as usize];
-    let w = |i: u32| weights[i as usize];
+    let p = |i: u32| &sites[i as usize].0;
+    let w = |i: u32| sites[i as usize].1;
     let r = |i: u32| ranks[i as usize];
     match D {
         2 => {
             let at = |i: u32| [p(i)[0], p(i)[1]];
             let v = [v[0], v[1], v[2]];
-            power_test_2d_oriented(v.map(at), v.map(w), v.map(r), at(q), w(q), r(q))
+            power_test_2d_oriented_lazy(v.map(at), v.map(w), at(q), w(q), || (v.map(r), r(q)))
         }
         _ => {
             let at = |i: u32| [p(i)[0], p(i)[1], p(i)[2]];
-            power_test_3d_oriented(v.map(at), v.map(w), v.map(r), at(q), w(q), r(q))
+            let v = [v[0], v[1], v[2], v[3]];
+            power_test_3d_oriented_lazy(v.map(at), v.map(w), at(q), w(q), || (v.map(r), r(q)))
         }
     }
 }
@@ -454,23 +458,23 @@ pub(crate) mod tests {
         let v_n = D + 1;
         let mut is_vertex = vec![false; t.input_len()];
         for c in t.input_cells() {
-            let v = t.cells[c as usize];
+            let v = t.cells[c as usize].v;
             if t.orient_of(&v) <= 0 {
                 return Err(format!("cell {c} {v:?} is not positively oriented"));
             }
             for i in 0..v_n {
-                let n = t.adjacent[c as usize][i];
+                let n = t.cells[c as usize].n[i];
                 if n == NONE {
                     continue;
                 }
-                if !t.alive[n as usize] {
+                if t.cells[n as usize].v[0] == NONE {
                     return Err(format!("cell {c} links to a dead cell"));
                 }
-                let back = t.adjacent[n as usize][..v_n].iter().position(|&x| x == c);
+                let back = t.cells[n as usize].n[..v_n].iter().position(|&x| x == c);
                 let Some(j) = back else {
                     return Err(format!("cell {n} does not link back to {c}"));
                 };
-                let far = t.cells[n as usize][j];
+                let far = t.cells[n as usize].v[j];
                 if t.conflicts(c, far) {
                     return Err(format!("facet {i} of cell {c} is not locally regular"));
                 }
@@ -482,8 +486,8 @@ pub(crate) mod tests {
             }
         }
         for c in 0..t.slots() {
-            if t.alive[c] {
-                for &x in &t.cells[c][..v_n] {
+            if t.cells[c].v[0] != NONE {
+                for &x in &t.cells[c].v[..v_n] {
                     if (x as usize) < t.input_len() {
                         is_vertex[x as usize] = true;
                     }
