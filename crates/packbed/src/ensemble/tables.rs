@@ -276,7 +276,7 @@ pub const CAKE: [(&str, &str); 13] = [
 /// packing fraction, a chain in every bed) is never dropped:
 /// - settings and indices, whatever their values: slab widths (`*.slab`, set
 ///   from the largest diameter drawn), species indices (`*.species`), the
-///   fluid's viscosity;
+///   fluid's viscosity and the conductance factor;
 /// - bookkeeping counts (`counts.*`, `species.*`, `*.bodies`, `*.particles`)
 ///   that are the same whole number in every bed: they restate the config
 ///   (`fill.count`, a single species, no redrops);
@@ -285,7 +285,10 @@ pub const CAKE: [(&str, &str); 13] = [
 /// - flags that only explain a null (`*_empty`) when no bed raised one.
 pub fn is_uninformative(m: &Measure, beds: u64) -> bool {
     let last = m.name.rsplit('.').next().unwrap_or("");
-    if matches!(last, "slab" | "species" | "viscosity") {
+    if matches!(
+        last,
+        "slab" | "species" | "viscosity" | "conductance_factor"
+    ) {
         return true;
     }
     if m.name

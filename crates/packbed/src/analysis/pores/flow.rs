@@ -172,6 +172,7 @@ pub fn solve<const D: usize>(
     size: &Vector<D>,
     slab: (Real, Real),
     viscosity: Real,
+    factor: Real,
     radii: &[Real],
     axes: &[usize],
 ) -> Result<Flow, FlowError> {
@@ -197,7 +198,7 @@ pub fn solve<const D: usize>(
             if !(th.constriction_radius >= SHUT * mean_r) {
                 return 0.0;
             }
-            let g = th.geometry.fluid_area * th.geometry.hydraulic_radius.powi(2)
+            let g = factor * th.geometry.fluid_area * th.geometry.hydraulic_radius.powi(2)
                 / (2.0 * viscosity * length);
             if g.is_finite() && g > 0.0 {
                 g

@@ -27,6 +27,8 @@ pub struct FlowOptions {
     pub axes: Option<[bool; 3]>,
     /// The flow region `[z_lo, z_hi]`; `None`: the bulk slab.
     pub slab: Option<(Real, Real)>,
+    /// The constant factor on every throat's conductance.
+    pub conductance_factor: Real,
 }
 
 impl Default for FlowOptions {
@@ -35,6 +37,7 @@ impl Default for FlowOptions {
             viscosity: 1.0,
             axes: None,
             slab: None,
+            conductance_factor: crate::config::CONDUCTANCE_FACTOR,
         }
     }
 }
@@ -51,6 +54,7 @@ impl crate::config::FlowConfig {
                 .as_ref()
                 .map(|list| [FlowAxis::X, FlowAxis::Y, FlowAxis::Z].map(|a| list.contains(&a))),
             slab: self.slab.map(|s| (s[0], s[1])),
+            conductance_factor: self.conductance_factor,
         }
     }
 }
@@ -129,6 +133,9 @@ pub struct PermeabilitySummary {
     pub anisotropy: Option<Real>,
     /// The fluid viscosity used.
     pub viscosity: Real,
+    /// The constant factor on every throat's conductance
+    /// (`[analysis.flow] conductance_factor`).
+    pub conductance_factor: Real,
     /// Each axis: permeability, flux, balance and pores solved.
     pub axes: Vec<AxisFlow>,
     /// Throats shorter than 1e-3 of their spheres' mean radius: their two
@@ -377,13 +384,14 @@ pub fn pore_space_timed<const D: usize>(
             &bed.container.size,
             slab,
             options.viscosity,
+            options.conductance_factor,
             &bed.radii,
             &axes,
         );
         times.0.push(("pores/flow", t.elapsed().as_secs_f64()));
         match solved_flow {
             Ok(f) => {
-                permeability = Some(permeability_summary::<D>(&f, options.viscosity, d32, k_kc));
+                permeability = Some(permeability_summary::<D>(&f, options, d32, k_kc));
                 solved = Some(f);
             }
             Err(flow::FlowError::NoPath(axis)) => {
@@ -427,7 +435,7 @@ fn flow_axes<const D: usize>(periodic: bool, asked: Option<[bool; 3]>) -> Vec<us
 
 fn permeability_summary<const D: usize>(
     f: &Flow,
-    viscosity: Real,
+    options: &FlowOptions,
     d32: Option<Real>,
     k_kc: Option<Real>,
 ) -> PermeabilitySummary {
@@ -450,7 +458,8 @@ fn permeability_summary<const D: usize>(
             .map(|(k, d)| k / (d * d)),
         k_over_kozeny_carman: mean.zip(k_kc).filter(|e| e.1 > 0.0).map(|(k, kc)| k / kc),
         anisotropy,
-        viscosity,
+        viscosity: options.viscosity,
+        conductance_factor: options.conductance_factor,
         axes: f.axes.clone(),
         throats_merged: f.merged,
         imbalance: f.axes.iter().map(|a| a.imbalance).fold(0.0, Real::max),
