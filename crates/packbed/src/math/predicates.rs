@@ -181,7 +181,7 @@ pub fn power_test_3d_perturbed(
     rank_q: u64,
 ) -> Sign {
     let o4 = orient3d(p[0], p[1], p[2], p[3]);
-    perturbed_3d(p, w, rank, q, wq, rank_q, o4)
+    perturbed_3d(p, w, q, wq, o4, || (rank, rank_q))
 }
 
 /// [`power_test_3d_perturbed`] for `p` known to be positively oriented (the
@@ -195,7 +195,7 @@ pub fn power_test_3d_oriented(
     wq: f64,
     rank_q: u64,
 ) -> Sign {
-    perturbed_3d(p, w, rank, q, wq, rank_q, 1)
+    perturbed_3d(p, w, q, wq, 1, || (rank, rank_q))
 }
 
 /// [`power_test_3d_oriented`] with the ranks asked for only when the
@@ -209,18 +209,7 @@ pub fn power_test_3d_oriented_lazy(
     wq: f64,
     ranks: impl FnOnce() -> ([u64; 4], u64),
 ) -> Sign {
-    let s = power_det_sign_3d(&p, &w, q, wq);
-    if s != 0 {
-        return -s;
-    }
-    let (rank, rank_q) = ranks();
-    let o4_q = |o: &[[f64; 3]]| orient3d(o[0], o[1], o[2], o[3]);
-    tie_break(
-        &[p[0], p[1], p[2], p[3], q],
-        &[rank[0], rank[1], rank[2], rank[3], rank_q],
-        o4_q,
-        1,
-    )
+    perturbed_3d(p, w, q, wq, 1, ranks)
 }
 
 /// [`power_test_2d_oriented`] with the ranks asked for only on a tie.
@@ -232,34 +221,25 @@ pub fn power_test_2d_oriented_lazy(
     wq: f64,
     ranks: impl FnOnce() -> ([u64; 3], u64),
 ) -> Sign {
-    let s = power_det_sign_2d(&p, &w, q, wq);
-    if s != 0 {
-        return s;
-    }
-    let (rank, rank_q) = ranks();
-    let o3_q = |o: &[[f64; 2]]| orient2d(o[0], o[1], o[2]);
-    tie_break(
-        &[p[0], p[1], p[2], q],
-        &[rank[0], rank[1], rank[2], rank_q],
-        o3_q,
-        1,
-    )
+    perturbed_2d(p, w, q, wq, 1, ranks)
 }
 
+/// The perturbed 3D power test given `p`'s orientation `o4`; the ranks are
+/// asked for only when the determinant is exactly zero.
 #[inline]
 fn perturbed_3d(
     p: [[f64; 3]; 4],
     w: [f64; 4],
-    rank: [u64; 4],
     q: [f64; 3],
     wq: f64,
-    rank_q: u64,
     o4: Sign,
+    ranks: impl FnOnce() -> ([u64; 4], u64),
 ) -> Sign {
     let s = power_det_sign_3d(&p, &w, q, wq);
     if s != 0 || o4 == 0 {
         return -s * o4;
     }
+    let (rank, rank_q) = ranks();
     // D = 0: D(ε) = -Σ ε_i (-1)^i O_i, result = -sign(D(ε)) · O_4.
     let o4_q = |o: &[[f64; 3]]| orient3d(o[0], o[1], o[2], o[3]);
     tie_break(
@@ -322,7 +302,7 @@ pub fn power_test_2d_perturbed(
     rank_q: u64,
 ) -> Sign {
     let o3 = orient2d(p[0], p[1], p[2]);
-    perturbed_2d(p, w, rank, q, wq, rank_q, o3)
+    perturbed_2d(p, w, q, wq, o3, || (rank, rank_q))
 }
 
 /// [`power_test_2d_perturbed`] for `p` known to be counter-clockwise.
@@ -335,23 +315,25 @@ pub fn power_test_2d_oriented(
     wq: f64,
     rank_q: u64,
 ) -> Sign {
-    perturbed_2d(p, w, rank, q, wq, rank_q, 1)
+    perturbed_2d(p, w, q, wq, 1, || (rank, rank_q))
 }
 
+/// The perturbed 2D power test given `p`'s orientation `o3`; the ranks are
+/// asked for only on a tie.
 #[inline]
 fn perturbed_2d(
     p: [[f64; 2]; 3],
     w: [f64; 3],
-    rank: [u64; 3],
     q: [f64; 2],
     wq: f64,
-    rank_q: u64,
     o3: Sign,
+    ranks: impl FnOnce() -> ([u64; 3], u64),
 ) -> Sign {
     let s = power_det_sign_2d(&p, &w, q, wq);
     if s != 0 || o3 == 0 {
         return s * o3;
     }
+    let (rank, rank_q) = ranks();
     // D = 0: D(ε) = -Σ ε_i (-1)^i O_i, result = sign(D(ε)) · O_3.
     let o3_q = |o: &[[f64; 2]]| orient2d(o[0], o[1], o[2]);
     tie_break(
