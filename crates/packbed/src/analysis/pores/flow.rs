@@ -232,7 +232,8 @@ pub fn solve<const D: usize>(
     let sides: Vec<usize> = axes.iter().copied().filter(|&a| a != z).collect();
     // The side axes' system and z's side by side on small networks; one
     // after the other above `SIDE_BY_SIDE` nodes (the side axes' two solves
-    // still on two threads, see `solve_spd`). Side by side is faster (10^5
+    // still on two threads, see `solve_spd`; z's alone then sweeps on every
+    // core, see `math::sparse::blocks`). Side by side is faster (10^5
     // spheres: 3.1 against 4.0 s) but holds both systems at once (10^6: 44
     // against 48 s, 6.3 against 5.0 GB). The answer is the same either way.
     let z_system = || {

@@ -4,6 +4,7 @@
 //! through the pore network (the pressure equations).
 
 pub mod amg;
+mod blocks;
 pub(crate) mod factor;
 pub mod ordering;
 mod spd;
