@@ -30,7 +30,7 @@ pub(super) fn bounds(n: usize) -> Vec<usize> {
 }
 
 /// `v` cut at `bounds`.
-pub(super) fn split<'a>(v: &'a mut [Real], bounds: &[usize]) -> Vec<&'a mut [Real]> {
+pub(super) fn split<'a, T>(v: &'a mut [T], bounds: &[usize]) -> Vec<&'a mut [T]> {
     let mut out = Vec::with_capacity(bounds.len() - 1);
     let mut rest = v;
     for w in bounds.windows(2) {
@@ -41,42 +41,71 @@ pub(super) fn split<'a>(v: &'a mut [Real], bounds: &[usize]) -> Vec<&'a mut [Rea
     out
 }
 
-/// `a · b`, summed chunk by chunk and the chunks in order.
-pub(super) fn dot(a: &[Real], b: &[Real]) -> Real {
-    let partial: Vec<Real> = a
-        .par_chunks(CHUNK)
-        .zip(b.par_chunks(CHUNK))
-        .map(|(a, b)| a.iter().zip(b).map(|(x, y)| x * y).sum::<Real>())
-        .collect();
-    partial.iter().sum()
+/// The sum of the chunks' partial sums, in order.
+fn total<const K: usize>(partial: Vec<[Real; K]>) -> [Real; K] {
+    partial.iter().fold([0.0; K], |mut t, p| {
+        for m in 0..K {
+            t[m] += p[m];
+        }
+        t
+    })
+}
+
+/// `a · b` for each of the `K` vectors, summed chunk by chunk and the chunks
+/// in order.
+pub(super) fn dot<const K: usize>(a: &[[Real; K]], b: &[[Real; K]]) -> [Real; K] {
+    total(
+        a.par_chunks(CHUNK)
+            .zip(b.par_chunks(CHUNK))
+            .map(|(a, b)| {
+                let mut s = [0.0; K];
+                for (a, b) in a.iter().zip(b) {
+                    for m in 0..K {
+                        s[m] += a[m] * b[m];
+                    }
+                }
+                s
+            })
+            .collect(),
+    )
 }
 
 /// `x += α p`, `r −= α q`, and the new `r · r` (one pass).
-pub(super) fn step(x: &mut [Real], r: &mut [Real], p: &[Real], q: &[Real], alpha: Real) -> Real {
-    let partial: Vec<Real> = x
-        .par_chunks_mut(CHUNK)
-        .zip(r.par_chunks_mut(CHUNK))
-        .zip(p.par_chunks(CHUNK).zip(q.par_chunks(CHUNK)))
-        .map(|((x, r), (p, q))| {
-            let mut s = 0.0;
-            for i in 0..x.len() {
-                x[i] += alpha * p[i];
-                r[i] -= alpha * q[i];
-                s += r[i] * r[i];
-            }
-            s
-        })
-        .collect();
-    partial.iter().sum()
+pub(super) fn step<const K: usize>(
+    x: &mut [[Real; K]],
+    r: &mut [[Real; K]],
+    p: &[[Real; K]],
+    q: &[[Real; K]],
+    alpha: [Real; K],
+) -> [Real; K] {
+    total(
+        x.par_chunks_mut(CHUNK)
+            .zip(r.par_chunks_mut(CHUNK))
+            .zip(p.par_chunks(CHUNK).zip(q.par_chunks(CHUNK)))
+            .map(|((x, r), (p, q))| {
+                let mut s = [0.0; K];
+                for i in 0..x.len() {
+                    for m in 0..K {
+                        x[i][m] += alpha[m] * p[i][m];
+                        r[i][m] -= alpha[m] * q[i][m];
+                        s[m] += r[i][m] * r[i][m];
+                    }
+                }
+                s
+            })
+            .collect(),
+    )
 }
 
 /// `p = z + β p`.
-pub(super) fn direction(p: &mut [Real], z: &[Real], beta: Real) {
+pub(super) fn direction<const K: usize>(p: &mut [[Real; K]], z: &[[Real; K]], beta: [Real; K]) {
     p.par_chunks_mut(CHUNK)
         .zip(z.par_chunks(CHUNK))
         .for_each(|(p, z)| {
             for (p, z) in p.iter_mut().zip(z) {
-                *p = z + beta * *p;
+                for m in 0..K {
+                    p[m] = z[m] + beta[m] * p[m];
+                }
             }
         });
 }

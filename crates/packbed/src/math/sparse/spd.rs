@@ -57,13 +57,21 @@ fn iterative<const D: usize>(
         new_of[old as usize] = new as u32;
     }
     let mg = super::amg::Multigrid::new(super::amg::Csr::renumbered(diag, off, &new_of))?;
-    // Each right-hand side on its own thread: the hierarchy is shared and
+    let renumber = |b: &Vec<Real>| -> Vec<Real> { order.iter().map(|&o| b[o as usize]).collect() };
+    let back = |x: &[Real]| -> Vec<Real> { new_of.iter().map(|&n| x[n as usize]).collect() };
+    if let [x, y] = rhs {
+        // Two right-hand sides (the side axes) in one sweep: 1.4 times
+        // faster than each on its own thread (BENCHMARKS.md).
+        let (x, y) = (renumber(x), renumber(y));
+        let ([x, y], _) = mg.solve_many([&x, &y], TOLERANCE, 1000)?;
+        return Some(vec![back(&x), back(&y)]);
+    }
+    // Otherwise each on its own thread: the hierarchy is shared and
     // read-only, and every solve runs in a fixed order whatever the threads.
     rhs.par_iter()
         .map(|b| {
-            let b: Vec<Real> = order.iter().map(|&o| b[o as usize]).collect();
-            let (x, _) = mg.solve(&b, TOLERANCE, 1000)?;
-            Some(new_of.iter().map(|&n| x[n as usize]).collect())
+            let (x, _) = mg.solve(&renumber(b), TOLERANCE, 1000)?;
+            Some(back(&x))
         })
         .collect()
 }
