@@ -2,6 +2,8 @@
 //! (each point is found a few cells from the one before it) and of the flow
 //! unknowns (neighbours close in memory).
 
+use rayon::prelude::*;
+
 /// Bits per axis of the curve's grid (2^16 cells per axis is finer than any
 /// bed's spacing needs for locality).
 const BITS: u32 = 16;
@@ -19,7 +21,7 @@ pub fn order<const D: usize>(points: &[[f64; D]]) -> Vec<u32> {
     }
     let cells = ((1u64 << BITS) - 1) as f64;
     let mut keyed: Vec<(u64, u32)> = points
-        .iter()
+        .par_iter()
         .enumerate()
         .map(|(i, p)| {
             let mut x = [0u32; D];
@@ -35,7 +37,8 @@ pub fn order<const D: usize>(points: &[[f64; D]]) -> Vec<u32> {
             (key(x), i as u32)
         })
         .collect();
-    keyed.sort_unstable();
+    // The pairs are distinct, so the parallel sort's answer is unique.
+    keyed.par_sort_unstable();
     keyed.into_iter().map(|(_, i)| i).collect()
 }
 
