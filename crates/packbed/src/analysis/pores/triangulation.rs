@@ -58,16 +58,19 @@ struct Cell {
 struct Scratch {
     /// Per cell: the insertion that last visited it, and whether it conflicted.
     visit: Vec<(u32, bool)>,
-    /// Per point: the insertion that last marked it (hidden-vertex check).
-    mark: Vec<u32>,
+    /// Per point: the insertion that last marked it as a vertex of the
+    /// cavity's boundary, and its number among those vertices.
+    mark: Vec<(u32, u32)>,
     stack: Vec<u32>,
     conflict: Vec<u32>,
     /// Boundary facets: (removed cell, index of the vertex q replaces, outer cell).
     boundary: Vec<(u32, usize, u32)>,
-    /// Ridges of the new cells waiting for their partner, an open-addressing
-    /// table: (insertion stamp, key, cell, facet); a linear list cost a
-    /// quarter of the insertion time.
-    ridges: Vec<(u32, u64, u32, u8)>,
+    /// Ridges of the new cells waiting for their partner: (insertion stamp,
+    /// cell, facet), at the ridge's pair of boundary-vertex numbers, a table
+    /// small enough to stay in the first-level cache. A hash table over vertex
+    /// ids spent a tenth of the insertion waiting for its slots, a linear list
+    /// a quarter.
+    ridges: Vec<(u32, u32, u32)>,
     created: Vec<u32>,
 }
 
@@ -109,7 +112,7 @@ impl<const D: usize> Triangulation<D> {
         t.add_far_simplex();
         let order = crate::math::hilbert::order(points);
         let mut scratch = Scratch {
-            mark: vec![0; t.sites.len()],
+            mark: vec![(0, 0); t.sites.len()],
             ..Scratch::default()
         };
         let mut rng = 0x9E37_79B9_7F4A_7C15u64;
@@ -304,19 +307,22 @@ impl<const D: usize> Triangulation<D> {
                 }
             }
         }
-        // Vertices of the removed cells that are on no boundary facet leave the
-        // triangulation: q's sphere covers their power cell.
+        // Number the boundary's vertices. Vertices of the removed cells that
+        // are on no boundary facet leave the triangulation: q's sphere covers
+        // their power cell.
+        let mut count = 0u32;
         for &(c, i, _) in &s.boundary {
             for (j, &x) in self.cells[c as usize].v.iter().enumerate().take(Self::V) {
-                if j != i {
-                    s.mark[x as usize] = stamp;
+                if j != i && s.mark[x as usize].0 != stamp {
+                    s.mark[x as usize] = (stamp, count);
+                    count += 1;
                 }
             }
         }
         for &c in &s.conflict {
             for &x in &self.cells[c as usize].v[..Self::V] {
-                if s.mark[x as usize] != stamp {
-                    s.mark[x as usize] = stamp;
+                if s.mark[x as usize].0 != stamp {
+                    s.mark[x as usize] = (stamp, u32::MAX);
                     if (x as usize) < self.input {
                         self.hidden.push(x);
                     }
@@ -326,11 +332,13 @@ impl<const D: usize> Triangulation<D> {
         // New cells take slots freed by earlier insertions only, so that an
         // outer cell's link to a removed cell is never mistaken for a new one.
         s.created.clear();
-        let wanted = (8 * Self::V * s.boundary.len()).next_power_of_two();
+        // A ridge is the boundary facet less q's vertex and one other: one
+        // vertex in 2D, two in 3D, numbered below `count`.
+        let count = count as usize;
+        let wanted = if D == 2 { count } else { count * count };
         if s.ridges.len() < wanted {
-            s.ridges = vec![(0, 0, 0, 0); wanted];
+            s.ridges.resize(wanted, (0, 0, 0));
         }
-        let mask = s.ridges.len() - 1;
         for b in 0..s.boundary.len() {
             let (old, i, outer) = s.boundary[b];
             let mut v = self.cells[old as usize].v;
@@ -356,37 +364,36 @@ impl<const D: usize> Triangulation<D> {
                 self.cells[outer as usize].n[back] = nc;
             }
             // The facets through q: the ridge is the boundary facet less one vertex.
+            let mut number = [0usize; 4];
+            for (j, &x) in v.iter().enumerate().take(Self::V) {
+                if j != i {
+                    number[j] = s.mark[x as usize].1 as usize;
+                }
+            }
             for k in 0..Self::V {
                 if k == i {
                     continue;
                 }
-                let mut key = [NONE; 2];
+                let mut ridge = [0usize; 2];
                 let mut m = 0;
-                for (j, &x) in v.iter().enumerate().take(Self::V) {
+                for (j, &x) in number.iter().enumerate().take(Self::V) {
                     if j != i && j != k {
-                        key[m] = x;
+                        ridge[m] = x;
                         m += 1;
                     }
                 }
-                if key[1] != NONE && key[0] > key[1] {
-                    key.swap(0, 1);
-                }
-                let key = (u64::from(key[0]) << 32) | u64::from(key[1]);
-                let mut slot = (key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40) as usize & mask;
-                loop {
-                    let r = s.ridges[slot];
-                    if r.0 != stamp {
-                        s.ridges[slot] = (stamp, key, nc, k as u8);
-                        break;
-                    }
-                    if r.1 == key {
-                        // Paired: free the slot for nothing else to find.
-                        s.ridges[slot].1 = u64::MAX;
-                        self.cells[nc as usize].n[k] = r.2;
-                        self.cells[r.2 as usize].n[r.3 as usize] = nc;
-                        break;
-                    }
-                    slot = (slot + 1) & mask;
+                let slot = if D == 2 {
+                    ridge[0]
+                } else {
+                    ridge[0].min(ridge[1]) * count + ridge[0].max(ridge[1])
+                };
+                let r = s.ridges[slot];
+                if r.0 == stamp {
+                    // Each ridge joins exactly two new cells: this is the second.
+                    self.cells[nc as usize].n[k] = r.1;
+                    self.cells[r.1 as usize].n[r.2 as usize] = nc;
+                } else {
+                    s.ridges[slot] = (stamp, nc, k as u32);
                 }
             }
             s.created.push(nc);
