@@ -97,31 +97,63 @@ impl<const D: usize> Triangulation<D> {
         assert_eq!(points.len(), weights.len());
         assert_eq!(points.len(), ranks.len());
         let input = points.len();
+        // The points are stored in the order of insertion, along the Hilbert
+        // curve, while the triangulation is built: a cavity's vertices then
+        // lie together in memory, as they do in space (the input, in order of
+        // deposition, scatters them). Every predicate sees the same values and
+        // ranks, so the cells are the same; their vertices are renumbered to
+        // the input's at the end.
+        let order = crate::math::hilbert::order(points);
         let mut t = Triangulation {
-            sites: points
+            sites: order
                 .iter()
-                .copied()
-                .zip(weights.iter().copied())
+                .map(|&i| (points[i as usize], weights[i as usize]))
                 .collect(),
-            ranks: ranks.to_vec(),
+            ranks: order.iter().map(|&i| ranks[i as usize]).collect(),
             input,
             cells: Vec::new(),
             free: Vec::new(),
             hidden: Vec::new(),
         };
         t.add_far_simplex();
-        let order = crate::math::hilbert::order(points);
         let mut scratch = Scratch {
             mark: vec![(0, 0); t.sites.len()],
             ..Scratch::default()
         };
         let mut rng = 0x9E37_79B9_7F4A_7C15u64;
         let mut last = 0u32;
-        for (k, &p) in order.iter().enumerate() {
-            last = t.insert(p, last, k as u32 + 1, &mut scratch, &mut rng);
+        for k in 0..input as u32 {
+            last = t.insert(k, last, k + 1, &mut scratch, &mut rng);
         }
-        t.hidden.sort_unstable();
+        drop(scratch);
+        t.renumber_to_input(&order);
         t
+    }
+
+    /// Gives the vertices their input numbers back, `order[k]` being the input
+    /// number of the `k`-th point inserted.
+    fn renumber_to_input(&mut self, order: &[u32]) {
+        let input = self.input;
+        let to_input = |x: &mut u32| {
+            if (*x as usize) < input {
+                *x = order[*x as usize];
+            }
+        };
+        for cell in &mut self.cells {
+            if cell.v[0] != NONE {
+                cell.v[..Self::V].iter_mut().for_each(to_input);
+            }
+        }
+        self.hidden.iter_mut().for_each(to_input);
+        self.hidden.sort_unstable();
+        let mut sites = self.sites.clone();
+        let mut ranks = self.ranks.clone();
+        for (k, &i) in order.iter().enumerate() {
+            sites[i as usize] = self.sites[k];
+            ranks[i as usize] = self.ranks[k];
+        }
+        self.sites = sites;
+        self.ranks = ranks;
     }
 
     /// Number of input points.
