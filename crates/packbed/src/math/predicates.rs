@@ -372,31 +372,27 @@ fn power_det_sign_3d(p: &[[f64; 3]; 4], w: &[f64; 4], q: [f64; 3], wq: f64) -> S
         h[i] = s - dw;
         ha[i] = s + dw.abs();
     }
-    let m = |i: usize, j: usize| {
-        let a = dx[i] * dy[j];
-        let b = dx[j] * dy[i];
-        (a - b, a.abs() + b.abs())
-    };
-    let n = |i: usize, j: usize| {
-        let a = dz[i] * h[j];
-        let b = dz[j] * h[i];
-        (a - b, dz[i].abs() * ha[j] + dz[j].abs() * ha[i])
-    };
-    let (m01, pm01) = m(0, 1);
-    let (m02, pm02) = m(0, 2);
-    let (m03, pm03) = m(0, 3);
-    let (m12, pm12) = m(1, 2);
-    let (m13, pm13) = m(1, 3);
-    let (m23, pm23) = m(2, 3);
-    let (n01, pn01) = n(0, 1);
-    let (n02, pn02) = n(0, 2);
-    let (n03, pn03) = n(0, 3);
-    let (n12, pn12) = n(1, 2);
-    let (n13, pn13) = n(1, 3);
-    let (n23, pn23) = n(2, 3);
+    let m = |i: usize, j: usize| dx[i] * dy[j] - dx[j] * dy[i];
+    let n = |i: usize, j: usize| dz[i] * h[j] - dz[j] * h[i];
+    let (m01, m02, m03, m12, m13, m23) = (m(0, 1), m(0, 2), m(0, 3), m(1, 2), m(1, 3), m(2, 3));
+    let (n01, n02, n03, n12, n13, n23) = (n(0, 1), n(0, 2), n(0, 3), n(1, 2), n(1, 3), n(2, 3));
     let det = ((m01 * n23 - m02 * n13) + (m03 * n12 + m12 * n03)) + (m23 * n01 - m13 * n02);
-    let perm =
-        ((pm01 * pn23 + pm02 * pn13) + (pm03 * pn12 + pm12 * pn03)) + (pm23 * pn01 + pm13 * pn02);
+    // First a semi-static bound: each of the 24 monomials takes one entry
+    // from each column, so the permanent is at most 24 times the product of
+    // the columns' largest magnitudes (the 1e-4 covers this product's own
+    // four roundings). It decides nearly every test for the cost of a few
+    // maxima; the permanent is the second, tighter bound.
+    let max = |a: &[f64; 4]| a[0].abs().max(a[1].abs()).max(a[2].abs().max(a[3].abs()));
+    let semi =
+        (24.0 * (1.0 + 1e-4) * POWER3D_BOUND) * ((max(&dx) * max(&dy)) * (max(&dz) * max(&ha)));
+    if det > semi || -det > semi {
+        return sign_of(det);
+    }
+    let pm = |i: usize, j: usize| (dx[i] * dy[j]).abs() + (dx[j] * dy[i]).abs();
+    let pn = |i: usize, j: usize| dz[i].abs() * ha[j] + dz[j].abs() * ha[i];
+    let perm = ((pm(0, 1) * pn(2, 3) + pm(0, 2) * pn(1, 3))
+        + (pm(0, 3) * pn(1, 2) + pm(1, 2) * pn(0, 3)))
+        + (pm(2, 3) * pn(0, 1) + pm(1, 3) * pn(0, 2));
     let bound = POWER3D_BOUND * perm;
     if det > bound || -det > bound {
         return sign_of(det);

@@ -56,8 +56,9 @@ struct Cell {
 /// Work space of one insertion, kept between insertions to avoid allocation.
 #[derive(Default)]
 struct Scratch {
-    /// Per cell: the insertion that last visited it, and whether it conflicted.
-    visit: Vec<(u32, bool)>,
+    /// Per cell: twice the insertion that last visited it, plus 1 if it
+    /// conflicted (one word: half the cache lines of a pair).
+    visit: Vec<u32>,
     /// Per point: the insertion that last marked it as a vertex of the
     /// cavity's boundary, and its number among those vertices.
     mark: Vec<(u32, u32)>,
@@ -97,6 +98,9 @@ impl<const D: usize> Triangulation<D> {
         assert_eq!(points.len(), weights.len());
         assert_eq!(points.len(), ranks.len());
         let input = points.len();
+        // Insertions are stamped in 31 bits (`Scratch::visit`); a bed that
+        // large would not fit in memory anyway.
+        assert!(input < 1 << 30, "too many points to triangulate");
         // The points are stored in the order of insertion, along the Hilbert
         // curve, while the triangulation is built: a cavity's vertices then
         // lie together in memory, as they do in space (the input, in order of
@@ -115,9 +119,14 @@ impl<const D: usize> Triangulation<D> {
             free: Vec::new(),
             hidden: Vec::new(),
         };
+        // About 6.4 cells a point in a packed bed (2 in 2D): sized once, so
+        // that the cells are not copied as they grow.
+        let expected = if D == 2 { 2 * input } else { 13 * input / 2 } + 64;
+        t.cells.reserve(expected);
         t.add_far_simplex();
         let mut scratch = Scratch {
             mark: vec![(0, 0); t.sites.len()],
+            visit: Vec::with_capacity(expected),
             ..Scratch::default()
         };
         let mut rng = 0x9E37_79B9_7F4A_7C15u64;
@@ -310,24 +319,25 @@ impl<const D: usize> Triangulation<D> {
             return c0;
         }
         if s.visit.len() < self.cells.len() {
-            s.visit.resize(self.cells.len(), (0, false));
+            s.visit.resize(self.cells.len(), 0);
         }
         s.stack.clear();
         s.conflict.clear();
         s.boundary.clear();
-        s.visit[c0 as usize] = (stamp, true);
+        let seen = 2 * stamp;
+        s.visit[c0 as usize] = seen + 1;
         s.stack.push(c0);
         while let Some(c) = s.stack.pop() {
             s.conflict.push(c);
             for i in 0..Self::V {
                 let n = self.cells[c as usize].n[i];
                 let inside = n != NONE && {
-                    let seen = s.visit[n as usize];
-                    if seen.0 == stamp {
-                        seen.1
+                    let visit = s.visit[n as usize];
+                    if visit & !1 == seen {
+                        visit == seen + 1
                     } else {
                         let hit = self.conflicts(n, q);
-                        s.visit[n as usize] = (stamp, hit);
+                        s.visit[n as usize] = seen + u32::from(hit);
                         if hit {
                             s.stack.push(n);
                         }
@@ -384,7 +394,7 @@ impl<const D: usize> Triangulation<D> {
                 }
                 None => {
                     self.cells.push(Cell { v, n });
-                    s.visit.push((0, false));
+                    s.visit.push(0);
                     (self.cells.len() - 1) as u32
                 }
             };
@@ -469,9 +479,14 @@ pub(crate) fn power_test<const D: usize>(
             power_test_2d_oriented_lazy(v.map(at), v.map(w), at(q), w(q), || (v.map(r), r(q)))
         }
         _ => {
+            // Gathered by hand: `array::map` was left out of line here, a
+            // call per test (5 % of the insertion in a profile).
             let at = |i: u32| [p(i)[0], p(i)[1], p(i)[2]];
-            let v = [v[0], v[1], v[2], v[3]];
-            power_test_3d_oriented_lazy(v.map(at), v.map(w), at(q), w(q), || (v.map(r), r(q)))
+            let pts = [at(v[0]), at(v[1]), at(v[2]), at(v[3])];
+            let ws = [w(v[0]), w(v[1]), w(v[2]), w(v[3])];
+            power_test_3d_oriented_lazy(pts, ws, at(q), w(q), || {
+                ([r(v[0]), r(v[1]), r(v[2]), r(v[3])], r(q))
+            })
         }
     }
 }
