@@ -383,10 +383,12 @@ impl<const D: usize> Triangulation<D> {
         }
         for b in 0..s.boundary.len() {
             let (old, i, outer) = s.boundary[b];
-            let mut v = self.cells[old as usize].v;
-            v[i] = q;
-            let mut n = [NONE; 4];
-            n[i] = outer;
+            // Built by selection, not by storing one entry into an array and
+            // then copying it whole: that stalled store forwarding on every
+            // new cell (5 % of the insertion in a profile).
+            let ov = self.cells[old as usize].v;
+            let v: [u32; 4] = std::array::from_fn(|j| if j == i { q } else { ov[j] });
+            let n: [u32; 4] = std::array::from_fn(|j| if j == i { outer } else { NONE });
             let nc = match self.free.pop() {
                 Some(slot) => {
                     self.cells[slot as usize] = Cell { v, n };
