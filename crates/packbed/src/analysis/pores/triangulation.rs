@@ -20,6 +20,14 @@ use crate::math::predicates::{
     orient2d, orient3d, power_test_2d_oriented_lazy, power_test_3d_oriented_lazy,
 };
 
+/// For two distinct vertex positions of a tetrahedron, the other two.
+const OTHER_TWO: [[(usize, usize); 4]; 4] = [
+    [(0, 0), (2, 3), (1, 3), (1, 2)],
+    [(2, 3), (0, 0), (0, 3), (0, 2)],
+    [(1, 3), (0, 3), (0, 0), (0, 1)],
+    [(1, 2), (0, 2), (0, 1), (0, 0)],
+];
+
 /// No neighbour (only across the facets of the far simplex).
 pub const NONE: u32 = u32::MAX;
 
@@ -354,11 +362,15 @@ impl<const D: usize> Triangulation<D> {
         // their power cell.
         let mut count = 0u32;
         for &(c, i, _) in &s.boundary {
-            for (j, &x) in self.cells[c as usize].v.iter().enumerate().take(Self::V) {
-                if j != i && s.mark[x as usize].0 != stamp {
-                    s.mark[x as usize] = (stamp, count);
-                    count += 1;
-                }
+            let v = &self.cells[c as usize].v;
+            for step in 1..Self::V {
+                // Whether a vertex is met for the first time is a coin toss
+                // to the branch predictor: written either way.
+                let x = v[(i + step) % Self::V] as usize;
+                let met = s.mark[x];
+                let first = met.0 != stamp;
+                s.mark[x] = if first { (stamp, count) } else { met };
+                count += u32::from(first);
             }
         }
         for &c in &s.conflict {
@@ -401,44 +413,41 @@ impl<const D: usize> Triangulation<D> {
                 }
             };
             if outer != NONE {
-                let back = self.cells[outer as usize].n[..Self::V]
-                    .iter()
-                    .position(|&x| x == old)
-                    .expect("the cell beyond a boundary facet links back to the removed cell");
+                // Without a branch per entry: which one links back is a coin
+                // toss to the branch predictor.
+                let links = &self.cells[outer as usize].n;
+                let back = (0..Self::V).fold(0, |b, j| if links[j] == old { j } else { b });
+                debug_assert_eq!(links[back], old);
                 self.cells[outer as usize].n[back] = nc;
             }
-            // The facets through q: the ridge is the boundary facet less one vertex.
+            // The facets through q: across facet k (k ≠ i) lies the ridge made
+            // of the facet's other vertices, met by exactly one other new cell.
             let mut number = [0usize; 4];
             for (j, &x) in v.iter().enumerate().take(Self::V) {
-                if j != i {
-                    number[j] = s.mark[x as usize].1 as usize;
-                }
+                number[j] = s.mark[x as usize].1 as usize;
             }
-            for k in 0..Self::V {
-                if k == i {
-                    continue;
-                }
-                let mut ridge = [0usize; 2];
-                let mut m = 0;
-                for (j, &x) in number.iter().enumerate().take(Self::V) {
-                    if j != i && j != k {
-                        ridge[m] = x;
-                        m += 1;
-                    }
-                }
+            for step in 1..Self::V {
+                let k = (i + step) % Self::V;
                 let slot = if D == 2 {
-                    ridge[0]
+                    number[3 - i - k]
                 } else {
-                    ridge[0].min(ridge[1]) * count + ridge[0].max(ridge[1])
+                    let (a, b) = OTHER_TWO[i][k];
+                    let (a, b) = (number[a], number[b]);
+                    a.min(b) * count + a.max(b)
                 };
+                // Unconditional writes, values chosen by the coin toss of
+                // which of the two cells comes first: the first leaves its
+                // own link open (NONE), the second closes both.
                 let r = s.ridges[slot];
-                if r.0 == stamp {
-                    // Each ridge joins exactly two new cells: this is the second.
-                    self.cells[nc as usize].n[k] = r.1;
-                    self.cells[r.1 as usize].n[r.2 as usize] = nc;
+                let second = r.0 == stamp;
+                s.ridges[slot] = (stamp, nc, k as u32);
+                let (to, facet, link) = if second {
+                    (r.1, r.2 as usize, nc)
                 } else {
-                    s.ridges[slot] = (stamp, nc, k as u32);
-                }
+                    (nc, k, NONE)
+                };
+                self.cells[nc as usize].n[k] = if second { r.1 } else { NONE };
+                self.cells[to as usize].n[facet] = link;
             }
             s.created.push(nc);
         }
