@@ -28,6 +28,18 @@ const OTHER_TWO: [[(usize, usize); 4]; 4] = [
     [(1, 2), (0, 2), (0, 1), (0, 0)],
 ];
 
+/// Slots of the ridge table (12 bytes each) beyond which a cavity's ridges
+/// are paired by sorting instead. In the tests, small cavities (up to three
+/// cells) take the table and larger ones sort, so that both ways are checked
+/// on every triangulation the tests build.
+const fn ridge_table_max(dim: usize) -> usize {
+    match (cfg!(test), dim) {
+        (false, _) => 1 << 20,
+        (true, 2) => 5,
+        (true, _) => 36,
+    }
+}
+
 /// No neighbour (only across the facets of the far simplex).
 pub const NONE: u32 = u32::MAX;
 
@@ -80,6 +92,9 @@ struct Scratch {
     /// ids spent a tenth of the insertion waiting for its slots, a linear list
     /// a quarter.
     ridges: Vec<(u32, u32, u32)>,
+    /// The same for a cavity too large for that table: (ridge, cell, facet),
+    /// paired by sorting.
+    sorted: Vec<(usize, u32, u32)>,
     created: Vec<u32>,
 }
 
@@ -390,9 +405,13 @@ impl<const D: usize> Triangulation<D> {
         // vertex in 2D, two in 3D, numbered below `count`.
         let count = count as usize;
         let wanted = if D == 2 { count } else { count * count };
-        if s.ridges.len() < wanted {
+        // The table grows with the square of the boundary: a cavity of
+        // thousands of vertices (points on one sphere) pairs by sorting.
+        let by_table = wanted <= ridge_table_max(D);
+        if by_table && s.ridges.len() < wanted {
             s.ridges.resize(wanted, (0, 0, 0));
         }
+        s.sorted.clear();
         for b in 0..s.boundary.len() {
             let (old, i, outer) = s.boundary[b];
             // Built by selection, not by storing one entry into an array and
@@ -435,6 +454,10 @@ impl<const D: usize> Triangulation<D> {
                     let (a, b) = (number[a], number[b]);
                     a.min(b) * count + a.max(b)
                 };
+                if !by_table {
+                    s.sorted.push((slot, nc, k as u32));
+                    continue;
+                }
                 // Unconditional writes, values chosen by the coin toss of
                 // which of the two cells comes first: the first leaves its
                 // own link open (NONE), the second closes both.
@@ -450,6 +473,15 @@ impl<const D: usize> Triangulation<D> {
                 self.cells[to as usize].n[facet] = link;
             }
             s.created.push(nc);
+        }
+        if !by_table {
+            s.sorted.sort_unstable();
+            for pair in s.sorted.chunks_exact(2) {
+                let [(key, a, fa), (same, b, fb)] = [pair[0], pair[1]];
+                debug_assert_eq!(key, same, "each ridge joins exactly two new cells");
+                self.cells[a as usize].n[fa as usize] = b;
+                self.cells[b as usize].n[fb as usize] = a;
+            }
         }
         for &c in &s.conflict {
             self.cells[c as usize].v[0] = NONE;
