@@ -166,6 +166,20 @@ impl<const D: usize> Triangulation<D> {
     /// number of the `k`-th point inserted.
     fn renumber_to_input(&mut self, order: &[u32]) {
         let input = self.input;
+        let mut on_cell = vec![false; input];
+        for cell in &self.cells {
+            if cell.v[0] != NONE {
+                for &x in &cell.v[..Self::V] {
+                    if (x as usize) < input {
+                        on_cell[x as usize] = true;
+                    }
+                }
+            }
+        }
+        self.hidden = (0..input as u32)
+            .filter(|&k| !on_cell[k as usize])
+            .collect();
+        drop(on_cell);
         let to_input = |x: &mut u32| {
             if (*x as usize) < input {
                 *x = order[*x as usize];
@@ -338,7 +352,8 @@ impl<const D: usize> Triangulation<D> {
     fn insert(&mut self, q: u32, start: u32, stamp: u32, s: &mut Scratch, rng: &mut u64) -> u32 {
         let c0 = self.locate(q, start, rng);
         if !self.conflicts(c0, q) {
-            self.hidden.push(q);
+            // q's power cell is empty: it is hidden from the start (found
+            // with the others at the end).
             return c0;
         }
         if s.visit.len() < self.cells.len() {
@@ -373,8 +388,10 @@ impl<const D: usize> Triangulation<D> {
             }
         }
         // Number the boundary's vertices. Vertices of the removed cells that
-        // are on no boundary facet leave the triangulation: q's sphere covers
-        // their power cell.
+        // are on no boundary facet leave the triangulation (q's sphere covers
+        // their power cell); they are found at the end, as the points on no
+        // cell, rather than here on every insertion: in a bed of disjoint
+        // spheres none ever is, since each centre lies in its own power cell.
         let mut count = 0u32;
         for &(c, i, _) in &s.boundary {
             let v = &self.cells[c as usize].v;
@@ -386,16 +403,6 @@ impl<const D: usize> Triangulation<D> {
                 let first = met.0 != stamp;
                 s.mark[x] = if first { (stamp, count) } else { met };
                 count += u32::from(first);
-            }
-        }
-        for &c in &s.conflict {
-            for &x in &self.cells[c as usize].v[..Self::V] {
-                if s.mark[x as usize].0 != stamp {
-                    s.mark[x as usize] = (stamp, u32::MAX);
-                    if (x as usize) < self.input {
-                        self.hidden.push(x);
-                    }
-                }
             }
         }
         // New cells take slots freed by earlier insertions only, so that an
