@@ -142,6 +142,43 @@ fn permeability_scales_with_length_squared_and_conserves_flux() {
     }
 }
 
+/// A bed whose slab holds more pores than the direct solve takes: the
+/// iterative solve stops at a loose tolerance, yet the flux balances that the
+/// permeability rests on hold to rounding (deflated by the weights of
+/// `flow::solve_axis`), on every axis; and scaling still scales `k` by `s²`
+/// (the iteration is the same at any scale).
+#[test]
+fn large_slabs_balance_their_flux_to_rounding() {
+    let bed = deposited(9000, 5, "[[species]]\nradius = 10");
+    let slab = slab_of(&bed);
+    let space = pore_space(&bed, slab, Some(&flow_everywhere()), None, None).unwrap();
+    let k = space.permeability.unwrap();
+    assert!(
+        k.axes
+            .iter()
+            .all(|a| a.pores as usize > crate::math::sparse::DIRECT_LIMIT),
+        "{:?}",
+        k.axes
+    );
+    for a in &k.axes {
+        assert!(a.k > 0.0 && a.imbalance < 1e-12, "{a:?}");
+    }
+    let s = 0.25;
+    let small = pore_space(
+        &scaled(&bed, s),
+        (slab.0 * s, slab.1 * s),
+        Some(&flow_everywhere()),
+        None,
+        None,
+    )
+    .unwrap()
+    .permeability
+    .unwrap();
+    for (a, b) in k.axes.iter().zip(&small.axes) {
+        assert!((b.k / (a.k * s * s) - 1.0).abs() < 1e-9, "{a:?} {b:?}");
+    }
+}
+
 /// Periodic beds of equal spheres: the side axes agree, and the mean
 /// permeability is within the spec's ±25 % of Carman–Kozeny and van der
 /// Hoef et al. (2005). Measured here with the default conductance factor:

@@ -111,3 +111,16 @@ pub(super) fn direction<const K: usize>(p: &mut [[Real; K]], z: &[[Real; K]], be
             }
         });
 }
+
+/// `p −= mu · w`, per right-hand side.
+pub(super) fn deflate<const K: usize>(p: &mut [[Real; K]], w: &[[Real; K]], mu: [Real; K]) {
+    p.par_chunks_mut(CHUNK)
+        .zip(w.par_chunks(CHUNK))
+        .for_each(|(p, w)| {
+            for (p, w) in p.iter_mut().zip(w) {
+                for m in 0..K {
+                    p[m] -= mu[m] * w[m];
+                }
+            }
+        });
+}
