@@ -50,7 +50,7 @@ fn iterative<const D: usize>(
     diag: &[Real],
     off: &[(u32, u32, Real)],
     rhs: &[Vec<Real>],
-    deflate: Option<&[Vec<Real>]>,
+    deflate: Option<Vec<Vec<Real>>>,
 ) -> Option<Vec<Vec<Real>>> {
     let coords: Vec<[Real; D]> = points.iter().map(|p| p.0).collect();
     let order = crate::math::hilbert::order(&coords);
@@ -67,8 +67,11 @@ fn iterative<const D: usize>(
         // 16.4 s for both, against 22.6 and 22.8 s each on its own thread
         // side by side (BENCHMARKS.md, the flow solve's fourth session).
         let (x, y) = (renumber(x), renumber(y));
-        let w = deflate.map(|w| (renumber(&w[0]), renumber(&w[1])));
-        let w = w.as_ref().map(|(wx, wy)| [&wx[..], &wy[..]]);
+        let w = deflate.map(|mut w| {
+            let wy = renumber(&w.pop().expect("one vector a side"));
+            let wx = renumber(&w.pop().expect("one vector a side"));
+            [wx, wy]
+        });
         let ([x, y], _) = mg.solve_deflated([&x, &y], w, TOLERANCE, 1000)?;
         return Some(vec![back(&x), back(&y)]);
     }
@@ -77,8 +80,7 @@ fn iterative<const D: usize>(
     rhs.par_iter()
         .enumerate()
         .map(|(k, b)| {
-            let w = deflate.map(|w| renumber(&w[k]));
-            let w = w.as_ref().map(|w| [&w[..]]);
+            let w = deflate.as_ref().map(|w| [renumber(&w[k])]);
             let ([x], _) = mg.solve_deflated([&renumber(b)], w, TOLERANCE, 1000)?;
             Some(back(&x))
         })
@@ -120,13 +122,13 @@ pub fn solve_spd_deflated<const D: usize>(
     diag: &[Real],
     off: &[(u32, u32, Real)],
     rhs: &[Vec<Real>],
-    deflate: Option<&[Vec<Real>]>,
+    deflate: Option<Vec<Vec<Real>>>,
 ) -> Result<Vec<Vec<Real>>, SpdError> {
     let n = diag.len();
     if n == 0 {
         return Ok(rhs.iter().map(|_| Vec::new()).collect());
     }
-    if let Some(w) = deflate {
+    if let Some(w) = &deflate {
         assert_eq!(
             w.len(),
             rhs.len(),
