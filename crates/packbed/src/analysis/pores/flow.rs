@@ -428,7 +428,7 @@ fn solve_axis<const D: usize>(
         .collect();
     drop(roots);
     let solution =
-        solve_spd_deflated(&points, &diag, &off, &rhs, Some(deflate)).map_err(FlowError::Solver)?;
+        solve_spd_deflated(points, diag, off, rhs, Some(deflate)).map_err(FlowError::Solver)?;
     let floor_area: Real = (0..D - 1).map(|k| size[k]).product();
     let thickness = slab.1 - slab.0;
     let mut out = Vec::new();

@@ -439,7 +439,7 @@ impl Multigrid {
         tol: Real,
         max_steps: usize,
     ) -> Option<([Vec<Real>; K], usize)> {
-        self.solve_deflated(b, None, tol, max_steps)
+        self.solve_deflated(b.map(<[Real]>::to_vec), None, tol, max_steps)
     }
 
     /// [`Multigrid::solve_many`] with each right-hand side's residual kept
@@ -450,7 +450,7 @@ impl Multigrid {
     /// nothing.
     pub fn solve_deflated<const K: usize>(
         &self,
-        b: [&[Real]; K],
+        b: [Vec<Real>; K],
         w: Option<[Vec<Real>; K]>,
         tol: Real,
         max_steps: usize,
@@ -460,7 +460,10 @@ impl Multigrid {
             None => &self.coarsest,
         };
         let n = a.n();
-        let b: Vec<[Real; K]> = (0..n).map(|i| std::array::from_fn(|m| b[m][i])).collect();
+        let interleave = |b: [Vec<Real>; K]| -> Vec<[Real; K]> {
+            (0..n).map(|i| std::array::from_fn(|m| b[m][i])).collect()
+        };
+        let b = interleave(b);
         let norm_b = dot(&b, &b).map(Real::sqrt);
         // A right-hand side that is met stays where it is (no step moves it).
         let mut done = norm_b.map(|v| v == 0.0);
@@ -475,7 +478,7 @@ impl Multigrid {
         // (w, A w, 1 / wᵀ A w), the last 0 where w is 0.
         // Taken by value: at 10^6 spheres each copy is 48 MB a side.
         let deflation = w.map(|w| {
-            let w: Vec<[Real; K]> = (0..n).map(|i| std::array::from_fn(|m| w[m][i])).collect();
+            let w = interleave(w);
             let mut aw = vec![[0.0; K]; n];
             a.apply(&w, &mut aw);
             let inv = dot(&w, &aw).map(|c| {
@@ -1065,7 +1068,12 @@ mod tests {
         let (tight, _) = mg.solve_many([&b1, &b2], 1e-12, 300).unwrap();
         let (plain, _) = mg.solve_many([&b1, &b2], 1e-3, 300).unwrap();
         let ([x1, x2], _) = mg
-            .solve_deflated([&b1, &b2], Some([ones.clone(), ramp.clone()]), 1e-3, 300)
+            .solve_deflated(
+                [b1.clone(), b2.clone()],
+                Some([ones.clone(), ramp.clone()]),
+                1e-3,
+                300,
+            )
             .unwrap();
         let (r1, r2) = (resid(&x1, &b1), resid(&x2, &b2));
         assert!(residual(&diag, &off, &x1, &b1) > 1e-6, "a loose solve");
@@ -1084,7 +1092,12 @@ mod tests {
         // A zero vector deflates nothing: the plain solve, bit for bit.
         let zero = vec![0.0; n];
         let ([y1, _], _) = mg
-            .solve_deflated([&b1, &b2], Some([zero.clone(), zero]), 1e-3, 300)
+            .solve_deflated(
+                [b1.clone(), b2.clone()],
+                Some([zero.clone(), zero]),
+                1e-3,
+                300,
+            )
             .unwrap();
         assert!(y1
             .iter()

@@ -46,33 +46,38 @@ const TOLERANCE: Real = 1e-8;
 /// gap 878 at 6·10^6 pores), and every sweep of the multigrid then waits on
 /// the cache.
 fn iterative<const D: usize>(
-    points: &[Vector<D>],
-    diag: &[Real],
-    off: &[(u32, u32, Real)],
-    rhs: &[Vec<Real>],
+    points: Vec<Vector<D>>,
+    diag: Vec<Real>,
+    off: Vec<(u32, u32, Real)>,
+    rhs: Vec<Vec<Real>>,
     deflate: Option<Vec<Vec<Real>>>,
 ) -> Option<Vec<Vec<Real>>> {
-    let coords: Vec<[Real; D]> = points.iter().map(|p| p.0).collect();
+    // Each input goes as soon as it has served: at 10^6 spheres the points,
+    // the couplings and the right-hand sides are 0.6 GB beside the hierarchy.
+    let coords: Vec<[Real; D]> = points.into_iter().map(|p| p.0).collect();
     let order = crate::math::hilbert::order(&coords);
     drop(coords);
     let mut new_of = vec![0u32; order.len()];
     for (new, &old) in order.iter().enumerate() {
         new_of[old as usize] = new as u32;
     }
-    let mg = super::amg::Multigrid::new(super::amg::Csr::renumbered(diag, off, &new_of))?;
+    let csr = super::amg::Csr::renumbered(&diag, &off, &new_of);
+    drop((diag, off));
+    let mg = super::amg::Multigrid::new(csr)?;
     let renumber = |b: &Vec<Real>| -> Vec<Real> { order.iter().map(|&o| b[o as usize]).collect() };
     let back = |x: &[Real]| -> Vec<Real> { new_of.iter().map(|&n| x[n as usize]).collect() };
-    if let [x, y] = rhs {
+    let mut rhs = rhs;
+    if rhs.len() == 2 {
         // Two right-hand sides (the side axes) in one sweep: at 10^6 spheres
         // 16.4 s for both, against 22.6 and 22.8 s each on its own thread
         // side by side (BENCHMARKS.md, the flow solve's fourth session).
-        let (x, y) = (renumber(x), renumber(y));
+        let take = |v: &mut Vec<Vec<Real>>| renumber(&v.pop().expect("two sides"));
+        let (y, x) = (take(&mut rhs), take(&mut rhs));
         let w = deflate.map(|mut w| {
-            let wy = renumber(&w.pop().expect("one vector a side"));
-            let wx = renumber(&w.pop().expect("one vector a side"));
-            [wx, wy]
+            let wy = take(&mut w);
+            [take(&mut w), wy]
         });
-        let ([x, y], _) = mg.solve_deflated([&x, &y], w, TOLERANCE, 1000)?;
+        let ([x, y], _) = mg.solve_deflated([x, y], w, TOLERANCE, 1000)?;
         return Some(vec![back(&x), back(&y)]);
     }
     // Otherwise each on its own thread: the hierarchy is shared and
@@ -81,7 +86,7 @@ fn iterative<const D: usize>(
         .enumerate()
         .map(|(k, b)| {
             let w = deflate.as_ref().map(|w| [renumber(&w[k])]);
-            let ([x], _) = mg.solve_deflated([&renumber(b)], w, TOLERANCE, 1000)?;
+            let ([x], _) = mg.solve_deflated([renumber(b)], w, TOLERANCE, 1000)?;
             Some(back(&x))
         })
         .collect()
@@ -109,19 +114,26 @@ pub fn solve_spd<const D: usize>(
     off: &[(u32, u32, Real)],
     rhs: &[Vec<Real>],
 ) -> Result<Vec<Vec<Real>>, SpdError> {
-    solve_spd_deflated(points, diag, off, rhs, None)
+    solve_spd_deflated(
+        points.to_vec(),
+        diag.to_vec(),
+        off.to_vec(),
+        rhs.to_vec(),
+        None,
+    )
 }
 
 /// [`solve_spd`] where, if the system is solved iteratively, the residual of
 /// right-hand side `k` stays orthogonal to `deflate[k]` to rounding whatever
 /// the tolerance (a conserved total, such as the net flux through a slab,
 /// then holds exactly; see [`super::amg::Multigrid::solve_deflated`]). The
-/// direct solve meets it to rounding anyway.
+/// direct solve meets it to rounding anyway. The inputs are taken, so that a
+/// large system's are freed once the hierarchy holds them.
 pub fn solve_spd_deflated<const D: usize>(
-    points: &[Vector<D>],
-    diag: &[Real],
-    off: &[(u32, u32, Real)],
-    rhs: &[Vec<Real>],
+    points: Vec<Vector<D>>,
+    diag: Vec<Real>,
+    off: Vec<(u32, u32, Real)>,
+    rhs: Vec<Vec<Real>>,
     deflate: Option<Vec<Vec<Real>>>,
 ) -> Result<Vec<Vec<Real>>, SpdError> {
     let n = diag.len();
@@ -135,26 +147,28 @@ pub fn solve_spd_deflated<const D: usize>(
             "one deflation vector per right-hand side"
         );
     }
-    if n > DIRECT_LIMIT {
-        if let Some(x) = iterative(points, diag, off, rhs, deflate) {
-            return Ok(x);
-        }
+    if n > DIRECT_FALLBACK {
         // The direct factor of a large 3D network does not fit in memory
         // (4.7·10^10 bytes at 6·10^6 pores): refuse rather than abort.
-        if n > DIRECT_FALLBACK {
-            return Err(SpdError::NotConverged);
+        return iterative(points, diag, off, rhs, deflate).ok_or(SpdError::NotConverged);
+    }
+    if n > DIRECT_LIMIT {
+        let copies = (points.clone(), diag.clone(), off.clone(), rhs.clone());
+        if let Some(x) = iterative(copies.0, copies.1, copies.2, copies.3, deflate) {
+            return Ok(x);
         }
     }
-    if off.is_empty() {
-        // faer analyses a diagonal matrix as simplicial, which `Factor` does not take.
-        if !diag.iter().all(|&d| d > 0.0) {
-            return Err(SpdError::NotPositive);
-        }
-        return Ok(rhs
-            .iter()
-            .map(|b| b.iter().zip(diag).map(|(b, d)| b / d).collect())
-            .collect());
-    }
+    direct(&points, &diag, &off, &rhs)
+}
+
+/// The direct solve: the fragment solver's order and supernodal factor.
+fn direct<const D: usize>(
+    points: &[Vector<D>],
+    diag: &[Real],
+    off: &[(u32, u32, Real)],
+    rhs: &[Vec<Real>],
+) -> Result<Vec<Vec<Real>>, SpdError> {
+    let n = diag.len();
     // The graph in compressed rows, both directions.
     let mut offsets = vec![0usize; n + 1];
     for &(i, j, _) in off {
