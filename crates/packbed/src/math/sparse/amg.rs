@@ -33,13 +33,18 @@ use rayon::prelude::*;
 /// couplings to other blocks first (see [`blocks`]).
 #[derive(Clone, Debug, Default)]
 pub struct Csr {
-    ptr: Vec<usize>,
+    /// Where each row starts, and the end. 32-bit, as are `inner` and
+    /// `upper`: a sweep reads all three for every row, and a plain
+    /// aggregate's coarse operator has no more entries than its fine one, so
+    /// the finest level's count bounds them all (checked in
+    /// [`Csr::renumbered`]).
+    ptr: Vec<u32>,
     col: Vec<u32>,
     val: Vec<Real>,
     /// First entry of each row coupling it within its block.
-    inner: Vec<usize>,
+    inner: Vec<u32>,
     /// First entry of each row coupling it to a later row of its block.
-    upper: Vec<usize>,
+    upper: Vec<u32>,
     /// `1 / a_ii`.
     inv: Vec<Real>,
     /// Block boundaries of the rows.
@@ -62,14 +67,16 @@ pub struct Csr {
 impl Csr {
     fn new(ptr: Vec<usize>, col: Vec<u32>, val: Vec<Real>) -> Csr {
         let n = ptr.len() - 1;
+        debug_assert!(col.len() < u32::MAX as usize);
         let upper = (0..n)
             .map(|i| {
                 let row = &col[ptr[i] + 1..ptr[i + 1]];
-                ptr[i] + 1 + row.partition_point(|&c| (c as usize) < i)
+                (ptr[i] + 1 + row.partition_point(|&c| (c as usize) < i)) as u32
             })
             .collect();
         let inv = (0..n).map(|i| 1.0 / val[ptr[i]]).collect();
-        let inner = ptr[..n].iter().map(|p| p + 1).collect();
+        let inner = ptr[..n].iter().map(|&p| p as u32 + 1).collect();
+        let ptr = ptr.into_iter().map(|p| p as u32).collect();
         Csr {
             ptr,
             col,
@@ -99,7 +106,7 @@ impl Csr {
             for w in bounds.windows(2) {
                 let (lo, hi) = (w[0] as u32, w[1] as u32);
                 for i in w[0]..w[1] {
-                    let entries = self.ptr[i] + 1..self.ptr[i + 1];
+                    let entries = self.row(i);
                     let all = entries.clone().map(|k| (self.col[k], self.val[k]));
                     row.clear();
                     row.extend(all.clone().filter(|e| e.0 < lo || e.0 >= hi));
@@ -111,8 +118,8 @@ impl Csr {
                         self.col[k] = c;
                         self.val[k] = v;
                     }
-                    self.inner[i] = entries.start + outside;
-                    self.upper[i] = self.inner[i] + below;
+                    self.inner[i] = (entries.start + outside) as u32;
+                    self.upper[i] = self.inner[i] + below as u32;
                     if outside > 0 {
                         self.edges.push(i as u32);
                         // The l1 hybrid sweep (Baker, Falgout, Kolev & Yang
@@ -121,7 +128,7 @@ impl Csr {
                         // diagonal. Without it a strong throat cut by a block
                         // boundary went undamped: 166 steps against 50.
                         let l1: Real = row[..outside].iter().map(|e| e.1.abs()).sum();
-                        self.inv[i] = 1.0 / (self.val[self.ptr[i]] + l1);
+                        self.inv[i] = 1.0 / (self.diag(i) + l1);
                         self.edge_l1.push(l1);
                         self.edge_col.extend(row[..outside].iter().map(|e| e.0));
                         self.edge_val.extend(row[..outside].iter().map(|e| e.1));
@@ -142,15 +149,19 @@ impl Csr {
     #[cfg(test)]
     pub fn from_parts(diag: &[Real], off: &[(u32, u32, Real)]) -> Csr {
         let identity: Vec<u32> = (0..diag.len() as u32).collect();
-        Csr::renumbered(diag, off, &identity)
+        Csr::renumbered(diag, off, &identity).expect("a small test matrix")
     }
 
     /// The matrix with diagonal `diag` and symmetric off-diagonal entries
     /// (`(i, j, a_ij)`, `i != j`, repeated pairs summed), node `i`
     /// renumbered `new_of[i]`, without a renumbered copy of the entries (at
-    /// 6·10^6 pores each copy is 0.2 GB).
-    pub fn renumbered(diag: &[Real], off: &[(u32, u32, Real)], new_of: &[u32]) -> Csr {
+    /// 6·10^6 pores each copy is 0.2 GB); `None` when its entries would
+    /// not fit 32-bit offsets (4·10^9, some 50 GB of matrix).
+    pub fn renumbered(diag: &[Real], off: &[(u32, u32, Real)], new_of: &[u32]) -> Option<Csr> {
         let n = diag.len();
+        if n + 2 * off.len() >= u32::MAX as usize {
+            return None;
+        }
         let mut count = vec![0usize; n + 1];
         for &(i, j, _) in off {
             count[new_of[i as usize] as usize + 1] += 1;
@@ -217,7 +228,7 @@ impl Csr {
         val.truncate(write);
         col.shrink_to_fit();
         val.shrink_to_fit();
-        Csr::new(out_ptr, col, val)
+        Some(Csr::new(out_ptr, col, val))
     }
 
     fn n(&self) -> usize {
@@ -225,7 +236,17 @@ impl Csr {
     }
 
     fn diag(&self, i: usize) -> Real {
-        self.val[self.ptr[i]]
+        self.val[self.ptr[i] as usize]
+    }
+
+    /// Row `i`'s entries, the diagonal included.
+    fn entries(&self, i: usize) -> std::ops::Range<usize> {
+        self.ptr[i] as usize..self.ptr[i + 1] as usize
+    }
+
+    /// Row `i`'s entries off the diagonal.
+    fn row(&self, i: usize) -> std::ops::Range<usize> {
+        self.ptr[i] as usize + 1..self.ptr[i + 1] as usize
     }
 
     /// `y = A x`.
@@ -234,7 +255,7 @@ impl Csr {
             for (l, yi) in y.iter_mut().enumerate() {
                 let i = c * CHUNK + l;
                 let mut s = [0.0; K];
-                for k in self.ptr[i]..self.ptr[i + 1] {
+                for k in self.entries(i) {
                     let (v, xj) = (self.val[k], &x[self.col[k] as usize]);
                     for m in 0..K {
                         s[m] += v * xj[m];
@@ -246,12 +267,14 @@ impl Csr {
     }
 }
 
-/// A prolongator: each fine row's coarse columns and weights.
+/// The prolongator of plain aggregation, `P₀`: each fine node to its
+/// aggregate with weight 1, so the aggregate's index is all it holds (4 bytes
+/// a row against 20 for a general sparse row, read at every cycle's
+/// restriction and correction); a node outside every aggregate
+/// ([`OUTSIDE`]) has no entry.
 #[derive(Clone, Debug, Default)]
 struct Prolongator {
-    ptr: Vec<usize>,
-    col: Vec<u32>,
-    val: Vec<Real>,
+    agg: Vec<u32>,
     coarse: usize,
 }
 
@@ -259,14 +282,13 @@ impl Prolongator {
     /// `fine += P coarse`.
     fn add_to<const K: usize>(&self, coarse: &[[Real; K]], fine: &mut [[Real; K]]) {
         fine.par_chunks_mut(CHUNK)
-            .enumerate()
-            .for_each(|(c, fine)| {
-                for (l, f) in fine.iter_mut().enumerate() {
-                    let i = c * CHUNK + l;
-                    for k in self.ptr[i]..self.ptr[i + 1] {
-                        let (v, cj) = (self.val[k], &coarse[self.col[k] as usize]);
+            .zip(self.agg.par_chunks(CHUNK))
+            .for_each(|(fine, agg)| {
+                for (f, &c) in fine.iter_mut().zip(agg) {
+                    if c != OUTSIDE {
+                        let cj = &coarse[c as usize];
                         for m in 0..K {
-                            f[m] += v * cj[m];
+                            f[m] += cj[m];
                         }
                     }
                 }
@@ -276,14 +298,35 @@ impl Prolongator {
     /// `Pᵀ fine`.
     fn restrict<const K: usize>(&self, fine: &[[Real; K]], c: &mut [[Real; K]]) {
         c.fill([0.0; K]);
-        for (i, f) in fine.iter().enumerate() {
-            for k in self.ptr[i]..self.ptr[i + 1] {
-                let (v, ci) = (self.val[k], &mut c[self.col[k] as usize]);
+        for (f, &a) in fine.iter().zip(&self.agg) {
+            if a != OUTSIDE {
+                let ci = &mut c[a as usize];
                 for m in 0..K {
-                    ci[m] += v * f[m];
+                    ci[m] += f[m];
                 }
             }
         }
+    }
+
+    /// The fine nodes of each aggregate, ascending: aggregate `c`'s are
+    /// `rows[starts[c]..starts[c + 1]]` (a counting sort, `Pᵀ` by rows).
+    fn transpose(&self) -> (Vec<usize>, Vec<u32>) {
+        let mut starts = vec![0usize; self.coarse + 1];
+        for &c in self.agg.iter().filter(|&&c| c != OUTSIDE) {
+            starts[c as usize + 1] += 1;
+        }
+        for c in 0..self.coarse {
+            starts[c + 1] += starts[c];
+        }
+        let mut fill = starts.clone();
+        let mut rows = vec![0u32; starts[self.coarse]];
+        for (i, &c) in self.agg.iter().enumerate() {
+            if c != OUTSIDE {
+                rows[fill[c as usize]] = i as u32;
+                fill[c as usize] += 1;
+            }
+        }
+        (starts, rows)
     }
 }
 
@@ -341,7 +384,7 @@ impl Multigrid {
                 theta = if theta > 1e-6 { theta / 8.0 } else { 0.0 };
                 continue;
             }
-            let p = plain_prolongator(&agg, count);
+            let p = Prolongator { agg, coarse: count };
             let coarse = galerkin(&a, &p);
             levels.push(Level { a, p });
             a = coarse;
@@ -504,6 +547,7 @@ impl Multigrid {
         }
         let mut rz = dot(&r, &z);
         let mut ap = vec![[0.0; K]; n];
+        let mut finished = None;
         for step in 1..=max_steps {
             a.apply(&p, &mut ap);
             let pap = dot(&p, &ap);
@@ -522,18 +566,29 @@ impl Multigrid {
                 done[m] |= rr[m].sqrt() <= tol * norm_b[m];
             }
             if done.iter().all(|&d| d) {
-                return Some((unpack(&x), step));
+                finished = Some(step);
+                break;
             }
             self.cycle(0, &r, &mut z, &mut work);
-            let rz_new = dot(&r, &z);
+            let (rz_new, mu) = match &deflation {
+                Some((_, aw, inv)) => {
+                    let (rz, awz) = blocks::dots(&r, aw, &z);
+                    (rz, std::array::from_fn(|m| awz[m] * inv[m]))
+                }
+                None => (dot(&r, &z), [0.0; K]),
+            };
             let beta = std::array::from_fn(|m| if done[m] { 0.0 } else { rz_new[m] / rz[m] });
             rz = rz_new;
-            blocks::direction(&mut p, &z, beta);
-            if let Some((w, aw, inv)) = &deflation {
-                blocks::deflate(&mut p, w, aw_dot(aw, &z, inv));
+            match &deflation {
+                Some((w, _, _)) => blocks::direction_deflated(&mut p, &z, beta, w, mu),
+                None => blocks::direction(&mut p, &z, beta),
             }
         }
-        None
+        let steps = finished?;
+        // The buffers go before the answer is unpacked: at 10^6 spheres they
+        // are 0.7 GB, and this was the flow's peak.
+        drop((r, z, p, ap, work, deflation));
+        Some((unpack(&x), steps))
     }
 }
 
@@ -565,7 +620,7 @@ fn smooth_from_zero<const K: usize>(
             let lo = bounds[blk];
             res.fill([0.0; K]);
             for (l, i) in (lo..lo + x.len()).enumerate() {
-                let lower = a.inner[i]..a.upper[i];
+                let lower = a.inner[i] as usize..a.upper[i] as usize;
                 let mut s = b[i];
                 for k in lower.clone() {
                     let (v, xj) = (a.val[k], &x[a.col[k] as usize - lo]);
@@ -654,7 +709,7 @@ fn backward_gauss_seidel<const K: usize>(
                         s[m] += e[m];
                     }
                 }
-                for k in a.inner[i]..a.ptr[i + 1] {
+                for k in a.inner[i] as usize..a.ptr[i + 1] as usize {
                     let (v, xj) = (a.val[k], &x[a.col[k] as usize - lo]);
                     for m in 0..K {
                         s[m] -= v * xj[m];
@@ -685,7 +740,7 @@ fn aggregate(a: &Csr, theta: Real) -> (Vec<u32>, usize) {
         let j = a.col[k] as usize;
         a.val[k] != 0.0 && a.val[k].abs() >= theta * (a.diag(i) * a.diag(j)).sqrt()
     };
-    let row = |i: usize| a.ptr[i] + 1..a.ptr[i + 1];
+    let row = |i: usize| a.row(i);
     let strongest =
         |k: &usize, l: &usize| a.val[*k].abs().total_cmp(&a.val[*l].abs()).then(l.cmp(k));
     let mut count = 0u32;
@@ -755,25 +810,6 @@ fn aggregate(a: &Csr, theta: Real) -> (Vec<u32>, usize) {
 /// Not in any aggregate: a node with no coupling, solved by the smoother.
 const OUTSIDE: u32 = u32::MAX;
 
-/// The aggregates' indicator `P₀`: each fine node to its aggregate, weight 1
-/// (no entry for a node outside every aggregate).
-fn plain_prolongator(agg: &[u32], coarse: usize) -> Prolongator {
-    let mut ptr = Vec::with_capacity(agg.len() + 1);
-    ptr.push(0);
-    let mut k = 0;
-    for &c in agg {
-        k += usize::from(c != OUTSIDE);
-        ptr.push(k);
-    }
-    let col: Vec<u32> = agg.iter().copied().filter(|&c| c != OUTSIDE).collect();
-    Prolongator {
-        ptr,
-        val: vec![1.0; col.len()],
-        col,
-        coarse,
-    }
-}
-
 /// The Galerkin product `Pᵀ A P`.
 fn galerkin(a: &Csr, p: &Prolongator) -> Csr {
     let n = a.n();
@@ -787,17 +823,17 @@ fn galerkin(a: &Csr, p: &Prolongator) -> Csr {
     let mut touched: Vec<u32> = Vec::new();
     for i in 0..n {
         touched.clear();
-        for k in a.ptr[i]..a.ptr[i + 1] {
-            let j = a.col[k] as usize;
-            for m in p.ptr[j]..p.ptr[j + 1] {
-                let c = p.col[m];
-                if !marked[c as usize] {
-                    marked[c as usize] = true;
-                    touched.push(c);
-                    acc[c as usize] = 0.0;
-                }
-                acc[c as usize] += a.val[k] * p.val[m];
+        for k in a.entries(i) {
+            let c = p.agg[a.col[k] as usize];
+            if c == OUTSIDE {
+                continue;
             }
+            if !marked[c as usize] {
+                marked[c as usize] = true;
+                touched.push(c);
+                acc[c as usize] = 0.0;
+            }
+            acc[c as usize] += a.val[k];
         }
         touched.sort_unstable();
         for &c in &touched {
@@ -809,13 +845,7 @@ fn galerkin(a: &Csr, p: &Prolongator) -> Csr {
     }
     // Pᵀ in compressed rows (P's columns), then Pᵀ (A P) row by row with a
     // dense accumulator: memory for the product only, not for every term.
-    let (t_ptr, order) = super::group_by_key(&p.col, nc);
-    let mut row_of = vec![0u32; p.col.len()];
-    for i in 0..n {
-        row_of[p.ptr[i]..p.ptr[i + 1]].fill(i as u32);
-    }
-    let t_row: Vec<u32> = order.iter().map(|&m| row_of[m as usize]).collect();
-    let t_val: Vec<Real> = order.iter().map(|&m| p.val[m as usize]).collect();
+    let (t_ptr, t_row) = p.transpose();
     let mut ptr = vec![0usize];
     let mut col = Vec::new();
     let mut val = Vec::new();
@@ -823,7 +853,6 @@ fn galerkin(a: &Csr, p: &Prolongator) -> Csr {
         touched.clear();
         for m in t_ptr[r]..t_ptr[r + 1] {
             let i = t_row[m] as usize;
-            let w = t_val[m];
             for k in ap_ptr[i]..ap_ptr[i + 1] {
                 let c = ap_col[k];
                 if !marked[c as usize] {
@@ -831,7 +860,7 @@ fn galerkin(a: &Csr, p: &Prolongator) -> Csr {
                     touched.push(c);
                     acc[c as usize] = 0.0;
                 }
-                acc[c as usize] += w * ap_val[k];
+                acc[c as usize] += ap_val[k];
             }
         }
         touched.sort_unstable();
@@ -856,7 +885,7 @@ fn dense_cholesky(a: &Csr) -> Option<Vec<Real>> {
     let n = a.n();
     let mut l = vec![0.0; n * n];
     for i in 0..n {
-        for k in a.ptr[i]..a.ptr[i + 1] {
+        for k in a.entries(i) {
             l[i * n + a.col[k] as usize] = a.val[k];
         }
     }

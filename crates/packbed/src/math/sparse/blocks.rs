@@ -112,6 +112,27 @@ pub(super) fn direction<const K: usize>(p: &mut [[Real; K]], z: &[[Real; K]], be
         });
 }
 
+/// `p = (z + β p) − μ w`: [`direction`] and the deflation of `w` out of
+/// it in one pass over `p` (the same bits as the two passes).
+pub(super) fn direction_deflated<const K: usize>(
+    p: &mut [[Real; K]],
+    z: &[[Real; K]],
+    beta: [Real; K],
+    w: &[[Real; K]],
+    mu: [Real; K],
+) {
+    p.par_chunks_mut(CHUNK)
+        .zip(z.par_chunks(CHUNK).zip(w.par_chunks(CHUNK)))
+        .for_each(|(p, (z, w))| {
+            for ((p, z), w) in p.iter_mut().zip(z).zip(w) {
+                for m in 0..K {
+                    let d = z[m] + beta[m] * p[m];
+                    p[m] = d - mu[m] * w[m];
+                }
+            }
+        });
+}
+
 /// `p −= mu · w`, per right-hand side.
 pub(super) fn deflate<const K: usize>(p: &mut [[Real; K]], w: &[[Real; K]], mu: [Real; K]) {
     p.par_chunks_mut(CHUNK)
@@ -123,4 +144,28 @@ pub(super) fn deflate<const K: usize>(p: &mut [[Real; K]], w: &[[Real; K]], mu: 
                 }
             }
         });
+}
+
+/// `(a · z, b · z)` in one pass over `z`, each summed as [`dot`] sums it.
+pub(super) fn dots<const K: usize>(
+    a: &[[Real; K]],
+    b: &[[Real; K]],
+    z: &[[Real; K]],
+) -> ([Real; K], [Real; K]) {
+    let partial: Vec<([Real; K], [Real; K])> = a
+        .par_chunks(CHUNK)
+        .zip(b.par_chunks(CHUNK).zip(z.par_chunks(CHUNK)))
+        .map(|(a, (b, z))| {
+            let (mut s, mut t) = ([0.0; K], [0.0; K]);
+            for ((a, b), z) in a.iter().zip(b).zip(z) {
+                for m in 0..K {
+                    s[m] += a[m] * z[m];
+                    t[m] += b[m] * z[m];
+                }
+            }
+            (s, t)
+        })
+        .collect();
+    let (s, t): (Vec<_>, Vec<_>) = partial.into_iter().unzip();
+    (total(s), total(t))
 }

@@ -61,7 +61,7 @@ fn iterative<const D: usize>(
     for (new, &old) in order.iter().enumerate() {
         new_of[old as usize] = new as u32;
     }
-    let csr = super::amg::Csr::renumbered(&diag, &off, &new_of);
+    let csr = super::amg::Csr::renumbered(&diag, &off, &new_of)?;
     drop((diag, off));
     let mg = super::amg::Multigrid::new(csr)?;
     let renumber = |b: &Vec<Real>| -> Vec<Real> { order.iter().map(|&o| b[o as usize]).collect() };
@@ -78,18 +78,30 @@ fn iterative<const D: usize>(
             [take(&mut w), wy]
         });
         let ([x, y], _) = mg.solve_deflated([x, y], w, TOLERANCE, 1000)?;
+        drop(mg);
         return Some(vec![back(&x), back(&y)]);
+    }
+    if rhs.len() == 1 {
+        // One right-hand side (z): its inputs go once renumbered.
+        let b = renumber(&rhs.pop().expect("one side"));
+        let w = deflate.map(|mut w| [renumber(&w.pop().expect("one side"))]);
+        let ([x], _) = mg.solve_deflated([b], w, TOLERANCE, 1000)?;
+        drop(mg);
+        return Some(vec![back(&x)]);
     }
     // Otherwise each on its own thread: the hierarchy is shared and
     // read-only, and every solve runs in a fixed order whatever the threads.
-    rhs.par_iter()
+    let solved: Option<Vec<Vec<Real>>> = rhs
+        .par_iter()
         .enumerate()
         .map(|(k, b)| {
             let w = deflate.as_ref().map(|w| [renumber(&w[k])]);
             let ([x], _) = mg.solve_deflated([renumber(b)], w, TOLERANCE, 1000)?;
-            Some(back(&x))
+            Some(x)
         })
-        .collect()
+        .collect();
+    drop(mg);
+    Some(solved?.iter().map(|x| back(x)).collect())
 }
 
 /// Why a system could not be solved.
