@@ -79,6 +79,9 @@ pub enum FlowError {
 /// vertex of the power diagram; a lattice's cospherical cells are split by the
 /// perturbation into tetrahedra that share their power centre, and the facets
 /// between them enclose no fluid.
+/// (node a, node b, periods of b's image, throat).
+type Link = (u32, u32, [i8; 2], u32);
+
 struct Nodes<const D: usize> {
     /// Node of each pore, and the periods the pore lies from the node's centre.
     of_pore: Vec<(u32, [i8; 2])>,
@@ -86,8 +89,9 @@ struct Nodes<const D: usize> {
     centre: Vec<[Real; D]>,
     /// True for the nodes in the slab.
     in_slab: Vec<bool>,
-    /// (node a, node b, periods of b's image, conductance, throat).
-    links: Vec<(u32, u32, [i8; 2], Real, u32)>,
+    /// (node a, node b, periods of b's image, throat): the conductance is
+    /// the throat's (a copy here was 0.1 GB at 10^6 spheres).
+    links: Vec<Link>,
 }
 
 fn nodes<const D: usize>(
@@ -136,7 +140,7 @@ fn nodes<const D: usize>(
             let (a, oa) = of_pore[th.pores[0] as usize];
             let (b, ob) = of_pore[th.pores[1] as usize];
             let shift = [ob[0] + th.shift[0] - oa[0], ob[1] + th.shift[1] - oa[1]];
-            (a, b, shift, g[t], t as u32)
+            (a, b, shift, t as u32)
         })
         .collect();
     Nodes {
@@ -238,12 +242,12 @@ pub fn solve<const D: usize>(
     // against 48 s, 6.3 against 5.0 GB). The answer is the same either way.
     let z_system = || {
         axes.contains(&z)
-            .then(|| solve_axis(&nodes, net.throats.len(), size, slab, &[z]))
+            .then(|| solve_axis(&nodes, &conductance, size, slab, &[z]))
             .transpose()
     };
     let side_system = || {
         (!sides.is_empty())
-            .then(|| solve_axis(&nodes, net.throats.len(), size, slab, &sides))
+            .then(|| solve_axis(&nodes, &conductance, size, slab, &sides))
             .transpose()
     };
     let (along_z, across) = if nodes.centre.len() <= SIDE_BY_SIDE {
@@ -302,7 +306,7 @@ type AxisSolution = (AxisFlow, Vec<Real>, Vec<Real>);
 /// permeability at unit viscosity, the node pressures and the throat fluxes.
 fn solve_axis<const D: usize>(
     nodes: &Nodes<D>,
-    throats: usize,
+    conductance: &[Real],
     size: &Vector<D>,
     slab: (Real, Real),
     axes: &[usize],
@@ -314,7 +318,7 @@ fn solve_axis<const D: usize>(
     // Nodes with a fixed pressure: along z those beyond the slab.
     let fixed = |p: usize| along_z && !in_slab[p];
     // Links that take part: both ends in the slab, or (along z) one end.
-    let open = |l: &(u32, u32, [i8; 2], Real, u32)| {
+    let open = |l: &Link| {
         let (a, b) = (l.0 as usize, l.1 as usize);
         (in_slab[a] || in_slab[b]) && (along_z || (in_slab[a] && in_slab[b]))
     };
@@ -365,7 +369,7 @@ fn solve_axis<const D: usize>(
     let mut off: Vec<(u32, u32, Real)> = Vec::new();
     let mut rhs = vec![vec![0.0; n]; axes.len()];
     // Where b's image lies from a, along an axis.
-    let delta = |l: &(u32, u32, [i8; 2], Real, u32), axis: usize| -> Real {
+    let delta = |l: &Link, axis: usize| -> Real {
         let shift = if axis < z {
             Real::from(l.2[axis]) * size[axis]
         } else {
@@ -374,7 +378,7 @@ fn solve_axis<const D: usize>(
         nodes.centre[l.1 as usize][axis] + shift - nodes.centre[l.0 as usize][axis]
     };
     for l in nodes.links.iter().filter(|l| open(l)) {
-        let (a, b, g) = (l.0 as usize, l.1 as usize, l.3);
+        let (a, b, g) = (l.0 as usize, l.1 as usize, conductance[l.3 as usize]);
         if a == b {
             // A node linked to its own image: no term, only a flux.
             continue;
@@ -446,11 +450,11 @@ fn solve_axis<const D: usize>(
                 }
             })
             .collect();
-        let mut flux = vec![0.0; throats];
+        let mut flux = vec![0.0; conductance.len()];
         let (mut q_in, mut q_out, mut cut, mut moment) = (0.0, 0.0, 0.0, 0.0);
         let mut circulating = 0.0;
         for l in nodes.links.iter().filter(|l| open(l)) {
-            let (a, b, g) = (l.0 as usize, l.1 as usize, l.3);
+            let (a, b, g) = (l.0 as usize, l.1 as usize, conductance[l.3 as usize]);
             // P of b's image: one period's drop of x per period of shift.
             let image = if along_z {
                 0.0
@@ -458,7 +462,7 @@ fn solve_axis<const D: usize>(
                 Real::from(l.2[axis]) * size[axis]
             };
             let q = g * (pressure[a] - (pressure[b] - image));
-            flux[l.4 as usize] = q;
+            flux[l.3 as usize] = q;
             circulating += q.abs();
             if along_z {
                 let below = |p: usize| nodes.centre[p][z] < slab.0;

@@ -336,43 +336,9 @@ pub fn pore_space_timed<const D: usize>(
         .iter()
         .map(|p| p.centre[D - 1] >= slab.0 && p.centre[D - 1] <= slab.1)
         .collect();
-    let body: Vec<(Real, Real)> = net
-        .pores
-        .iter()
-        .zip(&in_slab)
-        .filter(|e| *e.1)
-        .map(|(p, _)| (p.body_radius, p.void_volume))
-        .collect();
-    let constriction: Vec<(Real, Real)> = net
-        .throats
-        .iter()
-        .filter(|t| in_slab[t.pores[0] as usize] && in_slab[t.pores[1] as usize])
-        .map(|t| (t.constriction_radius, t.geometry.void_volume))
-        .collect();
-    let (void, volume) = net
-        .pores
-        .iter()
-        .zip(&in_slab)
-        .filter(|e| *e.1)
-        .fold((0.0, 0.0), |acc, (p, _)| {
-            (acc.0 + p.void_volume, acc.1 + p.volume)
-        });
-    let constriction_dist = distribution(&constriction);
-    let pores = PoresSummary {
-        slab: [slab.0, slab.1],
-        body_radius: distribution(&body),
-        d_c35: 2.0 * constriction_dist.p35,
-        constriction_radius: constriction_dist,
-        network_porosity: if volume > 0.0 { void / volume } else { 0.0 },
-        network_pores: net.pores.len() as u64,
-        network_throats: net.throats.len() as u64,
-        hidden_particles: net.hidden.len() as u64,
-        clamped_cells: net
-            .pores
-            .iter()
-            .filter(|p| p.void_volume <= 0.0 && p.volume > 0.0)
-            .count() as u64,
-    };
+    // The distributions' inputs go before the flow: at 10^6 spheres they
+    // are 0.24 GB beside its peak.
+    let pores = summary(&net, &in_slab, slab);
     let mut note = None;
     let mut permeability = None;
     let mut solved: Option<Flow> = None;
@@ -415,6 +381,47 @@ pub fn pore_space_timed<const D: usize>(
         tables,
         triangulation_seconds,
     })
+}
+
+/// The `pores.*` summary of the network's slab.
+fn summary<const D: usize>(net: &Network<D>, in_slab: &[bool], slab: (Real, Real)) -> PoresSummary {
+    let body: Vec<(Real, Real)> = net
+        .pores
+        .iter()
+        .zip(in_slab)
+        .filter(|e| *e.1)
+        .map(|(p, _)| (p.body_radius, p.void_volume))
+        .collect();
+    let constriction: Vec<(Real, Real)> = net
+        .throats
+        .iter()
+        .filter(|t| in_slab[t.pores[0] as usize] && in_slab[t.pores[1] as usize])
+        .map(|t| (t.constriction_radius, t.geometry.void_volume))
+        .collect();
+    let (void, volume) = net
+        .pores
+        .iter()
+        .zip(in_slab)
+        .filter(|e| *e.1)
+        .fold((0.0, 0.0), |acc, (p, _)| {
+            (acc.0 + p.void_volume, acc.1 + p.volume)
+        });
+    let constriction_dist = distribution(constriction);
+    PoresSummary {
+        slab: [slab.0, slab.1],
+        body_radius: distribution(body),
+        d_c35: 2.0 * constriction_dist.p35,
+        constriction_radius: constriction_dist,
+        network_porosity: if volume > 0.0 { void / volume } else { 0.0 },
+        network_pores: net.pores.len() as u64,
+        network_throats: net.throats.len() as u64,
+        hidden_particles: net.hidden.len() as u64,
+        clamped_cells: net
+            .pores
+            .iter()
+            .filter(|p| p.void_volume <= 0.0 && p.volume > 0.0)
+            .count() as u64,
+    }
 }
 
 /// The axes to solve: those asked, else z and the periodic side axes.
@@ -467,11 +474,10 @@ fn permeability_summary<const D: usize>(
 }
 
 /// Percentiles by number and by weight of `(size, weight)` pairs.
-fn distribution(values: &[(Real, Real)]) -> SizeDistribution {
-    if values.is_empty() {
+fn distribution(mut v: Vec<(Real, Real)>) -> SizeDistribution {
+    if v.is_empty() {
         return SizeDistribution::default();
     }
-    let mut v: Vec<(Real, Real)> = values.to_vec();
     v.sort_by(|a, b| a.0.total_cmp(&b.0));
     let n = v.len();
     let by_number = |q: Real| v[(((n - 1) as Real) * q).round() as usize].0;
