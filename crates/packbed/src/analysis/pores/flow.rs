@@ -12,7 +12,7 @@
 // `!(a > b)` is meant: a NaN must take the closed or zero branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::network::Network;
+use super::network::{Network, Pore};
 use crate::math::sparse::{solve_spd_deflated, SpdError};
 use crate::math::{Real, Vector};
 use serde::Serialize;
@@ -79,14 +79,14 @@ pub enum FlowError {
 /// vertex of the power diagram; a lattice's cospherical cells are split by the
 /// perturbation into tetrahedra that share their power centre, and the facets
 /// between them enclose no fluid.
-/// (node a, node b, periods of b's image, throat).
-type Link = (u32, u32, [i8; 2], u32);
-
-struct Nodes<const D: usize> {
+struct Nodes<'n, const D: usize> {
+    /// The network's pores.
+    pores: &'n [Pore<D>],
     /// Node of each pore, and the periods the pore lies from the node's centre.
     of_pore: Vec<(u32, [i8; 2])>,
-    /// Centre of each node (its first pore's power centre).
-    centre: Vec<[Real; D]>,
+    /// Each node's first pore, whose power centre is the node's (a copy of
+    /// the centres here was 0.15 GB at 10^6 spheres).
+    first: Vec<u32>,
     /// True for the nodes in the slab.
     in_slab: Vec<bool>,
     /// (node a, node b, periods of b's image, throat): the conductance is
@@ -94,12 +94,25 @@ struct Nodes<const D: usize> {
     links: Vec<Link>,
 }
 
-fn nodes<const D: usize>(
-    net: &Network<D>,
+/// (node a, node b, periods of b's image, throat).
+type Link = (u32, u32, [i8; 2], u32);
+
+impl<const D: usize> Nodes<'_, D> {
+    fn centre(&self, node: usize) -> &[Real; D] {
+        &self.pores[self.first[node] as usize].centre
+    }
+
+    fn len(&self) -> usize {
+        self.first.len()
+    }
+}
+
+fn nodes<'n, const D: usize>(
+    net: &'n Network<D>,
     g: &[Real],
     merge: &[bool],
     slab: (Real, Real),
-) -> Nodes<D> {
+) -> Nodes<'n, D> {
     let n = net.pores.len();
     let mut parent: Vec<u32> = (0..n as u32).collect();
     let mut offset = vec![[0i8; 2]; n];
@@ -118,15 +131,15 @@ fn nodes<const D: usize>(
         offset[rb] = [oa[0] - s[0] - ob[0], oa[1] - s[1] - ob[1]];
     }
     let mut id = vec![u32::MAX; n];
-    let mut centre = Vec::new();
+    let mut first = Vec::new();
     let mut in_slab = Vec::new();
     let mut of_pore = Vec::with_capacity(n);
     for p in 0..n {
         let (r, o) = root(&mut parent, &mut offset, p);
         if id[r] == u32::MAX {
-            id[r] = centre.len() as u32;
+            id[r] = first.len() as u32;
             let c = net.pores[r].centre;
-            centre.push(c);
+            first.push(r as u32);
             in_slab.push(c[D - 1] >= slab.0 && c[D - 1] <= slab.1);
         }
         of_pore.push((id[r], o));
@@ -144,8 +157,9 @@ fn nodes<const D: usize>(
         })
         .collect();
     Nodes {
+        pores: &net.pores,
         of_pore,
-        centre,
+        first,
         in_slab,
         links,
     }
@@ -192,7 +206,7 @@ pub fn solve<const D: usize>(
                 .map(|&p| radii[p as usize])
                 .sum::<Real>()
                 / D as Real;
-            let length = th.geometry.length;
+            let length = th.length;
             if !(length >= LENGTH_FLOOR * mean_r) {
                 merge[t] = true;
                 return 0.0;
@@ -202,8 +216,8 @@ pub fn solve<const D: usize>(
             if !(th.constriction_radius >= SHUT * mean_r) {
                 return 0.0;
             }
-            let g = factor * th.geometry.fluid_area * th.geometry.hydraulic_radius.powi(2)
-                / (2.0 * viscosity * length);
+            let g =
+                factor * th.fluid_area * th.hydraulic_radius.powi(2) / (2.0 * viscosity * length);
             if g.is_finite() && g > 0.0 {
                 g
             } else {
@@ -221,6 +235,8 @@ pub fn solve<const D: usize>(
         let mid = open.len() / 2;
         *open.select_nth_unstable_by(mid, Real::total_cmp).1
     };
+    // Not kept through the solves (0.1 GB at 10^6 spheres).
+    drop(open);
     let conductance: Vec<Real> = conductance
         .into_iter()
         .map(|g| if g > CLOSED * typical { g } else { 0.0 })
@@ -250,7 +266,7 @@ pub fn solve<const D: usize>(
             .then(|| solve_axis(&nodes, &conductance, size, slab, &sides))
             .transpose()
     };
-    let (along_z, across) = if nodes.centre.len() <= SIDE_BY_SIDE {
+    let (along_z, across) = if nodes.len() <= SIDE_BY_SIDE {
         rayon::join(z_system, side_system)
     } else {
         let across = side_system();
@@ -313,7 +329,7 @@ fn solve_axis<const D: usize>(
 ) -> Result<Vec<AxisSolution>, FlowError> {
     let z = D - 1;
     let along_z = axes == [z];
-    let n_nodes = nodes.centre.len();
+    let n_nodes = nodes.len();
     let in_slab = &nodes.in_slab;
     // Nodes with a fixed pressure: along z those beyond the slab.
     let fixed = |p: usize| along_z && !in_slab[p];
@@ -358,7 +374,7 @@ fn solve_axis<const D: usize>(
             continue;
         }
         index[p] = points.len() as u32;
-        points.push(Vector(nodes.centre[p]));
+        points.push(Vector(*nodes.centre(p)));
         roots.push(r as u32);
     }
     if along_z && !root_fixed.iter().any(|&f| f) {
@@ -375,7 +391,7 @@ fn solve_axis<const D: usize>(
         } else {
             0.0
         };
-        nodes.centre[l.1 as usize][axis] + shift - nodes.centre[l.0 as usize][axis]
+        nodes.centre(l.1 as usize)[axis] + shift - nodes.centre(l.0 as usize)[axis]
     };
     for l in nodes.links.iter().filter(|l| open(l)) {
         let (a, b, g) = (l.0 as usize, l.1 as usize, conductance[l.3 as usize]);
@@ -425,12 +441,13 @@ fn solve_axis<const D: usize>(
                     (true, u32::MAX) => 1.0,
                     (false, u32::MAX) => 0.0,
                     (true, _) => 0.0,
-                    (false, pin) => x.0[axis] - nodes.centre[pin as usize][axis],
+                    (false, pin) => x.0[axis] - nodes.centre(pin as usize)[axis],
                 })
                 .collect()
         })
         .collect();
-    drop(roots);
+    // Only `index` is needed past the solve.
+    drop((roots, pinned, parent, touches_fixed, root_fixed));
     let solution =
         solve_spd_deflated(points, diag, off, rhs, Some(deflate)).map_err(FlowError::Solver)?;
     let floor_area: Real = (0..D - 1).map(|k| size[k]).product();
@@ -440,7 +457,7 @@ fn solve_axis<const D: usize>(
         // P of every node: solved, fixed, or pinned (p̃ = 0).
         let pressure: Vec<Real> = (0..n_nodes)
             .map(|p| {
-                let base = -nodes.centre[p][axis];
+                let base = -nodes.centre(p)[axis];
                 let solved = (index[p] != u32::MAX).then(|| solution[k][index[p] as usize]);
                 match (along_z, solved) {
                     (_, Some(x)) => base + x,
@@ -465,7 +482,7 @@ fn solve_axis<const D: usize>(
             flux[l.3 as usize] = q;
             circulating += q.abs();
             if along_z {
-                let below = |p: usize| nodes.centre[p][z] < slab.0;
+                let below = |p: usize| nodes.centre(p)[z] < slab.0;
                 if fixed(b) {
                     if below(b) {
                         q_in -= q;

@@ -396,7 +396,7 @@ fn summary<const D: usize>(net: &Network<D>, in_slab: &[bool], slab: (Real, Real
         .throats
         .iter()
         .filter(|t| in_slab[t.pores[0] as usize] && in_slab[t.pores[1] as usize])
-        .map(|t| (t.constriction_radius, t.geometry.void_volume))
+        .map(|t| (t.constriction_radius, t.void_volume))
         .collect();
     let (void, volume) = net
         .pores
