@@ -1187,5 +1187,66 @@ mod tests {
             let (x, _) = mg.solve(&b, 1e-10, 500).unwrap();
             prop_assert!(residual(&diag, &off, &x, &b) < 1e-9);
         }
+
+        /// The coarse operator, the restriction and the correction of any
+        /// aggregation (nodes left out included) against `Pᵀ A P`, `Pᵀ r`
+        /// and `P c` formed densely.
+        #[test]
+        fn the_coarse_level_is_p_transpose_a_p(
+            edges in prop::collection::vec((0u32..40, 0u32..40, 0.01f64..10.0), 20..120),
+            agg in prop::collection::vec(prop::option::weighted(0.9, 0u32..9), 40),
+        ) {
+            let n = 40;
+            let off: Vec<(u32, u32, Real)> =
+                edges.iter().filter(|e| e.0 != e.1).map(|&(i, j, g)| (i, j, -g)).collect();
+            let mut diag = vec![1.0; n];
+            for &(i, j, a) in &off {
+                diag[i as usize] -= a;
+                diag[j as usize] -= a;
+            }
+            let a = Csr::from_parts(&diag, &off);
+            let mut dense = vec![vec![0.0; n]; n];
+            for (i, row) in dense.iter_mut().enumerate() {
+                for k in a.entries(i) {
+                    row[a.col[k] as usize] += a.val[k];
+                }
+            }
+            let p = Prolongator {
+                agg: agg.iter().map(|c| c.unwrap_or(OUTSIDE)).collect(),
+                coarse: 9,
+            };
+            let weight = |i: usize, c: usize| Real::from(u8::from(p.agg[i] == c as u32));
+            let coarse = galerkin(&a, &p);
+            for r in 0..9 {
+                for c in 0..9 {
+                    let mut want = 0.0;
+                    for i in 0..n {
+                        for j in 0..n {
+                            want += weight(i, r) * dense[i][j] * weight(j, c);
+                        }
+                    }
+                    let got: Real = coarse
+                        .entries(r)
+                        .filter(|&k| coarse.col[k] as usize == c)
+                        .map(|k| coarse.val[k])
+                        .sum();
+                    prop_assert!((got - want).abs() <= 1e-12 * (1.0 + want.abs()), "({r}, {c}): {got} against {want}");
+                }
+            }
+            let fine: Vec<[Real; 1]> = (0..n).map(|i| [(i as Real).sin()]).collect();
+            let mut restricted = vec![[0.0]; 9];
+            p.restrict(&fine, &mut restricted);
+            let coarse_x: Vec<[Real; 1]> = (0..9).map(|c| [c as Real - 4.0]).collect();
+            let mut corrected = fine.clone();
+            p.add_to(&coarse_x, &mut corrected);
+            for c in 0..9 {
+                let want: Real = (0..n).map(|i| weight(i, c) * fine[i][0]).sum();
+                prop_assert!((restricted[c][0] - want).abs() <= 1e-12);
+            }
+            for i in 0..n {
+                let want = fine[i][0] + (0..9).map(|c| weight(i, c) * coarse_x[c][0]).sum::<Real>();
+                prop_assert!((corrected[i][0] - want).abs() <= 1e-12);
+            }
+        }
     }
 }
