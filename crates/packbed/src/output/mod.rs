@@ -66,7 +66,7 @@ pub fn write_run_with<const D: usize>(
         .psd
         .as_ref()
         .map(|p| (p, summary.config.analysis.length_unit));
-    let Drawn { files, missing } = extra_files(
+    let (files, missing) = extra_files(
         bed,
         contacts,
         &summary.analysis,
@@ -91,7 +91,7 @@ pub fn write_analysis<const D: usize>(
     summary: &AnalyzeSummary,
     extras: &RunExtras,
 ) -> Result<Written> {
-    let Drawn { files, missing } = extra_files(
+    let (files, missing) = extra_files(
         bed,
         contacts,
         &summary.analysis,
@@ -143,7 +143,7 @@ fn stage_dir<const D: usize, S: WarnedSummary>(
     dir: &Path,
     bed: Option<&Bed<D>>,
     contacts: &Contacts,
-    files: Vec<(String, Vec<u8>)>,
+    files: Vec<(String, Content)>,
     missing: Vec<String>,
     summary: &S,
 ) -> Result<Written> {
@@ -159,8 +159,11 @@ fn stage_dir<const D: usize, S: WarnedSummary>(
     }
     out.stage(RUN_FILES[1], |w| tables::write_contacts(w, contacts))?;
     out.stage(RUN_FILES[2], |w| tables::write_wall_contacts(w, contacts))?;
-    for (name, bytes) in &files {
-        out.stage(name, |w| w.write_all(bytes))?;
+    for (name, content) in &files {
+        match content {
+            Content::Bytes(bytes) => out.stage(name, |w| w.write_all(bytes))?,
+            Content::Stream(write) => out.stage(name, |w| write(w))?,
+        }
     }
     out.stage(RUN_FILES[3], |w| w.write_all(json.as_bytes()))?;
     Ok(Written {
@@ -175,16 +178,16 @@ fn stage_dir<const D: usize, S: WarnedSummary>(
 // The settings come from either a run's or an analysis' summary, which share
 // no type to pass instead.
 #[allow(clippy::too_many_arguments)]
-fn extra_files<const D: usize>(
+fn extra_files<'a, const D: usize>(
     bed: &Bed<D>,
     contacts: &Contacts,
-    measures: &crate::analysis::Summary,
+    measures: &'a crate::analysis::Summary,
     contact_tol: crate::math::Real,
     angle_from: crate::analysis::orientation::AngleFrom,
     length_unit: Option<LengthUnit>,
     psd: Option<(&PsdSummary, Option<LengthUnit>)>,
     extras: &RunExtras,
-) -> Result<Drawn> {
+) -> Result<Extras<'a>> {
     let mut out = Vec::new();
     let mut missing = Vec::new();
     if let Some((p, _)) = psd {
@@ -193,22 +196,21 @@ fn extra_files<const D: usize>(
             path: crate::io::psd::PSD_FILE.into(),
             source: e,
         })?;
-        out.push((crate::io::psd::PSD_FILE.to_string(), buf));
+        out.push((crate::io::psd::PSD_FILE.to_string(), Content::Bytes(buf)));
     }
     if let Some(t) = &measures.pore_tables {
+        // Written straight into their staged files, not drawn beforehand:
+        // at 10^6 spheres their text is some 5 GB (a 7.3 GB peak for
+        // `analyze`).
         use crate::io::pores::{write_network_vtp, write_pores, write_throats, PORE_FILES};
         let size: Vec<f64> = bed.container.size.0.to_vec();
-        type Writer<'a> = &'a dyn Fn(&mut dyn std::io::Write) -> std::io::Result<()>;
-        let writers: [Writer; 3] = [&|w| write_pores(w, t), &|w| write_throats(w, t), &|w| {
-            write_network_vtp(w, t, &size)
-        }];
+        let writers: [Stream; 3] = [
+            Box::new(move |w| write_pores(w, t)),
+            Box::new(move |w| write_throats(w, t)),
+            Box::new(move |w| write_network_vtp(w, t, &size)),
+        ];
         for (name, write) in PORE_FILES.iter().zip(writers) {
-            let mut buf = Vec::new();
-            write(&mut buf).map_err(|e| Error::Io {
-                path: (*name).into(),
-                source: e,
-            })?;
-            out.push((name.to_string(), buf));
+            out.push((name.to_string(), Content::Stream(write)));
         }
     }
     if extras.pictures {
@@ -226,7 +228,7 @@ fn extra_files<const D: usize>(
         if let Some((p, unit)) = psd {
             crate::render::run_files::psd_plot(&mut drawn, p, unit.map(LengthUnit::symbol));
         }
-        out.extend(drawn.0);
+        out.extend(drawn.0.into_iter().map(|(n, b)| (n, Content::Bytes(b))));
         missing.extend(drawn.1);
     }
     if !extras.exports.is_empty() {
@@ -237,14 +239,24 @@ fn extra_files<const D: usize>(
                 path: f.file_name().into(),
                 source: e,
             })?;
-            out.push((f.file_name().to_string(), buf));
+            out.push((f.file_name().to_string(), Content::Bytes(buf)));
         }
     }
-    Ok(Drawn {
-        files: out,
-        missing,
-    })
+    Ok((out, missing))
 }
+
+/// A file's contents for the staging: drawn beforehand, or written straight
+/// into the staged file.
+enum Content<'a> {
+    Bytes(Vec<u8>),
+    Stream(Stream<'a>),
+}
+
+type Stream<'a> = Box<dyn Fn(&mut dyn std::io::Write) -> std::io::Result<()> + 'a>;
+
+/// The extra files, in writing order, and a warning for each picture left
+/// out.
+type Extras<'a> = (Vec<(String, Content<'a>)>, Vec<String>);
 
 /// Refuses an output directory that cannot be created or written, before the
 /// work, so that a long run does not fail at its very end.
