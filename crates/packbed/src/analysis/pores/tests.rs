@@ -109,6 +109,20 @@ fn slab_of(bed: &Bed<3>) -> (Real, Real) {
     (region.lo[2], region.hi[2])
 }
 
+/// The permeability of `bed` scaled by `s`, through its slab scaled alike.
+fn permeability_scaled(bed: &Bed<3>, slab: (Real, Real), s: Real) -> PermeabilitySummary {
+    pore_space(
+        &scaled(bed, s),
+        (slab.0 * s, slab.1 * s),
+        Some(&flow_everywhere()),
+        None,
+        None,
+    )
+    .unwrap()
+    .permeability
+    .unwrap()
+}
+
 #[test]
 fn permeability_scales_with_length_squared_and_conserves_flux() {
     let bed = deposited(1500, 3, "[[species]]\nradius = 10");
@@ -118,17 +132,7 @@ fn permeability_scales_with_length_squared_and_conserves_flux() {
         .permeability
         .unwrap();
     let s = 3.0;
-    let big = scaled(&bed, s);
-    let k3 = pore_space(
-        &big,
-        (slab.0 * s, slab.1 * s),
-        Some(&flow_everywhere()),
-        None,
-        None,
-    )
-    .unwrap()
-    .permeability
-    .unwrap();
+    let k3 = permeability_scaled(&bed, slab, s);
     for (a, b) in k1.axes.iter().zip(&k3.axes) {
         assert!(a.k > 0.0);
         assert!(
@@ -164,16 +168,7 @@ fn large_slabs_balance_their_flux_to_rounding() {
         assert!(a.k > 0.0 && a.imbalance < 1e-12, "{a:?}");
     }
     let s = 0.25;
-    let small = pore_space(
-        &scaled(&bed, s),
-        (slab.0 * s, slab.1 * s),
-        Some(&flow_everywhere()),
-        None,
-        None,
-    )
-    .unwrap()
-    .permeability
-    .unwrap();
+    let small = permeability_scaled(&bed, slab, s);
     for (a, b) in k.axes.iter().zip(&small.axes) {
         assert!((b.k / (a.k * s * s) - 1.0).abs() < 1e-9, "{a:?} {b:?}");
     }
