@@ -260,7 +260,7 @@ fn assemble<const D: usize>(
         }
         let key = sites_of(sites, v);
         let id = kept.len() as u32;
-        if periodic {
+        if periodic && may_have_translates(t, v, size, margin) {
             by_key.insert(canonical(&key, v_n).0, id);
         }
         pore_of[c as usize] = id;
@@ -320,6 +320,25 @@ fn assemble<const D: usize>(
         margin,
         points: t.input_len(),
     }))
+}
+
+/// False when no translate of the cell by whole periods can be a cell of the
+/// triangulation, so that no link will look it up by its key: a translate
+/// needs every vertex's image, and images exist only within `margin` of the
+/// sides, so along the axis of the shift every vertex lies within `margin`
+/// of the same side. Twice the margin keeps the test clear of rounding. At
+/// 10^6 spheres the key table of every pore took 4.8 s and 0.3 GB.
+fn may_have_translates<const D: usize>(
+    t: &Triangulation<D>,
+    v: &[u32],
+    size: crate::math::Vector<D>,
+    margin: Real,
+) -> bool {
+    (0..D - 1).any(|a| {
+        let reach = 2.0 * margin;
+        let along = v.iter().map(|&x| t.point(x)[a]);
+        along.clone().all(|p| p <= reach) || along.clone().all(|p| p >= size[a] - reach)
+    })
 }
 
 /// The sites of a cell's vertices (unused entries past `D + 1` last).
