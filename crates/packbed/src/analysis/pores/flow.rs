@@ -13,7 +13,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::network::{Network, Pore};
-use crate::math::sparse::{solve_spd_deflated, SpdError};
+use crate::math::sparse::{solve_spd_shifted, SpdError, Systems};
 use crate::math::{Real, Vector};
 use serde::Serialize;
 
@@ -24,9 +24,6 @@ pub const LENGTH_FLOOR: Real = 1e-3;
 /// A throat whose constriction is below this fraction of its spheres' mean
 /// radius is shut: the default contact tolerance.
 pub const SHUT: Real = 1e-6;
-
-/// Networks of up to this many nodes solve z and the side axes at once.
-const SIDE_BY_SIDE: usize = 1_000_000;
 
 /// A net flux below this fraction of the summed throat fluxes is rounding.
 const NOISE: Real = 1e-9;
@@ -247,44 +244,8 @@ pub fn solve<const D: usize>(
         merged: merge.iter().filter(|&&m| m).count() as u64,
         ..Flow::default()
     };
-    // The side axes share one matrix (every slab node free, one pinned per
-    // component); z has its own (the nodes beyond the slab fixed).
-    let sides: Vec<usize> = axes.iter().copied().filter(|&a| a != z).collect();
-    // The side axes' system and z's side by side on small networks; one
-    // after the other above `SIDE_BY_SIDE` nodes (the side axes' two solves
-    // still on two threads, see `solve_spd`; z's alone then sweeps on every
-    // core, see `math::sparse::blocks`). Side by side is faster (10^5
-    // spheres: 3.1 against 4.0 s) but holds both systems at once (10^6: 44
-    // against 48 s, 6.3 against 5.0 GB). The answer is the same either way.
-    let z_system = || {
-        axes.contains(&z)
-            .then(|| solve_axis(&nodes, &conductance, size, slab, &[z]))
-            .transpose()
-    };
-    let side_system = || {
-        (!sides.is_empty())
-            .then(|| solve_axis(&nodes, &conductance, size, slab, &sides))
-            .transpose()
-    };
-    let (along_z, across) = if nodes.len() <= SIDE_BY_SIDE {
-        rayon::join(z_system, side_system)
-    } else {
-        let across = side_system();
-        (z_system(), across)
-    };
-    let mut results: Vec<(usize, AxisFlow, Vec<Real>, Vec<Real>)> = Vec::new();
-    for (f, p, q) in along_z?.into_iter().flatten() {
-        results.push((z, f, p, q));
-    }
-    for (k, (f, p, q)) in across?.into_iter().flatten().enumerate() {
-        results.push((sides[k], f, p, q));
-    }
-    for &a in axes {
-        let (_, mut f, p, q) = results
-            .iter()
-            .find(|r| r.0 == a)
-            .cloned()
-            .expect("every axis solved");
+    let solved = solve_axes(&nodes, &conductance, size, slab, axes)?;
+    for (&a, (mut f, p, q)) in axes.iter().zip(solved) {
         f.k *= viscosity;
         // Below rounding of the sizes involved: no flow.
         if !(f.k.abs() > NOISE * r2) {
@@ -318,9 +279,20 @@ pub fn solve<const D: usize>(
 /// One axis' result: the flow, node pressures and throat fluxes.
 type AxisSolution = (AxisFlow, Vec<Real>, Vec<Real>);
 
-/// Solves along `axes` (all side axes, or z alone); returns per axis its
-/// permeability at unit viscosity, the node pressures and the throat fluxes.
-fn solve_axis<const D: usize>(
+/// Solves along each of `axes`; returns per axis its permeability at unit
+/// viscosity, the node pressures and the throat fluxes.
+///
+/// Every axis has the same unknowns, the pressures of the slab's nodes, and
+/// the same couplings, the links within the slab: the axes differ only in
+/// their diagonals. Along z a link to a node beyond the slab ties its slab
+/// node to the fixed pressure there; a component of the slab with no such
+/// link, and along a side axis every component, is held by one of its nodes
+/// tied to `p̃ = 0` (a ground of the node's own conductance: with the
+/// right-hand side summing to zero over the component, its pressure is
+/// exactly 0, as if it were removed). So one multigrid hierarchy serves all
+/// three axes and one sweep carries them together (10^6 spheres: two
+/// hierarchies and two solves cost 43.7 s before, BENCHMARKS.md).
+fn solve_axes<const D: usize>(
     nodes: &Nodes<D>,
     conductance: &[Real],
     size: &Vector<D>,
@@ -328,60 +300,68 @@ fn solve_axis<const D: usize>(
     axes: &[usize],
 ) -> Result<Vec<AxisSolution>, FlowError> {
     let z = D - 1;
-    let along_z = axes == [z];
     let n_nodes = nodes.len();
     let in_slab = &nodes.in_slab;
-    // Nodes with a fixed pressure: along z those beyond the slab.
-    let fixed = |p: usize| along_z && !in_slab[p];
-    // Links that take part: both ends in the slab, or (along z) one end.
-    let open = |l: &Link| {
-        let (a, b) = (l.0 as usize, l.1 as usize);
-        (in_slab[a] || in_slab[b]) && (along_z || (in_slab[a] && in_slab[b]))
+    let inside = |l: &Link| in_slab[l.0 as usize] && in_slab[l.1 as usize];
+    // Along z, links with one end in the slab also take part.
+    let open = |l: &Link, along_z: bool| {
+        let (a, b) = (in_slab[l.0 as usize], in_slab[l.1 as usize]);
+        (a && b) || (along_z && (a || b))
     };
-    // Components of the free nodes: one that touches no fixed node is pinned.
+    // Components of the slab's nodes; those that reach a node beyond the
+    // slab are held along z by the fixed pressures there.
     let mut parent: Vec<u32> = (0..n_nodes as u32).collect();
     let mut touches_fixed = vec![false; n_nodes];
-    for l in nodes.links.iter().filter(|l| open(l)) {
+    for l in &nodes.links {
         let (a, b) = (l.0 as usize, l.1 as usize);
-        match (fixed(a), fixed(b)) {
-            (false, false) => union(&mut parent, a, b),
-            (true, false) => touches_fixed[b] = true,
-            (false, true) => touches_fixed[a] = true,
-            (true, true) => {}
+        match (in_slab[a], in_slab[b]) {
+            (true, true) => union(&mut parent, a, b),
+            (true, false) => touches_fixed[a] = true,
+            (false, true) => touches_fixed[b] = true,
+            (false, false) => {}
         }
     }
     let mut root_fixed = vec![false; n_nodes];
     for p in 0..n_nodes {
-        if in_slab[p] && !fixed(p) && touches_fixed[p] {
+        if in_slab[p] && touches_fixed[p] {
             let r = find(&mut parent, p);
             root_fixed[r] = true;
         }
     }
-    // Unknowns: free slab nodes, except one pinned per floating component.
+    drop(touches_fixed);
+    if axes.contains(&z) && !root_fixed.iter().any(|&f| f) {
+        return Err(FlowError::NoPath("z"));
+    }
+    // Unknowns: every slab node. The first node of each component holds it.
     let mut index = vec![u32::MAX; n_nodes];
-    // The pinned node of a floating component's root.
     let mut pinned = vec![u32::MAX; n_nodes];
     let mut points: Vec<Vector<D>> = Vec::new();
-    // Each unknown's component root.
     let mut roots: Vec<u32> = Vec::new();
+    // Each axis' held unknowns (p̃ = 0): along z those of the components that
+    // reach no fixed node, along a side axis one in every component.
+    let (mut held_z, mut held_side) = (Vec::new(), Vec::new());
     for p in 0..n_nodes {
-        if !in_slab[p] || fixed(p) {
+        if !in_slab[p] {
             continue;
         }
         let r = find(&mut parent, p);
-        if !root_fixed[r] && pinned[r] == u32::MAX {
+        if pinned[r] == u32::MAX {
             pinned[r] = p as u32;
-            continue;
+            let i = points.len() as u32;
+            held_side.push(i);
+            if !root_fixed[r] {
+                held_z.push(i);
+            }
         }
         index[p] = points.len() as u32;
         points.push(Vector(*nodes.centre(p)));
         roots.push(r as u32);
     }
-    if along_z && !root_fixed.iter().any(|&f| f) {
-        return Err(FlowError::NoPath("z"));
-    }
+    drop(parent);
     let n = points.len();
     let mut diag = vec![0.0; n];
+    // Along z: the conductance to fixed nodes.
+    let mut to_fixed = vec![0.0; if axes.contains(&z) { n } else { 0 }];
     let mut off: Vec<(u32, u32, Real)> = Vec::new();
     let mut rhs = vec![vec![0.0; n]; axes.len()];
     // Where b's image lies from a, along an axis.
@@ -393,23 +373,31 @@ fn solve_axis<const D: usize>(
         };
         nodes.centre(l.1 as usize)[axis] + shift - nodes.centre(l.0 as usize)[axis]
     };
-    for l in nodes.links.iter().filter(|l| open(l)) {
+    for l in nodes.links.iter().filter(|l| open(l, true)) {
         let (a, b, g) = (l.0 as usize, l.1 as usize, conductance[l.3 as usize]);
         if a == b {
             // A node linked to its own image: no term, only a flux.
             continue;
         }
         let (ia, ib) = (index[a], index[b]);
-        if ia != u32::MAX {
-            diag[ia as usize] += g;
+        let within = inside(l);
+        for (i, other) in [(ia, ib), (ib, ia)] {
+            if i == u32::MAX {
+                continue;
+            }
+            if other == u32::MAX {
+                to_fixed[i as usize] += g;
+            } else {
+                diag[i as usize] += g;
+            }
         }
-        if ib != u32::MAX {
-            diag[ib as usize] += g;
-        }
-        if ia != u32::MAX && ib != u32::MAX {
+        if within {
             off.push((ia, ib, -g));
         }
         for (k, &axis) in axes.iter().enumerate() {
+            if !within && axis != z {
+                continue;
+            }
             // P = −x + p̃ (z: p̃ = 0 on the fixed nodes): the drop of x across
             // the link drives p̃. Solving for the departure from the mean
             // gradient rather than for P itself starts the iteration at the
@@ -424,12 +412,34 @@ fn solve_axis<const D: usize>(
             }
         }
     }
+    let ground = |i: u32| {
+        if diag[i as usize] > 0.0 {
+            diag[i as usize]
+        } else {
+            1.0
+        }
+    };
+    let shifts: Vec<Vec<Real>> = axes
+        .iter()
+        .map(|&axis| {
+            let (mut s, held) = if axis == z {
+                (to_fixed.clone(), &held_z)
+            } else {
+                (vec![0.0; n], &held_side)
+            };
+            for &i in held {
+                s[i as usize] += ground(i);
+            }
+            s
+        })
+        .collect();
+    drop(to_fixed);
     // The flux balance the permeability rests on, kept exact whatever the
     // iterative solve's tolerance: the residuals sum, weighted by `w`, to the
     // gap between what enters and what leaves. Along z (w = 1 on the
     // components that reach the fixed nodes) that is inflow against outflow;
     // along a periodic axis (w = the position less that of the component's
-    // pinned node) the flux through the periodic boundary against the mean
+    // held node) the flux through the periodic boundary against the mean
     // flux, `cut` against `moment / period` below.
     let deflate: Vec<Vec<Real>> = axes
         .iter()
@@ -437,40 +447,56 @@ fn solve_axis<const D: usize>(
             roots
                 .iter()
                 .zip(&points)
-                .map(|(&r, x)| match (along_z, pinned[r as usize]) {
-                    (true, u32::MAX) => 1.0,
-                    (false, u32::MAX) => 0.0,
-                    (true, _) => 0.0,
-                    (false, pin) => x.0[axis] - nodes.centre(pin as usize)[axis],
+                .map(|(&r, x)| {
+                    if axis == z {
+                        if root_fixed[r as usize] {
+                            1.0
+                        } else {
+                            0.0
+                        }
+                    } else {
+                        x.0[axis] - nodes.centre(pinned[r as usize] as usize)[axis]
+                    }
                 })
                 .collect()
         })
         .collect();
-    // Only `index` is needed past the solve.
-    drop((roots, pinned, parent, touches_fixed, root_fixed));
-    let solution =
-        solve_spd_deflated(points, diag, off, rhs, Some(deflate)).map_err(FlowError::Solver)?;
+    drop((roots, pinned, root_fixed));
+    let mut solution = solve_spd_shifted(Systems {
+        points,
+        diag,
+        off,
+        shifts,
+        rhs,
+        deflate: Some(deflate),
+    })
+    .map_err(FlowError::Solver)?;
     let floor_area: Real = (0..D - 1).map(|k| size[k]).product();
     let thickness = slab.1 - slab.0;
     let mut out = Vec::new();
     for (k, &axis) in axes.iter().enumerate() {
-        // P of every node: solved, fixed, or pinned (p̃ = 0).
+        let along_z = axis == z;
+        let held = if along_z { &held_z } else { &held_side };
+        // Exactly 0 where held (the solve leaves its rounding there).
+        for &i in held {
+            solution[k][i as usize] = 0.0;
+        }
+        let fixed = |p: usize| along_z && !in_slab[p];
+        // P of every node: solved (held: p̃ = 0), fixed along z, or none.
         let pressure: Vec<Real> = (0..n_nodes)
             .map(|p| {
                 let base = -nodes.centre(p)[axis];
-                let solved = (index[p] != u32::MAX).then(|| solution[k][index[p] as usize]);
-                match (along_z, solved) {
-                    (_, Some(x)) => base + x,
-                    (true, None) if fixed(p) => base,
-                    (false, None) if in_slab[p] => base,
-                    _ => 0.0,
+                match (index[p], along_z) {
+                    (u32::MAX, true) => base,
+                    (u32::MAX, false) => 0.0,
+                    (i, _) => base + solution[k][i as usize],
                 }
             })
             .collect();
         let mut flux = vec![0.0; conductance.len()];
         let (mut q_in, mut q_out, mut cut, mut moment) = (0.0, 0.0, 0.0, 0.0);
         let mut circulating = 0.0;
-        for l in nodes.links.iter().filter(|l| open(l)) {
+        for l in nodes.links.iter().filter(|l| open(l, along_z)) {
             let (a, b, g) = (l.0 as usize, l.1 as usize, conductance[l.3 as usize]);
             // P of b's image: one period's drop of x per period of shift.
             let image = if along_z {
@@ -523,7 +549,8 @@ fn solve_axis<const D: usize>(
                 k: finite(q / area),
                 flux: finite(q),
                 imbalance: finite(imbalance),
-                pores: n as u64,
+                // The unknowns less the held nodes.
+                pores: (n - held.len()) as u64,
             },
             pressure.into_iter().map(finite).collect(),
             flux.into_iter().map(finite).collect(),

@@ -45,8 +45,13 @@ pub struct Csr {
     inner: Vec<u32>,
     /// First entry of each row coupling it to a later row of its block.
     upper: Vec<u32>,
-    /// `1 / a_ii`.
+    /// `1 / a_ii` (with the l1 term of an edge row, see
+    /// [`Csr::cut_into_blocks`]), one per system when the systems differ in
+    /// their diagonals (see [`Multigrid::shifted`]): row `i`'s for system `m`
+    /// at `i * systems + m`.
     inv: Vec<Real>,
+    /// How many systems `inv` serves.
+    systems: usize,
     /// Block boundaries of the rows.
     blocks: Vec<usize>,
     /// The rows coupled to another block, ascending.
@@ -84,6 +89,7 @@ impl Csr {
             inner,
             upper,
             inv,
+            systems: 1,
             blocks: vec![0, n],
             edges: Vec::new(),
             edge_blocks: vec![0, 0],
@@ -128,7 +134,6 @@ impl Csr {
                         // diagonal. Without it a strong throat cut by a block
                         // boundary went undamped: 166 steps against 50.
                         let l1: Real = row[..outside].iter().map(|e| e.1.abs()).sum();
-                        self.inv[i] = 1.0 / (self.diag(i) + l1);
                         self.edge_l1.push(l1);
                         self.edge_col.extend(row[..outside].iter().map(|e| e.0));
                         self.edge_val.extend(row[..outside].iter().map(|e| e.1));
@@ -142,6 +147,43 @@ impl Csr {
         }
         self.blocks = bounds;
         self.edge_blocks = edge_blocks;
+    }
+
+    /// The inverse diagonals the sweeps use, once the rows are cut into
+    /// blocks: `1 / (a_ii + l1_i + shift_im)` for each of `systems` systems
+    /// (`shift` row by row, `systems` values a row; empty: no shift).
+    fn invert(&mut self, shift: &[Real], systems: usize) {
+        let n = self.n();
+        let mut inv = vec![0.0; n * systems];
+        let mut e = 0;
+        for i in 0..n {
+            let mut d = self.diag(i);
+            if e < self.edges.len() && self.edges[e] as usize == i {
+                d += self.edge_l1[e];
+                e += 1;
+            }
+            for m in 0..systems {
+                let s = if shift.is_empty() {
+                    0.0
+                } else {
+                    shift[i * systems + m]
+                };
+                inv[i * systems + m] = 1.0 / (d + s);
+            }
+        }
+        self.inv = inv;
+        self.systems = systems;
+    }
+
+    /// Row `i`'s inverse diagonal for each of `K` right-hand sides: one
+    /// system's for all, or each its own.
+    #[inline(always)]
+    fn inv_at<const K: usize>(&self, i: usize) -> [Real; K] {
+        if self.systems == 1 {
+            [self.inv[i]; K]
+        } else {
+            std::array::from_fn(|m| self.inv[i * K + m])
+        }
     }
 
     /// The matrix with diagonal `diag` and symmetric off-diagonal entries
@@ -308,6 +350,22 @@ impl Prolongator {
         }
     }
 
+    /// `Pᵀ s` for values `systems` a row (empty stays empty).
+    fn restrict_rows(&self, s: &[Real], systems: usize) -> Vec<Real> {
+        if s.is_empty() {
+            return Vec::new();
+        }
+        let mut c = vec![0.0; self.coarse * systems];
+        for (f, &a) in s.chunks(systems).zip(&self.agg) {
+            if a != OUTSIDE {
+                for (c, f) in c[a as usize * systems..][..systems].iter_mut().zip(f) {
+                    *c += f;
+                }
+            }
+        }
+        c
+    }
+
     /// The fine nodes of each aggregate, ascending: aggregate `c`'s are
     /// `rows[starts[c]..starts[c + 1]]` (a counting sort, `Pᵀ` by rows).
     fn transpose(&self) -> (Vec<usize>, Vec<u32>) {
@@ -346,11 +404,25 @@ struct Level {
     p: Prolongator,
 }
 
-/// The multigrid hierarchy and the coarsest matrix's dense Cholesky factor.
+/// The multigrid hierarchy and the coarsest matrix's dense Cholesky factor,
+/// one per system.
+///
+/// Systems that share their couplings and differ only in the diagonal
+/// (`A + S_m`, `S_m` diagonal: the flow's axes, whose boundaries fix
+/// different nodes) share one hierarchy: a plain aggregate's Galerkin product
+/// of a diagonal is diagonal, `Pᵀ (A + S) P = Pᵀ A P + diag(Pᵀ s)`, so each
+/// level holds one matrix and each system's summed shift, and the sweeps and
+/// the coarsest solve take each system's own diagonal.
 pub struct Multigrid {
     levels: Vec<Level>,
     coarsest: Csr,
-    factor: Vec<Real>,
+    factor: Vec<Vec<Real>>,
+    /// How many systems (1: one matrix, however many right-hand sides).
+    systems: usize,
+    /// The finest level's rows with a shift, and their shifts (`systems` a
+    /// row), for the products with the finest matrix.
+    shift_rows: Vec<u32>,
+    shift_vals: Vec<Real>,
 }
 
 /// Below this many unknowns a level is factored densely.
@@ -364,12 +436,37 @@ impl Multigrid {
     /// The hierarchy of `a`; `None` when a coarse operator is not positive
     /// definite (the matrix is not).
     pub fn new(a: Csr) -> Option<Multigrid> {
-        Multigrid::cut(a, blocks::bounds)
+        Multigrid::cut(a, Vec::new(), blocks::bounds)
+    }
+
+    /// One hierarchy for the systems `A + diag(shifts[m])`, one per shift
+    /// (each as long as `A`); a solve then takes one right-hand side per
+    /// system, in the same order. `None` as for [`Multigrid::new`], or when
+    /// a system is not positive definite.
+    pub fn shifted(a: Csr, shifts: Vec<Vec<Real>>) -> Option<Multigrid> {
+        Multigrid::cut(a, shifts, blocks::bounds)
     }
 
     /// The hierarchy of `a` with each level's rows cut into blocks at
     /// `bounds(rows)`.
-    fn cut(a: Csr, bounds: fn(usize) -> Vec<usize>) -> Option<Multigrid> {
+    fn cut(a: Csr, shifts: Vec<Vec<Real>>, bounds: fn(usize) -> Vec<usize>) -> Option<Multigrid> {
+        let systems = shifts.len().max(1);
+        // Row by row, `systems` values a row.
+        let mut shift: Vec<Real> = if shifts.is_empty() {
+            Vec::new()
+        } else {
+            (0..a.n())
+                .flat_map(|i| shifts.iter().map(move |s| s[i]))
+                .collect()
+        };
+        drop(shifts);
+        let (mut shift_rows, mut shift_vals) = (Vec::new(), Vec::new());
+        for (i, s) in shift.chunks(systems).enumerate() {
+            if s.iter().any(|&v| v != 0.0) {
+                shift_rows.push(i as u32);
+                shift_vals.extend_from_slice(s);
+            }
+        }
         let mut levels = Vec::new();
         let mut a = a;
         let mut theta = THETA;
@@ -386,22 +483,55 @@ impl Multigrid {
             }
             let p = Prolongator { agg, coarse: count };
             let coarse = galerkin(&a, &p);
+            let coarse_shift = p.restrict_rows(&shift, systems);
+            // A level is cut once its coarse operator is built: the
+            // aggregation's tie-breaks follow the column order.
+            a.cut_into_blocks(bounds(a.n()));
+            a.invert(&shift, systems);
             levels.push(Level { a, p });
             a = coarse;
-        }
-        for level in &mut levels {
-            level.a.cut_into_blocks(bounds(level.a.n()));
+            shift = coarse_shift;
         }
         if a.n() > 8 * COARSEST {
             // Coarsening stalled far above a size worth factoring densely.
             return None;
         }
-        let factor = dense_cholesky(&a)?;
+        let factor = (0..systems)
+            .map(|m| dense_cholesky(&a, &shift, m, systems))
+            .collect::<Option<Vec<_>>>()?;
         Some(Multigrid {
             levels,
             coarsest: a,
             factor,
+            systems,
+            shift_rows,
+            shift_vals,
         })
+    }
+
+    /// `y += S x` on the finest level, each right-hand side with its
+    /// system's shift.
+    fn add_shift<const K: usize>(&self, x: &[[Real; K]], y: &mut [[Real; K]]) {
+        let s = self.systems;
+        for (k, &i) in self.shift_rows.iter().enumerate() {
+            let (xi, yi) = (&x[i as usize], &mut y[i as usize]);
+            for m in 0..K {
+                yi[m] += self.shift_vals[k * s + if s == 1 { 0 } else { m }] * xi[m];
+            }
+        }
+    }
+
+    /// `y = (A + S) x` on the finest level.
+    fn apply<const K: usize>(&self, x: &[[Real; K]], y: &mut [[Real; K]]) {
+        self.finest().apply(x, y);
+        self.add_shift(x, y);
+    }
+
+    fn finest(&self) -> &Csr {
+        match self.levels.first() {
+            Some(l) => &l.a,
+            None => &self.coarsest,
+        }
     }
 
     /// Unknowns and stored entries per level, finest first.
@@ -449,7 +579,8 @@ impl Multigrid {
                 for (y, r) in y.iter_mut().zip(r) {
                     *y = r[m];
                 }
-                dense_solve(&self.factor, n, &mut y);
+                let factor = &self.factor[if self.systems == 1 { 0 } else { m }];
+                dense_solve(factor, n, &mut y);
                 for (x, y) in x.iter_mut().zip(&y) {
                     x[m] = *y;
                 }
@@ -498,11 +629,11 @@ impl Multigrid {
         tol: Real,
         max_steps: usize,
     ) -> Option<([Vec<Real>; K], usize)> {
-        let a = match self.levels.first() {
-            Some(l) => &l.a,
-            None => &self.coarsest,
-        };
-        let n = a.n();
+        assert!(
+            self.systems == 1 || self.systems == K,
+            "one right-hand side per system"
+        );
+        let n = self.finest().n();
         let interleave = |b: [Vec<Real>; K]| -> Vec<[Real; K]> {
             (0..n).map(|i| std::array::from_fn(|m| b[m][i])).collect()
         };
@@ -523,7 +654,7 @@ impl Multigrid {
         let deflation = w.map(|w| {
             let w = interleave(w);
             let mut aw = vec![[0.0; K]; n];
-            a.apply(&w, &mut aw);
+            self.apply(&w, &mut aw);
             let inv = dot(&w, &aw).map(|c| {
                 if c > 0.0 && c.is_finite() {
                     1.0 / c
@@ -552,7 +683,7 @@ impl Multigrid {
         let mut ap = z;
         let mut finished = None;
         for step in 1..=max_steps {
-            a.apply(&p, &mut ap);
+            self.apply(&p, &mut ap);
             let pap = dot(&p, &ap);
             let mut alpha = [0.0; K];
             for m in 0..K {
@@ -632,7 +763,8 @@ fn smooth_from_zero<const K: usize>(
                         s[m] -= v * xj[m];
                     }
                 }
-                let xi = s.map(|s| s * a.inv[i]);
+                let inv = a.inv_at::<K>(i);
+                let xi: [Real; K] = std::array::from_fn(|m| s[m] * inv[m]);
                 x[l] = xi;
                 for k in lower {
                     let (v, rj) = (a.val[k], &mut res[a.col[k] as usize - lo]);
@@ -719,7 +851,8 @@ fn backward_gauss_seidel<const K: usize>(
                         s[m] -= v * xj[m];
                     }
                 }
-                x[i - lo] = s.map(|s| s * a.inv[i]);
+                let inv = a.inv_at::<K>(i);
+                x[i - lo] = std::array::from_fn(|m| s[m] * inv[m]);
             }
         });
 }
@@ -883,14 +1016,18 @@ fn galerkin(a: &Csr, p: &Prolongator) -> Csr {
     Csr::new(ptr, col, val)
 }
 
-/// Dense Cholesky factor (row-major lower triangle) of a small matrix, `None`
-/// when it is not positive definite.
-fn dense_cholesky(a: &Csr) -> Option<Vec<Real>> {
+/// Dense Cholesky factor (row-major lower triangle) of a small matrix with
+/// system `m`'s shift on its diagonal (`shift` row by row, `systems` a row,
+/// or empty), `None` when it is not positive definite.
+fn dense_cholesky(a: &Csr, shift: &[Real], m: usize, systems: usize) -> Option<Vec<Real>> {
     let n = a.n();
     let mut l = vec![0.0; n * n];
     for i in 0..n {
         for k in a.entries(i) {
             l[i * n + a.col[k] as usize] = a.val[k];
+        }
+        if !shift.is_empty() {
+            l[i * n + i] += shift[i * systems + m];
         }
     }
     for j in 0..n {
@@ -1031,7 +1168,7 @@ mod tests {
             .unwrap()
             .solve(&b, 1e-10, 200)
             .unwrap();
-        let mg = Multigrid::cut(Csr::from_parts(&diag, &off), small_blocks).unwrap();
+        let mg = Multigrid::cut(Csr::from_parts(&diag, &off), Vec::new(), small_blocks).unwrap();
         assert!(mg.levels[0].a.blocks.len() > 20);
         assert!(!mg.levels[0].a.edges.is_empty());
         let (x, steps) = mg.solve(&b, 1e-10, 200).unwrap();
@@ -1048,10 +1185,56 @@ mod tests {
         }
     }
 
+    /// Three systems with the grid's couplings and different diagonals (the
+    /// bottom layer tied down, one node grounded with a right-hand side that
+    /// sums to zero, the top layer tied down harder), through one hierarchy:
+    /// each residual is checked against its own matrix, and each answer
+    /// against a hierarchy built for that matrix alone.
+    #[test]
+    fn systems_differing_in_their_diagonals_share_one_hierarchy() {
+        let m = 14;
+        let (_, off) = grid(m);
+        let n = m * m * m;
+        let mut lap = vec![0.0; n];
+        for &(i, j, a) in &off {
+            lap[i as usize] -= a;
+            lap[j as usize] -= a;
+        }
+        let layer = n / m;
+        let mut shifts = vec![vec![0.0; n]; 3];
+        shifts[0][..layer].fill(1.0);
+        shifts[1][7] = lap[7];
+        shifts[2][n - layer..].fill(5.0);
+        let mut b: Vec<Vec<Real>> = (0..3)
+            .map(|s| (0..n).map(|i| ((i * (5 + s)) % 13) as Real - 6.0).collect())
+            .collect();
+        let mean = b[1].iter().sum::<Real>() / n as Real;
+        b[1].iter_mut().for_each(|v| *v -= mean);
+        let mg = Multigrid::cut(Csr::from_parts(&lap, &off), shifts.clone(), small_blocks).unwrap();
+        assert!(mg.depth() >= 2);
+        let rhs: [Vec<Real>; 3] = std::array::from_fn(|k| b[k].clone());
+        let (x, _) = mg.solve_deflated(rhs, None, 1e-11, 400).unwrap();
+        for k in 0..3 {
+            let diag: Vec<Real> = lap.iter().zip(&shifts[k]).map(|(d, s)| d + s).collect();
+            assert!(residual(&diag, &off, &x[k], &b[k]) < 1e-10, "system {k}");
+            let alone = Multigrid::cut(Csr::from_parts(&diag, &off), Vec::new(), small_blocks)
+                .unwrap()
+                .solve(&b[k], 1e-11, 400)
+                .unwrap()
+                .0;
+            let scale = alone.iter().fold(0.0, |a: Real, v| a.max(v.abs()));
+            for (u, v) in x[k].iter().zip(&alone) {
+                assert!((u - v).abs() < 1e-7 * scale, "system {k}: {u} {v}");
+            }
+        }
+        // The grounded node holds p = 0, as if removed.
+        assert!(x[1][7].abs() < 1e-7 * x[1].iter().fold(0.0, |a: Real, v| a.max(v.abs())));
+    }
+
     #[test]
     fn two_right_hand_sides_at_once_are_each_solved_as_alone() {
         let (diag, off) = rough_grid(20);
-        let mg = Multigrid::cut(Csr::from_parts(&diag, &off), small_blocks).unwrap();
+        let mg = Multigrid::cut(Csr::from_parts(&diag, &off), Vec::new(), small_blocks).unwrap();
         let b1: Vec<Real> = (0..diag.len()).map(|i| (i as Real).sin()).collect();
         // A second side that needs more steps, and one already met.
         let b2: Vec<Real> = (0..diag.len()).map(|i| ((i * i) % 17) as Real).collect();
@@ -1074,7 +1257,7 @@ mod tests {
     #[test]
     fn deflated_residuals_stay_orthogonal_to_their_vector() {
         let (diag, off) = rough_grid(20);
-        let mg = Multigrid::cut(Csr::from_parts(&diag, &off), small_blocks).unwrap();
+        let mg = Multigrid::cut(Csr::from_parts(&diag, &off), Vec::new(), small_blocks).unwrap();
         let n = diag.len();
         let b1: Vec<Real> = (0..n).map(|i| ((i * 13) % 7) as Real - 3.0).collect();
         let b2: Vec<Real> = (0..n).map(|i| (i as Real * 0.37).cos()).collect();
@@ -1148,7 +1331,7 @@ mod tests {
                 .build()
                 .unwrap()
                 .install(|| {
-                    Multigrid::cut(Csr::from_parts(&diag, &off), small_blocks)
+                    Multigrid::cut(Csr::from_parts(&diag, &off), Vec::new(), small_blocks)
                         .unwrap()
                         .solve(&b, 1e-10, 200)
                         .unwrap()

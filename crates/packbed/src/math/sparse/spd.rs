@@ -39,19 +39,25 @@ const DIRECT_FALLBACK: usize = 300_000;
 const TOLERANCE: Real = 1e-8;
 
 /// The iterative solve, `None` if the hierarchy cannot be built or CG stalls
-/// (the direct solve then decides).
+/// (the direct solve then decides). Right-hand side `k`'s matrix is `A +
+/// diag(shifts[k])` (an empty shift: none); one hierarchy serves them all
+/// and one sweep carries them side by side (at most three): the matrix is
+/// read once per step, not once per right-hand side, and the rows' chains of
+/// dependent operations run side by side.
 ///
 /// The unknowns are renumbered along a Hilbert curve of `points` first: a
 /// network's own numbering scatters neighbours across memory (median index
 /// gap 878 at 6·10^6 pores), and every sweep of the multigrid then waits on
 /// the cache.
-fn iterative<const D: usize>(
-    points: Vec<Vector<D>>,
-    diag: Vec<Real>,
-    off: Vec<(u32, u32, Real)>,
-    rhs: Vec<Vec<Real>>,
-    deflate: Option<Vec<Vec<Real>>>,
-) -> Option<Vec<Vec<Real>>> {
+fn iterative<const D: usize>(systems: Systems<D>) -> Option<Vec<Vec<Real>>> {
+    let Systems {
+        points,
+        diag,
+        off,
+        shifts,
+        rhs,
+        deflate,
+    } = systems;
     // Each input goes as soon as it has served: at 10^6 spheres the points,
     // the couplings and the right-hand sides are 0.6 GB beside the hierarchy.
     let coords: Vec<[Real; D]> = points.into_iter().map(|p| p.0).collect();
@@ -63,45 +69,71 @@ fn iterative<const D: usize>(
     }
     let csr = super::amg::Csr::renumbered(&diag, &off, &new_of)?;
     drop((diag, off));
-    let mg = super::amg::Multigrid::new(csr)?;
-    let renumber = |b: &Vec<Real>| -> Vec<Real> { order.iter().map(|&o| b[o as usize]).collect() };
-    let back = |x: &[Real]| -> Vec<Real> { new_of.iter().map(|&n| x[n as usize]).collect() };
-    let mut rhs = rhs;
-    if rhs.len() == 2 {
-        // Two right-hand sides (the side axes) in one sweep: at 10^6 spheres
-        // 16.4 s for both, against 22.6 and 22.8 s each on its own thread
-        // side by side (BENCHMARKS.md, the flow solve's fourth session).
-        let take = |v: &mut Vec<Vec<Real>>| renumber(&v.pop().expect("two sides"));
-        let (y, x) = (take(&mut rhs), take(&mut rhs));
-        let w = deflate.map(|mut w| {
-            let wy = take(&mut w);
-            [take(&mut w), wy]
-        });
-        let ([x, y], _) = mg.solve_deflated([x, y], w, TOLERANCE, 1000)?;
-        drop(mg);
-        return Some(vec![back(&x), back(&y)]);
-    }
-    if rhs.len() == 1 {
-        // One right-hand side (z): its inputs go once renumbered.
-        let b = renumber(&rhs.pop().expect("one side"));
-        let w = deflate.map(|mut w| [renumber(&w.pop().expect("one side"))]);
-        let ([x], _) = mg.solve_deflated([b], w, TOLERANCE, 1000)?;
-        drop(mg);
-        return Some(vec![back(&x)]);
-    }
-    // Otherwise each on its own thread: the hierarchy is shared and
-    // read-only, and every solve runs in a fixed order whatever the threads.
-    let solved: Option<Vec<Vec<Real>>> = rhs
-        .par_iter()
-        .enumerate()
-        .map(|(k, b)| {
-            let w = deflate.as_ref().map(|w| [renumber(&w[k])]);
-            let ([x], _) = mg.solve_deflated([renumber(b)], w, TOLERANCE, 1000)?;
-            Some(x)
-        })
-        .collect();
+    let renumber = |b: Vec<Real>| -> Vec<Real> { order.iter().map(|&o| b[o as usize]).collect() };
+    // One system when every right-hand side has the same shift.
+    let same = shifts.windows(2).all(|w| w[0] == w[1]);
+    let systems: Vec<Vec<Real>> = if same {
+        shifts
+            .into_iter()
+            .take(1)
+            .filter(|s| !s.is_empty())
+            .map(renumber)
+            .collect()
+    } else {
+        let n = order.len();
+        shifts
+            .into_iter()
+            .map(|s| renumber(if s.is_empty() { vec![0.0; n] } else { s }))
+            .collect()
+    };
+    let mg = super::amg::Multigrid::shifted(csr, systems)?;
+    let rhs: Vec<Vec<Real>> = rhs.into_iter().map(renumber).collect();
+    let deflate = deflate.map(|w| w.into_iter().map(renumber).collect::<Vec<_>>());
+    let x = match rhs.len() {
+        1 => solve_k::<1>(mg, rhs, deflate)?,
+        2 => solve_k::<2>(mg, rhs, deflate)?,
+        3 => solve_k::<3>(mg, rhs, deflate)?,
+        _ if same => {
+            // Otherwise each on its own thread: the hierarchy is shared and
+            // read-only, and every solve runs in a fixed order whatever the
+            // threads.
+            let mut w = deflate.map(|w| w.into_iter().map(|w| [w]).collect::<Vec<_>>());
+            let solved: Option<Vec<Vec<Real>>> = rhs
+                .into_par_iter()
+                .enumerate()
+                .map(|(k, b)| {
+                    let w = w.as_ref().map(|w| w[k].clone());
+                    let ([x], _) = mg.solve_deflated([b], w, TOLERANCE, 1000)?;
+                    Some(x)
+                })
+                .collect();
+            w.take();
+            solved?
+        }
+        _ => return None,
+    };
+    Some(
+        x.iter()
+            .map(|x| new_of.iter().map(|&n| x[n as usize]).collect())
+            .collect(),
+    )
+}
+
+/// `K` right-hand sides through one hierarchy; the hierarchy goes before the
+/// answer is unpacked (at 10^6 spheres it was the flow's peak).
+fn solve_k<const K: usize>(
+    mg: super::amg::Multigrid,
+    rhs: Vec<Vec<Real>>,
+    deflate: Option<Vec<Vec<Real>>>,
+) -> Option<Vec<Vec<Real>>> {
+    let b: [Vec<Real>; K] = rhs.try_into().ok()?;
+    let w = match deflate {
+        Some(w) => Some(<[Vec<Real>; K]>::try_from(w).ok()?),
+        None => None,
+    };
+    let (x, _) = mg.solve_deflated(b, w, TOLERANCE, 1000)?;
     drop(mg);
-    Some(solved?.iter().map(|x| back(x)).collect())
+    Some(x.into())
 }
 
 /// Why a system could not be solved.
@@ -148,29 +180,88 @@ pub fn solve_spd_deflated<const D: usize>(
     rhs: Vec<Vec<Real>>,
     deflate: Option<Vec<Vec<Real>>>,
 ) -> Result<Vec<Vec<Real>>, SpdError> {
-    let n = diag.len();
-    if n == 0 {
-        return Ok(rhs.iter().map(|_| Vec::new()).collect());
+    let shifts = vec![Vec::new(); rhs.len()];
+    solve_spd_shifted(Systems {
+        points,
+        diag,
+        off,
+        shifts,
+        rhs,
+        deflate,
+    })
+}
+
+/// Sparse symmetric systems that share their couplings and differ in their
+/// diagonals: right-hand side `k`'s matrix has the diagonal `diag +
+/// shifts[k]` (an empty shift: `diag`) and the symmetric off-diagonal
+/// entries `off` (`(i, j, a_ij)`, `i != j`, repeated pairs summed); the
+/// residual of right-hand side `k` is kept orthogonal to `deflate[k]` (see
+/// [`solve_spd_deflated`]). `points` places the nodes.
+#[derive(Clone, Debug)]
+pub struct Systems<const D: usize> {
+    pub points: Vec<Vector<D>>,
+    pub diag: Vec<Real>,
+    pub off: Vec<(u32, u32, Real)>,
+    pub shifts: Vec<Vec<Real>>,
+    pub rhs: Vec<Vec<Real>>,
+    pub deflate: Option<Vec<Vec<Real>>>,
+}
+
+/// [`solve_spd_deflated`] for [`Systems`] that differ in their diagonals.
+/// Solved iteratively, one hierarchy serves them all (at most three that
+/// differ); directly, each distinct shift is factored.
+pub fn solve_spd_shifted<const D: usize>(systems: Systems<D>) -> Result<Vec<Vec<Real>>, SpdError> {
+    let n = systems.diag.len();
+    let k = systems.rhs.len();
+    assert_eq!(systems.shifts.len(), k, "one shift per right-hand side");
+    if let Some(w) = &systems.deflate {
+        assert_eq!(w.len(), k, "one deflation vector per right-hand side");
     }
-    if let Some(w) = &deflate {
-        assert_eq!(
-            w.len(),
-            rhs.len(),
-            "one deflation vector per right-hand side"
-        );
+    if n == 0 {
+        return Ok(vec![Vec::new(); k]);
     }
     if n > DIRECT_FALLBACK {
         // The direct factor of a large 3D network does not fit in memory
         // (4.7·10^10 bytes at 6·10^6 pores): refuse rather than abort.
-        return iterative(points, diag, off, rhs, deflate).ok_or(SpdError::NotConverged);
+        return iterative(systems).ok_or(SpdError::NotConverged);
     }
     if n > DIRECT_LIMIT {
-        let copies = (points.clone(), diag.clone(), off.clone(), rhs.clone());
-        if let Some(x) = iterative(copies.0, copies.1, copies.2, copies.3, deflate) {
+        if let Some(x) = iterative(systems.clone()) {
             return Ok(x);
         }
     }
-    direct(&points, &diag, &off, &rhs)
+    let Systems {
+        points,
+        diag,
+        off,
+        shifts,
+        rhs,
+        ..
+    } = systems;
+    // One factor per distinct shift, its right-hand sides together.
+    let mut x: Vec<Vec<Real>> = vec![Vec::new(); rhs.len()];
+    let mut done = vec![false; rhs.len()];
+    for k in 0..rhs.len() {
+        if done[k] {
+            continue;
+        }
+        let group: Vec<usize> = (k..rhs.len())
+            .filter(|&j| !done[j] && shifts[j] == shifts[k])
+            .collect();
+        let shifted: Vec<Real>;
+        let d = if shifts[k].is_empty() {
+            &diag
+        } else {
+            shifted = diag.iter().zip(&shifts[k]).map(|(d, s)| d + s).collect();
+            &shifted
+        };
+        let b: Vec<Vec<Real>> = group.iter().map(|&j| rhs[j].clone()).collect();
+        for (&j, xj) in group.iter().zip(direct(&points, d, &off, &b)?) {
+            x[j] = xj;
+            done[j] = true;
+        }
+    }
+    Ok(x)
 }
 
 /// The direct solve: the fragment solver's order and supernodal factor.
@@ -293,6 +384,74 @@ mod tests {
         for (i, xi) in x[0].iter().enumerate() {
             let exact = 1.0 - (i + 1) as Real / (n + 1) as Real;
             assert!((xi - exact).abs() < 1e-13, "{i}: {xi} {exact}");
+        }
+    }
+
+    /// The shared iterative solve of three systems that differ in their
+    /// diagonals against the direct factor of each.
+    #[test]
+    fn shifted_systems_solved_together_match_each_factored() {
+        let m = 32;
+        let n = m * m * m;
+        assert!(n > DIRECT_LIMIT);
+        let id = |i: usize, j: usize, k: usize| (i + m * (j + m * k)) as u32;
+        let mut off = Vec::new();
+        let mut points = Vec::new();
+        for k in 0..m {
+            for j in 0..m {
+                for i in 0..m {
+                    points.push(Vector([i as Real, j as Real, k as Real]));
+                    let g = 1.0 + ((i * 5 + j * 3 + k) % 7) as Real;
+                    if i + 1 < m {
+                        off.push((id(i, j, k), id(i + 1, j, k), -g));
+                    }
+                    if j + 1 < m {
+                        off.push((id(i, j, k), id(i, j + 1, k), -2.0 * g));
+                    }
+                    if k + 1 < m {
+                        off.push((id(i, j, k), id(i, j, k + 1), -0.5 * g));
+                    }
+                }
+            }
+        }
+        let mut diag = vec![0.0; n];
+        for &(i, j, a) in &off {
+            diag[i as usize] -= a;
+            diag[j as usize] -= a;
+        }
+        let layer = m * m;
+        let mut shifts = vec![vec![0.0; n]; 3];
+        shifts[0][..layer].fill(3.0);
+        shifts[0][n - layer..].fill(3.0);
+        shifts[1][0] = diag[0];
+        shifts[2] = shifts[1].clone();
+        let rhs: Vec<Vec<Real>> = (0..3)
+            .map(|s| {
+                let v: Vec<Real> = (0..n)
+                    .map(|i| (((i * (3 + s)) % 17) as Real).sin())
+                    .collect();
+                let mean = v.iter().sum::<Real>() / n as Real;
+                v.iter()
+                    .map(|x| x - if s > 0 { mean } else { 0.0 })
+                    .collect()
+            })
+            .collect();
+        let together = iterative(Systems {
+            points: points.clone(),
+            diag: diag.clone(),
+            off: off.clone(),
+            shifts: shifts.clone(),
+            rhs: rhs.clone(),
+            deflate: None,
+        })
+        .unwrap();
+        for k in 0..3 {
+            let d: Vec<Real> = diag.iter().zip(&shifts[k]).map(|(d, s)| d + s).collect();
+            let alone = direct(&points, &d, &off, std::slice::from_ref(&rhs[k])).unwrap();
+            let scale = alone[0].iter().fold(0.0, |a: Real, v| a.max(v.abs()));
+            for (u, v) in together[k].iter().zip(&alone[0]) {
+                assert!((u - v).abs() < 1e-6 * scale, "system {k}: {u} {v}");
+            }
         }
     }
 
