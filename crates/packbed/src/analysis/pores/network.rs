@@ -303,11 +303,24 @@ fn assemble<const D: usize>(
             links.push((c, n, i, a, b, shift));
         }
     }
-    drop((by_key, pore_of, cell_of_pore, checked));
+    drop((by_key, pore_of, checked));
+    // A throat's power centres are its pores' (the same computation on the
+    // same cell), save a translate's, which is worked out again.
+    let centre_of = |cell: u32, pore: u32| {
+        if cell_of_pore[pore as usize] == cell {
+            pores[pore as usize].centre
+        } else {
+            power_centre(t, t.vertices(cell)).0
+        }
+    };
     let throats: Vec<Throat> = links
         .par_iter()
-        .map(|&(c, n, i, a, b, shift)| measure_throat(t, c, n, i, a, b, shift, sites))
+        .map(|&(c, n, i, a, b, shift)| {
+            let ends = [centre_of(c, a), centre_of(n, b)];
+            measure_throat(t, c, i, ends, [a, b], shift, sites)
+        })
         .collect();
+    drop(cell_of_pore);
     Ok(Some(Network {
         pores,
         throats,
@@ -471,22 +484,23 @@ fn measure_pore<const D: usize>(
 fn measure_throat<const D: usize>(
     t: &Triangulation<D>,
     c: u32,
-    n: u32,
     i: usize,
-    a: u32,
-    b: u32,
+    [p1, p2]: [[f64; D]; 2],
+    pores: [u32; 2],
     shift: [i8; 2],
     sites: &[Site],
 ) -> Throat {
     let v = t.vertices(c);
-    let facet: Vec<u32> = (0..D + 1).filter(|&k| k != i).map(|k| v[k]).collect();
+    let mut facet = [0u32; 3];
+    for (slot, k) in (0..D + 1).filter(|&k| k != i).enumerate() {
+        facet[slot] = v[k];
+    }
+    let facet = &facet[..D];
     let mut particles = [u32::MAX; 3];
     for (k, &x) in facet.iter().enumerate() {
         particles[k] = sites[x as usize].particle;
     }
-    let (p1, _) = power_centre(t, v);
-    let (p2, _) = power_centre(t, t.vertices(n));
-    let (fc, fr) = coords(t, &facet);
+    let (fc, fr) = coords(t, facet);
     let (constriction_radius, geometry) = match D {
         2 => {
             let c2 = [to2(&fc[0]), to2(&fc[1])];
@@ -506,7 +520,7 @@ fn measure_throat<const D: usize>(
         }
     };
     Throat {
-        pores: [a, b],
+        pores,
         shift,
         particles,
         constriction_radius,
