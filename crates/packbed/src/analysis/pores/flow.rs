@@ -15,6 +15,7 @@
 use super::network::{Network, Pore};
 use crate::math::sparse::{solve_spd_shifted, SpdError, Systems};
 use crate::math::{Real, Vector};
+use rayon::prelude::*;
 use serde::Serialize;
 
 /// A throat shorter than this fraction of the mean radius of its spheres
@@ -473,90 +474,93 @@ fn solve_axes<const D: usize>(
     .map_err(FlowError::Solver)?;
     let floor_area: Real = (0..D - 1).map(|k| size[k]).product();
     let thickness = slab.1 - slab.0;
-    let mut out = Vec::new();
-    for (k, &axis) in axes.iter().enumerate() {
-        let along_z = axis == z;
-        let held = if along_z { &held_z } else { &held_side };
-        // Exactly 0 where held (the solve leaves its rounding there).
-        for &i in held {
-            solution[k][i as usize] = 0.0;
-        }
-        let fixed = |p: usize| along_z && !in_slab[p];
-        // P of every node: solved (held: p̃ = 0), fixed along z, or none.
-        let pressure: Vec<Real> = (0..n_nodes)
-            .map(|p| {
-                let base = -nodes.centre(p)[axis];
-                match (index[p], along_z) {
-                    (u32::MAX, true) => base,
-                    (u32::MAX, false) => 0.0,
-                    (i, _) => base + solution[k][i as usize],
-                }
-            })
-            .collect();
-        let mut flux = vec![0.0; conductance.len()];
-        let (mut q_in, mut q_out, mut cut, mut moment) = (0.0, 0.0, 0.0, 0.0);
-        let mut circulating = 0.0;
-        for l in nodes.links.iter().filter(|l| open(l, along_z)) {
-            let (a, b, g) = (l.0 as usize, l.1 as usize, conductance[l.3 as usize]);
-            // P of b's image: one period's drop of x per period of shift.
-            let image = if along_z {
-                0.0
-            } else {
-                Real::from(l.2[axis]) * size[axis]
-            };
-            let q = g * (pressure[a] - (pressure[b] - image));
-            flux[l.3 as usize] = q;
-            circulating += q.abs();
-            if along_z {
-                let below = |p: usize| nodes.centre(p)[z] < slab.0;
-                if fixed(b) {
-                    if below(b) {
-                        q_in -= q;
-                    } else {
-                        q_out += q;
-                    }
-                } else if fixed(a) {
-                    if below(a) {
-                        q_in += q;
-                    } else {
-                        q_out -= q;
-                    }
-                }
-            } else {
-                cut += q * Real::from(l.2[axis]);
-                moment += q * delta(l, axis);
+    // Each axis on its own thread: each reads only its own solution.
+    let out = axes
+        .par_iter()
+        .zip(solution.par_iter_mut())
+        .map(|(&axis, solution)| {
+            let along_z = axis == z;
+            let held = if along_z { &held_z } else { &held_side };
+            // Exactly 0 where held (the solve leaves its rounding there).
+            for &i in held {
+                solution[i as usize] = 0.0;
             }
-        }
-        let (mut q, imbalance, area) = if along_z {
-            (0.5 * (q_in + q_out), relative(q_in, q_out), floor_area)
-        } else {
-            let q = moment / size[axis];
-            let area = if D == 3 {
-                size[1 - axis] * thickness
+            let fixed = |p: usize| along_z && !in_slab[p];
+            // P of every node: solved (held: p̃ = 0), fixed along z, or none.
+            let pressure: Vec<Real> = (0..n_nodes)
+                .map(|p| {
+                    let base = -nodes.centre(p)[axis];
+                    match (index[p], along_z) {
+                        (u32::MAX, true) => base,
+                        (u32::MAX, false) => 0.0,
+                        (i, _) => base + solution[i as usize],
+                    }
+                })
+                .collect();
+            let mut flux = vec![0.0; conductance.len()];
+            let (mut q_in, mut q_out, mut cut, mut moment) = (0.0, 0.0, 0.0, 0.0);
+            let mut circulating = 0.0;
+            for l in nodes.links.iter().filter(|l| open(l, along_z)) {
+                let (a, b, g) = (l.0 as usize, l.1 as usize, conductance[l.3 as usize]);
+                // P of b's image: one period's drop of x per period of shift.
+                let image = if along_z {
+                    0.0
+                } else {
+                    Real::from(l.2[axis]) * size[axis]
+                };
+                let q = g * (pressure[a] - (pressure[b] - image));
+                flux[l.3 as usize] = q;
+                circulating += q.abs();
+                if along_z {
+                    let below = |p: usize| nodes.centre(p)[z] < slab.0;
+                    if fixed(b) {
+                        if below(b) {
+                            q_in -= q;
+                        } else {
+                            q_out += q;
+                        }
+                    } else if fixed(a) {
+                        if below(a) {
+                            q_in += q;
+                        } else {
+                            q_out -= q;
+                        }
+                    }
+                } else {
+                    cut += q * Real::from(l.2[axis]);
+                    moment += q * delta(l, axis);
+                }
+            }
+            let (mut q, imbalance, area) = if along_z {
+                (0.5 * (q_in + q_out), relative(q_in, q_out), floor_area)
             } else {
-                thickness
+                let q = moment / size[axis];
+                let area = if D == 3 {
+                    size[1 - axis] * thickness
+                } else {
+                    thickness
+                };
+                (q, relative(cut, q), area)
             };
-            (q, relative(cut, q), area)
-        };
-        // A net flux at the rounding level of the fluxes that circulate is no
-        // flow at all (a pore space closed by contacts).
-        if !(q.abs() > NOISE * circulating) {
-            q = 0.0;
-        }
-        out.push((
-            AxisFlow {
-                axis: ["x", "y", "z"][if axis == z { 2 } else { axis }],
-                k: finite(q / area),
-                flux: finite(q),
-                imbalance: finite(imbalance),
-                // The unknowns less the held nodes.
-                pores: (n - held.len()) as u64,
-            },
-            pressure.into_iter().map(finite).collect(),
-            flux.into_iter().map(finite).collect(),
-        ));
-    }
-    Ok(out)
+            // A net flux at the rounding level of the fluxes that circulate is no
+            // flow at all (a pore space closed by contacts).
+            if !(q.abs() > NOISE * circulating) {
+                q = 0.0;
+            }
+            (
+                AxisFlow {
+                    axis: ["x", "y", "z"][if axis == z { 2 } else { axis }],
+                    k: finite(q / area),
+                    flux: finite(q),
+                    imbalance: finite(imbalance),
+                    // The unknowns less the held nodes.
+                    pores: (n - held.len()) as u64,
+                },
+                pressure.into_iter().map(finite).collect(),
+                flux.into_iter().map(finite).collect(),
+            )
+        });
+    Ok(out.collect())
 }
 
 fn relative(a: Real, b: Real) -> Real {
