@@ -361,8 +361,9 @@ fn solve_axes<const D: usize>(
     drop(parent);
     let n = points.len();
     let mut diag = vec![0.0; n];
+    let has_z = axes.contains(&z);
     // Along z: the conductance to fixed nodes.
-    let mut to_fixed = vec![0.0; if axes.contains(&z) { n } else { 0 }];
+    let mut to_fixed = vec![0.0; if has_z { n } else { 0 }];
     let mut off: Vec<(u32, u32, Real)> = Vec::new();
     let mut rhs = vec![vec![0.0; n]; axes.len()];
     // Where b's image lies from a, along an axis.
@@ -374,7 +375,7 @@ fn solve_axes<const D: usize>(
         };
         nodes.centre(l.1 as usize)[axis] + shift - nodes.centre(l.0 as usize)[axis]
     };
-    for l in nodes.links.iter().filter(|l| open(l, true)) {
+    for l in nodes.links.iter().filter(|l| open(l, has_z)) {
         let (a, b, g) = (l.0 as usize, l.1 as usize, conductance[l.3 as usize]);
         if a == b {
             // A node linked to its own image: no term, only a flux.

@@ -146,6 +146,42 @@ fn permeability_scales_with_length_squared_and_conserves_flux() {
     }
 }
 
+/// Each axis asked alone, or the side axes without z, gives the `k` it has
+/// beside the others: the axes share one matrix but not their boundaries.
+#[test]
+fn axes_asked_alone_match_the_three_together() {
+    let bed = deposited(1500, 3, "[[species]]\nradius = 10");
+    let slab = slab_of(&bed);
+    let k_of = |axes: [bool; 3]| {
+        let options = FlowOptions {
+            axes: Some(axes),
+            ..flow_everywhere()
+        };
+        pore_space(&bed, slab, Some(&options), None, None)
+            .unwrap()
+            .permeability
+            .unwrap()
+            .axes
+    };
+    let all = k_of([true; 3]);
+    assert_eq!(all.len(), 3);
+    for asked in [
+        [true, false, false],
+        [false, true, false],
+        [false, false, true],
+        [true, true, false],
+    ] {
+        let some = k_of(asked);
+        assert_eq!(some.len(), asked.iter().filter(|&&a| a).count());
+        for a in &some {
+            let b = all.iter().find(|b| b.axis == a.axis).unwrap();
+            assert!(a.k > 0.0);
+            assert!((a.k / b.k - 1.0).abs() < 1e-10, "{a:?} {b:?}");
+            assert_eq!(a.pores, b.pores);
+        }
+    }
+}
+
 /// A bed whose slab holds more pores than the direct solve takes: the
 /// iterative solve stops at a loose tolerance, yet the flux balances that the
 /// permeability rests on hold to rounding (deflated by the weights of

@@ -79,7 +79,6 @@ impl Csr {
                 (ptr[i] + 1 + row.partition_point(|&c| (c as usize) < i)) as u32
             })
             .collect();
-        let inv = (0..n).map(|i| 1.0 / val[ptr[i]]).collect();
         let inner = ptr[..n].iter().map(|&p| p as u32 + 1).collect();
         let ptr = ptr.into_iter().map(|p| p as u32).collect();
         Csr {
@@ -88,7 +87,8 @@ impl Csr {
             val,
             inner,
             upper,
-            inv,
+            // Set by `invert` once the rows are cut into blocks.
+            inv: Vec::new(),
             systems: 1,
             blocks: vec![0, n],
             edges: Vec::new(),

@@ -10,7 +10,7 @@ pub mod ordering;
 mod spd;
 mod supernodal;
 
-pub use spd::{solve_spd, solve_spd_deflated, solve_spd_shifted, SpdError, Systems, DIRECT_LIMIT};
+pub use spd::{solve_spd, solve_spd_shifted, SpdError, Systems, DIRECT_LIMIT};
 
 /// Item indices grouped by key, in a stable counting sort: key `k`'s items
 /// are `order[starts[k]..starts[k + 1]]`, ascending. Keys must be below `n`.

@@ -158,45 +158,27 @@ pub fn solve_spd<const D: usize>(
     off: &[(u32, u32, Real)],
     rhs: &[Vec<Real>],
 ) -> Result<Vec<Vec<Real>>, SpdError> {
-    solve_spd_deflated(
-        points.to_vec(),
-        diag.to_vec(),
-        off.to_vec(),
-        rhs.to_vec(),
-        None,
-    )
-}
-
-/// [`solve_spd`] where, if the system is solved iteratively, the residual of
-/// right-hand side `k` stays orthogonal to `deflate[k]` to rounding whatever
-/// the tolerance (a conserved total, such as the net flux through a slab,
-/// then holds exactly; see [`super::amg::Multigrid::solve_deflated`]). The
-/// direct solve meets it to rounding anyway. The inputs are taken, so that a
-/// large system's are freed once the hierarchy holds them.
-pub fn solve_spd_deflated<const D: usize>(
-    points: Vec<Vector<D>>,
-    diag: Vec<Real>,
-    off: Vec<(u32, u32, Real)>,
-    rhs: Vec<Vec<Real>>,
-    deflate: Option<Vec<Vec<Real>>>,
-) -> Result<Vec<Vec<Real>>, SpdError> {
-    let shifts = vec![Vec::new(); rhs.len()];
     solve_spd_shifted(Systems {
-        points,
-        diag,
-        off,
-        shifts,
-        rhs,
-        deflate,
+        points: points.to_vec(),
+        diag: diag.to_vec(),
+        off: off.to_vec(),
+        shifts: vec![Vec::new(); rhs.len()],
+        rhs: rhs.to_vec(),
+        deflate: None,
     })
 }
 
 /// Sparse symmetric systems that share their couplings and differ in their
 /// diagonals: right-hand side `k`'s matrix has the diagonal `diag +
 /// shifts[k]` (an empty shift: `diag`) and the symmetric off-diagonal
-/// entries `off` (`(i, j, a_ij)`, `i != j`, repeated pairs summed); the
-/// residual of right-hand side `k` is kept orthogonal to `deflate[k]` (see
-/// [`solve_spd_deflated`]). `points` places the nodes.
+/// entries `off` (`(i, j, a_ij)`, `i != j`, repeated pairs summed).
+/// `points` places the nodes. If the systems are solved iteratively, the
+/// residual of right-hand side `k` stays orthogonal to `deflate[k]` to
+/// rounding whatever the tolerance (a conserved total, such as the net flux
+/// through a slab, then holds exactly; see
+/// [`super::amg::Multigrid::solve_deflated`]); the direct solve meets it to
+/// rounding anyway. The inputs are taken, so that a large system's are freed
+/// once the hierarchy holds them.
 #[derive(Clone, Debug)]
 pub struct Systems<const D: usize> {
     pub points: Vec<Vector<D>>,
@@ -207,9 +189,9 @@ pub struct Systems<const D: usize> {
     pub deflate: Option<Vec<Vec<Real>>>,
 }
 
-/// [`solve_spd_deflated`] for [`Systems`] that differ in their diagonals.
-/// Solved iteratively, one hierarchy serves them all (at most three that
-/// differ); directly, each distinct shift is factored.
+/// Solves [`Systems`] that differ in their diagonals. Solved iteratively,
+/// one hierarchy serves them all (at most three that differ); directly, each
+/// distinct shift is factored.
 pub fn solve_spd_shifted<const D: usize>(systems: Systems<D>) -> Result<Vec<Vec<Real>>, SpdError> {
     let n = systems.diag.len();
     let k = systems.rhs.len();
