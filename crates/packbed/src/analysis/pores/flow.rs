@@ -12,7 +12,7 @@
 // `!(a > b)` is meant: a NaN must take the closed or zero branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::network::{Network, Pore};
+use super::network::{Network, Pore, ThroatShape};
 use crate::math::sparse::{solve_spd_shifted, SpdError, Systems};
 use crate::math::{Real, Vector};
 use rayon::prelude::*;
@@ -182,29 +182,26 @@ fn root(parent: &mut [u32], offset: &mut [[i8; 2]], p: usize) -> (usize, [i8; 2]
 }
 
 /// Solves the flow along each axis of `axes` (0 = x, 1 = y, D−1 = z) through
-/// the pores whose power centre lies in the slab `[z_lo, z_hi]`.
+/// the pores whose power centre lies in the slab `[z_lo, z_hi]`. `shapes` are
+/// the network's throat shapes, taken so that they are freed before the solve.
 pub fn solve<const D: usize>(
     net: &Network<D>,
+    shapes: Vec<ThroatShape>,
     size: &Vector<D>,
     slab: (Real, Real),
     viscosity: Real,
     factor: Real,
-    radii: &[Real],
     axes: &[usize],
 ) -> Result<Flow, FlowError> {
     let z = D - 1;
-    let mut merge = vec![false; net.throats.len()];
-    let conductance: Vec<Real> = net
-        .throats
+    let mut merge = vec![false; shapes.len()];
+    let conductance: Vec<Real> = shapes
         .iter()
+        .zip(&net.throats)
         .enumerate()
-        .map(|(t, th)| {
-            let mean_r = th.particles[..D]
-                .iter()
-                .map(|&p| radii[p as usize])
-                .sum::<Real>()
-                / D as Real;
-            let length = th.length;
+        .map(|(t, (shape, th))| {
+            let mean_r = shape.mean_radius;
+            let length = shape.length;
             if !(length >= LENGTH_FLOOR * mean_r) {
                 merge[t] = true;
                 return 0.0;
@@ -214,8 +211,8 @@ pub fn solve<const D: usize>(
             if !(th.constriction_radius >= SHUT * mean_r) {
                 return 0.0;
             }
-            let g =
-                factor * th.fluid_area * th.hydraulic_radius.powi(2) / (2.0 * viscosity * length);
+            let g = factor * shape.fluid_area * shape.hydraulic_radius.powi(2)
+                / (2.0 * viscosity * length);
             if g.is_finite() && g > 0.0 {
                 g
             } else {
@@ -223,6 +220,7 @@ pub fn solve<const D: usize>(
             }
         })
         .collect();
+    drop(shapes);
     // A throat far narrower than a typical one carries nothing measurable but
     // can spoil the factorisation (touching discs leave gaps of 1e-12): closed.
     // Typical is the median: the cells over the loose top are huge.
@@ -240,7 +238,7 @@ pub fn solve<const D: usize>(
         .map(|g| if g > CLOSED * typical { g } else { 0.0 })
         .collect();
     let nodes = nodes(net, &conductance, &merge, slab);
-    let r2 = radii.iter().map(|r| r * r).sum::<Real>() / radii.len().max(1) as Real;
+    let r2 = net.mean_squared_radius;
     let mut flow = Flow {
         merged: merge.iter().filter(|&&m| m).count() as u64,
         ..Flow::default()

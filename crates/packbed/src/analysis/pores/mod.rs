@@ -329,7 +329,7 @@ pub fn pore_space_timed<const D: usize>(
     times: &mut StageTimes,
 ) -> crate::error::Result<PoreSpace> {
     let t0 = Instant::now();
-    let net = network::network_timed(bed, slab, times)?;
+    let mut net = network::network_timed(bed, slab, times)?;
     let triangulation_seconds = t0.elapsed().as_secs_f64();
     let in_slab: Vec<bool> = net
         .pores
@@ -339,6 +339,7 @@ pub fn pore_space_timed<const D: usize>(
     // The distributions' inputs go before the flow: at 10^6 spheres they
     // are 0.24 GB beside its peak.
     let pores = summary(&net, &in_slab, slab);
+    let shapes = std::mem::take(&mut net.shapes);
     let mut note = None;
     let mut permeability = None;
     let mut solved: Option<Flow> = None;
@@ -347,11 +348,11 @@ pub fn pore_space_timed<const D: usize>(
         let t = Instant::now();
         let solved_flow = flow::solve(
             &net,
+            shapes,
             &bed.container.size,
             slab,
             options.viscosity,
             options.conductance_factor,
-            &bed.radii,
             &axes,
         );
         times.0.push(("pores/flow", t.elapsed().as_secs_f64()));
@@ -372,6 +373,8 @@ pub fn pore_space_timed<const D: usize>(
                 )))
             }
         }
+    } else {
+        drop(shapes);
     }
     let tables = tables(bed, &net, &in_slab, solved.as_ref());
     Ok(PoreSpace {
@@ -395,8 +398,9 @@ fn summary<const D: usize>(net: &Network<D>, in_slab: &[bool], slab: (Real, Real
     let constriction: Vec<(Real, Real)> = net
         .throats
         .iter()
-        .filter(|t| in_slab[t.pores[0] as usize] && in_slab[t.pores[1] as usize])
-        .map(|t| (t.constriction_radius, t.void_volume))
+        .zip(&net.shapes)
+        .filter(|(t, _)| in_slab[t.pores[0] as usize] && in_slab[t.pores[1] as usize])
+        .map(|(t, s)| (t.constriction_radius, s.void_volume))
         .collect();
     let (void, volume) = net
         .pores

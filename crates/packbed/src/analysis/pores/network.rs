@@ -62,18 +62,25 @@ pub struct Pore<const D: usize> {
     pub body_radius: Real,
 }
 
-/// A throat: the facet between two pores.
+/// A throat: the facet between two pores, as the tables keep it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Throat {
     /// The two pores (indices into [`Network::pores`]).
     pub pores: [u32; 2],
     /// Where the second pore is: its kept cell shifted by these periods.
     pub shift: [i8; 2],
-    /// The facet's particles (the first `D` entries).
-    pub particles: [u32; 3],
     /// Radius of the largest circle in the facet that touches its spheres
     /// (half the gap of the two discs in 2D).
     pub constriction_radius: Real,
+}
+
+/// What the distributions and the flow read of a throat once: kept apart
+/// from [`Throat`] so that it is gone before the flow's solve (at 10^6
+/// spheres it is 0.5 GB, and the solve is the peak).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ThroatShape {
+    /// Mean radius of the facet's spheres: the scale of the flow's floors.
+    pub mean_radius: Real,
     /// Distance between the two power centres.
     pub length: Real,
     /// Facet area not covered by the vertex spheres' sectors.
@@ -94,12 +101,17 @@ pub struct Network<const D: usize> {
     pub pores: Vec<Pore<D>>,
     /// Every throat once.
     pub throats: Vec<Throat>,
+    /// The shape of each throat (same order), until the flow takes it.
+    pub shapes: Vec<ThroatShape>,
     /// Particles with no cell (their sphere sits inside others').
     pub hidden: Vec<u32>,
     /// The margin of images the network was built with.
     pub margin: Real,
     /// Points triangulated (particles and their images).
     pub points: usize,
+    /// Mean of the bed's squared radii: the scale below which a flux is
+    /// rounding.
+    pub mean_squared_radius: Real,
 }
 
 /// Builds the network of `bed`; pores whose power centre height lies in
@@ -313,17 +325,18 @@ fn assemble<const D: usize>(
             power_centre(t, t.vertices(cell)).0
         }
     };
-    let throats: Vec<Throat> = links
+    let (throats, shapes): (Vec<Throat>, Vec<ThroatShape>) = links
         .par_iter()
         .map(|&(c, n, i, a, b, shift)| {
             let ends = [centre_of(c, a), centre_of(n, b)];
-            measure_throat(t, c, i, ends, [a, b], shift, sites)
+            measure_throat(t, c, i, ends, [a, b], shift)
         })
         .collect();
     drop(cell_of_pore);
     Ok(Some(Network {
         pores,
         throats,
+        shapes,
         hidden: t
             .hidden()
             .iter()
@@ -332,6 +345,8 @@ fn assemble<const D: usize>(
             .collect(),
         margin,
         points: t.input_len(),
+        mean_squared_radius: bed.radii.iter().map(|r| r * r).sum::<Real>()
+            / bed.radii.len().max(1) as Real,
     }))
 }
 
@@ -480,7 +495,6 @@ fn measure_pore<const D: usize>(
     }
 }
 
-#[allow(clippy::too_many_arguments)]
 fn measure_throat<const D: usize>(
     t: &Triangulation<D>,
     c: u32,
@@ -488,18 +502,13 @@ fn measure_throat<const D: usize>(
     [p1, p2]: [[f64; D]; 2],
     pores: [u32; 2],
     shift: [i8; 2],
-    sites: &[Site],
-) -> Throat {
+) -> (Throat, ThroatShape) {
     let v = t.vertices(c);
     let mut facet = [0u32; 3];
     for (slot, k) in (0..D + 1).filter(|&k| k != i).enumerate() {
         facet[slot] = v[k];
     }
     let facet = &facet[..D];
-    let mut particles = [u32::MAX; 3];
-    for (k, &x) in facet.iter().enumerate() {
-        particles[k] = sites[x as usize].particle;
-    }
     let (fc, fr) = coords(t, facet);
     let (constriction_radius, geometry) = match D {
         2 => {
@@ -519,14 +528,18 @@ fn measure_throat<const D: usize>(
             )
         }
     };
-    Throat {
-        pores,
-        shift,
-        particles,
-        constriction_radius,
-        length: geometry.length,
-        fluid_area: geometry.fluid_area,
-        void_volume: geometry.void_volume,
-        hydraulic_radius: geometry.hydraulic_radius,
-    }
+    (
+        Throat {
+            pores,
+            shift,
+            constriction_radius,
+        },
+        ThroatShape {
+            mean_radius: fr[..D].iter().sum::<Real>() / D as Real,
+            length: geometry.length,
+            fluid_area: geometry.fluid_area,
+            void_volume: geometry.void_volume,
+            hydraulic_radius: geometry.hydraulic_radius,
+        },
+    )
 }
