@@ -1412,6 +1412,79 @@ mod tests {
         }
     }
 
+    /// A matrix large enough that its rows, and the coarse rows of its first
+    /// level, are built in several chunks on the threads: against a plain
+    /// assembly, row by row through ordered maps, entry for entry.
+    #[test]
+    fn matrices_built_in_chunks_match_a_plain_assembly() {
+        use std::collections::BTreeMap;
+        let (diag, mut off) = rough_grid(28);
+        let n = diag.len();
+        // Repeated pairs, in either order, are summed.
+        for e in (0..off.len()).step_by(7) {
+            let (i, j, a) = off[e];
+            off.push((j, i, 0.5 * a));
+        }
+        // A scrambled numbering: n is prime to 7919.
+        let new_of: Vec<u32> = (0..n).map(|i| ((i * 7919) % n) as u32).collect();
+        let a = Csr::renumbered(&diag, &off, &new_of).unwrap();
+        let mut want: Vec<BTreeMap<u32, Real>> = vec![BTreeMap::new(); n];
+        for (i, &d) in diag.iter().enumerate() {
+            *want[new_of[i] as usize].entry(new_of[i]).or_default() += d;
+        }
+        for &(i, j, v) in &off {
+            let (i, j) = (new_of[i as usize], new_of[j as usize]);
+            *want[i as usize].entry(j).or_default() += v;
+            *want[j as usize].entry(i).or_default() += v;
+        }
+        let close = |got: Real, want: Real| (got - want).abs() <= 1e-12 * (1.0 + want.abs());
+        for (i, row) in want.iter().enumerate() {
+            let got: Vec<(u32, Real)> = a.entries(i).map(|k| (a.col[k], a.val[k])).collect();
+            assert_eq!(got[0].0 as usize, i, "the diagonal first");
+            assert!(close(got[0].1, row[&(i as u32)]));
+            let others: Vec<(&u32, &Real)> = row.iter().filter(|e| *e.0 as usize != i).collect();
+            assert_eq!(got.len() - 1, others.len(), "row {i}");
+            for (g, w) in got[1..].iter().zip(others) {
+                assert_eq!(g.0, *w.0, "row {i}: columns in order");
+                assert!(close(g.1, *w.1), "row {i}: {} against {}", g.1, w.1);
+            }
+        }
+        let (agg, coarse) = aggregate(&a, THETA);
+        assert!(coarse > 4 * 1024, "several chunks of coarse rows");
+        let p = Prolongator { agg, coarse };
+        let product = galerkin(&a, &p);
+        let mut want: Vec<BTreeMap<u32, Real>> = vec![BTreeMap::new(); coarse];
+        for i in 0..n {
+            let r = p.agg[i];
+            if r == OUTSIDE {
+                continue;
+            }
+            for k in a.entries(i) {
+                let c = p.agg[a.col[k] as usize];
+                if c != OUTSIDE {
+                    *want[r as usize].entry(c).or_default() += a.val[k];
+                }
+            }
+        }
+        for (r, row) in want.iter().enumerate() {
+            let got: Vec<(u32, Real)> = product
+                .entries(r)
+                .map(|k| (product.col[k], product.val[k]))
+                .collect();
+            assert_eq!(got[0].0 as usize, r);
+            assert!(close(
+                got[0].1,
+                row.get(&(r as u32)).copied().unwrap_or(0.0)
+            ));
+            let others: Vec<(&u32, &Real)> = row.iter().filter(|e| *e.0 as usize != r).collect();
+            assert_eq!(got.len() - 1, others.len(), "coarse row {r}");
+            for (g, w) in got[1..].iter().zip(others) {
+                assert_eq!(g.0, *w.0);
+                assert!(close(g.1, *w.1), "coarse row {r}: {} against {}", g.1, w.1);
+            }
+        }
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(24))]
         /// Random diagonally dominant graphs: solved to the tolerance.
