@@ -87,9 +87,6 @@ struct Nodes<'n, const D: usize> {
     first: Vec<u32>,
     /// True for the nodes in the slab.
     in_slab: Vec<bool>,
-    /// (node a, node b, periods of b's image, throat): the conductance is
-    /// the throat's (a copy here was 0.1 GB at 10^6 spheres).
-    links: Vec<Link>,
 }
 
 /// (node a, node b, periods of b's image, throat).
@@ -107,7 +104,6 @@ impl<const D: usize> Nodes<'_, D> {
 
 fn nodes<'n, const D: usize>(
     net: &'n Network<D>,
-    g: &[Real],
     merge: &[bool],
     slab: (Real, Real),
 ) -> Nodes<'n, D> {
@@ -142,25 +138,33 @@ fn nodes<'n, const D: usize>(
         }
         of_pore.push((id[r], o));
     }
-    let links = net
-        .throats
-        .iter()
-        .enumerate()
-        .filter(|&(t, _)| !merge[t] && g[t] > 0.0)
-        .map(|(t, th)| {
-            let (a, oa) = of_pore[th.pores[0] as usize];
-            let (b, ob) = of_pore[th.pores[1] as usize];
-            let shift = [ob[0] + th.shift[0] - oa[0], ob[1] + th.shift[1] - oa[1]];
-            (a, b, shift, t as u32)
-        })
-        .collect();
     Nodes {
         pores: &net.pores,
         of_pore,
         first,
         in_slab,
-        links,
     }
+}
+
+/// The open throats between nodes, in throat order: (node a, node b, periods
+/// of b's image, throat); the conductance is the throat's.
+fn links<const D: usize>(
+    net: &Network<D>,
+    nodes: &Nodes<D>,
+    g: &[Real],
+    merge: &[bool],
+) -> Vec<Link> {
+    net.throats
+        .iter()
+        .enumerate()
+        .filter(|&(t, _)| !merge[t] && g[t] > 0.0)
+        .map(|(t, th)| {
+            let (a, oa) = nodes.of_pore[th.pores[0] as usize];
+            let (b, ob) = nodes.of_pore[th.pores[1] as usize];
+            let shift = [ob[0] + th.shift[0] - oa[0], ob[1] + th.shift[1] - oa[1]];
+            (a, b, shift, t as u32)
+        })
+        .collect()
 }
 
 /// The root of `p` and `p`'s offset from it, halving the path.
@@ -237,13 +241,14 @@ pub fn solve<const D: usize>(
         .into_iter()
         .map(|g| if g > CLOSED * typical { g } else { 0.0 })
         .collect();
-    let nodes = nodes(net, &conductance, &merge, slab);
+    let nodes = nodes(net, &merge, slab);
+    let relink = || links(net, &nodes, &conductance, &merge);
     let r2 = net.mean_squared_radius;
     let mut flow = Flow {
         merged: merge.iter().filter(|&&m| m).count() as u64,
         ..Flow::default()
     };
-    let solved = solve_axes(&nodes, &conductance, size, slab, axes)?;
+    let solved = solve_axes(&nodes, &relink, &conductance, size, slab, axes)?;
     for (&a, (mut f, p, q)) in axes.iter().zip(solved) {
         f.k *= viscosity;
         // Below rounding of the sizes involved: no flow.
@@ -293,6 +298,7 @@ type AxisSolution = (AxisFlow, Vec<Real>, Vec<Real>);
 /// hierarchies and two solves cost 43.7 s before, BENCHMARKS.md).
 fn solve_axes<const D: usize>(
     nodes: &Nodes<D>,
+    relink: &dyn Fn() -> Vec<Link>,
     conductance: &[Real],
     size: &Vector<D>,
     slab: (Real, Real),
@@ -301,6 +307,7 @@ fn solve_axes<const D: usize>(
     let z = D - 1;
     let n_nodes = nodes.len();
     let in_slab = &nodes.in_slab;
+    let links = relink();
     let inside = |l: &Link| in_slab[l.0 as usize] && in_slab[l.1 as usize];
     // Along z, links with one end in the slab also take part.
     let open = |l: &Link, along_z: bool| {
@@ -311,7 +318,7 @@ fn solve_axes<const D: usize>(
     // slab are held along z by the fixed pressures there.
     let mut parent: Vec<u32> = (0..n_nodes as u32).collect();
     let mut touches_fixed = vec![false; n_nodes];
-    for l in &nodes.links {
+    for l in &links {
         let (a, b) = (l.0 as usize, l.1 as usize);
         match (in_slab[a], in_slab[b]) {
             (true, true) => union(&mut parent, a, b),
@@ -373,7 +380,7 @@ fn solve_axes<const D: usize>(
         };
         nodes.centre(l.1 as usize)[axis] + shift - nodes.centre(l.0 as usize)[axis]
     };
-    for l in nodes.links.iter().filter(|l| open(l, has_z)) {
+    for l in links.iter().filter(|l| open(l, has_z)) {
         let (a, b, g) = (l.0 as usize, l.1 as usize, conductance[l.3 as usize]);
         if a == b {
             // A node linked to its own image: no term, only a flux.
@@ -462,6 +469,9 @@ fn solve_axes<const D: usize>(
         })
         .collect();
     drop((roots, pinned, root_fixed));
+    // Not kept through the solve, which is the peak (0.2 GB at 10^6
+    // spheres): made again after it.
+    drop(links);
     let mut solution = solve_spd_shifted(Systems {
         points,
         diag,
@@ -471,6 +481,7 @@ fn solve_axes<const D: usize>(
         deflate: Some(deflate),
     })
     .map_err(FlowError::Solver)?;
+    let links = relink();
     let floor_area: Real = (0..D - 1).map(|k| size[k]).product();
     let thickness = slab.1 - slab.0;
     // Each axis on its own thread: each reads only its own solution.
@@ -499,7 +510,7 @@ fn solve_axes<const D: usize>(
             let mut flux = vec![0.0; conductance.len()];
             let (mut q_in, mut q_out, mut cut, mut moment) = (0.0, 0.0, 0.0, 0.0);
             let mut circulating = 0.0;
-            for l in nodes.links.iter().filter(|l| open(l, along_z)) {
+            for l in links.iter().filter(|l| open(l, along_z)) {
                 let (a, b, g) = (l.0 as usize, l.1 as usize, conductance[l.3 as usize]);
                 // P of b's image: one period's drop of x per period of shift.
                 let image = if along_z {
