@@ -187,7 +187,8 @@ fn root(parent: &mut [u32], offset: &mut [[i8; 2]], p: usize) -> (usize, [i8; 2]
 
 /// Solves the flow along each axis of `axes` (0 = x, 1 = y, D−1 = z) through
 /// the pores whose power centre lies in the slab `[z_lo, z_hi]`. `shapes` are
-/// the network's throat shapes, taken so that they are freed before the solve.
+/// the network's throat shapes (`Network::shapes`, one per throat), taken so
+/// that they are freed before the solve.
 pub fn solve<const D: usize>(
     net: &Network<D>,
     shapes: Vec<ThroatShape>,
@@ -197,6 +198,7 @@ pub fn solve<const D: usize>(
     factor: Real,
     axes: &[usize],
 ) -> Result<Flow, FlowError> {
+    assert_eq!(shapes.len(), net.throats.len(), "one shape per throat");
     let z = D - 1;
     let mut merge = vec![false; shapes.len()];
     let conductance: Vec<Real> = shapes

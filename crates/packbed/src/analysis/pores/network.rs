@@ -535,6 +535,8 @@ fn measure_throat<const D: usize>(
             constriction_radius,
         },
         ThroatShape {
+            // The radii are the weights' square roots: √(r·r) is r to the
+            // bit in binary floating point.
             mean_radius: fr[..D].iter().sum::<Real>() / D as Real,
             length: geometry.length,
             fluid_area: geometry.fluid_area,
