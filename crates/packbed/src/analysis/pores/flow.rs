@@ -367,7 +367,12 @@ fn solve_axes<const D: usize>(
     }
     drop(parent);
     let n = points.len();
+    let mut diag = vec![0.0; n];
     let has_z = axes.contains(&z);
+    // Along z: the conductance to fixed nodes.
+    let mut to_fixed = vec![0.0; if has_z { n } else { 0 }];
+    let mut off: Vec<(u32, u32, Real)> = Vec::new();
+    let mut rhs = vec![vec![0.0; n]; axes.len()];
     // Where b's image lies from a, along an axis.
     let delta = |l: &Link, axis: usize| -> Real {
         let shift = if axis < z {
@@ -377,93 +382,45 @@ fn solve_axes<const D: usize>(
         };
         nodes.centre(l.1 as usize)[axis] + shift - nodes.centre(l.0 as usize)[axis]
     };
-    // A node linked to its own image has no term, only a flux.
-    let used = |l: &Link| open(l, has_z) && l.0 != l.1;
-    // Each unknown's links, in link order: every sum below keeps that order,
-    // and the unknowns are shared among the threads (one thread took 1.4 s
-    // at 10^6 spheres).
-    let mut start = vec![0u32; n + 1];
-    let ends = |l: &Link| [index[l.0 as usize], index[l.1 as usize]];
-    for l in links.iter().filter(|l| used(l)) {
-        for i in ends(l).into_iter().filter(|&i| i != u32::MAX) {
-            start[i as usize + 1] += 1;
+    for l in links.iter().filter(|l| open(l, has_z)) {
+        let (a, b, g) = (l.0 as usize, l.1 as usize, conductance[l.3 as usize]);
+        if a == b {
+            // A node linked to its own image: no term, only a flux.
+            continue;
         }
-    }
-    for i in 0..n {
-        start[i + 1] += start[i];
-    }
-    let mut incident = vec![0u32; start[n] as usize];
-    let mut fill = start.clone();
-    for (m, l) in links.iter().enumerate().filter(|(_, l)| used(l)) {
-        for i in ends(l).into_iter().filter(|&i| i != u32::MAX) {
-            incident[fill[i as usize] as usize] = m as u32;
-            fill[i as usize] += 1;
-        }
-    }
-    drop(fill);
-    // Per unknown: its diagonal, its conductance to fixed nodes (along z)
-    // and each axis' right-hand side.
-    let sums: Vec<(Real, Real, [Real; 3])> = (0..n)
-        .into_par_iter()
-        .with_min_len(1024)
-        .map(|i| {
-            let (mut d, mut f, mut r) = (0.0, 0.0, [0.0; 3]);
-            for &m in &incident[start[i] as usize..start[i + 1] as usize] {
-                let l = &links[m as usize];
-                let g = conductance[l.3 as usize];
-                let [ia, ib] = ends(l);
-                let first = ia == i as u32;
-                if (if first { ib } else { ia }) == u32::MAX {
-                    f += g;
-                } else {
-                    d += g;
-                }
-                let within = inside(l);
-                for (k, &axis) in axes.iter().enumerate() {
-                    if !within && axis != z {
-                        continue;
-                    }
-                    // P = −x + p̃ (z: p̃ = 0 on the fixed nodes): the drop of
-                    // x across the link drives p̃. Solving for the departure
-                    // from the mean gradient rather than for P itself starts
-                    // the iteration at the linear profile, and measures its
-                    // residual on the scale of the fluxes, not of the heights.
-                    let gd = g * delta(l, axis);
-                    if first {
-                        r[k] -= gd;
-                    } else {
-                        r[k] += gd;
-                    }
-                }
+        let (ia, ib) = (index[a], index[b]);
+        let within = inside(l);
+        for (i, other) in [(ia, ib), (ib, ia)] {
+            if i == u32::MAX {
+                continue;
             }
-            (d, f, r)
-        })
-        .collect();
-    drop((start, incident));
-    let mut diag = Vec::with_capacity(n);
-    // Along z: the conductance to fixed nodes.
-    let mut to_fixed = Vec::with_capacity(if has_z { n } else { 0 });
-    let mut rhs: Vec<Vec<Real>> = axes.iter().map(|_| Vec::with_capacity(n)).collect();
-    for (d, f, r) in sums {
-        diag.push(d);
-        if has_z {
-            to_fixed.push(f);
+            if other == u32::MAX {
+                to_fixed[i as usize] += g;
+            } else {
+                diag[i as usize] += g;
+            }
         }
-        for (k, rhs) in rhs.iter_mut().enumerate() {
-            rhs.push(r[k]);
+        if within {
+            off.push((ia, ib, -g));
+        }
+        for (k, &axis) in axes.iter().enumerate() {
+            if !within && axis != z {
+                continue;
+            }
+            // P = −x + p̃ (z: p̃ = 0 on the fixed nodes): the drop of x across
+            // the link drives p̃. Solving for the departure from the mean
+            // gradient rather than for P itself starts the iteration at the
+            // linear profile, and measures its residual on the scale of the
+            // fluxes, not of the heights.
+            let d = delta(l, axis);
+            if ia != u32::MAX {
+                rhs[k][ia as usize] -= g * d;
+            }
+            if ib != u32::MAX {
+                rhs[k][ib as usize] += g * d;
+            }
         }
     }
-    let off: Vec<(u32, u32, Real)> = links
-        .par_iter()
-        .filter(|l| used(l) && inside(l))
-        .map(|l| {
-            (
-                index[l.0 as usize],
-                index[l.1 as usize],
-                -conductance[l.3 as usize],
-            )
-        })
-        .collect();
     let ground = |i: u32| {
         if diag[i as usize] > 0.0 {
             diag[i as usize]
