@@ -568,17 +568,6 @@ impl Multigrid {
         }
     }
 
-    /// Unknowns and stored entries per level, finest first.
-    pub fn sizes(&self) -> Vec<(usize, usize)> {
-        let mut v: Vec<(usize, usize)> = self
-            .levels
-            .iter()
-            .map(|l| (l.a.n(), l.a.col.len()))
-            .collect();
-        v.push((self.coarsest.n(), self.coarsest.col.len()));
-        v
-    }
-
     /// Levels, coarsest included.
     pub fn depth(&self) -> usize {
         self.levels.len() + 1
