@@ -249,37 +249,54 @@ fn assemble<const D: usize>(
         .par_iter()
         .map(|&c| power_centre(t, t.vertices(c)))
         .collect();
-    let mut kept: Vec<(u32, [Site; 4], [f64; D])> = Vec::new();
-    for (&c, &(centre, power)) in cells.iter().zip(&centres) {
-        let v = t.vertices(c);
-        let keep = if periodic {
-            anchor(sites, v).image == [0; 2]
-        } else {
-            (0..D - 1).all(|a| centre[a] >= 0.0 && centre[a] < size[a])
-        };
-        if !keep {
-            continue;
-        }
-        let z = centre[D - 1];
-        let must = z >= check_z.0 && z <= check_z.1;
-        if must {
-            for a in 0..D - 1 {
-                let gap = (centre[a] + margin).min(size[a] + margin - centre[a]);
-                if !(gap > 0.0 && gap * gap > power + w_max) {
-                    return Ok(None);
+    // Which cells are pores, decided on every core (one cell's verdict reads
+    // only that cell); the numbering after it is serial, in cell order.
+    let verdicts: Vec<u8> = cells
+        .par_iter()
+        .zip(&centres)
+        .map(|(&c, &(centre, power))| {
+            let v = t.vertices(c);
+            let keep = if periodic {
+                anchor(sites, v).image == [0; 2]
+            } else {
+                (0..D - 1).all(|a| centre[a] >= 0.0 && centre[a] < size[a])
+            };
+            if !keep {
+                return 0;
+            }
+            let z = centre[D - 1];
+            let must = z >= check_z.0 && z <= check_z.1;
+            if must {
+                for a in 0..D - 1 {
+                    let gap = (centre[a] + margin).min(size[a] + margin - centre[a]);
+                    if !(gap > 0.0 && gap * gap > power + w_max) {
+                        return SHORT;
+                    }
                 }
             }
+            let may = periodic && may_have_translates(t, v, size, margin);
+            KEPT | if must { MUST } else { 0 } | if may { MAY } else { 0 }
+        })
+        .collect();
+    if verdicts.contains(&SHORT) {
+        return Ok(None);
+    }
+    let mut kept: Vec<(u32, [Site; 4], [f64; D])> = Vec::new();
+    for ((&c, &(centre, _)), &verdict) in cells.iter().zip(&centres).zip(&verdicts) {
+        if verdict & KEPT == 0 {
+            continue;
         }
-        let key = sites_of(sites, v);
+        let key = sites_of(sites, t.vertices(c));
         let id = kept.len() as u32;
-        if periodic && may_have_translates(t, v, size, margin) {
+        if verdict & MAY != 0 {
             by_key.insert(canonical(&key, v_n).0, id);
         }
         pore_of[c as usize] = id;
         cell_of_pore.push(c);
-        checked.push(must);
+        checked.push(verdict & MUST != 0);
         kept.push((c, key, centre));
     }
+    drop(verdicts);
     // Each stage's inputs go as soon as it is done: at 10^6 spheres the
     // centres, the kept cells and the key table held 1.1 GB past their use.
     drop(centres);
@@ -288,33 +305,45 @@ fn assemble<const D: usize>(
         .map(|&(c, key, centre)| measure_pore(t, t.vertices(c), key, centre))
         .collect();
     drop(kept);
-    let mut links: Vec<(u32, u32, usize, u32, u32, [i8; 2])> = Vec::new();
-    for (a, &c) in cell_of_pore.iter().enumerate() {
-        let a = a as u32;
-        for i in 0..v_n {
-            let n = t.neighbours(c)[i];
-            if n == NONE || !t.is_input_cell(n) {
-                continue;
-            }
-            let (b, shift) = if pore_of[n as usize] != NONE {
-                (pore_of[n as usize], [0i8; 2])
-            } else if periodic {
-                let (key, shift) = canonical(&sites_of(sites, t.vertices(n)), v_n);
-                match by_key.get(&key) {
-                    Some(&b) => (b, shift),
-                    // Its kept translate was cut by the margin.
-                    None if checked[a as usize] => return Ok(None),
-                    None => continue,
+    // Each pore's links on every core, chunk by chunk, joined in pore order.
+    let chunks: Option<Vec<Vec<Link>>> = cell_of_pore
+        .par_chunks(LINK_CHUNK)
+        .enumerate()
+        .map(|(k, chunk)| {
+            let mut links = Vec::with_capacity(chunk.len() * 2);
+            for (l, &c) in chunk.iter().enumerate() {
+                let a = (k * LINK_CHUNK + l) as u32;
+                for i in 0..v_n {
+                    let n = t.neighbours(c)[i];
+                    if n == NONE || !t.is_input_cell(n) {
+                        continue;
+                    }
+                    let (b, shift) = if pore_of[n as usize] != NONE {
+                        (pore_of[n as usize], [0i8; 2])
+                    } else if periodic {
+                        let (key, shift) = canonical(&sites_of(sites, t.vertices(n)), v_n);
+                        match by_key.get(&key) {
+                            Some(&b) => (b, shift),
+                            // Its kept translate was cut by the margin.
+                            None if checked[a as usize] => return None,
+                            None => continue,
+                        }
+                    } else {
+                        continue;
+                    };
+                    if (a, [0i8; 2]) >= (b, shift) {
+                        continue;
+                    }
+                    links.push((c, n, i, a, b, shift));
                 }
-            } else {
-                continue;
-            };
-            if (a, [0i8; 2]) >= (b, shift) {
-                continue;
             }
-            links.push((c, n, i, a, b, shift));
-        }
-    }
+            Some(links)
+        })
+        .collect();
+    let Some(chunks) = chunks else {
+        return Ok(None);
+    };
+    let links: Vec<Link> = chunks.concat();
     drop((by_key, pore_of, checked));
     // A throat's power centres are its pores' (the same computation on the
     // same cell), save a translate's, which is worked out again.
@@ -349,6 +378,21 @@ fn assemble<const D: usize>(
             / bed.radii.len().max(1) as Real,
     }))
 }
+
+/// A throat found in [`assemble`]: the cell, its neighbour, the facet's
+/// index in the cell, the two pores, the neighbour's period shift.
+type Link = (u32, u32, usize, u32, u32, [i8; 2]);
+
+/// Pores whose links one task finds.
+const LINK_CHUNK: usize = 1 << 14;
+
+/// A cell's verdict in [`assemble`]: a pore, one that must be exact, one
+/// that may have translates; or a pore that must be exact but could be
+/// reached from beyond the margin.
+const KEPT: u8 = 1;
+const MUST: u8 = 2;
+const MAY: u8 = 4;
+const SHORT: u8 = 8;
 
 /// False when no translate of the cell by whole periods can be a cell of the
 /// triangulation, so that no link will look it up by its key: a translate
