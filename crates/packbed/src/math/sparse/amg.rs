@@ -371,17 +371,31 @@ impl Prolongator {
             });
     }
 
-    /// `Pᵀ fine`.
+    /// `Pᵀ fine`. Each thread takes a range of aggregates and scans all the
+    /// fine rows for their members: every aggregate sums its rows in
+    /// ascending order, as one thread would, and no list of members is kept
+    /// (0.04 GB at 10^6 spheres); alone, this was 0.84 s of a 10^6-sphere
+    /// solve.
     fn restrict<const K: usize>(&self, fine: &[[Real; K]], c: &mut [[Real; K]]) {
-        c.fill([0.0; K]);
-        for (f, &a) in fine.iter().zip(&self.agg) {
-            if a != OUTSIDE {
-                let ci = &mut c[a as usize];
-                for m in 0..K {
-                    ci[m] += f[m];
+        let per = self
+            .coarse
+            .div_ceil(rayon::current_num_threads())
+            .max(CHUNK);
+        c.par_chunks_mut(per).enumerate().for_each(|(k, c)| {
+            c.fill([0.0; K]);
+            let lo = (k * per) as u32;
+            let n = c.len() as u32;
+            for (f, &a) in fine.iter().zip(&self.agg) {
+                // `OUTSIDE` wraps far past every range.
+                let at = a.wrapping_sub(lo);
+                if at < n {
+                    let ci = &mut c[at as usize];
+                    for m in 0..K {
+                        ci[m] += f[m];
+                    }
                 }
             }
-        }
+        });
     }
 
     /// `Pᵀ s` for values `systems` a row (empty stays empty).
