@@ -11,6 +11,7 @@ pub mod triangulation;
 use super::StageTimes;
 use crate::bed::Bed;
 use crate::math::Real;
+use rayon::prelude::*;
 use serde::Serialize;
 use std::time::Instant;
 
@@ -482,7 +483,9 @@ fn distribution(mut v: Vec<(Real, Real)>) -> SizeDistribution {
     if v.is_empty() {
         return SizeDistribution::default();
     }
-    v.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // Stable, so the order (and the sums below) is the serial sort's; one
+    // thread took about a second for the throats of 10^6 spheres.
+    v.par_sort_by(|a, b| a.0.total_cmp(&b.0));
     let n = v.len();
     let by_number = |q: Real| v[(((n - 1) as Real) * q).round() as usize].0;
     let total: Real = v.iter().map(|e| e.1.max(0.0)).sum();
