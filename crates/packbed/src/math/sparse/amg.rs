@@ -183,9 +183,28 @@ impl Csr {
         self.systems = systems;
     }
 
-    /// Row `i`'s inverse diagonal for each of `K` right-hand sides (one
-    /// system's for all, or each its own), `next` the first shifted row not
-    /// yet passed on the sweep's way (see [`Csr::shifted_from`]).
+    /// Row `i`'s inverse diagonal for each of `K` right-hand sides on a
+    /// sweep up its block (one system's for all, or each its own); `next` is
+    /// the first shifted row not yet passed, from [`Csr::shifted_from`] at
+    /// the block's first row.
+    #[inline(always)]
+    fn inv_up<const K: usize>(&self, i: usize, next: &mut usize) -> [Real; K] {
+        let inv = self.inv_at(i, *next);
+        *next += usize::from(self.shifted_rows.get(*next) == Some(&(i as u32)));
+        inv
+    }
+
+    /// The same on a sweep down its block; `next` is one past the next
+    /// shifted row, from [`Csr::shifted_from`] at the block's end.
+    #[inline(always)]
+    fn inv_down<const K: usize>(&self, i: usize, next: &mut usize) -> [Real; K] {
+        let at = next.wrapping_sub(1);
+        let inv = self.inv_at(i, at);
+        *next -= usize::from(self.shifted_rows.get(at) == Some(&(i as u32)));
+        inv
+    }
+
+    /// Row `i`'s inverse diagonals, `next` the shifted row it may be.
     #[inline(always)]
     fn inv_at<const K: usize>(&self, i: usize, next: usize) -> [Real; K] {
         if self.shifted_rows.get(next) == Some(&(i as u32)) {
@@ -820,8 +839,7 @@ fn smooth_from_zero<const K: usize>(
                         s[m] -= v * xj[m];
                     }
                 }
-                let inv = a.inv_at::<K>(i, shifted);
-                shifted += usize::from(a.shifted_rows.get(shifted) == Some(&(i as u32)));
+                let inv = a.inv_up::<K>(i, &mut shifted);
                 let xi: [Real; K] = std::array::from_fn(|m| s[m] * inv[m]);
                 x[l] = xi;
                 for k in lower {
@@ -911,9 +929,7 @@ fn backward_gauss_seidel<const K: usize>(
                         s[m] -= v * xj[m];
                     }
                 }
-                let at = shifted.wrapping_sub(1);
-                let inv = a.inv_at::<K>(i, at);
-                shifted -= usize::from(a.shifted_rows.get(at) == Some(&(i as u32)));
+                let inv = a.inv_down::<K>(i, &mut shifted);
                 x[i - lo] = std::array::from_fn(|m| s[m] * inv[m]);
             }
         });
@@ -1350,14 +1366,15 @@ mod tests {
         for w in a.blocks.windows(2) {
             let mut up = a.shifted_from(w[0]);
             for i in w[0]..w[1] {
-                assert_eq!(a.inv_at::<3>(i, up), want(i), "row {i} on the way up");
-                up += usize::from(a.shifted_rows.get(up) == Some(&(i as u32)));
+                assert_eq!(a.inv_up::<3>(i, &mut up), want(i), "row {i} on the way up");
             }
             let mut down = a.shifted_from(w[1]);
             for i in (w[0]..w[1]).rev() {
-                let at = down.wrapping_sub(1);
-                assert_eq!(a.inv_at::<3>(i, at), want(i), "row {i} on the way down");
-                down -= usize::from(a.shifted_rows.get(at) == Some(&(i as u32)));
+                assert_eq!(
+                    a.inv_down::<3>(i, &mut down),
+                    want(i),
+                    "row {i} on the way down"
+                );
             }
         }
         let listed = (0..n)
