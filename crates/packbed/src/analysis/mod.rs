@@ -300,14 +300,26 @@ pub fn analyze_timed<const D: usize>(
             profile::profile_of(bed, 0.25 * d_max, &volumes)
         }),
     });
-    let mut cake = packing.as_ref().map(|p| {
+    let pores_wanted = want(Measure::Pores) || want(Measure::Permeability);
+    // The permeability's ratios (`k / d32²`, `k / k_KC`) read the cake's d32
+    // and Kozeny–Carman k: computed for them even when the packing measure
+    // (which reports the cake) is not asked for.
+    let bulk_fraction = match &packing {
+        Some(p) => p.bulk,
+        None if pores_wanted => region
+            .as_ref()
+            .filter(|_| bulk_ok)
+            .map(|reg| reg.fraction_of(bed, &volumes)),
+        None => None,
+    };
+    let mut cake = (packing.is_some() || pores_wanted).then(|| {
         times.time("cake", || {
-            let bulk = region.as_ref().zip(p.bulk);
+            let bulk = region.as_ref().zip(bulk_fraction);
             let height = packing::surface_height(bed);
             cake::cake(bed, &volumes, &surfaces, bulk, height, &opts.cake)
         })
     });
-    let pore_space = (want(Measure::Pores) || want(Measure::Permeability)).then(|| {
+    let pore_space = pores_wanted.then(|| {
         pore_measures(
             &contacts,
             bed,
@@ -332,7 +344,7 @@ pub fn analyze_timed<const D: usize>(
     });
     let summary = Summary {
         measures_left_out: opts.measures.left_out(),
-        cake,
+        cake: cake.filter(|_| want(Measure::Packing)),
         packing,
         coordination,
         percolation,

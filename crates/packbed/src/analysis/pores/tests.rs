@@ -348,3 +348,32 @@ fn two_dimensional_beds() {
     assert!(k.k_x.unwrap() > 0.0 && k.k_z.unwrap() > 0.0, "{k:?}");
     assert!((space.pores.network_porosity - (1.0 - region.fraction(&rsa))).abs() < 1e-2);
 }
+
+/// The permeability asked for alone still gives its ratios to `d32²` and to
+/// Kozeny–Carman (the cake's, computed for them), the same as with the
+/// packing measure, and reports no cake of its own.
+#[test]
+fn permeability_alone_has_its_ratios() {
+    use crate::config::{Measure, Measures};
+    let bed = deposited(1500, 3, "[[species]]\nradius = 10\n[[species]]\nradius = 6");
+    let with = |list: &[Measure]| {
+        let opts = crate::analysis::AnalysisOptions {
+            measures: Measures::of(list),
+            ..crate::analysis::AnalysisOptions::default()
+        };
+        crate::analysis::analyze_with(&bed, &opts).1
+    };
+    let alone = with(&[Measure::Permeability]);
+    let both = with(&[Measure::Packing, Measure::Permeability]);
+    assert!(alone.cake.is_none());
+    let (a, b) = (alone.permeability.unwrap(), both.permeability.unwrap());
+    let d32 = both.cake.unwrap().d32.unwrap();
+    assert_eq!(a.k_over_d32_squared, b.k_over_d32_squared);
+    assert_eq!(a.k_over_kozeny_carman, b.k_over_kozeny_carman);
+    let mean = (a.k_x.unwrap() + a.k_y.unwrap() + a.k_z.unwrap()) / 3.0;
+    let ratio = a
+        .k_over_d32_squared
+        .expect("k / d32² with permeability alone");
+    assert!((ratio - mean / (d32 * d32)).abs() <= 1e-12 * ratio);
+    assert!(a.k_over_kozeny_carman.is_some());
+}
