@@ -16,6 +16,8 @@
 //! the input alone; the pore space is only ever read well inside it (periodic
 //! images, mirror images and the bulk slab keep the hull away).
 
+mod split;
+
 use crate::math::predicates::{
     orient2d, orient3d, power_test_2d_oriented_lazy, power_test_3d_oriented_lazy,
 };
@@ -113,6 +115,11 @@ impl<const D: usize> Triangulation<D> {
     /// below `u64::MAX − 4`. Periodic images rank by (particle, image), an
     /// order that a translation keeps, so that the translates of a degenerate
     /// configuration (a lattice) are split into cells the same way.
+    ///
+    /// Large inputs are triangulated in two pieces on two threads
+    /// ([`split`]): the same input cells, each once, with their links, and
+    /// no far cells (their links read `NONE`). Small ones, and any input
+    /// whose pieces cannot be certified, in one piece.
     pub fn with_ranks(points: &[[f64; D]], weights: &[f64], ranks: &[u64]) -> Self {
         assert!(
             D == 2 || D == 3,
@@ -120,10 +127,21 @@ impl<const D: usize> Triangulation<D> {
         );
         assert_eq!(points.len(), weights.len());
         assert_eq!(points.len(), ranks.len());
-        let input = points.len();
         // Insertions are stamped in 31 bits (`Scratch::visit`); a bed that
         // large would not fit in memory anyway.
-        assert!(input < 1 << 30, "too many points to triangulate");
+        assert!(points.len() < 1 << 30, "too many points to triangulate");
+        let corners = far_corners(points, weights);
+        if points.len() >= split::MIN_POINTS {
+            if let Some(t) = split::triangulate(points, weights, ranks, &corners) {
+                return t;
+            }
+        }
+        Self::build(points, weights, ranks, &corners)
+    }
+
+    /// The triangulation in one piece, in the far simplex with these corners.
+    fn build(points: &[[f64; D]], weights: &[f64], ranks: &[u64], corners: &[[f64; D]; 4]) -> Self {
+        let input = points.len();
         // The points are stored in the order of insertion, along the Hilbert
         // curve, while the triangulation is built: a cavity's vertices then
         // lie together in memory, as they do in space (the input, in order of
@@ -146,7 +164,7 @@ impl<const D: usize> Triangulation<D> {
         // that the cells are not copied as they grow.
         let expected = if D == 2 { 2 * input } else { 13 * input / 2 } + 64;
         t.cells.reserve(expected);
-        t.add_far_simplex();
+        t.add_far_simplex(corners);
         let mut scratch = Scratch {
             mark: vec![(0, 0); t.sites.len()],
             visit: Vec::with_capacity(expected),
@@ -249,46 +267,8 @@ impl<const D: usize> Triangulation<D> {
         (0..self.cells.len() as u32).filter(move |&c| self.is_input_cell(c))
     }
 
-    /// The far simplex: `D + 1` points of weight 0 whose hull holds the input
-    /// with room to spare, so that the first cell is valid.
-    fn add_far_simplex(&mut self) {
-        let mut lo = [f64::INFINITY; D];
-        let mut hi = [f64::NEG_INFINITY; D];
-        let mut w_max = 0.0f64;
-        for (p, w) in self.sites.iter().map(|s| (&s.0, s.1)) {
-            for k in 0..D {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-            w_max = w_max.max(w);
-        }
-        if self.sites.is_empty() {
-            lo = [0.0; D];
-            hi = [1.0; D];
-        }
-        let extent = (0..D)
-            .map(|k| hi[k] - lo[k])
-            .fold(w_max.sqrt(), f64::max)
-            .max(1.0);
-        // Near: the corners enter every hull cell's power test, and at 1e3
-        // extents their magnitude defeated the floating-point filter (the
-        // exact fallback took 6 % of the time). Cells near the hull may then
-        // differ from the input's own triangulation; the pore space is never
-        // read there (the margin check sees to the sides, the slab to the top).
-        let s = 3.0 * extent;
-        let mut corner = [[0.0; D]; 4];
-        for (k, c) in corner.iter_mut().enumerate().take(D + 1) {
-            for a in 0..D {
-                let centre = 0.5 * (lo[a] + hi[a]);
-                // Corner k sits at -s on every axis but axis k-1 (corner 0 all -s),
-                // where it sits at +D·s: a right simplex around the box.
-                c[a] = if k >= 1 && a == k - 1 {
-                    centre + (D as f64 + 1.0) * s
-                } else {
-                    centre - s
-                };
-            }
-        }
+    /// The far simplex (corners from [`far_corners`]), the first cell.
+    fn add_far_simplex(&mut self, corner: &[[f64; D]; 4]) {
         let first = self.sites.len() as u32;
         let mut v = [0u32; 4];
         for (k, c) in corner.iter().enumerate().take(D + 1) {
@@ -496,6 +476,49 @@ impl<const D: usize> Triangulation<D> {
         }
         s.created[0]
     }
+}
+
+/// The far simplex: `D + 1` points of weight 0 whose hull holds the input
+/// with room to spare, so that the first cell is valid.
+fn far_corners<const D: usize>(points: &[[f64; D]], weights: &[f64]) -> [[f64; D]; 4] {
+    let mut lo = [f64::INFINITY; D];
+    let mut hi = [f64::NEG_INFINITY; D];
+    let mut w_max = 0.0f64;
+    for (p, &w) in points.iter().zip(weights) {
+        for k in 0..D {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+        w_max = w_max.max(w);
+    }
+    if points.is_empty() {
+        lo = [0.0; D];
+        hi = [1.0; D];
+    }
+    let extent = (0..D)
+        .map(|k| hi[k] - lo[k])
+        .fold(w_max.sqrt(), f64::max)
+        .max(1.0);
+    // Near: the corners enter every hull cell's power test, and at 1e3
+    // extents their magnitude defeated the floating-point filter (the
+    // exact fallback took 6 % of the time). Cells near the hull may then
+    // differ from the input's own triangulation; the pore space is never
+    // read there (the margin check sees to the sides, the slab to the top).
+    let s = 3.0 * extent;
+    let mut corner = [[0.0; D]; 4];
+    for (k, c) in corner.iter_mut().enumerate().take(D + 1) {
+        for a in 0..D {
+            let centre = 0.5 * (lo[a] + hi[a]);
+            // Corner k sits at -s on every axis but axis k-1 (corner 0 all -s),
+            // where it sits at +D·s: a right simplex around the box.
+            c[a] = if k >= 1 && a == k - 1 {
+                centre + (D as f64 + 1.0) * s
+            } else {
+                centre - s
+            };
+        }
+    }
+    corner
 }
 
 /// Orientation of `D + 1` points (the fourth ignored in 2D).
