@@ -106,6 +106,7 @@ pub mod input;
 pub mod io;
 pub mod math;
 pub mod mechanics;
+pub mod memory;
 pub mod output;
 mod pipeline;
 #[cfg(feature = "render")]

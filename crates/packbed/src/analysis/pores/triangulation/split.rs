@@ -163,6 +163,7 @@ pub(super) fn triangulate<const D: usize>(
     let mut cells = cells_a?;
     cells.extend(cells_b?);
     drop((a, b));
+    crate::memory::release_freed();
     let mut on_cell = vec![false; n];
     for c in &cells {
         for &x in &c.v[..Triangulation::<D>::V] {
