@@ -49,7 +49,11 @@ fn main() {
         let seconds = t.elapsed().as_secs_f64();
         least = least.min(seconds);
         // Two pieces leave no far cells: every slot is an input cell.
-        let pieces = if tri.input_cells().count() == tri.slots() { 2 } else { 1 };
+        let pieces = if tri.input_cells().count() == tri.slots() {
+            2
+        } else {
+            1
+        };
         print!("{seconds:.3} s ({pieces} pieces)  ");
         if checksum {
             let mut h = 0xcbf2_9ce4_8422_2325u64;
