@@ -11,14 +11,7 @@ const BITS: u32 = 16;
 /// The indices of `points` in Hilbert order (ties by index, so the order is a
 /// function of the points alone).
 pub fn order<const D: usize>(points: &[[f64; D]]) -> Vec<u32> {
-    let mut lo = [f64::INFINITY; D];
-    let mut hi = [f64::NEG_INFINITY; D];
-    for p in points {
-        for k in 0..D {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
+    let (lo, hi) = super::bounds(points);
     let cells = ((1u64 << BITS) - 1) as f64;
     let mut keyed: Vec<(u64, u32)> = points
         .par_iter()

@@ -193,6 +193,20 @@ impl<const D: usize> Neg for Vector<D> {
     }
 }
 
+/// The least and the greatest coordinate on each axis of `points`
+/// (infinite, lo above hi, for no points).
+pub fn bounds<const D: usize>(points: &[[f64; D]]) -> ([f64; D], [f64; D]) {
+    let mut lo = [f64::INFINITY; D];
+    let mut hi = [f64::NEG_INFINITY; D];
+    for p in points {
+        for k in 0..D {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (lo, hi)
+}
+
 /// Volume of a `D`-ball of radius `r` (area of a disc in 2D).
 pub fn ball_volume<const D: usize>(r: Real) -> Real {
     match D {

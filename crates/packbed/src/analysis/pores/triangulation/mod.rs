@@ -481,20 +481,12 @@ impl<const D: usize> Triangulation<D> {
 /// The far simplex: `D + 1` points of weight 0 whose hull holds the input
 /// with room to spare, so that the first cell is valid.
 fn far_corners<const D: usize>(points: &[[f64; D]], weights: &[f64]) -> [[f64; D]; 4] {
-    let mut lo = [f64::INFINITY; D];
-    let mut hi = [f64::NEG_INFINITY; D];
-    let mut w_max = 0.0f64;
-    for (p, &w) in points.iter().zip(weights) {
-        for k in 0..D {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-        w_max = w_max.max(w);
-    }
-    if points.is_empty() {
-        lo = [0.0; D];
-        hi = [1.0; D];
-    }
+    let (lo, hi) = if points.is_empty() {
+        ([0.0; D], [1.0; D])
+    } else {
+        crate::math::bounds(points)
+    };
+    let w_max = weights.iter().fold(0.0f64, |m, &w| m.max(w));
     let extent = (0..D)
         .map(|k| hi[k] - lo[k])
         .fold(w_max.sqrt(), f64::max)
