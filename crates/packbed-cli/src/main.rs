@@ -55,6 +55,10 @@ enum Command {
     Example,
 }
 
+/// The system's allocator, with huge pages where a stage asks for them.
+#[global_allocator]
+static ALLOCATOR: packbed::memory::Allocator = packbed::memory::Allocator;
+
 fn main() -> ExitCode {
     install_panic_hook();
     install_signal_handler();

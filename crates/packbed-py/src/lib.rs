@@ -14,6 +14,11 @@ mod errors;
 
 use pyo3::prelude::*;
 
+/// The system's allocator, with huge pages where a stage asks for them (as
+/// the command's).
+#[global_allocator]
+static ALLOCATOR: packbed::memory::Allocator = packbed::memory::Allocator;
+
 #[pymodule]
 fn _packbed(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();

@@ -199,6 +199,9 @@ pub fn solve<const D: usize>(
     axes: &[usize],
 ) -> Result<Flow, FlowError> {
     assert_eq!(shapes.len(), net.throats.len(), "one shape per throat");
+    // The solve's sweeps read its vectors at scattered rows (see
+    // `memory::Allocator`).
+    let _huge = crate::memory::huge_pages();
     let z = D - 1;
     let mut merge = vec![false; shapes.len()];
     let conductance: Vec<Real> = shapes
