@@ -203,16 +203,18 @@ pub fn solve<const D: usize>(
     // `memory::Allocator`).
     let _huge = crate::memory::huge_pages();
     let z = D - 1;
-    let mut merge = vec![false; shapes.len()];
+    let merge: Vec<bool> = shapes
+        .par_iter()
+        .map(|shape| !(shape.length >= LENGTH_FLOOR * shape.mean_radius))
+        .collect();
     let conductance: Vec<Real> = shapes
-        .iter()
+        .par_iter()
         .zip(&net.throats)
-        .enumerate()
-        .map(|(t, (shape, th))| {
+        .zip(&merge)
+        .map(|((shape, th), &merged)| {
             let mean_r = shape.mean_radius;
             let length = shape.length;
-            if !(length >= LENGTH_FLOOR * mean_r) {
-                merge[t] = true;
+            if merged {
                 return 0.0;
             }
             // Touching discs close the gap between them (no 3D facet closes:
@@ -243,7 +245,7 @@ pub fn solve<const D: usize>(
     // Not kept through the solves (0.1 GB at 10^6 spheres).
     drop(open);
     let conductance: Vec<Real> = conductance
-        .into_iter()
+        .into_par_iter()
         .map(|g| if g > CLOSED * typical { g } else { 0.0 })
         .collect();
     let nodes = nodes(net, &merge, slab);
@@ -374,8 +376,11 @@ fn solve_axes<const D: usize>(
     let has_z = axes.contains(&z);
     // Along z: the conductance to fixed nodes.
     let mut to_fixed = vec![0.0; if has_z { n } else { 0 }];
-    let mut off: Vec<(u32, u32, Real)> = Vec::new();
-    let mut rhs = vec![vec![0.0; n]; axes.len()];
+    let mut off: Vec<(u32, u32, Real)> = Vec::with_capacity(links.len());
+    // The right-hand sides side by side, one cache line a node rather than
+    // one per axis (split after the loop).
+    let n_axes = axes.len();
+    let mut rhs_side = vec![0.0; n * n_axes];
     // Where b's image lies from a, along an axis.
     let delta = |l: &Link, axis: usize| -> Real {
         let shift = if axis < z {
@@ -392,6 +397,16 @@ fn solve_axes<const D: usize>(
             continue;
         }
         let (ia, ib) = (index[a], index[b]);
+        // An unknown's centre from the unknowns' own copy (one read, not
+        // two through the node's first pore).
+        let centre = |p: usize, i: u32| -> &[Real; D] {
+            if i == u32::MAX {
+                nodes.centre(p)
+            } else {
+                &points[i as usize].0
+            }
+        };
+        let (ca, cb) = (centre(a, ia), centre(b, ib));
         let within = inside(l);
         for (i, other) in [(ia, ib), (ib, ia)] {
             if i == u32::MAX {
@@ -415,15 +430,25 @@ fn solve_axes<const D: usize>(
             // gradient rather than for P itself starts the iteration at the
             // linear profile, and measures its residual on the scale of the
             // fluxes, not of the heights.
-            let d = delta(l, axis);
+            let shift = if axis < z {
+                Real::from(l.2[axis]) * size[axis]
+            } else {
+                0.0
+            };
+            // As `delta`, from the centres read above.
+            let d = cb[axis] + shift - ca[axis];
             if ia != u32::MAX {
-                rhs[k][ia as usize] -= g * d;
+                rhs_side[ia as usize * n_axes + k] -= g * d;
             }
             if ib != u32::MAX {
-                rhs[k][ib as usize] += g * d;
+                rhs_side[ib as usize * n_axes + k] += g * d;
             }
         }
     }
+    let rhs: Vec<Vec<Real>> = (0..n_axes)
+        .map(|k| rhs_side.iter().skip(k).step_by(n_axes).copied().collect())
+        .collect();
+    drop(rhs_side);
     let ground = |i: u32| {
         if diag[i as usize] > 0.0 {
             diag[i as usize]
