@@ -71,8 +71,8 @@ fn iterative<const D: usize>(systems: Systems<D>, tol: Real) -> Option<Vec<Vec<R
     for (new, &old) in order.iter().enumerate() {
         new_of[old as usize] = new as u32;
     }
-    let csr = super::amg::Csr::renumbered(&diag, &off, &new_of)?;
-    drop((diag, off));
+    let csr = super::amg::Csr::renumbered(&diag, off, &new_of)?;
+    drop(diag);
     let renumber = |b: Vec<Real>| -> Vec<Real> { order.iter().map(|&o| b[o as usize]).collect() };
     // One system when every right-hand side has the same shift.
     let same = shifts.windows(2).all(|w| w[0] == w[1]);
