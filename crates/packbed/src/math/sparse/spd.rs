@@ -64,7 +64,7 @@ fn iterative<const D: usize>(systems: Systems<D>, tol: Real) -> Option<Vec<Vec<R
     } = systems;
     // Each input goes as soon as it has served: at 10^6 spheres the points,
     // the couplings and the right-hand sides are 0.6 GB beside the hierarchy.
-    let coords: Vec<[Real; D]> = points.into_iter().map(|p| p.0).collect();
+    let coords: Vec<[Real; D]> = points.into_par_iter().map(|p| p.0).collect();
     let order = crate::math::hilbert::order(&coords);
     drop(coords);
     let mut new_of = vec![0u32; order.len()];
@@ -73,7 +73,8 @@ fn iterative<const D: usize>(systems: Systems<D>, tol: Real) -> Option<Vec<Vec<R
     }
     let csr = super::amg::Csr::renumbered(&diag, off, &new_of)?;
     drop(diag);
-    let renumber = |b: Vec<Real>| -> Vec<Real> { order.iter().map(|&o| b[o as usize]).collect() };
+    let renumber =
+        |b: Vec<Real>| -> Vec<Real> { order.par_iter().map(|&o| b[o as usize]).collect() };
     // One system when every right-hand side has the same shift.
     let same = shifts.windows(2).all(|w| w[0] == w[1]);
     let systems: Vec<Vec<Real>> = if same {
@@ -118,7 +119,7 @@ fn iterative<const D: usize>(systems: Systems<D>, tol: Real) -> Option<Vec<Vec<R
     };
     Some(
         x.iter()
-            .map(|x| new_of.iter().map(|&n| x[n as usize]).collect())
+            .map(|x| new_of.par_iter().map(|&n| x[n as usize]).collect())
             .collect(),
     )
 }
