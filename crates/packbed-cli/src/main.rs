@@ -57,7 +57,7 @@ enum Command {
 
 /// The system's allocator, with huge pages where a stage asks for them.
 #[global_allocator]
-static ALLOCATOR: packbed::memory::Allocator = packbed::memory::Allocator;
+static ALLOCATOR: packbed::Allocator = packbed::Allocator;
 
 fn main() -> ExitCode {
     install_panic_hook();

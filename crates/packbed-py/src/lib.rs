@@ -17,7 +17,7 @@ use pyo3::prelude::*;
 /// The system's allocator, with huge pages where a stage asks for them (as
 /// the command's).
 #[global_allocator]
-static ALLOCATOR: packbed::memory::Allocator = packbed::memory::Allocator;
+static ALLOCATOR: packbed::Allocator = packbed::Allocator;
 
 #[pymodule]
 fn _packbed(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -133,6 +133,7 @@ pub use io::atomic::abandon_in_flight;
 pub use io::export::Format as ExportFormat;
 pub use io::tables::particles_header;
 pub use mechanics::{Breaks, FragmentationConfig, Load};
+pub use memory::Allocator;
 pub use output::check_out_dir;
 
 pub use bed::{AnyBed, Bed};
