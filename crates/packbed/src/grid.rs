@@ -309,6 +309,23 @@ impl<const D: usize> Grid<D> {
         level.population += 1;
     }
 
+    /// True if a particle of radius `r` would be the largest of its level so
+    /// far: inserting it widens that level's queries.
+    pub fn widens(&self, r: Real) -> bool {
+        r > self.levels[self.plan.of(r)].r_max
+    }
+
+    /// How far beyond a query's box, widened by its margin, the centre of a
+    /// particle it visits can lie: the largest radius of a level plus its
+    /// widest horizontal cell. (A visited cell overlaps the box widened by the
+    /// margin and its level's largest radius, and holds the centre.)
+    pub fn reach_beyond_margin(&self) -> Real {
+        self.levels
+            .iter()
+            .map(|l| l.r_max + l.cell[..D - 1].iter().copied().fold(0.0, Real::max))
+            .fold(0.0, Real::max)
+    }
+
     /// Highest particle top over the columns of particles that could overlap the
     /// horizontal box `[lo, hi]` widened by `margin` (vertical components
     /// ignored); 0 when they are empty.

@@ -8,6 +8,7 @@ pub mod chain;
 pub(crate) mod obstacle;
 pub(crate) mod roll;
 pub mod rsa;
+mod speculate;
 
 use crate::bed::{AnyBed, Bed};
 use crate::config::{AnyPlan, BaseLayerKind, Config, Fill, Mode, Plan};
@@ -90,8 +91,16 @@ impl<'p, const D: usize> Engine<'p, D> {
 
     /// Draws the species and radius of the next particle.
     fn draw_particle(&mut self) -> (u32, Real) {
-        let s = self.picker.pick(&mut self.rng);
-        let r = self.plan.species[s].size.sample(&mut self.rng);
+        let mut rng = self.rng.clone();
+        let drawn = self.draw_particle_with(&mut rng);
+        self.rng = rng;
+        drawn
+    }
+
+    /// [`Engine::draw_particle`] from the generator `rng`.
+    fn draw_particle_with(&self, rng: &mut RunRng) -> (u32, Real) {
+        let s = self.picker.pick(rng);
+        let r = self.plan.species[s].size.sample(rng);
         (s as u32, r)
     }
 
@@ -130,7 +139,9 @@ impl<'p, const D: usize> Engine<'p, D> {
         }
     }
 
-    fn run(mut self, progress: &mut Progress) -> Result<(Bed<D>, DepositReport)> {
+    /// Deposits the bed; spheres in speculative batches when `speculate`
+    /// (the same bed either way).
+    fn run(mut self, progress: &mut Progress, speculate: bool) -> Result<(Bed<D>, DepositReport)> {
         let started = Instant::now();
         if let Fill::Count(n) = self.plan.fill {
             let n = n as usize;
@@ -144,7 +155,15 @@ impl<'p, const D: usize> Engine<'p, D> {
             self.base_layer();
         }
         let target = self.target();
+        let mut batches = speculate.then(speculate::Batches::new);
         while (self.bed.len() as u64) < target {
+            if let Some(batches) = batches.as_mut() {
+                match self.drop_batch(batches, progress)? {
+                    speculate::Ended::Placed { more: true } => continue,
+                    speculate::Ended::Placed { more: false } => break,
+                    speculate::Ended::Chain => {}
+                }
+            }
             let (s, r) = self.draw_particle();
             let more = match self.chain_of(s, r) {
                 Some((shape, orientation)) => {
@@ -170,23 +189,51 @@ impl<'p, const D: usize> Engine<'p, D> {
         s: u32,
         progress: &mut Progress,
     ) -> Result<bool> {
+        let pose = self.find_rest(body, None)?;
+        self.keep_body(body, &pose, s, progress)
+    }
+
+    /// Drops `body` until it rests. `first` is the outcome of a drop already
+    /// made, with the generator standing after it.
+    fn find_rest<B: Dropper<D>>(
+        &mut self,
+        body: &B,
+        mut first: Option<Option<B::Pose>>,
+    ) -> Result<B::Pose> {
         let mut tries = 0;
-        let pose = loop {
-            let start = body.enter(&self.plan.container, &mut self.rng);
-            let terrain = Terrain::of(&self.plan.container, &self.grid, &self.bed);
-            let settled = body.settle(&terrain, start, &mut self.rng, &mut self.report.moves);
+        loop {
+            let settled = match first.take() {
+                Some(settled) => settled,
+                None => {
+                    let start = body.enter(&self.plan.container, &mut self.rng);
+                    let terrain = Terrain::of(&self.plan.container, &self.grid, &self.bed);
+                    body.settle(&terrain, start, &mut self.rng, &mut self.report.moves)
+                }
+            };
             if let Some(p) = settled {
-                break p;
+                return Ok(p);
             }
             self.report.redrops += 1;
             tries += 1;
             if tries >= MAX_REDROPS_PER_PARTICLE {
                 return Err(Error::Impossible(body.stuck(tries)));
             }
-        };
+        }
+    }
+
+    /// Adds a body at rest to the bed unless it sticks out above the roof.
+    /// Returns false when the roof has been overflowed more often than the
+    /// fill allows: the bed is full.
+    fn keep_body<B: Dropper<D>>(
+        &mut self,
+        body: &B,
+        pose: &B::Pose,
+        s: u32,
+        progress: &mut Progress,
+    ) -> Result<bool> {
         if let Fill::Roof { misses } = self.plan.fill {
             let top = (0..body.beads())
-                .map(|k| body.bead(&pose, k)[D - 1])
+                .map(|k| body.bead(pose, k)[D - 1])
                 .fold(Real::NEG_INFINITY, Real::max)
                 + body.radius();
             if top > self.plan.container.height() {
@@ -195,7 +242,7 @@ impl<'p, const D: usize> Engine<'p, D> {
             }
         }
         let before = self.bed.len();
-        self.place_body(body, &pose, s);
+        self.place_body(body, pose, s);
         self.report.dropped += 1;
         if before / 4096 != self.bed.len() / 4096 && progress(self.bed.len() as u64).is_break() {
             return Err(Error::Interrupted);
@@ -236,7 +283,8 @@ pub fn deposit<const D: usize>(
     progress: &mut Progress,
 ) -> Result<(Bed<D>, DepositReport)> {
     match plan.mode {
-        Mode::Deposit => Engine::new(plan)?.run(progress),
+        Mode::Deposit if speculate::worth_it() => speculate::on_every_core(plan, progress),
+        Mode::Deposit => Engine::new(plan)?.run(progress, false),
         Mode::Rsa => rsa::rsa(plan, progress),
     }
 }

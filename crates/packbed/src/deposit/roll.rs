@@ -14,6 +14,7 @@ use crate::geometry::{Arc, Crossing, Surface, Trig};
 use crate::grid::Grid;
 use crate::math::{nnls, Real, Vector};
 use rand::RngExt;
+use std::cell::Cell;
 
 /// Most contacts tracked at once (more happen only in degenerate ties).
 const MAX_ACTIVE: usize = 6;
@@ -38,6 +39,11 @@ pub(crate) struct Terrain<'a, const D: usize> {
     pub grid: &'a Grid<D>,
     pub centres: &'a [Vector<D>],
     pub radii: &'a [Real],
+    /// The horizontal box every grid query of a sphere's settling has named
+    /// so far (before the grid widens it): what a speculative drop read
+    /// (`deposit::speculate`). Chains query `grid` directly and are never
+    /// speculated.
+    asked: Cell<(Vector<D>, Vector<D>)>,
 }
 
 impl<'a, const D: usize> Terrain<'a, D> {
@@ -48,7 +54,56 @@ impl<'a, const D: usize> Terrain<'a, D> {
             grid,
             centres: &bed.centres,
             radii: &bed.radii,
+            asked: Cell::new((Vector([Real::INFINITY; D]), Vector([Real::NEG_INFINITY; D]))),
         }
+    }
+
+    /// The horizontal box (lower and upper corners; heights meaningless) of
+    /// every query so far; empty (lower above upper) before the first.
+    pub(crate) fn asked(&self) -> (Vector<D>, Vector<D>) {
+        self.asked.get()
+    }
+
+    #[inline]
+    fn ask(&self, lo: &Vector<D>, hi: &Vector<D>) {
+        let (mut a, mut b) = self.asked.get();
+        for k in 0..D - 1 {
+            a[k] = a[k].min(lo[k]);
+            b[k] = b[k].max(hi[k]);
+        }
+        self.asked.set((a, b));
+    }
+
+    /// [`Grid::max_top`], noted.
+    fn max_top(&self, lo: &Vector<D>, hi: &Vector<D>, margin: Real) -> Real {
+        self.ask(lo, hi);
+        self.grid.max_top(lo, hi, margin)
+    }
+
+    /// [`Grid::for_each_in_box`], noted.
+    #[inline]
+    fn for_each_in_box(
+        &self,
+        lo: &Vector<D>,
+        hi: &Vector<D>,
+        margin: Real,
+        f: impl FnMut(u32, Vector<D>, u16),
+    ) {
+        self.ask(lo, hi);
+        self.grid.for_each_in_box(lo, hi, margin, f)
+    }
+
+    /// [`Grid::scan_down`], noted.
+    #[inline]
+    fn scan_down(
+        &self,
+        lo: &Vector<D>,
+        hi: &Vector<D>,
+        margin: Real,
+        f: impl FnMut(u32, Vector<D>, u16) -> Real,
+    ) {
+        self.ask(lo, hi);
+        self.grid.scan_down(lo, hi, margin, f)
     }
 }
 
@@ -114,7 +169,7 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
     let tol = GAP_TOL * r;
     let mut p = start;
     // Just above everything the particle could touch on its way down.
-    p[D - 1] = terrain.grid.max_top(&p, &p, r) + r;
+    p[D - 1] = terrain.max_top(&p, &p, r) + r;
     let mut active = ContactSet::<D>::new();
     let mut normals = [Vector::<D>::zero(); MAX_ACTIVE];
     let mut lambda = [0.0; MAX_ACTIVE];
@@ -278,7 +333,7 @@ fn snap<const D: usize>(
         }
     }
     let mut clear = true;
-    terrain.grid.for_each_in_box(&q, &q, r, |id, shift, _| {
+    terrain.for_each_in_box(&q, &q, r, |id, shift, _| {
         let centre = terrain.centres[id as usize] + shift;
         let need = r + terrain.radii[id as usize] - tol;
         if (q - centre).norm2() < need * need {
@@ -351,7 +406,7 @@ fn held_in_place<const D: usize>(
             add(s.normal_at(p));
         }
     }
-    terrain.grid.for_each_in_box(p, p, r, |id, shift, _| {
+    terrain.for_each_in_box(p, p, r, |id, shift, _| {
         let s = Surface::Ball {
             centre: terrain.centres[id as usize] + shift,
             radius: r + terrain.radii[id as usize],
@@ -445,7 +500,7 @@ fn fall<const D: usize>(
     // worked out at the end.
     let mut best = [(0u32, Vector::<D>::zero(), 0.0, 0u16); MAX_ACTIVE];
     let mut n_best = 0;
-    terrain.grid.scan_down(&lo, &hi, r, |id, shift, image| {
+    terrain.scan_down(&lo, &hi, r, |id, shift, image| {
         let c = terrain.centres[id as usize] + shift;
         let big_r = r + terrain.radii[id as usize];
         let w = *p - c;
@@ -647,7 +702,6 @@ fn first_contact_on_arc<const D: usize>(
         };
         consider(x, o, hits);
     };
-    let grid = terrain.grid;
     let ball = |id: u32, shift: Vector<D>| {
         (
             terrain.centres[id as usize] + shift,
@@ -657,7 +711,7 @@ fn first_contact_on_arc<const D: usize>(
     if D == 2 {
         // Discs: a handful of candidates per arc, too few for a batch to pay
         // (5–10 % slower at 10^6 discs, BENCHMARKS.md): each is asked alone.
-        grid.for_each_in_box(&arc_lo, &arc_hi, r, |id, shift, image| {
+        terrain.for_each_in_box(&arc_lo, &arc_hi, r, |id, shift, image| {
             let (centre, big_r) = ball(id, shift);
             let outside =
                 (0..D).any(|k| centre[k] < arc_lo[k] - big_r || centre[k] > arc_hi[k] + big_r);
@@ -684,7 +738,7 @@ fn first_contact_on_arc<const D: usize>(
             tol,
         };
         batch.len = 0;
-        grid.for_each_in_box(&arc_lo, &arc_hi, r, |id, shift, image| {
+        terrain.for_each_in_box(&arc_lo, &arc_hi, r, |id, shift, image| {
             let (centre, big_r) = ball(id, shift);
             if batch.push(&centre, big_r, id, image) {
                 batch.for_each_crossing(&sweep, &mut met);
