@@ -182,6 +182,10 @@ pub struct BenchResult {
     pub base_layer: u64,
     /// Peak resident memory of the process, where the system reports it (else 0).
     pub peak_rss_bytes: u64,
+    /// Threads a bed's spheres could settle on (`RAYON_NUM_THREADS`; the
+    /// same bed on any number): `seconds / moves` is wall time per move,
+    /// the cost of one move only when this is 1.
+    pub threads: usize,
     /// Seconds per analysis stage, stages of the same name summed.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub analysis: Vec<(String, f64)>,
@@ -231,6 +235,7 @@ pub fn measured(bed: &AnyBed, seconds: Option<f64>) -> BenchResult {
         moves: 0,
         base_layer: 0,
         peak_rss_bytes: peak_rss_bytes().unwrap_or(0),
+        threads: rayon::current_num_threads(),
         analysis: Vec::new(),
     }
 }
@@ -360,10 +365,12 @@ pub fn text(r: &BenchResult, spec: Option<&BenchBed>) -> String {
         let dropped = r.bodies.saturating_sub(r.base_layer).max(1);
         let _ = writeln!(
             s,
-            "  {} moves ({:.1} per dropped body), {:.3} µs per move; {} re-drops; {} base-layer particles",
+            "  {} moves ({:.1} per dropped body), {:.3} µs per move on {} thread{}; {} re-drops; {} base-layer particles",
             r.moves,
             r.moves as f64 / dropped as f64,
             1e6 * r.seconds / r.moves.max(1) as f64,
+            r.threads,
+            if r.threads == 1 { "" } else { "s" },
             r.redrops,
             r.base_layer
         );

@@ -443,6 +443,31 @@ fn bench_json_is_one_object_with_the_keys() {
 }
 
 #[test]
+fn one_bed_is_the_same_on_any_number_of_threads() {
+    let s = Scratch::new();
+    let mut beds = Vec::new();
+    for threads in ["1", "2", "3"] {
+        let out = format!("t{threads}");
+        s.ok_with(
+            "RAYON_NUM_THREADS",
+            threads,
+            &words(&format!(
+                "run --periodic --count 4000 --radii 10,20 --seed 5 --no-pictures --quiet --out {out}"
+            )),
+        );
+        beds.push(s.bytes(&format!("{out}/particles.csv")));
+        let b = s.ok_with(
+            "RAYON_NUM_THREADS",
+            threads,
+            &words("bench --n 2000 --periodic --json"),
+        );
+        let v: Value = serde_json::from_str(&b.stdout).unwrap();
+        assert_eq!(v["threads"].to_string(), threads, "{v}");
+    }
+    assert!(beds.windows(2).all(|w| w[0] == w[1]));
+}
+
+#[test]
 fn bench_deposits_chains_and_counts_them() {
     let s = Scratch::new();
     let o = s.ok(&words("bench --dim 2 --chains 5 --n 40 --periodic --json"));

@@ -93,6 +93,15 @@ impl Scratch {
         run_within(cmd, self, args, secs)
     }
 
+    /// [`Scratch::ok`] with the environment variable `key` set to `value`.
+    pub fn ok_with(&self, key: &str, value: &str, args: &[&str]) -> Outcome {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_packbed"));
+        cmd.args(args).env(key, value);
+        let o = run_within(cmd, self, args, 300);
+        assert_eq!(o.code, 0, "{args:?}: {}", o.stderr);
+        o
+    }
+
     /// The `summary.json` of the output directory `work/<out>`.
     pub fn summary(&self, out: &str) -> serde_json::Value {
         serde_json::from_str(&self.read(&format!("{out}/summary.json"))).unwrap()
