@@ -91,17 +91,7 @@ impl<'p, const D: usize> Engine<'p, D> {
 
     /// Draws the species and radius of the next particle.
     fn draw_particle(&mut self) -> (u32, Real) {
-        let mut rng = self.rng.clone();
-        let drawn = self.draw_particle_with(&mut rng);
-        self.rng = rng;
-        drawn
-    }
-
-    /// [`Engine::draw_particle`] from the generator `rng`.
-    fn draw_particle_with(&self, rng: &mut RunRng) -> (u32, Real) {
-        let s = self.picker.pick(rng);
-        let r = self.plan.species[s].size.sample(rng);
-        (s as u32, r)
+        draw(&self.picker, &self.plan.species, &mut self.rng)
     }
 
     /// Adds all beads of a body at `pose` as one new body.
@@ -206,8 +196,7 @@ impl<'p, const D: usize> Engine<'p, D> {
                 Some(settled) => settled,
                 None => {
                     let start = body.enter(&self.plan.container, &mut self.rng);
-                    let terrain = Terrain::of(&self.plan.container, &self.grid, &self.bed);
-                    body.settle(&terrain, start, &mut self.rng, &mut self.report.moves)
+                    self.settle_from(body, start)
                 }
             };
             if let Some(p) = settled {
@@ -219,6 +208,12 @@ impl<'p, const D: usize> Engine<'p, D> {
                 return Err(Error::Impossible(body.stuck(tries)));
             }
         }
+    }
+
+    /// Settles `body` from `start` on the bed as it is, with the run's generator.
+    fn settle_from<B: Dropper<D>>(&mut self, body: &B, start: B::Pose) -> Option<B::Pose> {
+        let terrain = Terrain::of(&self.plan.container, &self.grid, &self.bed);
+        body.settle(&terrain, start, &mut self.rng, &mut self.report.moves)
     }
 
     /// Adds a body at rest to the bed unless it sticks out above the roof.
@@ -249,6 +244,13 @@ impl<'p, const D: usize> Engine<'p, D> {
         }
         Ok(true)
     }
+}
+
+/// Draws the species and radius of a particle from `rng`.
+fn draw(picker: &SpeciesPicker, species: &[Species], rng: &mut RunRng) -> (u32, Real) {
+    let s = picker.pick(rng);
+    let r = species[s].size.sample(rng);
+    (s as u32, r)
 }
 
 /// The levels of the neighbour grid for the particles `species` produce: fitted

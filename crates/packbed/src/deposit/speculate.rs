@@ -173,7 +173,7 @@ impl<const D: usize> Engine<'_, D> {
         let left = self.target().saturating_sub(self.bed.len() as u64);
         let mut rng = self.rng.clone();
         while (draws.len() as u64) < left.min(*size as u64) {
-            let (species, r) = self.draw_particle_with(&mut rng);
+            let (species, r) = super::draw(&self.picker, &self.plan.species, &mut rng);
             if self.chain_of(species, r).is_some() {
                 break;
             }
@@ -229,14 +229,7 @@ impl<const D: usize> Engine<'_, D> {
                 // bed as it now is.
                 redone += 1;
                 self.rng = d.rng.clone();
-                let terrain = Terrain::of(&self.plan.container, &self.grid, &self.bed);
-                let settled = Dropper::<D>::settle(
-                    &sphere,
-                    &terrain,
-                    d.start,
-                    &mut self.rng,
-                    &mut self.report.moves,
-                );
+                let settled = self.settle_from(&sphere, d.start);
                 (settled, self.rng != d.rng)
             } else {
                 self.rng = f.rng.clone();
