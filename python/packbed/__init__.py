@@ -300,7 +300,7 @@ class Bed:
         pressure under each axis' unit gradient; a throat's two pores, the
         image shift of the second, its constriction radius, conductance and
         flux per axis. ``options`` are keys of ``[analysis]`` (``flow`` for
-        ``[analysis.flow]``: ``viscosity``, ``axes``, ``slab``, ``conductance_factor``). Raises
+        ``[analysis.flow]``: ``viscosity``, ``axes``, ``slab``, ``conductance``, ``conductance_factor``). Raises
         ``ImpossibleError`` when the bed has no bulk slab or its spheres
         overlap, with the reason.
         """

@@ -71,23 +71,61 @@ pub struct FlowConfig {
     /// The flow region `[z_lo, z_hi]` (default: the bulk slab).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub slab: Option<[Real; 2]>,
-    /// The one constant factor on every throat's conductance (default
-    /// [`CONDUCTANCE_FACTOR`]; 1 is Chareyre et al.'s model as published, as
-    /// Yade's `permeabilityFactor` = 1).
-    #[serde(default = "default_conductance_factor")]
-    pub conductance_factor: Real,
+    /// Which length sets a throat's conductance `c · A_f ℓ² / (2 μ L)`: the
+    /// constriction radius (default) or the throat region's hydraulic radius
+    /// (Chareyre et al.'s model as published).
+    #[serde(default)]
+    pub conductance: Conductance,
+    /// The one constant factor `c` on every throat's conductance (default:
+    /// the model's, [`Conductance::default_factor`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub conductance_factor: Option<Real>,
 }
 
-/// The default conductance factor: fixed once from the two published Stokes
-/// references of `spec/pores.md`. Without it the network gives 0.979 of Zick
-/// & Homsy's simple cubic array (exact Stokes flow) and 1.29 of van der Hoef
-/// et al.'s random arrays (lattice Boltzmann) at the packing of deposited
-/// beds; 0.89 = 1/√(0.979 · 1.29) is the one factor that leaves both equally
-/// far off (0.87 and 1.15), see ARCHITECTURE.md.
-pub const CONDUCTANCE_FACTOR: Real = 0.89;
+/// The length `ℓ` of a throat's conductance `g = c · A_f ℓ² / (2 μ L)`.
+///
+/// Chareyre et al.'s hydraulic radius (void volume over solid surface of the
+/// throat region) grows with the pore space: on loose beds it overstates `k`
+/// twice (2.0–2.1× the correlations on random sequential addition beds at
+/// `φ` = 0.38, 3.0× Zick & Homsy's simple cubic array at `φ` = 0.216) while
+/// it is 1.28× on deposited beds, so no one factor holds both within 25 %.
+/// The constriction radius is what the throat lets through: with one factor
+/// fixed on Zick & Homsy's touching array it is within 10 % of their exact
+/// Stokes values from `φ` = 0.216 to 0.524 and within 16 % of the
+/// correlations on random beds from `φ` = 0.38 to 0.62 (ARCHITECTURE.md).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Conductance {
+    /// `ℓ` = the constriction radius of the throat.
+    #[default]
+    Constriction,
+    /// `ℓ` = `R_h` = void volume / solid surface of the throat region
+    /// (Chareyre et al. 2012; Yade's flow engine).
+    HydraulicRadius,
+}
 
-fn default_conductance_factor() -> Real {
-    CONDUCTANCE_FACTOR
+impl Conductance {
+    /// The factor `c` fixed once for this model from the published Stokes
+    /// references of `spec/pores.md` (ARCHITECTURE.md, "The conductance"):
+    /// - constriction: 0.55 ≈ 1/1.826, the model with `c` = 1 giving 1.826×
+    ///   Zick & Homsy's touching simple cubic array (exact Stokes flow);
+    /// - hydraulic radius: 0.89 = 1/√(0.979 · 1.29), leaving Zick & Homsy's
+    ///   array (0.979× with `c` = 1) and van der Hoef et al.'s random arrays
+    ///   at the packing of deposited beds (1.29×) equally far off.
+    pub fn default_factor(self) -> Real {
+        match self {
+            Conductance::Constriction => 0.55,
+            Conductance::HydraulicRadius => 0.89,
+        }
+    }
+
+    /// The name in configs and summaries.
+    pub fn name(self) -> &'static str {
+        match self {
+            Conductance::Constriction => "constriction",
+            Conductance::HydraulicRadius => "hydraulic_radius",
+        }
+    }
 }
 
 /// An axis of `[analysis.flow] axes`.
@@ -112,7 +150,8 @@ impl Default for FlowConfig {
             viscosity: default_viscosity(),
             axes: None,
             slab: None,
-            conductance_factor: CONDUCTANCE_FACTOR,
+            conductance: Conductance::default(),
+            conductance_factor: None,
         }
     }
 }
@@ -126,7 +165,9 @@ impl FlowConfig {
 
     fn check(&self) -> Result<()> {
         positive(self.viscosity, "analysis.flow.viscosity")?;
-        positive(self.conductance_factor, "analysis.flow.conductance_factor")?;
+        if let Some(c) = self.conductance_factor {
+            positive(c, "analysis.flow.conductance_factor")?;
+        }
         if let Some(axes) = &self.axes {
             if axes.is_empty() {
                 return Err(Error::config(
@@ -514,13 +555,20 @@ mod tests {
 
     #[test]
     fn the_conductance_factor_is_read_and_checked() {
-        assert_eq!(FlowConfig::default().conductance_factor, CONDUCTANCE_FACTOR);
+        let default = FlowConfig::default();
+        assert_eq!(default.conductance, Conductance::Constriction);
+        assert_eq!(default.conductance_factor, None);
         let read: FlowConfig = toml::from_str("conductance_factor = 1.0").unwrap();
-        assert_eq!(read.conductance_factor, 1.0);
+        assert_eq!(read.conductance_factor, Some(1.0));
         assert!(read.check().is_ok() && !read.is_default());
+        let read: FlowConfig = toml::from_str("conductance = \"hydraulic_radius\"").unwrap();
+        assert_eq!(read.conductance, Conductance::HydraulicRadius);
+        assert!(!read.is_default());
+        let e = toml::from_str::<FlowConfig>("conductance = \"tube\"").unwrap_err();
+        assert!(e.to_string().contains("constriction"), "{e}");
         for bad in [0.0, -0.5, Real::NAN, Real::INFINITY] {
             let e = FlowConfig {
-                conductance_factor: bad,
+                conductance_factor: Some(bad),
                 ..FlowConfig::default()
             }
             .check()

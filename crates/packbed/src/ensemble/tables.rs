@@ -287,7 +287,7 @@ pub fn is_uninformative(m: &Measure, beds: u64) -> bool {
     let last = m.name.rsplit('.').next().unwrap_or("");
     if matches!(
         last,
-        "slab" | "species" | "viscosity" | "conductance_factor"
+        "slab" | "species" | "viscosity" | "conductance" | "conductance_factor"
     ) {
         return true;
     }

@@ -13,6 +13,8 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::network::{Network, Pore, ThroatShape};
+use super::FlowOptions;
+use crate::config::Conductance;
 use crate::math::sparse::{solve_spd_shifted, SpdError, Systems};
 use crate::math::{Real, Vector};
 use rayon::prelude::*;
@@ -194,11 +196,11 @@ pub fn solve<const D: usize>(
     shapes: Vec<ThroatShape>,
     size: &Vector<D>,
     slab: (Real, Real),
-    viscosity: Real,
-    factor: Real,
+    options: &FlowOptions,
     axes: &[usize],
 ) -> Result<Flow, FlowError> {
     assert_eq!(shapes.len(), net.throats.len(), "one shape per throat");
+    let (viscosity, factor) = (options.viscosity, options.conductance_factor);
     // The solve's sweeps read its vectors at scattered rows (see
     // `memory::Allocator`).
     let _huge = crate::memory::huge_pages();
@@ -222,8 +224,12 @@ pub fn solve<const D: usize>(
             if !(th.constriction_radius >= SHUT * mean_r) {
                 return 0.0;
             }
-            let g = factor * shape.fluid_area * shape.hydraulic_radius.powi(2)
-                / (2.0 * viscosity * length);
+            let radius = match options.conductance {
+                Conductance::Constriction => th.constriction_radius,
+                Conductance::HydraulicRadius => shape.hydraulic_radius,
+            };
+            let g =
+                factor * super::geometry::conductance(shape.fluid_area, radius, length, viscosity);
             if g.is_finite() && g > 0.0 {
                 g
             } else {

@@ -549,16 +549,17 @@ pub fn throat_2d(p1: [f64; 2], p2: [f64; 2], c: &[[f64; 2]; 2], r: &[f64; 2]) ->
     finish_throat(t, norm2(sub2(d[2], d[3])), fluid, l, 2)
 }
 
-/// Hydraulic conductance of a throat, `g = A R_h² / (2 μ L)`
-/// (Chareyre et al. 2012); per unit depth in 2D.
+/// Hydraulic conductance of a throat, `g = A ℓ² / (2 μ L)` with `ℓ` the
+/// throat's hydraulic radius (Chareyre et al. 2012) or its constriction
+/// radius (`config::Conductance`); per unit depth in 2D.
 ///
 /// The caller is expected to floor `length`; a non-positive or non-finite
 /// `length` or `viscosity` is treated as an invalid throat and gives 0.0.
-pub fn conductance(fluid_area: f64, hydraulic_radius: f64, length: f64, viscosity: f64) -> f64 {
+pub fn conductance(fluid_area: f64, radius: f64, length: f64, viscosity: f64) -> f64 {
     if !(length > 0.0 && length.is_finite() && viscosity > 0.0 && viscosity.is_finite()) {
         return 0.0;
     }
-    fin(fluid_area * hydraulic_radius * hydraulic_radius / (2.0 * viscosity * length))
+    fin(fluid_area * radius * radius / (2.0 * viscosity * length))
 }
 
 #[cfg(test)]

@@ -28,6 +28,8 @@ pub struct FlowOptions {
     pub axes: Option<[bool; 3]>,
     /// The flow region `[z_lo, z_hi]`; `None`: the bulk slab.
     pub slab: Option<(Real, Real)>,
+    /// Which length sets a throat's conductance.
+    pub conductance: crate::config::Conductance,
     /// The constant factor on every throat's conductance.
     pub conductance_factor: Real,
 }
@@ -38,7 +40,8 @@ impl Default for FlowOptions {
             viscosity: 1.0,
             axes: None,
             slab: None,
-            conductance_factor: crate::config::CONDUCTANCE_FACTOR,
+            conductance: crate::config::Conductance::default(),
+            conductance_factor: crate::config::Conductance::default().default_factor(),
         }
     }
 }
@@ -55,7 +58,10 @@ impl crate::config::FlowConfig {
                 .as_ref()
                 .map(|list| [FlowAxis::X, FlowAxis::Y, FlowAxis::Z].map(|a| list.contains(&a))),
             slab: self.slab.map(|s| (s[0], s[1])),
-            conductance_factor: self.conductance_factor,
+            conductance: self.conductance,
+            conductance_factor: self
+                .conductance_factor
+                .unwrap_or(self.conductance.default_factor()),
         }
     }
 }
@@ -134,6 +140,9 @@ pub struct PermeabilitySummary {
     pub anisotropy: Option<Real>,
     /// The fluid viscosity used.
     pub viscosity: Real,
+    /// Which length set the throats' conductances (`constriction` or
+    /// `hydraulic_radius`; `[analysis.flow] conductance`).
+    pub conductance: &'static str,
     /// The constant factor on every throat's conductance
     /// (`[analysis.flow] conductance_factor`).
     pub conductance_factor: Real,
@@ -347,15 +356,7 @@ pub fn pore_space_timed<const D: usize>(
     if let Some(options) = flow {
         let axes = flow_axes::<D>(bed.container.periodic, options.axes);
         let t = Instant::now();
-        let solved_flow = flow::solve(
-            &net,
-            shapes,
-            &bed.container.size,
-            slab,
-            options.viscosity,
-            options.conductance_factor,
-            &axes,
-        );
+        let solved_flow = flow::solve(&net, shapes, &bed.container.size, slab, options, &axes);
         times.0.push(("pores/flow", t.elapsed().as_secs_f64()));
         match solved_flow {
             Ok(f) => {
@@ -471,6 +472,7 @@ fn permeability_summary<const D: usize>(
         k_over_kozeny_carman: mean.zip(k_kc).filter(|e| e.1 > 0.0).map(|(k, kc)| k / kc),
         anisotropy,
         viscosity: options.viscosity,
+        conductance: options.conductance.name(),
         conductance_factor: options.conductance_factor,
         axes: f.axes.clone(),
         throats_merged: f.merged,
