@@ -4,7 +4,10 @@
 //! A batch of spheres is drawn (species, radius, entry point) from a copy of
 //! the run's generator, and every sphere settles on the bed as it was before
 //! the batch, in parallel, noting the horizontal box of everything it asked
-//! the grid. The results are then taken in draw order. Sphere `k`'s result is
+//! the grid; a thread done with its share while another still settles a
+//! sphere of the batch takes the next draws meanwhile (up to the batch's size
+//! again), which join the batch. The results are then taken in draw order.
+//! Sphere `k`'s result is
 //! the one-at-a-time result when nothing placed earlier in the batch lies where
 //! its queries could have used it ([`could_have_met`]) and the highest top
 //! under its entry point is unchanged; otherwise it settles again, alone, on
@@ -26,7 +29,8 @@ use crate::error::Result;
 use crate::math::{Real, Vector};
 use rayon::prelude::*;
 use std::ops::ControlFlow;
-use std::sync::mpsc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{mpsc, OnceLock};
 
 /// A sphere drawn for a batch.
 pub(super) struct Draw<const D: usize> {
@@ -56,12 +60,14 @@ pub(super) struct Found<const D: usize> {
 /// 48 took 2.4 s): the helper thread falls asleep while a batch is taken.
 const FIRST_BATCH: usize = 8;
 const LARGEST_BATCH: usize = 24;
+/// Spheres drawn for a batch, as a multiple of its size (see `drop_batch`).
+const EXTRA: usize = 2;
 
 /// The batches of one run, their buffers kept between batches.
 pub(super) struct Batches<const D: usize> {
     size: usize,
     draws: Vec<Draw<D>>,
-    found: Vec<Found<D>>,
+    found: Vec<OnceLock<Found<D>>>,
     /// The spheres placed in this batch so far.
     placed: Placed<D>,
 }
@@ -161,7 +167,10 @@ impl<const D: usize> Engine<'_, D> {
         draws.clear();
         let left = self.target().saturating_sub(self.bed.len() as u64);
         let mut rng = self.rng.clone();
-        while (draws.len() as u64) < left.min(*size as u64) {
+        // Up to `EXTRA` times the batch's size is drawn: a thread done with
+        // its share while another still settles a slow sphere of the batch
+        // (a fine percolating deep) settles the next ones meanwhile.
+        while (draws.len() as u64) < left.min((EXTRA * *size) as u64) {
             let (species, r) = super::draw(&self.picker, &self.plan.species, &mut rng);
             if self.chain_of(species, r).is_some() {
                 break;
@@ -178,28 +187,46 @@ impl<const D: usize> Engine<'_, D> {
             return Ok(Ended::Chain);
         }
         let (container, grid, bed) = (&self.plan.container, &self.grid, &self.bed);
-        draws
-            .par_iter()
-            .map(|d| {
-                let terrain = Terrain::of(container, grid, bed);
-                let mut rng = d.rng.clone();
-                let mut moves = 0;
-                let rest = roll::settle(&terrain, d.r, d.start, &mut rng, &mut moves);
-                let (lo, hi) = terrain.asked();
-                Found {
-                    top: grid.max_top(&d.start, &d.start, d.r),
-                    rest,
-                    rng,
-                    moves,
-                    lo,
-                    hi,
-                }
-            })
-            .collect_into_vec(found);
+        let first = (*size).min(draws.len());
+        found.clear();
+        found.resize_with(draws.len(), OnceLock::new);
+        let next = AtomicUsize::new(0);
+        let first_done = AtomicUsize::new(0);
+        let settle = || loop {
+            // Extra spheres only while the batch proper is still settling.
+            if next.load(Ordering::Relaxed) >= first && first_done.load(Ordering::Acquire) == first
+            {
+                return;
+            }
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            let Some(d) = draws.get(i) else { return };
+            let terrain = Terrain::of(container, grid, bed);
+            let mut rng = d.rng.clone();
+            let mut moves = 0;
+            let rest = roll::settle(&terrain, d.r, d.start, &mut rng, &mut moves);
+            let (lo, hi) = terrain.asked();
+            let _ = found[i].set(Found {
+                top: grid.max_top(&d.start, &d.start, d.r),
+                rest,
+                rng,
+                moves,
+                lo,
+                hi,
+            });
+            if i < first {
+                first_done.fetch_add(1, Ordering::Release);
+            }
+        };
+        (0..rayon::current_num_threads())
+            .into_par_iter()
+            .for_each(|_| settle());
+        // Every index handed out was settled before its thread returned.
+        let taken = next.load(Ordering::Relaxed).min(draws.len());
         let container = &self.plan.container;
         let mut redone = 0;
         placed.clear(container, self.grid.reach_beyond_margin());
-        for (d, f) in draws.iter().zip(found.iter()) {
+        for (d, f) in draws[..taken].iter().zip(found.iter()) {
+            let f = f.get().expect("every sphere handed out was settled");
             let columns = d.r + self.grid.reach_beyond_margin();
             let mut near = f.lo;
             let mut far = f.hi;
@@ -238,7 +265,7 @@ impl<const D: usize> Engine<'_, D> {
                 return Ok(Ended::Placed { more });
             }
         }
-        *size = if 4 * redone > draws.len() {
+        *size = if 4 * redone > taken {
             (*size / 2).max(2)
         } else {
             (*size * 2).min(LARGEST_BATCH)
