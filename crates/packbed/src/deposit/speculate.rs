@@ -7,14 +7,13 @@
 //! the grid; a thread done with its share while another still settles a
 //! sphere of the batch takes the next draws meanwhile (up to the batch's size
 //! again), which join the batch. The results are then taken in draw order.
-//! Sphere `k`'s result is
-//! the one-at-a-time result when nothing placed earlier in the batch lies where
-//! its queries could have used it ([`could_have_met`]) and the highest top
-//! under its entry point is unchanged; otherwise it settles again, alone, on
-//! the bed as it now is. A sphere whose settling drew from the generator (a
-//! random tip), found no rest (a re-drop draws again) or widened the grid's
-//! queries (the largest radius of its level) ends the batch: the draws after
-//! it assumed otherwise. Beds, moves and draws are those of the one-at-a-time
+//! Sphere `k`'s result is the one-at-a-time result when nothing placed earlier
+//! in the batch lies where its queries could have used it ([`could_have_met`])
+//! and the highest top under its entry point is unchanged; otherwise it
+//! settles again, alone, on the bed as it now is. A sphere whose settling
+//! drew from the generator (a random tip), found no rest (a re-drop draws
+//! again) or widened the grid's queries (the largest radius of its level) ends
+//! the batch: the draws after it assumed otherwise. Beds, moves and draws are those of the one-at-a-time
 //! engine, bit for bit, whatever the number of threads (tests below, and
 //! `scripts/same-outputs.sh`). A replicate of an ensemble, already one task of
 //! a parallel loop, drops one sphere at a time.
