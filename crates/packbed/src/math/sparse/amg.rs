@@ -19,6 +19,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::blocks::{self, dot, split, CHUNK};
+use super::lane::Lane;
 use crate::math::Real;
 use rayon::prelude::*;
 
@@ -444,7 +445,7 @@ struct Prolongator {
 
 impl Prolongator {
     /// `fine += P coarse`.
-    fn add_to<const K: usize>(&self, coarse: &[[Real; K]], fine: &mut [[Real; K]]) {
+    fn add_to<X: Lane, const K: usize>(&self, coarse: &[[X; K]], fine: &mut [[X; K]]) {
         fine.par_chunks_mut(CHUNK)
             .zip(self.agg.par_chunks(CHUNK))
             .for_each(|(fine, agg)| {
@@ -464,13 +465,13 @@ impl Prolongator {
     /// ascending order, as one thread would, and no list of members is kept
     /// (0.04 GB at 10^6 spheres); alone, this was 0.84 s of a 10^6-sphere
     /// solve.
-    fn restrict<const K: usize>(&self, fine: &[[Real; K]], c: &mut [[Real; K]]) {
+    fn restrict<X: Lane, const K: usize>(&self, fine: &[[X; K]], c: &mut [[X; K]]) {
         let per = self
             .coarse
             .div_ceil(rayon::current_num_threads())
             .max(CHUNK);
         c.par_chunks_mut(per).enumerate().for_each(|(k, c)| {
-            c.fill([0.0; K]);
+            c.fill([X::default(); K]);
             let lo = (k * per) as u32;
             let n = c.len() as u32;
             for (f, &a) in fine.iter().zip(&self.agg) {
@@ -526,12 +527,20 @@ impl Prolongator {
 
 /// A solve's buffers at one level: a cycle allocates nothing (fresh pages
 /// the size of the finest level cost a tenth of a solve in page faults).
+/// Single precision: see [`Lane`].
 struct Work<const K: usize> {
-    residual: Vec<[Real; K]>,
-    coarse_rhs: Vec<[Real; K]>,
-    coarse_x: Vec<[Real; K]>,
+    residual: Vec<[f32; K]>,
+    coarse_rhs: Vec<[f32; K]>,
+    coarse_x: Vec<[f32; K]>,
     /// Per edge row, its couplings to other blocks (see [`Csr::edges`]).
-    edge: Vec<[Real; K]>,
+    edge: Vec<[f32; K]>,
+}
+
+/// The buffers of one solve's cycles: the finest level's correction, and
+/// each level's [`Work`].
+struct Cycles<const K: usize> {
+    x: Vec<[f32; K]>,
+    levels: Vec<Work<K>>,
 }
 
 /// One level: its matrix and the prolongator from the next coarser one.
@@ -676,49 +685,82 @@ impl Multigrid {
     }
 
     /// One set of buffers per level for one solve.
-    fn work<const K: usize>(&self) -> Vec<Work<K>> {
-        self.levels
-            .iter()
-            .map(|l| Work {
-                residual: vec![[0.0; K]; l.a.n()],
-                coarse_rhs: vec![[0.0; K]; l.p.coarse],
-                coarse_x: vec![[0.0; K]; l.p.coarse],
-                edge: vec![[0.0; K]; l.a.edges.len()],
-            })
-            .collect()
+    fn work<const K: usize>(&self) -> Cycles<K> {
+        Cycles {
+            x: vec![
+                [0.0; K];
+                if self.levels.is_empty() {
+                    0
+                } else {
+                    self.finest().n()
+                }
+            ],
+            levels: self
+                .levels
+                .iter()
+                .map(|l| Work {
+                    residual: vec![[0.0; K]; l.a.n()],
+                    coarse_rhs: vec![[0.0; K]; l.p.coarse],
+                    coarse_x: vec![[0.0; K]; l.p.coarse],
+                    edge: vec![[0.0; K]; l.a.edges.len()],
+                })
+                .collect(),
+        }
     }
 
-    /// One V-cycle on `r` from a zero guess into `x`: an approximation of
-    /// `A⁻¹ r`.
-    fn cycle<const K: usize>(
+    /// `z = M⁻¹ r`, one V-cycle from a zero guess: an approximation of
+    /// `A⁻¹ r`. The cycle runs in single precision (see [`Lane`]); `r` and
+    /// `z` are the conjugate gradients' own.
+    fn precondition<const K: usize>(
+        &self,
+        r: &[[Real; K]],
+        z: &mut [[Real; K]],
+        work: &mut Cycles<K>,
+    ) {
+        if self.levels.is_empty() {
+            self.coarsest_solve(r, z);
+            return;
+        }
+        self.cycle(0, r, &mut work.x, Some(z), &mut work.levels);
+    }
+
+    /// The coarsest level's dense solve, in double precision.
+    fn coarsest_solve<B: Lane, X: Lane, const K: usize>(&self, r: &[[B; K]], x: &mut [[X; K]]) {
+        let n = self.coarsest.n();
+        let mut y = vec![0.0; n];
+        for m in 0..K {
+            for (y, r) in y.iter_mut().zip(r) {
+                *y = r[m].real();
+            }
+            let factor = &self.factor[if self.systems == 1 { 0 } else { m }];
+            dense_solve(factor, n, &mut y);
+            for (x, y) in x.iter_mut().zip(&y) {
+                x[m] = X::of(*y);
+            }
+        }
+    }
+
+    /// One V-cycle on `r` from a zero guess into `x` (and, converted, into
+    /// `out`): an approximation of `A⁻¹ r`.
+    fn cycle<B: Lane, const K: usize>(
         &self,
         level: usize,
-        r: &[[Real; K]],
-        x: &mut [[Real; K]],
+        r: &[[B; K]],
+        x: &mut [[f32; K]],
+        out: Option<&mut [[Real; K]]>,
         work: &mut [Work<K>],
     ) {
         if level == self.levels.len() {
-            let n = self.coarsest.n();
-            let mut y = vec![0.0; n];
-            for m in 0..K {
-                for (y, r) in y.iter_mut().zip(r) {
-                    *y = r[m];
-                }
-                let factor = &self.factor[if self.systems == 1 { 0 } else { m }];
-                dense_solve(factor, n, &mut y);
-                for (x, y) in x.iter_mut().zip(&y) {
-                    x[m] = *y;
-                }
-            }
+            self.coarsest_solve(r, x);
             return;
         }
         let Level { a, p } = &self.levels[level];
         let (here, below) = work.split_first_mut().expect("a work set per level");
         smooth_from_zero(a, r, x, &mut here.residual);
         p.restrict(&here.residual, &mut here.coarse_rhs);
-        self.cycle(level + 1, &here.coarse_rhs, &mut here.coarse_x, below);
+        self.cycle(level + 1, &here.coarse_rhs, &mut here.coarse_x, None, below);
         p.add_to(&here.coarse_x, x);
-        backward_gauss_seidel(a, r, x, &mut here.edge);
+        backward_gauss_seidel(a, r, x, &mut here.edge, out);
     }
 
     /// Solves `A x = b` to a relative residual of `tol` by preconditioned
@@ -796,7 +838,7 @@ impl Multigrid {
         }
         let mut work = self.work::<K>();
         let mut z = vec![[0.0; K]; n];
-        self.cycle(0, &r, &mut z, &mut work);
+        self.precondition(&r, &mut z, &mut work);
         let mut p = z.clone();
         if let Some((w, aw, inv)) = &deflation {
             blocks::deflate(&mut p, w, aw_dot(aw, &z, inv));
@@ -829,7 +871,7 @@ impl Multigrid {
                 break;
             }
             let z = &mut ap;
-            self.cycle(0, &r, z, &mut work);
+            self.precondition(&r, z, &mut work);
             let (rz_new, mu) = match &deflation {
                 Some((_, aw, inv)) => {
                     let (rz, awz) = blocks::dots(&r, aw, z);
@@ -865,11 +907,11 @@ fn aw_dot<const K: usize>(aw: &[[Real; K]], z: &[[Real; K]], inv: &[Real; K]) ->
 /// `x_i` is known, sends `−a_ij x_i` to its earlier neighbours. The separate
 /// residual product cost a quarter of the solve (36.5 against 27.9 s on the
 /// z system of a 10^6-sphere bed).
-fn smooth_from_zero<const K: usize>(
+fn smooth_from_zero<B: Lane, X: Lane, const K: usize>(
     a: &Csr,
-    b: &[[Real; K]],
-    x: &mut [[Real; K]],
-    residual: &mut [[Real; K]],
+    b: &[[B; K]],
+    x: &mut [[X; K]],
+    residual: &mut [[X; K]],
 ) {
     let bounds = &a.blocks;
     split(x, bounds)
@@ -878,22 +920,22 @@ fn smooth_from_zero<const K: usize>(
         .enumerate()
         .for_each(|(blk, (x, res))| {
             let lo = bounds[blk];
-            res.fill([0.0; K]);
+            res.fill([X::default(); K]);
             let mut shifted = a.shifted_from(lo);
             for (l, i) in (lo..lo + x.len()).enumerate() {
                 let lower = a.inner[i] as usize..a.upper[i] as usize;
-                let mut s = b[i];
+                let mut s: [X; K] = b[i].map(X::from_lane);
                 for k in lower.clone() {
-                    let (v, xj) = (a.val[k], &x[a.col[k] as usize - lo]);
+                    let (v, xj) = (X::of(a.val[k]), &x[a.col[k] as usize - lo]);
                     for m in 0..K {
                         s[m] -= v * xj[m];
                     }
                 }
                 let inv = a.inv_up::<K>(i, &mut shifted);
-                let xi: [Real; K] = std::array::from_fn(|m| s[m] * inv[m]);
+                let xi: [X; K] = std::array::from_fn(|m| s[m] * X::of(inv[m]));
                 x[l] = xi;
                 for k in lower {
-                    let (v, rj) = (a.val[k], &mut res[a.col[k] as usize - lo]);
+                    let (v, rj) = (X::of(a.val[k]), &mut res[a.col[k] as usize - lo]);
                     for m in 0..K {
                         rj[m] -= v * xi[m];
                     }
@@ -903,7 +945,7 @@ fn smooth_from_zero<const K: usize>(
     if !a.edges.is_empty() {
         // The couplings between blocks, once every block is swept (and the
         // l1 term, which `M x = b` left in the residual).
-        let x: &[[Real; K]] = x;
+        let x: &[[X; K]] = x;
         split(residual, bounds)
             .into_par_iter()
             .enumerate()
@@ -921,11 +963,11 @@ fn smooth_from_zero<const K: usize>(
 
 /// `Σ_j (|a_ij| x_i − a_ij x_j)` over edge row `e`'s couplings to other
 /// blocks.
-fn across<const K: usize>(a: &Csr, e: usize, x: &[[Real; K]]) -> [Real; K] {
-    let l1 = a.edge_l1[e];
+fn across<X: Lane, const K: usize>(a: &Csr, e: usize, x: &[[X; K]]) -> [X; K] {
+    let l1 = X::of(a.edge_l1[e]);
     let mut v = x[a.edges[e] as usize].map(|xi| l1 * xi);
     for k in a.edge_ptr[e]..a.edge_ptr[e + 1] {
-        let (w, xj) = (a.edge_val[k], &x[a.edge_col[k] as usize]);
+        let (w, xj) = (X::of(a.edge_val[k]), &x[a.edge_col[k] as usize]);
         for m in 0..K {
             v[m] -= w * xj[m];
         }
@@ -936,16 +978,19 @@ fn across<const K: usize>(a: &Csr, e: usize, x: &[[Real; K]]) -> [Real; K] {
 /// Backward Gauss–Seidel sweep on `A x = b` (the forward one is
 /// [`smooth_from_zero`]): the pair keeps the cycle symmetric. `edge` takes
 /// each edge row's couplings to other blocks, from the values before the
-/// sweep.
-fn backward_gauss_seidel<const K: usize>(
+/// sweep. The answer is also written, in double precision, to `out` if
+/// given (the finest level's, for conjugate gradients: one pass fewer than
+/// converting it after).
+fn backward_gauss_seidel<B: Lane, X: Lane, const K: usize>(
     a: &Csr,
-    b: &[[Real; K]],
-    x: &mut [[Real; K]],
-    edge: &mut [[Real; K]],
+    b: &[[B; K]],
+    x: &mut [[X; K]],
+    edge: &mut [[X; K]],
+    out: Option<&mut [[Real; K]]>,
 ) {
     let bounds = &a.blocks;
     {
-        let x: &[[Real; K]] = x;
+        let x: &[[X; K]] = x;
         edge.par_chunks_mut(CHUNK)
             .enumerate()
             .for_each(|(c, edge)| {
@@ -954,18 +999,23 @@ fn backward_gauss_seidel<const K: usize>(
                 }
             });
     }
-    let edge: &[[Real; K]] = edge;
+    let edge: &[[X; K]] = edge;
+    let outs: Vec<Option<&mut [[Real; K]]>> = match out {
+        Some(out) => split(out, bounds).into_iter().map(Some).collect(),
+        None => (1..bounds.len()).map(|_| None).collect(),
+    };
     split(x, bounds)
         .into_par_iter()
+        .zip(outs)
         .enumerate()
-        .for_each(|(blk, x)| {
+        .for_each(|(blk, (x, mut out))| {
             let lo = bounds[blk];
             let edges = &a.edges[a.edge_blocks[blk]..a.edge_blocks[blk + 1]];
             let mut next = edges.len();
             // One past the next shifted row on the way down.
             let mut shifted = a.shifted_from(lo + x.len());
             for i in (lo..lo + x.len()).rev() {
-                let mut s = b[i];
+                let mut s: [X; K] = b[i].map(X::from_lane);
                 if next > 0 && edges[next - 1] as usize == i {
                     next -= 1;
                     let e = &edge[a.edge_blocks[blk] + next];
@@ -974,13 +1024,17 @@ fn backward_gauss_seidel<const K: usize>(
                     }
                 }
                 for k in a.inner[i] as usize..a.ptr[i + 1] as usize {
-                    let (v, xj) = (a.val[k], &x[a.col[k] as usize - lo]);
+                    let (v, xj) = (X::of(a.val[k]), &x[a.col[k] as usize - lo]);
                     for m in 0..K {
                         s[m] -= v * xj[m];
                     }
                 }
                 let inv = a.inv_down::<K>(i, &mut shifted);
-                x[i - lo] = std::array::from_fn(|m| s[m] * inv[m]);
+                let xi: [X; K] = std::array::from_fn(|m| s[m] * X::of(inv[m]));
+                x[i - lo] = xi;
+                if let Some(out) = out.as_deref_mut() {
+                    out[i - lo] = xi.map(X::real);
+                }
             }
         });
 }

@@ -6,6 +6,7 @@
 pub mod amg;
 mod blocks;
 pub(crate) mod factor;
+mod lane;
 pub mod ordering;
 mod spd;
 mod supernodal;
