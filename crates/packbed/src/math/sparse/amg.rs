@@ -710,18 +710,35 @@ impl Multigrid {
 
     /// `z = M⁻¹ r`, one V-cycle from a zero guess: an approximation of
     /// `A⁻¹ r`. The cycle runs in single precision (see [`Lane`]); `r` and
-    /// `z` are the conjugate gradients' own.
+    /// `z` are the conjugate gradients' own. Returns `r · z` and `a · z`
+    /// (`a` if given, else 0), taken as the last sweep writes `z`: three
+    /// vectors fewer to read a step.
     fn precondition<const K: usize>(
         &self,
         r: &[[Real; K]],
         z: &mut [[Real; K]],
+        a: Option<&[[Real; K]]>,
         work: &mut Cycles<K>,
-    ) {
+    ) -> ([Real; K], [Real; K]) {
         if self.levels.is_empty() {
             self.coarsest_solve(r, z);
-            return;
+            let az = a.map_or([0.0; K], |a| dot(a, z));
+            return (dot(r, z), az);
         }
-        self.cycle(0, r, &mut work.x, Some(z), &mut work.levels);
+        let mut dots = Dots {
+            a,
+            sums: Vec::new(),
+        };
+        self.cycle(0, r, &mut work.x, Some((z, &mut dots)), &mut work.levels);
+        dots.sums
+            .iter()
+            .fold(([0.0; K], [0.0; K]), |(mut s, mut t), (u, v)| {
+                for m in 0..K {
+                    s[m] += u[m];
+                    t[m] += v[m];
+                }
+                (s, t)
+            })
     }
 
     /// The coarsest level's dense solve, in double precision.
@@ -747,7 +764,7 @@ impl Multigrid {
         level: usize,
         r: &[[B; K]],
         x: &mut [[f32; K]],
-        out: Option<&mut [[Real; K]]>,
+        out: Option<(&mut [[Real; K]], &mut Dots<K>)>,
         work: &mut [Work<K>],
     ) {
         if level == self.levels.len() {
@@ -838,12 +855,12 @@ impl Multigrid {
         }
         let mut work = self.work::<K>();
         let mut z = vec![[0.0; K]; n];
-        self.precondition(&r, &mut z, &mut work);
+        let aw = deflation.as_ref().map(|d| &d.1[..]);
+        let (mut rz, awz) = self.precondition(&r, &mut z, aw, &mut work);
         let mut p = z.clone();
-        if let Some((w, aw, inv)) = &deflation {
-            blocks::deflate(&mut p, w, aw_dot(aw, &z, inv));
+        if let Some((w, _, inv)) = &deflation {
+            blocks::deflate(&mut p, w, std::array::from_fn(|m| awz[m] * inv[m]));
         }
-        let mut rz = dot(&r, &z);
         // `A p` and the preconditioned residual `z` share a buffer: `A p` is
         // spent once `x` and `r` have stepped, before the cycle writes `z`
         // (a vector fewer: 0.1 GB at 10^6 spheres).
@@ -871,13 +888,10 @@ impl Multigrid {
                 break;
             }
             let z = &mut ap;
-            self.precondition(&r, z, &mut work);
-            let (rz_new, mu) = match &deflation {
-                Some((_, aw, inv)) => {
-                    let (rz, awz) = blocks::dots(&r, aw, z);
-                    (rz, std::array::from_fn(|m| awz[m] * inv[m]))
-                }
-                None => (dot(&r, z), [0.0; K]),
+            let (rz_new, awz) = self.precondition(&r, z, aw, &mut work);
+            let mu = match &deflation {
+                Some((_, _, inv)) => std::array::from_fn(|m| awz[m] * inv[m]),
+                None => [0.0; K],
             };
             let beta = std::array::from_fn(|m| if done[m] { 0.0 } else { rz_new[m] / rz[m] });
             rz = rz_new;
@@ -892,13 +906,6 @@ impl Multigrid {
         drop((r, p, ap, work, deflation));
         Some((unpack(&x), steps))
     }
-}
-
-/// The multiple of `w` that `z` carries in the `A` inner product:
-/// `(A w)ᵀ z / wᵀ A w`.
-fn aw_dot<const K: usize>(aw: &[[Real; K]], z: &[[Real; K]], inv: &[Real; K]) -> [Real; K] {
-    let d = dot(aw, z);
-    std::array::from_fn(|m| d[m] * inv[m])
 }
 
 /// A forward Gauss–Seidel sweep on `A x = b` from `x = 0`, and the residual
@@ -975,18 +982,26 @@ fn across<X: Lane, const K: usize>(a: &Csr, e: usize, x: &[[X; K]]) -> [X; K] {
     v
 }
 
+/// The dots the finest backward sweep takes as it writes `z`: `a · z` for
+/// the given `a`, and `r · z` (`r` the sweep's right-hand side), one pair of
+/// partial sums a block, each summed down its block.
+struct Dots<'a, const K: usize> {
+    a: Option<&'a [[Real; K]]>,
+    sums: Vec<([Real; K], [Real; K])>,
+}
+
 /// Backward Gauss–Seidel sweep on `A x = b` (the forward one is
 /// [`smooth_from_zero`]): the pair keeps the cycle symmetric. `edge` takes
 /// each edge row's couplings to other blocks, from the values before the
 /// sweep. The answer is also written, in double precision, to `out` if
 /// given (the finest level's, for conjugate gradients: one pass fewer than
-/// converting it after).
+/// converting it after), with its [`Dots`].
 fn backward_gauss_seidel<B: Lane, X: Lane, const K: usize>(
     a: &Csr,
     b: &[[B; K]],
     x: &mut [[X; K]],
     edge: &mut [[X; K]],
-    out: Option<&mut [[Real; K]]>,
+    out: Option<(&mut [[Real; K]], &mut Dots<K>)>,
 ) {
     let bounds = &a.blocks;
     {
@@ -1000,20 +1015,25 @@ fn backward_gauss_seidel<B: Lane, X: Lane, const K: usize>(
             });
     }
     let edge: &[[X; K]] = edge;
-    let outs: Vec<Option<&mut [[Real; K]]>> = match out {
-        Some(out) => split(out, bounds).into_iter().map(Some).collect(),
-        None => (1..bounds.len()).map(|_| None).collect(),
+    let (outs, dots): (Vec<Option<&mut [[Real; K]]>>, _) = match out {
+        Some((out, dots)) => (
+            split(out, bounds).into_iter().map(Some).collect(),
+            Some(dots),
+        ),
+        None => ((1..bounds.len()).map(|_| None).collect(), None),
     };
-    split(x, bounds)
+    let with = dots.as_ref().and_then(|d| d.a);
+    let sums: Vec<([Real; K], [Real; K])> = split(x, bounds)
         .into_par_iter()
         .zip(outs)
         .enumerate()
-        .for_each(|(blk, (x, mut out))| {
+        .map(|(blk, (x, mut out))| {
             let lo = bounds[blk];
             let edges = &a.edges[a.edge_blocks[blk]..a.edge_blocks[blk + 1]];
             let mut next = edges.len();
             // One past the next shifted row on the way down.
             let mut shifted = a.shifted_from(lo + x.len());
+            let (mut bz, mut az) = ([0.0; K], [0.0; K]);
             for i in (lo..lo + x.len()).rev() {
                 let mut s: [X; K] = b[i].map(X::from_lane);
                 if next > 0 && edges[next - 1] as usize == i {
@@ -1033,10 +1053,24 @@ fn backward_gauss_seidel<B: Lane, X: Lane, const K: usize>(
                 let xi: [X; K] = std::array::from_fn(|m| s[m] * X::of(inv[m]));
                 x[i - lo] = xi;
                 if let Some(out) = out.as_deref_mut() {
-                    out[i - lo] = xi.map(X::real);
+                    let z = xi.map(X::real);
+                    out[i - lo] = z;
+                    for m in 0..K {
+                        bz[m] += b[i][m].real() * z[m];
+                    }
+                    if let Some(w) = with {
+                        for m in 0..K {
+                            az[m] += w[i][m] * z[m];
+                        }
+                    }
                 }
             }
-        });
+            (bz, az)
+        })
+        .collect();
+    if let Some(dots) = dots {
+        dots.sums = sums;
+    }
 }
 
 /// Aggregates of strongly coupled nodes, in three passes: a node whose strong

@@ -145,27 +145,3 @@ pub(super) fn deflate<const K: usize>(p: &mut [[Real; K]], w: &[[Real; K]], mu: 
             }
         });
 }
-
-/// `(a · z, b · z)` in one pass over `z`, each summed as [`dot`] sums it.
-pub(super) fn dots<const K: usize>(
-    a: &[[Real; K]],
-    b: &[[Real; K]],
-    z: &[[Real; K]],
-) -> ([Real; K], [Real; K]) {
-    let partial: Vec<([Real; K], [Real; K])> = a
-        .par_chunks(CHUNK)
-        .zip(b.par_chunks(CHUNK).zip(z.par_chunks(CHUNK)))
-        .map(|(a, (b, z))| {
-            let (mut s, mut t) = ([0.0; K], [0.0; K]);
-            for ((a, b), z) in a.iter().zip(b).zip(z) {
-                for m in 0..K {
-                    s[m] += a[m] * z[m];
-                    t[m] += b[m] * z[m];
-                }
-            }
-            (s, t)
-        })
-        .collect();
-    let (s, t): (Vec<_>, Vec<_>) = partial.into_iter().unzip();
-    (total(s), total(t))
-}
