@@ -32,8 +32,12 @@ use rayon::prelude::*;
 /// neither tests every column against the row nor divides (both sit on that
 /// chain). Once the hierarchy is built, [`Csr::cut_into_blocks`] puts each row's
 /// couplings to other blocks first (see [`blocks`]).
+///
+/// The values are `V`: double precision where the matrix is built and where
+/// conjugate gradients multiply by it, single on the coarse levels, which
+/// only the cycle reads (see [`Lane`]).
 #[derive(Clone, Debug, Default)]
-pub struct Csr {
+pub struct Csr<V = Real> {
     /// Where each row starts, and the end. 32-bit, as are `inner` and
     /// `upper`: a sweep reads all three for every row, and a plain
     /// aggregate's coarse operator has no more entries than its fine one, so
@@ -41,21 +45,21 @@ pub struct Csr {
     /// [`Csr::renumbered`]).
     ptr: Vec<u32>,
     col: Vec<u32>,
-    val: Vec<Real>,
+    val: Vec<V>,
     /// First entry of each row coupling it within its block.
     inner: Vec<u32>,
     /// First entry of each row coupling it to a later row of its block.
     upper: Vec<u32>,
     /// `1 / a_ii` (with the l1 term of an edge row, see
     /// [`Csr::cut_into_blocks`]), unshifted.
-    inv: Vec<Real>,
+    inv: Vec<V>,
     /// The rows with a shift in some system (see [`Multigrid::shifted`]),
     /// ascending, and their inverse shifted diagonals, `systems` a row. Few
     /// rows have one (the flow's held nodes and the neighbours of its fixed
     /// ones): one inverse a row for each of three systems was 0.1 GB read
     /// twice a cycle at 10^6 spheres.
     shifted_rows: Vec<u32>,
-    shifted_inv: Vec<Real>,
+    shifted_inv: Vec<V>,
     /// How many systems `shifted_inv` serves.
     systems: usize,
     /// Block boundaries of the rows.
@@ -70,9 +74,66 @@ pub struct Csr {
     /// 10^6-sphere flow solve.
     edge_ptr: Vec<usize>,
     edge_col: Vec<u32>,
-    edge_val: Vec<Real>,
+    edge_val: Vec<V>,
     /// Per edge row, the sum of its `|a_ij|` to other blocks.
-    edge_l1: Vec<Real>,
+    edge_l1: Vec<V>,
+}
+
+impl<V: Lane> Csr<V> {
+    fn n(&self) -> usize {
+        self.ptr.len() - 1
+    }
+
+    /// Row `i`'s entries, the diagonal included.
+    fn entries(&self, i: usize) -> std::ops::Range<usize> {
+        self.ptr[i] as usize..self.ptr[i + 1] as usize
+    }
+
+    /// Row `i`'s entries off the diagonal.
+    fn row(&self, i: usize) -> std::ops::Range<usize> {
+        self.ptr[i] as usize + 1..self.ptr[i + 1] as usize
+    }
+
+    /// Row `i`'s inverse diagonal for each of `K` right-hand sides on a
+    /// sweep up its block (one system's for all, or each its own); `next` is
+    /// the first shifted row not yet passed, from [`Csr::shifted_from`] at
+    /// the block's first row.
+    #[inline(always)]
+    fn inv_up<const K: usize>(&self, i: usize, next: &mut usize) -> [V; K] {
+        let inv = self.inv_at(i, *next);
+        *next += usize::from(self.shifted_rows.get(*next) == Some(&(i as u32)));
+        inv
+    }
+
+    /// The same on a sweep down its block; `next` is one past the next
+    /// shifted row, from [`Csr::shifted_from`] at the block's end.
+    #[inline(always)]
+    fn inv_down<const K: usize>(&self, i: usize, next: &mut usize) -> [V; K] {
+        let at = next.wrapping_sub(1);
+        let inv = self.inv_at(i, at);
+        *next -= usize::from(self.shifted_rows.get(at) == Some(&(i as u32)));
+        inv
+    }
+
+    /// Row `i`'s inverse diagonals, `next` the shifted row it may be.
+    #[inline(always)]
+    fn inv_at<const K: usize>(&self, i: usize, next: usize) -> [V; K] {
+        if self.shifted_rows.get(next) == Some(&(i as u32)) {
+            let s = &self.shifted_inv[next * self.systems..];
+            if self.systems == 1 {
+                [s[0]; K]
+            } else {
+                std::array::from_fn(|m| s[m])
+            }
+        } else {
+            [self.inv[i]; K]
+        }
+    }
+
+    /// Where the shifted rows from row `i` on start.
+    fn shifted_from(&self, i: usize) -> usize {
+        self.shifted_rows.partition_point(|&r| (r as usize) < i)
+    }
 }
 
 impl Csr {
@@ -182,47 +243,6 @@ impl Csr {
         self.shifted_rows = rows;
         self.shifted_inv = shifted;
         self.systems = systems;
-    }
-
-    /// Row `i`'s inverse diagonal for each of `K` right-hand sides on a
-    /// sweep up its block (one system's for all, or each its own); `next` is
-    /// the first shifted row not yet passed, from [`Csr::shifted_from`] at
-    /// the block's first row.
-    #[inline(always)]
-    fn inv_up<const K: usize>(&self, i: usize, next: &mut usize) -> [Real; K] {
-        let inv = self.inv_at(i, *next);
-        *next += usize::from(self.shifted_rows.get(*next) == Some(&(i as u32)));
-        inv
-    }
-
-    /// The same on a sweep down its block; `next` is one past the next
-    /// shifted row, from [`Csr::shifted_from`] at the block's end.
-    #[inline(always)]
-    fn inv_down<const K: usize>(&self, i: usize, next: &mut usize) -> [Real; K] {
-        let at = next.wrapping_sub(1);
-        let inv = self.inv_at(i, at);
-        *next -= usize::from(self.shifted_rows.get(at) == Some(&(i as u32)));
-        inv
-    }
-
-    /// Row `i`'s inverse diagonals, `next` the shifted row it may be.
-    #[inline(always)]
-    fn inv_at<const K: usize>(&self, i: usize, next: usize) -> [Real; K] {
-        if self.shifted_rows.get(next) == Some(&(i as u32)) {
-            let s = &self.shifted_inv[next * self.systems..];
-            if self.systems == 1 {
-                [s[0]; K]
-            } else {
-                std::array::from_fn(|m| s[m])
-            }
-        } else {
-            [self.inv[i]; K]
-        }
-    }
-
-    /// Where the shifted rows from row `i` on start.
-    fn shifted_from(&self, i: usize) -> usize {
-        self.shifted_rows.partition_point(|&r| (r as usize) < i)
     }
 
     /// The matrix with diagonal `diag` and symmetric off-diagonal entries
@@ -396,22 +416,32 @@ impl Csr {
         Some(Csr::new(out_ptr, col, val))
     }
 
-    fn n(&self) -> usize {
-        self.ptr.len() - 1
-    }
-
     fn diag(&self, i: usize) -> Real {
         self.val[self.ptr[i] as usize]
     }
 
-    /// Row `i`'s entries, the diagonal included.
-    fn entries(&self, i: usize) -> std::ops::Range<usize> {
-        self.ptr[i] as usize..self.ptr[i + 1] as usize
-    }
-
-    /// Row `i`'s entries off the diagonal.
-    fn row(&self, i: usize) -> std::ops::Range<usize> {
-        self.ptr[i] as usize + 1..self.ptr[i + 1] as usize
+    /// The matrix with its values in single precision, for a level only
+    /// the cycle reads.
+    fn single(self) -> Csr<f32> {
+        let single = |v: Vec<Real>| v.into_iter().map(f32::of).collect();
+        Csr {
+            ptr: self.ptr,
+            col: self.col,
+            val: single(self.val),
+            inner: self.inner,
+            upper: self.upper,
+            inv: single(self.inv),
+            shifted_rows: self.shifted_rows,
+            shifted_inv: single(self.shifted_inv),
+            systems: self.systems,
+            blocks: self.blocks,
+            edges: self.edges,
+            edge_blocks: self.edge_blocks,
+            edge_ptr: self.edge_ptr,
+            edge_col: self.edge_col,
+            edge_val: single(self.edge_val),
+            edge_l1: single(self.edge_l1),
+        }
     }
 
     /// `y = A x`.
@@ -544,8 +574,8 @@ struct Cycles<const K: usize> {
 }
 
 /// One level: its matrix and the prolongator from the next coarser one.
-struct Level {
-    a: Csr,
+struct Level<V = Real> {
+    a: Csr<V>,
     p: Prolongator,
 }
 
@@ -559,7 +589,11 @@ struct Level {
 /// level holds one matrix and each system's summed shift, and the sweeps and
 /// the coarsest solve take each system's own diagonal.
 pub struct Multigrid {
-    levels: Vec<Level>,
+    /// The finest level, in double precision (conjugate gradients multiply
+    /// by its matrix); none when the matrix is small enough to factor.
+    finest: Option<Level>,
+    /// The levels below it, in single precision.
+    levels: Vec<Level<f32>>,
     coarsest: Csr,
     factor: Vec<Vec<Real>>,
     /// How many systems (1: one matrix, however many right-hand sides).
@@ -612,6 +646,7 @@ impl Multigrid {
                 shift_vals.extend_from_slice(s);
             }
         }
+        let mut finest = None;
         let mut levels = Vec::new();
         let mut a = a;
         let mut theta = THETA;
@@ -633,7 +668,11 @@ impl Multigrid {
             // aggregation's tie-breaks follow the column order.
             a.cut_into_blocks(bounds(a.n()));
             a.invert(&shift, systems);
-            levels.push(Level { a, p });
+            if finest.is_none() {
+                finest = Some(Level { a, p });
+            } else {
+                levels.push(Level { a: a.single(), p });
+            }
             a = coarse;
             shift = coarse_shift;
         }
@@ -645,6 +684,7 @@ impl Multigrid {
             .map(|m| dense_cholesky(&a, &shift, m, systems))
             .collect::<Option<Vec<_>>>()?;
         Some(Multigrid {
+            finest,
             levels,
             coarsest: a,
             factor,
@@ -673,7 +713,7 @@ impl Multigrid {
     }
 
     fn finest(&self) -> &Csr {
-        match self.levels.first() {
+        match &self.finest {
             Some(l) => &l.a,
             None => &self.coarsest,
         }
@@ -681,29 +721,26 @@ impl Multigrid {
 
     /// Levels, coarsest included.
     pub fn depth(&self) -> usize {
-        self.levels.len() + 1
+        self.levels.len() + usize::from(self.finest.is_some()) + 1
     }
 
     /// One set of buffers per level for one solve.
     fn work<const K: usize>(&self) -> Cycles<K> {
+        fn work<V: Lane, const K: usize>(l: &Level<V>) -> Work<K> {
+            Work {
+                residual: vec![[0.0; K]; l.a.n()],
+                coarse_rhs: vec![[0.0; K]; l.p.coarse],
+                coarse_x: vec![[0.0; K]; l.p.coarse],
+                edge: vec![[0.0; K]; l.a.edges.len()],
+            }
+        }
         Cycles {
-            x: vec![
-                [0.0; K];
-                if self.levels.is_empty() {
-                    0
-                } else {
-                    self.finest().n()
-                }
-            ],
+            x: vec![[0.0; K]; self.finest.as_ref().map_or(0, |l| l.a.n())],
             levels: self
-                .levels
+                .finest
                 .iter()
-                .map(|l| Work {
-                    residual: vec![[0.0; K]; l.a.n()],
-                    coarse_rhs: vec![[0.0; K]; l.p.coarse],
-                    coarse_x: vec![[0.0; K]; l.p.coarse],
-                    edge: vec![[0.0; K]; l.a.edges.len()],
-                })
+                .map(work)
+                .chain(self.levels.iter().map(work))
                 .collect(),
         }
     }
@@ -720,7 +757,7 @@ impl Multigrid {
         a: Option<&[[Real; K]]>,
         work: &mut Cycles<K>,
     ) -> ([Real; K], [Real; K]) {
-        if self.levels.is_empty() {
+        if self.finest.is_none() {
             self.coarsest_solve(r, z);
             let az = a.map_or([0.0; K], |a| dot(a, z));
             return (dot(r, z), az);
@@ -767,11 +804,26 @@ impl Multigrid {
         out: Option<(&mut [[Real; K]], &mut Dots<K>)>,
         work: &mut [Work<K>],
     ) {
-        if level == self.levels.len() {
-            self.coarsest_solve(r, x);
-            return;
+        match (&self.finest, level) {
+            (Some(l), 0) => self.cycle_at(l, level, r, x, out, work),
+            (finest, _) => match self.levels.get(level - usize::from(finest.is_some())) {
+                Some(l) => self.cycle_at(l, level, r, x, out, work),
+                None => self.coarsest_solve(r, x),
+            },
         }
-        let Level { a, p } = &self.levels[level];
+    }
+
+    /// [`Multigrid::cycle`] at level `l`, above the coarsest.
+    fn cycle_at<V: Lane, B: Lane, const K: usize>(
+        &self,
+        l: &Level<V>,
+        level: usize,
+        r: &[[B; K]],
+        x: &mut [[f32; K]],
+        out: Option<(&mut [[Real; K]], &mut Dots<K>)>,
+        work: &mut [Work<K>],
+    ) {
+        let Level { a, p } = l;
         let (here, below) = work.split_first_mut().expect("a work set per level");
         smooth_from_zero(a, r, x, &mut here.residual);
         p.restrict(&here.residual, &mut here.coarse_rhs);
@@ -914,8 +966,8 @@ impl Multigrid {
 /// `x_i` is known, sends `−a_ij x_i` to its earlier neighbours. The separate
 /// residual product cost a quarter of the solve (36.5 against 27.9 s on the
 /// z system of a 10^6-sphere bed).
-fn smooth_from_zero<B: Lane, X: Lane, const K: usize>(
-    a: &Csr,
+fn smooth_from_zero<V: Lane, B: Lane, X: Lane, const K: usize>(
+    a: &Csr<V>,
     b: &[[B; K]],
     x: &mut [[X; K]],
     residual: &mut [[X; K]],
@@ -933,16 +985,16 @@ fn smooth_from_zero<B: Lane, X: Lane, const K: usize>(
                 let lower = a.inner[i] as usize..a.upper[i] as usize;
                 let mut s: [X; K] = b[i].map(X::from_lane);
                 for k in lower.clone() {
-                    let (v, xj) = (X::of(a.val[k]), &x[a.col[k] as usize - lo]);
+                    let (v, xj) = (X::from_lane(a.val[k]), &x[a.col[k] as usize - lo]);
                     for m in 0..K {
                         s[m] -= v * xj[m];
                     }
                 }
                 let inv = a.inv_up::<K>(i, &mut shifted);
-                let xi: [X; K] = std::array::from_fn(|m| s[m] * X::of(inv[m]));
+                let xi: [X; K] = std::array::from_fn(|m| s[m] * X::from_lane(inv[m]));
                 x[l] = xi;
                 for k in lower {
-                    let (v, rj) = (X::of(a.val[k]), &mut res[a.col[k] as usize - lo]);
+                    let (v, rj) = (X::from_lane(a.val[k]), &mut res[a.col[k] as usize - lo]);
                     for m in 0..K {
                         rj[m] -= v * xi[m];
                     }
@@ -970,11 +1022,11 @@ fn smooth_from_zero<B: Lane, X: Lane, const K: usize>(
 
 /// `Σ_j (|a_ij| x_i − a_ij x_j)` over edge row `e`'s couplings to other
 /// blocks.
-fn across<X: Lane, const K: usize>(a: &Csr, e: usize, x: &[[X; K]]) -> [X; K] {
-    let l1 = X::of(a.edge_l1[e]);
+fn across<V: Lane, X: Lane, const K: usize>(a: &Csr<V>, e: usize, x: &[[X; K]]) -> [X; K] {
+    let l1 = X::from_lane(a.edge_l1[e]);
     let mut v = x[a.edges[e] as usize].map(|xi| l1 * xi);
     for k in a.edge_ptr[e]..a.edge_ptr[e + 1] {
-        let (w, xj) = (X::of(a.edge_val[k]), &x[a.edge_col[k] as usize]);
+        let (w, xj) = (X::from_lane(a.edge_val[k]), &x[a.edge_col[k] as usize]);
         for m in 0..K {
             v[m] -= w * xj[m];
         }
@@ -996,8 +1048,8 @@ struct Dots<'a, const K: usize> {
 /// sweep. The answer is also written, in double precision, to `out` if
 /// given (the finest level's, for conjugate gradients: one pass fewer than
 /// converting it after), with its [`Dots`].
-fn backward_gauss_seidel<B: Lane, X: Lane, const K: usize>(
-    a: &Csr,
+fn backward_gauss_seidel<V: Lane, B: Lane, X: Lane, const K: usize>(
+    a: &Csr<V>,
     b: &[[B; K]],
     x: &mut [[X; K]],
     edge: &mut [[X; K]],
@@ -1044,13 +1096,13 @@ fn backward_gauss_seidel<B: Lane, X: Lane, const K: usize>(
                     }
                 }
                 for k in a.inner[i] as usize..a.ptr[i + 1] as usize {
-                    let (v, xj) = (X::of(a.val[k]), &x[a.col[k] as usize - lo]);
+                    let (v, xj) = (X::from_lane(a.val[k]), &x[a.col[k] as usize - lo]);
                     for m in 0..K {
                         s[m] -= v * xj[m];
                     }
                 }
                 let inv = a.inv_down::<K>(i, &mut shifted);
-                let xi: [X; K] = std::array::from_fn(|m| s[m] * X::of(inv[m]));
+                let xi: [X; K] = std::array::from_fn(|m| s[m] * X::from_lane(inv[m]));
                 x[i - lo] = xi;
                 if let Some(out) = out.as_deref_mut() {
                     let z = xi.map(X::real);
@@ -1414,8 +1466,14 @@ mod tests {
             .solve(&b, 1e-10, 200)
             .unwrap();
         let mg = Multigrid::cut(Csr::from_parts(&diag, &off), Vec::new(), small_blocks).unwrap();
-        assert!(mg.levels[0].a.blocks.len() > 20);
-        assert!(!mg.levels[0].a.edges.is_empty());
+        assert!(mg.finest.as_ref().expect("a finest level").a.blocks.len() > 20);
+        assert!(!mg
+            .finest
+            .as_ref()
+            .expect("a finest level")
+            .a
+            .edges
+            .is_empty());
         let (x, steps) = mg.solve(&b, 1e-10, 200).unwrap();
         assert!(residual(&diag, &off, &x, &b) < 1e-9);
         // The l1 term keeps the sweep a smoother across the cuts: 28 steps

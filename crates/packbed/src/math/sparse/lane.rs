@@ -11,7 +11,7 @@ use crate::math::Real;
 use std::ops::{Add, AddAssign, Mul, Sub, SubAssign};
 
 /// `f32` in the cycle, `f64` where it meets conjugate gradients.
-pub(super) trait Lane:
+pub trait Lane:
     Copy
     + Default
     + Send
