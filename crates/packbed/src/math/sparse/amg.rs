@@ -12,8 +12,9 @@
 //! (smoothed aggregation) cut no steps on pore networks (54 against 46 on
 //! 6.5·10^4 pores) but made the coarse operators nearly dense (750 entries a
 //! row at the third level) and the set-up on 6·10^5 pores ran out of memory.
-//! Every loop runs in a fixed order, so the answer does not depend on the
-//! thread count.
+//! The cycle runs in single precision and conjugate gradients in double
+//! (see [`super::lane`]). Every loop runs in a fixed order, so the answer
+//! does not depend on the thread count.
 
 // `!(a > b)` is meant: a NaN must take the failing branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
