@@ -13,7 +13,7 @@
 //! 6.5·10^4 pores) but made the coarse operators nearly dense (750 entries a
 //! row at the third level) and the set-up on 6·10^5 pores ran out of memory.
 //! The cycle runs in single precision and conjugate gradients in double
-//! (see [`super::lane`]). Every loop runs in a fixed order, so the answer
+//! (see `sparse/lane.rs`). Every loop runs in a fixed order, so the answer
 //! does not depend on the thread count.
 
 // `!(a > b)` is meant: a NaN must take the failing branch.
@@ -36,7 +36,7 @@ use rayon::prelude::*;
 ///
 /// The values are `V`: double precision where the matrix is built and where
 /// conjugate gradients multiply by it, single on the coarse levels, which
-/// only the cycle reads (see [`Lane`]).
+/// only the cycle reads (see `sparse/lane.rs`).
 #[derive(Clone, Debug, Default)]
 pub struct Csr<V = Real> {
     /// Where each row starts, and the end. 32-bit, as are `inner` and
