@@ -13,10 +13,10 @@
 //! settles again, alone, on the bed as it now is. A sphere whose settling
 //! drew from the generator (a random tip), found no rest (a re-drop draws
 //! again) or widened the grid's queries (the largest radius of its level) ends
-//! the batch: the draws after it assumed otherwise. Beds, moves and draws are those of the one-at-a-time
-//! engine, bit for bit, whatever the number of threads (tests below, and
-//! `scripts/same-outputs.sh`). A replicate of an ensemble, already one task of
-//! a parallel loop, drops one sphere at a time.
+//! the batch: the draws after it assumed otherwise. Beds, moves and draws are
+//! those of the one-at-a-time engine, bit for bit, whatever the number of
+//! threads (tests below, and `scripts/same-outputs.sh`). A replicate of an
+//! ensemble, already one task of a parallel loop, drops one sphere at a time.
 
 use super::body::{Dropper, Sphere};
 use super::roll::{self, Terrain};

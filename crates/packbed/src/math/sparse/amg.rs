@@ -763,20 +763,7 @@ impl Multigrid {
             let az = a.map_or([0.0; K], |a| dot(a, z));
             return (dot(r, z), az);
         }
-        let mut dots = Dots {
-            a,
-            sums: Vec::new(),
-        };
-        self.cycle(0, r, &mut work.x, Some((z, &mut dots)), &mut work.levels);
-        dots.sums
-            .iter()
-            .fold(([0.0; K], [0.0; K]), |(mut s, mut t), (u, v)| {
-                for m in 0..K {
-                    s[m] += u[m];
-                    t[m] += v[m];
-                }
-                (s, t)
-            })
+        self.cycle(0, r, &mut work.x, Some((z, a)), &mut work.levels)
     }
 
     /// The coarsest level's dense solve, in double precision.
@@ -796,20 +783,25 @@ impl Multigrid {
     }
 
     /// One V-cycle on `r` from a zero guess into `x` (and, converted, into
-    /// `out`): an approximation of `A⁻¹ r`.
+    /// `out`): an approximation of `A⁻¹ r`. With `out`, the dots of
+    /// [`backward_gauss_seidel`].
     fn cycle<B: Lane, const K: usize>(
         &self,
         level: usize,
         r: &[[B; K]],
         x: &mut [[f32; K]],
-        out: Option<(&mut [[Real; K]], &mut Dots<K>)>,
+        out: Option<Out<K>>,
         work: &mut [Work<K>],
-    ) {
+    ) -> ([Real; K], [Real; K]) {
         match (&self.finest, level) {
             (Some(l), 0) => self.cycle_at(l, level, r, x, out, work),
             (finest, _) => match self.levels.get(level - usize::from(finest.is_some())) {
                 Some(l) => self.cycle_at(l, level, r, x, out, work),
-                None => self.coarsest_solve(r, x),
+                None => {
+                    // Only a level above the coarsest is given an `out`.
+                    self.coarsest_solve(r, x);
+                    ([0.0; K], [0.0; K])
+                }
             },
         }
     }
@@ -821,16 +813,16 @@ impl Multigrid {
         level: usize,
         r: &[[B; K]],
         x: &mut [[f32; K]],
-        out: Option<(&mut [[Real; K]], &mut Dots<K>)>,
+        out: Option<Out<K>>,
         work: &mut [Work<K>],
-    ) {
+    ) -> ([Real; K], [Real; K]) {
         let Level { a, p } = l;
         let (here, below) = work.split_first_mut().expect("a work set per level");
         smooth_from_zero(a, r, x, &mut here.residual);
         p.restrict(&here.residual, &mut here.coarse_rhs);
         self.cycle(level + 1, &here.coarse_rhs, &mut here.coarse_x, None, below);
         p.add_to(&here.coarse_x, x);
-        backward_gauss_seidel(a, r, x, &mut here.edge, out);
+        backward_gauss_seidel(a, r, x, &mut here.edge, out)
     }
 
     /// Solves `A x = b` to a relative residual of `tol` by preconditioned
@@ -1035,27 +1027,24 @@ fn across<V: Lane, X: Lane, const K: usize>(a: &Csr<V>, e: usize, x: &[[X; K]]) 
     v
 }
 
-/// The dots the finest backward sweep takes as it writes `z`: `a · z` for
-/// the given `a`, and `r · z` (`r` the sweep's right-hand side), one pair of
-/// partial sums a block, each summed down its block.
-struct Dots<'a, const K: usize> {
-    a: Option<&'a [[Real; K]]>,
-    sums: Vec<([Real; K], [Real; K])>,
-}
+/// Where the finest backward sweep also writes its answer, in double
+/// precision, and the vector `a` whose dot with it the sweep takes.
+type Out<'a, const K: usize> = (&'a mut [[Real; K]], Option<&'a [[Real; K]]>);
 
 /// Backward Gauss–Seidel sweep on `A x = b` (the forward one is
 /// [`smooth_from_zero`]): the pair keeps the cycle symmetric. `edge` takes
 /// each edge row's couplings to other blocks, from the values before the
 /// sweep. The answer is also written, in double precision, to `out` if
 /// given (the finest level's, for conjugate gradients: one pass fewer than
-/// converting it after), with its [`Dots`].
+/// converting it after); then it returns `b · x` and `a · x` (0 without
+/// `a`), each summed down a block and the blocks in order.
 fn backward_gauss_seidel<V: Lane, B: Lane, X: Lane, const K: usize>(
     a: &Csr<V>,
     b: &[[B; K]],
     x: &mut [[X; K]],
     edge: &mut [[X; K]],
-    out: Option<(&mut [[Real; K]], &mut Dots<K>)>,
-) {
+    out: Option<Out<K>>,
+) -> ([Real; K], [Real; K]) {
     let bounds = &a.blocks;
     {
         let x: &[[X; K]] = x;
@@ -1068,14 +1057,10 @@ fn backward_gauss_seidel<V: Lane, B: Lane, X: Lane, const K: usize>(
             });
     }
     let edge: &[[X; K]] = edge;
-    let (outs, dots): (Vec<Option<&mut [[Real; K]]>>, _) = match out {
-        Some((out, dots)) => (
-            split(out, bounds).into_iter().map(Some).collect(),
-            Some(dots),
-        ),
+    let (outs, with): (Vec<Option<&mut [[Real; K]]>>, _) = match out {
+        Some((out, with)) => (split(out, bounds).into_iter().map(Some).collect(), with),
         None => ((1..bounds.len()).map(|_| None).collect(), None),
     };
-    let with = dots.as_ref().and_then(|d| d.a);
     let sums: Vec<([Real; K], [Real; K])> = split(x, bounds)
         .into_par_iter()
         .zip(outs)
@@ -1121,9 +1106,14 @@ fn backward_gauss_seidel<V: Lane, B: Lane, X: Lane, const K: usize>(
             (bz, az)
         })
         .collect();
-    if let Some(dots) = dots {
-        dots.sums = sums;
-    }
+    sums.iter()
+        .fold(([0.0; K], [0.0; K]), |(mut s, mut t), (u, v)| {
+            for m in 0..K {
+                s[m] += u[m];
+                t[m] += v[m];
+            }
+            (s, t)
+        })
 }
 
 /// Aggregates of strongly coupled nodes, in three passes: a node whose strong
