@@ -156,7 +156,9 @@ pub fn analyze_read_bed(
 ) -> Result<AnalyzedBed> {
     settings.check()?;
     let measures = settings.measures.as_deref().unwrap_or(&Measure::DEFAULT);
-    crate::config::check_analysis(bed.len(), bed.dim(), measures, source)?;
+    let points =
+        each_dim!(&bed, b => crate::config::pore_points_per_particle(&b.container, b.r_max()));
+    crate::config::check_analysis(bed.len(), bed.dim(), measures, points, source)?;
     let spread = each_dim!(&bed, b => spread_in_diameters(b));
     if let Some(why) = crate::config::pore_space_extent_problem(measures, spread) {
         return Err(Error::Impossible(format!("{source}: {why}")));

@@ -382,34 +382,37 @@ fn a_run_beyond_the_address_space_limit_is_refused_before_it_starts() {
 
 #[test]
 fn analysing_the_pore_space_beyond_the_memory_limit_is_refused_before_the_work() {
-    // 10^5 spheres: the default measures need about 0.3 GB, the pore space
-    // about 1.1 GB, more than 1 GiB of address space holds.
+    // Under 1 GiB of address space: 10^5 spheres' pore space fits (about
+    // 0.5 GB, estimated 0.61 GB) and is computed; 3·10^5 spheres' would need
+    // about 1.4 GB and is refused before any work, nothing written.
     let s = Scratch::new();
-    let built = within_memory(
-        &s,
-        &[
-            "run",
-            "--radii",
-            "1",
-            "--box",
-            "60,60,200",
-            "--count",
-            "100000",
-            "--out",
-            "bed",
-            "--no-pictures",
-            "-q",
-        ],
-        300,
-        1024,
-    );
-    assert_eq!(built.code, 0, "{}", built.stderr);
-    let analyse = |measures: &str, out: &str| {
+    let build = |count: &str, height: &str, out: &str| {
+        let built = within_memory(
+            &s,
+            &[
+                "run",
+                "--radii",
+                "1",
+                "--box",
+                &format!("60,60,{height}"),
+                "--count",
+                count,
+                "--out",
+                out,
+                "--no-pictures",
+                "-q",
+            ],
+            300,
+            1024,
+        );
+        assert_eq!(built.code, 0, "{}", built.stderr);
+    };
+    let analyse = |bed: &str, measures: &str, out: &str| {
         within_memory(
             &s,
             &[
                 "analyze",
-                "bed/particles.csv",
+                &format!("{bed}/particles.csv"),
                 "--measures",
                 measures,
                 "--out",
@@ -421,11 +424,16 @@ fn analysing_the_pore_space_beyond_the_memory_limit_is_refused_before_the_work()
             1024,
         )
     };
-    let o = analyse("pores,permeability", "p");
+    build("100000", "200", "small");
+    let o = analyse("small", "pores,permeability", "fits");
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(s.work.join("fits/throats.csv").exists());
+    build("300000", "600", "large");
+    let o = analyse("large", "pores,permeability", "p");
     assert_eq!(o.code, 2, "{}", o.stderr);
     assert_eq!(o.stderr.lines().count(), 1, "{}", o.stderr);
     assert!(o.stderr.contains("GB packbed may use"), "{}", o.stderr);
     assert!(!s.work.join("p").exists(), "nothing may be written");
-    let o = analyse("packing,coordination", "d");
+    let o = analyse("large", "packing,coordination", "d");
     assert_eq!(o.code, 0, "{}", o.stderr);
 }

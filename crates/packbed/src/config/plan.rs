@@ -344,9 +344,39 @@ fn bounded(at: &str, dist: SizeDist, what: String) -> Result<SizeDist> {
 /// 2D and 860 in 3D, rounded up.
 const BYTES_PER_PARTICLE: [u64; 2] = [768, 1024];
 
-/// Extra peak bytes per particle of the pore space (`pores`,
-/// `permeability`): 7.9 KB measured for 10^5 spheres with every measure.
-const BYTES_PER_PARTICLE_PORES: u64 = 8192;
+/// Extra peak bytes of the pore space (`pores`, `permeability`) per point
+/// triangulated (a particle or an image), 2D and 3D. Measured as the
+/// largest `VmPeak` (the address space `ulimit -v` bounds) of `packbed
+/// analyze --measures all` on periodic beds of equal particles, less the
+/// rest of the estimate: 10^6 spheres 3.27 GB (1.82 KB a point), 10^5
+/// spheres 0.54 GB (1.67 KB), 10^6 discs 1.17 GB (0.19 KB), 2026-11-28
+/// (BENCHMARKS.md, "The pore space's memory bound"); rounded up by two
+/// thirds and more. It was 8 KB a particle in both dimensions, from an early
+/// build: a 16 GB laptop was refused 2·10^6 spheres that need 7 GB.
+const BYTES_PER_POINT_PORES: [u64; 2] = [512, 3072];
+
+/// The margin of images the pore network is first built with, in largest
+/// radii (`analysis::pores::network`; it grows only when a pore near a side
+/// needs more).
+pub const PORE_MARGIN_RADII: Real = 6.0;
+
+/// Points the pore space triangulates per particle of `container`: the
+/// particles and, on a periodic bed, their images within the first margin
+/// of each side (a bed spread evenly across the floor).
+pub fn pore_points_per_particle<const D: usize>(container: &Container<D>, r_max: Real) -> Real {
+    if !container.periodic {
+        return 1.0;
+    }
+    let margin = PORE_MARGIN_RADII * r_max;
+    let factor = (0..D - 1)
+        .map(|k| 1.0 + 2.0 * margin / container.extent(k))
+        .product::<Real>();
+    if factor.is_finite() {
+        factor.max(1.0)
+    } else {
+        1.0
+    }
+}
 
 /// Address space a run takes whatever its size (the program, thread stacks,
 /// the allocator's arenas): a 10^6-sphere run needs 1.2 GiB under `ulimit -v`
@@ -354,14 +384,20 @@ const BYTES_PER_PARTICLE_PORES: u64 = 8192;
 const BYTES_FIXED: u64 = 192 << 20;
 
 /// The peak memory of a run placing `particles` in `dim` dimensions and
-/// computing `measures`, in bytes.
-pub(crate) fn run_bytes(dim: u8, particles: Real, measures: &[Measure]) -> Real {
+/// computing `measures`, in bytes; `points` is the pore space's points per
+/// particle ([`pore_points_per_particle`]).
+pub(crate) fn run_bytes(dim: u8, particles: Real, measures: &[Measure], points: Real) -> Real {
     let pores = measures
         .iter()
         .any(|m| matches!(m, Measure::Pores | Measure::Permeability));
-    let per = BYTES_PER_PARTICLE[usize::from(dim == 3)]
-        + if pores { BYTES_PER_PARTICLE_PORES } else { 0 };
-    particles * per as Real + BYTES_FIXED as Real
+    let d = usize::from(dim == 3);
+    let per = BYTES_PER_PARTICLE[d] as Real
+        + if pores {
+            BYTES_PER_POINT_PORES[d] as Real * points
+        } else {
+            0.0
+        };
+    particles * per + BYTES_FIXED as Real
 }
 
 impl Config {
@@ -470,7 +506,8 @@ impl Config {
             return Err(Error::Impossible(format!("this box: {why}")));
         }
         let memory = crate::input::memory_budget_bytes() as Real;
-        let needed = run_bytes(self.dim, estimate, measures);
+        let points = pore_points_per_particle(&container, r_max);
+        let needed = run_bytes(self.dim, estimate, measures, points);
         if needed > memory {
             return Err(Error::Impossible(format!(
                 "this run would place up to {estimate:.3e} particles and need about {:.2} GB, more than the {:.2} GB packbed may use (the least of the machine's memory, `ulimit -v` and the cgroup's `memory.max`)",
@@ -649,7 +686,7 @@ fn name_species(mut species: Vec<Species>) -> Vec<Species> {
 /// default measures). [`check_analysis`] checks again once the measures are
 /// known.
 pub fn check_particles(particles: usize, what: &str) -> Result<()> {
-    check_analysis(particles, 3, &Measure::DEFAULT, what)
+    check_analysis(particles, 3, &Measure::DEFAULT, 1.0, what)
 }
 
 /// The widest spread of a bed whose pore space packbed computes, in smallest
@@ -676,11 +713,18 @@ pub fn pore_space_extent_problem(measures: &[Measure], diameters: Real) -> Optio
 }
 
 /// Refuses to analyse a bed of `particles` particles in `dim` dimensions with
-/// `measures` when that would need more memory than packbed may use (the pore
-/// space costs about eight times the rest).
-pub fn check_analysis(particles: usize, dim: u8, measures: &[Measure], what: &str) -> Result<()> {
+/// `measures` when that would need more memory than packbed may use (in 3D
+/// the pore space costs about three times the rest); `points` as in
+/// [`run_bytes`].
+pub fn check_analysis(
+    particles: usize,
+    dim: u8,
+    measures: &[Measure],
+    points: Real,
+    what: &str,
+) -> Result<()> {
     let memory = crate::input::memory_budget_bytes() as Real;
-    let needed = run_bytes(dim, particles as Real, measures);
+    let needed = run_bytes(dim, particles as Real, measures, points);
     if needed > memory {
         return Err(Error::Impossible(format!(
             "{what} holds {particles} particles and would need about {:.2} GB to analyse \
@@ -801,6 +845,35 @@ mod bounds_tests {
         assert_eq!(c.estimated_particles(), 54);
         c.apply(&Edit::Beads(5)).unwrap();
         assert_eq!(c.estimated_particles(), 58);
+    }
+
+    #[test]
+    fn the_pore_space_counts_the_images_of_a_periodic_bed() {
+        use crate::container::Container;
+        use crate::math::Vector;
+        let periodic = Container {
+            size: Vector([600.0, 600.0, 2000.0]),
+            periodic: true,
+        };
+        // A margin of 60 on each side of 600: 1.2 along each side axis.
+        let f = pore_points_per_particle(&periodic, 10.0);
+        assert!((f - 1.44).abs() < 1e-12, "{f}");
+        let discs = Container {
+            size: Vector([2000.0, 1000.0]),
+            periodic: true,
+        };
+        assert!((pore_points_per_particle(&discs, 10.0) - 1.06).abs() < 1e-12);
+        let walled = Container {
+            periodic: false,
+            ..periodic
+        };
+        assert_eq!(pore_points_per_particle(&walled, 10.0), 1.0);
+        // The images raise the pore space's share, and only its share.
+        let all = [Measure::Pores];
+        let with = run_bytes(3, 1e6, &all, 1.44) - run_bytes(3, 1e6, &[], 1.44);
+        let without = run_bytes(3, 1e6, &all, 1.0) - run_bytes(3, 1e6, &[], 1.0);
+        assert!((with / without - 1.44).abs() < 1e-12);
+        assert_eq!(run_bytes(3, 1e6, &[], 1.44), run_bytes(3, 1e6, &[], 1.0));
     }
 
     #[test]

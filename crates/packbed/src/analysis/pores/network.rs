@@ -131,7 +131,7 @@ pub fn network_timed<const D: usize>(
     // beyond its facets must all be exact; two diameters fell short of that
     // on a bed of 10^5 equal spheres (a neighbour's orthosphere reached past
     // the images) and cost a second triangulation.
-    let mut margin = 6.0 * r_max;
+    let mut margin = crate::config::PORE_MARGIN_RADII * r_max;
     for _ in 0..4 {
         let (sites, points, weights) = sites_with_images(bed, margin);
         let ranks: Vec<u64> = sites.iter().map(Site::rank).collect();
