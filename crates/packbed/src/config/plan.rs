@@ -352,7 +352,8 @@ const BYTES_PER_PARTICLE: [u64; 2] = [768, 1024];
 /// spheres 0.54 GB (1.67 KB), 10^6 discs 1.17 GB (0.19 KB), 2026-11-28
 /// (BENCHMARKS.md, "The pore space's memory bound"); rounded up by two
 /// thirds and more. It was 8 KB a particle in both dimensions, from an early
-/// build: a 16 GB laptop was refused 2·10^6 spheres that need 7 GB.
+/// build: a 16 GB laptop was refused 2·10^6 spheres, about 6.5 GB by the
+/// 10^6 figure.
 const BYTES_PER_POINT_PORES: [u64; 2] = [512, 3072];
 
 /// The margin of images the pore network is first built with, in largest
