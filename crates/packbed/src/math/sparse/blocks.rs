@@ -44,7 +44,7 @@ pub(super) fn split<'a, T>(v: &'a mut [T], bounds: &[usize]) -> Vec<&'a mut [T]>
 }
 
 /// The sum of the chunks' partial sums, in order.
-fn total<const K: usize>(partial: Vec<[Real; K]>) -> [Real; K] {
+pub(super) fn total<const K: usize>(partial: Vec<[Real; K]>) -> [Real; K] {
     partial.iter().fold([0.0; K], |mut t, p| {
         for m in 0..K {
             t[m] += p[m];
