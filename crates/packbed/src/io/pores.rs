@@ -3,7 +3,7 @@
 //! lines with their flux). Numbers as in [`super::tables`]: the shortest text
 //! that reads back to the same bits.
 
-use super::tables::Num;
+use super::tables::{push_int, write_rows, Num};
 use crate::analysis::pores::{Column, PoreTables};
 use std::io::Write;
 
@@ -15,24 +15,24 @@ fn finite(v: f64, what: &str, id: usize) -> std::io::Result<Num> {
     super::tables::finite(v, what, id).map(Num)
 }
 
-/// Writes columns as CSV, row by row.
+/// Writes columns as CSV.
 fn write_columns(w: &mut dyn Write, columns: &[(String, Column)]) -> std::io::Result<()> {
     let names: Vec<&str> = columns.iter().map(|c| c.0.as_str()).collect();
     writeln!(w, "{}", names.join(","))?;
     let rows = columns.first().map_or(0, |c| c.1.len());
-    for row in 0..rows {
+    write_rows(w, rows, |w, row| {
         for (k, (name, column)) in columns.iter().enumerate() {
             if k > 0 {
-                write!(w, ",")?;
+                w.push(b',');
             }
             match column {
-                Column::Int(v) => write!(w, "{}", v[row])?,
-                Column::Float(v) => write!(w, "{}", finite(v[row], name, row)?)?,
+                Column::Int(v) => push_int(w, v[row]),
+                Column::Float(v) => finite(v[row], name, row)?.push_to(w),
             }
         }
-        writeln!(w)?;
-    }
-    Ok(())
+        w.push(b'\n');
+        Ok(())
+    })
 }
 
 /// Writes `pores.csv`: `id`, the vertices' particle ids `v0…`, on periodic
@@ -92,25 +92,21 @@ pub fn write_network_vtp(w: &mut dyn Write, t: &PoreTables, size: &[f64]) -> std
         w,
         "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">"
     )?;
-    for p in 0..t.pores.len() {
-        let c = at(p);
-        writeln!(
-            w,
-            "{} {} {}",
-            finite(c[0], "x", p)?,
-            finite(c[1], "y", p)?,
-            finite(c[2], "z", p)?
-        )?;
-    }
-    for (b, c) in &extra {
-        writeln!(
-            w,
-            "{} {} {}",
-            finite(c[0], "x", *b)?,
-            finite(c[1], "y", *b)?,
-            finite(c[2], "z", *b)?
-        )?;
-    }
+    write_rows(w, n_points, |w, i| {
+        let (p, c) = if i < t.pores.len() {
+            (i, at(i))
+        } else {
+            extra[i - t.pores.len()]
+        };
+        for (k, axis) in ["x", "y", "z"].into_iter().enumerate() {
+            if k > 0 {
+                w.push(b' ');
+            }
+            finite(c[k], axis, p)?.push_to(w);
+        }
+        w.push(b'\n');
+        Ok(())
+    })?;
     writeln!(w, "</DataArray>")?;
     writeln!(w, "</Points>")?;
     // Point data: a copy carries its pore's values.
@@ -123,14 +119,16 @@ pub fn write_network_vtp(w: &mut dyn Write, t: &PoreTables, size: &[f64]) -> std
     };
     writeln!(w, "<PointData>")?;
     let point_array =
-        |w: &mut dyn Write, name: &str, f: &dyn Fn(usize) -> f64| -> std::io::Result<()> {
+        |w: &mut dyn Write, name: &str, f: &(dyn Fn(usize) -> f64 + Sync)| -> std::io::Result<()> {
             writeln!(
                 w,
                 "<DataArray type=\"Float64\" Name=\"{name}\" format=\"ascii\">"
             )?;
-            for i in 0..n_points {
-                writeln!(w, "{}", finite(f(pore_of(i)), name, i)?)?;
-            }
+            write_rows(w, n_points, |w, i| {
+                finite(f(pore_of(i)), name, i)?.push_to(w);
+                w.push(b'\n');
+                Ok(())
+            })?;
             writeln!(w, "</DataArray>")
         };
     point_array(w, "body_radius", &|p| t.pores[p].body_radius)?;
@@ -142,14 +140,16 @@ pub fn write_network_vtp(w: &mut dyn Write, t: &PoreTables, size: &[f64]) -> std
     writeln!(w, "</PointData>")?;
     writeln!(w, "<CellData>")?;
     let line_array =
-        |w: &mut dyn Write, name: &str, f: &dyn Fn(usize) -> f64| -> std::io::Result<()> {
+        |w: &mut dyn Write, name: &str, f: &(dyn Fn(usize) -> f64 + Sync)| -> std::io::Result<()> {
             writeln!(
                 w,
                 "<DataArray type=\"Float64\" Name=\"{name}\" format=\"ascii\">"
             )?;
-            for i in 0..t.throats.len() {
-                writeln!(w, "{}", finite(f(i), name, i)?)?;
-            }
+            write_rows(w, t.throats.len(), |w, i| {
+                finite(f(i), name, i)?.push_to(w);
+                w.push(b'\n');
+                Ok(())
+            })?;
             writeln!(w, "</DataArray>")
         };
     line_array(w, "constriction_radius", &|i| {
@@ -165,17 +165,23 @@ pub fn write_network_vtp(w: &mut dyn Write, t: &PoreTables, size: &[f64]) -> std
         w,
         "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">"
     )?;
-    for (a, b) in &ends {
-        writeln!(w, "{a} {b}")?;
-    }
+    write_rows(w, ends.len(), |w, i| {
+        push_int(w, ends[i].0);
+        w.push(b' ');
+        push_int(w, ends[i].1);
+        w.push(b'\n');
+        Ok(())
+    })?;
     writeln!(w, "</DataArray>")?;
     writeln!(
         w,
         "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">"
     )?;
-    for i in 0..ends.len() {
-        writeln!(w, "{}", 2 * (i + 1))?;
-    }
+    write_rows(w, ends.len(), |w, i| {
+        push_int(w, 2 * (i + 1));
+        w.push(b'\n');
+        Ok(())
+    })?;
     writeln!(w, "</DataArray>")?;
     writeln!(w, "</Lines>")?;
     writeln!(w, "</Piece>")?;
