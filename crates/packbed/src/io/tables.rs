@@ -164,9 +164,9 @@ pub(crate) fn write_rows(
 ) -> std::io::Result<()> {
     use rayon::prelude::*;
     const CHUNK: usize = 1 << 13;
-    // A few chunks per thread in flight: the buffers stay small (tens of MB)
-    // whatever the file's size.
-    let window = CHUNK * 4 * rayon::current_num_threads();
+    // A few chunks per thread in flight, at most 32: two windows of text
+    // stay within tens of MB whatever the file's size or the core count.
+    let window = CHUNK * (4 * rayon::current_num_threads()).min(32);
     let format = |start: usize| -> Vec<std::io::Result<Vec<u8>>> {
         let end = rows.min(start + window);
         let chunks: Vec<usize> = (start..end).step_by(CHUNK).collect();
@@ -225,24 +225,37 @@ pub fn particles_header<const D: usize>() -> &'static str {
 pub fn write_particles<const D: usize>(w: &mut dyn Write, bed: &Bed<D>) -> std::io::Result<()> {
     const AXES: [&str; 3] = ["x", "y", "z"];
     writeln!(w, "{}", particles_header::<D>())?;
-    for id in 0..bed.len() {
-        write!(w, "{id},{},{}", bed.species[id], bed.bodies[id])?;
+    write_rows(w, bed.len(), |w, id| {
+        push_int(w, id);
+        w.push(b',');
+        push_int(w, bed.species[id]);
+        w.push(b',');
+        push_int(w, bed.bodies[id]);
         for (k, axis) in AXES.iter().enumerate().take(D) {
-            write!(w, ",{}", Num(finite(bed.centres[id][k], axis, id)?))?;
+            w.push(b',');
+            Num(finite(bed.centres[id][k], axis, id)?).push_to(w);
         }
-        writeln!(w, ",{}", Num(finite(bed.radii[id], "r", id)?))?;
-    }
-    Ok(())
+        w.push(b',');
+        Num(finite(bed.radii[id], "r", id)?).push_to(w);
+        w.push(b'\n');
+        Ok(())
+    })
 }
 
 /// Writes `contacts.csv`: `i,j,gap` for every touching pair.
 pub fn write_contacts(w: &mut dyn Write, contacts: &Contacts) -> std::io::Result<()> {
     writeln!(w, "i,j,gap")?;
-    for c in &contacts.pairs {
+    write_rows(w, contacts.pairs.len(), |w, k| {
+        let c = &contacts.pairs[k];
         let gap = Num(finite(c.gap, "gap", c.i as usize)?);
-        writeln!(w, "{},{},{gap}", c.i, c.j)?;
-    }
-    Ok(())
+        push_int(w, c.i);
+        w.push(b',');
+        push_int(w, c.j);
+        w.push(b',');
+        gap.push_to(w);
+        w.push(b'\n');
+        Ok(())
+    })
 }
 
 /// Writes `wall_contacts.csv`: `i,wall,gap` with wall names `floor, x0, x1, y0, y1`.
