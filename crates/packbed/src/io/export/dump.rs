@@ -1,7 +1,7 @@
 //! LAMMPS dump, `bed.dump` (OVITO, LAMMPS `read_dump`; read back by `io::read::lammps`).
 
 use super::{position, Export};
-use crate::io::tables::Num;
+use crate::io::tables::{push_int, write_rows, Num};
 use std::io::Write;
 
 /// The LAMMPS boundary flags: `pp` for periodic axes, `ff` for walls. 2D beds are
@@ -32,22 +32,22 @@ pub(super) fn write<const D: usize>(w: &mut dyn Write, x: &Export<D>) -> std::io
         writeln!(w, "0 {}", Num(b[2]))?;
     }
     writeln!(w, "ITEM: ATOMS id type x y z radius mol c_coord")?;
-    for i in 0..bed.len() {
+    write_rows(w, bed.len(), |w, i| {
         let p = position(bed, i);
-        writeln!(
-            w,
-            "{} {} {} {} {} {} {} {}",
-            i + 1,
-            bed.species[i] + 1,
-            Num(p[0]),
-            Num(p[1]),
-            Num(p[2]),
-            Num(bed.radii[i]),
-            bed.bodies[i] + 1,
-            coordination[i]
-        )?;
-    }
-    Ok(())
+        push_int(w, i + 1);
+        w.push(b' ');
+        push_int(w, bed.species[i] + 1);
+        for v in [p[0], p[1], p[2], bed.radii[i]] {
+            w.push(b' ');
+            Num(v).push_to(w);
+        }
+        w.push(b' ');
+        push_int(w, bed.bodies[i] + 1);
+        w.push(b' ');
+        push_int(w, coordination[i]);
+        w.push(b'\n');
+        Ok(())
+    })
 }
 
 #[cfg(test)]

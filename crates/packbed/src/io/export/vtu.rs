@@ -1,7 +1,7 @@
 //! VTK XML unstructured grid, `bed.vtu` (ParaView; read back by `io::read::vtu`).
 
 use super::{position, Export};
-use crate::io::tables::Num;
+use crate::io::tables::{push_int, write_rows, Num};
 use std::io::Write;
 
 /// VTK XML unstructured grid: one vertex cell per particle, point data `radius`,
@@ -38,36 +38,47 @@ pub(super) fn write<const D: usize>(w: &mut dyn Write, x: &Export<D>) -> std::io
     let array = |w: &mut dyn Write,
                  ty: &str,
                  name: &str,
-                 f: &dyn Fn(usize) -> String|
+                 f: &(dyn Fn(&mut Vec<u8>, usize) + Sync)|
      -> std::io::Result<()> {
         writeln!(w, r#"<DataArray type="{ty}" Name="{name}" format="ascii">"#)?;
-        for i in 0..n {
-            writeln!(w, "{}", f(i))?;
-        }
+        write_rows(w, n, |w, i| {
+            f(w, i);
+            w.push(b'\n');
+            Ok(())
+        })?;
         writeln!(w, "</DataArray>")
     };
-    array(w, "Float64", "radius", &|i| Num(bed.radii[i]).to_string())?;
-    array(w, "Int32", "species", &|i| bed.species[i].to_string())?;
-    array(w, "Int32", "body", &|i| bed.bodies[i].to_string())?;
-    array(w, "Int32", "coordination", &|i| coordination[i].to_string())?;
-    array(w, "Int64", "id", &|i| i.to_string())?;
+    array(w, "Float64", "radius", &|w, i| Num(bed.radii[i]).push_to(w))?;
+    array(w, "Int32", "species", &|w, i| push_int(w, bed.species[i]))?;
+    array(w, "Int32", "body", &|w, i| push_int(w, bed.bodies[i]))?;
+    array(w, "Int32", "coordination", &|w, i| {
+        push_int(w, coordination[i])
+    })?;
+    array(w, "Int64", "id", &|w, i| push_int(w, i))?;
     writeln!(w, "</PointData>")?;
     writeln!(w, "<Points>")?;
     writeln!(
         w,
         r#"<DataArray type="Float64" NumberOfComponents="3" format="ascii">"#
     )?;
-    for i in 0..n {
+    write_rows(w, n, |w, i| {
         let p = position(bed, i);
-        writeln!(w, "{} {} {}", Num(p[0]), Num(p[1]), Num(p[2]))?;
-    }
+        for (k, v) in p.into_iter().enumerate() {
+            if k > 0 {
+                w.push(b' ');
+            }
+            Num(v).push_to(w);
+        }
+        w.push(b'\n');
+        Ok(())
+    })?;
     writeln!(w, "</DataArray>")?;
     writeln!(w, "</Points>")?;
     writeln!(w, "<Cells>")?;
-    array(w, "Int64", "connectivity", &|i| i.to_string())?;
-    array(w, "Int64", "offsets", &|i| (i + 1).to_string())?;
+    array(w, "Int64", "connectivity", &|w, i| push_int(w, i))?;
+    array(w, "Int64", "offsets", &|w, i| push_int(w, i + 1))?;
     // VTK_VERTEX.
-    array(w, "UInt8", "types", &|_| "1".to_string())?;
+    array(w, "UInt8", "types", &|w, _| w.push(b'1'))?;
     writeln!(w, "</Cells>")?;
     writeln!(w, "</Piece>")?;
     writeln!(w, "</UnstructuredGrid>")?;

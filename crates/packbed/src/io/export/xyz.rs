@@ -1,7 +1,7 @@
 //! Extended XYZ, `bed.xyz` (OVITO, ASE; read back by `io::read::xyz`).
 
 use super::{position, Export};
-use crate::io::tables::Num;
+use crate::io::tables::{push_int, write_rows, Num};
 use std::io::Write;
 
 /// Extended XYZ: a count line, a comment line with `Lattice`, `Origin`,
@@ -25,19 +25,18 @@ pub(super) fn write<const D: usize>(w: &mut dyn Write, x: &Export<D>) -> std::io
         Num(b[2]),
         Num(oz)
     )?;
-    for i in 0..bed.len() {
+    write_rows(w, bed.len(), |w, i| {
         let q = position(bed, i);
-        writeln!(
-            w,
-            "{} {} {} {} {} {} {}",
-            bed.species[i],
-            Num(q[0]),
-            Num(q[1]),
-            Num(q[2]),
-            Num(bed.radii[i]),
-            bed.bodies[i],
-            coordination[i]
-        )?;
-    }
-    Ok(())
+        push_int(w, bed.species[i]);
+        for v in [q[0], q[1], q[2], bed.radii[i]] {
+            w.push(b' ');
+            Num(v).push_to(w);
+        }
+        w.push(b' ');
+        push_int(w, bed.bodies[i]);
+        w.push(b' ');
+        push_int(w, coordination[i]);
+        w.push(b'\n');
+        Ok(())
+    })
 }
