@@ -37,7 +37,7 @@ impl Num {
     pub(crate) fn push_to(self, out: &mut Vec<u8>) {
         let v = self.0;
         if !v.is_finite() {
-            // Never written (refused before), but still the same text.
+            // The tables refuse these before; the exports write them as before.
             out.extend_from_slice(self.to_string().as_bytes());
             return;
         }
