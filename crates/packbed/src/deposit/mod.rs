@@ -9,6 +9,7 @@ pub(crate) mod obstacle;
 pub(crate) mod roll;
 pub mod rsa;
 mod speculate;
+mod trail;
 
 use crate::bed::{AnyBed, Bed};
 use crate::config::{AnyPlan, BaseLayerKind, Config, Fill, Mode, Plan};

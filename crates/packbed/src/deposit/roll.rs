@@ -8,13 +8,14 @@
 
 use super::arc_search::{Batch, Sweep};
 use super::obstacle::{is_floor, particle_key, wall_obstacle, Obstacle};
+use super::trail::Leg;
 use crate::bed::Bed;
 use crate::container::Container;
 use crate::geometry::{Arc, Crossing, Surface, Trig};
 use crate::grid::Grid;
 use crate::math::{nnls, Real, Vector};
 use rand::RngExt;
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 
 /// Most contacts tracked at once (more happen only in degenerate ties).
 const MAX_ACTIVE: usize = 6;
@@ -44,6 +45,9 @@ pub(crate) struct Terrain<'a, const D: usize> {
     /// (`deposit::speculate`). Chains query `grid` directly and are never
     /// speculated.
     asked: Cell<(Vector<D>, Vector<D>)>,
+    /// Where a speculative settling's centre went, leg by leg (`None` for
+    /// one at a time): what its answers depended on, finer than `asked`.
+    trail: Option<&'a RefCell<Vec<Leg<D>>>>,
 }
 
 impl<'a, const D: usize> Terrain<'a, D> {
@@ -55,6 +59,28 @@ impl<'a, const D: usize> Terrain<'a, D> {
             centres: &bed.centres,
             radii: &bed.radii,
             asked: Cell::new((Vector([Real::INFINITY; D]), Vector([Real::NEG_INFINITY; D]))),
+            trail: None,
+        }
+    }
+
+    /// [`Terrain::of`], noting every leg of a settling in `trail`.
+    pub(crate) fn noting(
+        container: &'a Container<D>,
+        grid: &'a Grid<D>,
+        bed: &'a Bed<D>,
+        trail: &'a RefCell<Vec<Leg<D>>>,
+    ) -> Self {
+        Terrain {
+            trail: Some(trail),
+            ..Terrain::of(container, grid, bed)
+        }
+    }
+
+    /// Notes a leg whose queries are asked (or were just answered).
+    #[inline]
+    fn went(&self, leg: Leg<D>) {
+        if let Some(trail) = self.trail {
+            trail.borrow_mut().push(leg);
         }
     }
 
@@ -183,7 +209,9 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
     for _ in 0..MAX_MOVES {
         *moves += 1;
         if active.len == 0 {
+            let from = p;
             p[D - 1] -= fall(terrain, &p, r, tol, &mut active);
+            terrain.went(Leg::Fall { from, to: p[D - 1] });
             continue;
         }
         let p_before = p;
@@ -253,7 +281,9 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
         let (hit, hit_rank) = first_contact_on_arc(
             terrain, &arc, &keep, r, &end, end_rank, tol, &mut hits, &mut batch,
         );
-        p = arc.point_at(if hit_rank <= end_rank { &hit } else { &end });
+        let stop = if hit_rank <= end_rank { hit } else { end };
+        p = arc.point_at(&stop);
+        terrain.went(Leg::Roll { arc, stop });
         std::mem::swap(&mut active, &mut keep);
         if hit_rank <= end_rank {
             for i in 0..hits.len {
@@ -333,6 +363,7 @@ fn snap<const D: usize>(
         }
     }
     let mut clear = true;
+    terrain.went(Leg::Point(q));
     terrain.for_each_in_box(&q, &q, r, |id, shift, _| {
         let centre = terrain.centres[id as usize] + shift;
         let need = r + terrain.radii[id as usize] - tol;
@@ -406,6 +437,7 @@ fn held_in_place<const D: usize>(
             add(s.normal_at(p));
         }
     }
+    terrain.went(Leg::Point(*p));
     terrain.for_each_in_box(p, p, r, |id, shift, _| {
         let s = Surface::Ball {
             centre: terrain.centres[id as usize] + shift,
