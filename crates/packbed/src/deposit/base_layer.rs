@@ -4,12 +4,13 @@
 
 use super::body::{Chain, Dropper, Sphere};
 use super::roll::Terrain;
-use super::Engine;
+use super::{Engine, RunRng};
 use crate::config::Fill;
 use crate::container::Wall;
 use crate::geometry::{intersection_points, Surface};
 use crate::math::{Real, Vector};
 use crate::species::EntryOrientation;
+use rayon::prelude::*;
 
 /// Consecutive failed random placements after which the floor counts as saturated
 /// (per particle that fits on the floor); the sweep then fills what is left.
@@ -20,10 +21,23 @@ const BASE_LAYER_PATIENCE: u64 = 10;
 /// more than this many of its smallest particles.
 const ROOF_BED_AT_LEAST: u64 = 1_000_000;
 
+/// Most tries of the random phase drawn ahead and tested on every core at once.
+const MOST_AHEAD: usize = 4096;
+
+/// A sphere's try of the random phase, drawn ahead.
+struct Try<const D: usize> {
+    species: u32,
+    r: Real,
+    p: Vector<D>,
+    /// The generator before this try was drawn.
+    rng: RunRng,
+}
+
 impl<const D: usize> Engine<'_, D> {
     /// Random particles resting on the floor until saturated, then the sweep
-    /// ([`Self::sweep`]).
-    pub(super) fn base_layer(&mut self) {
+    /// ([`Self::sweep`]). With `in_parallel`, the tries of spheres are tested
+    /// on every core ([`Self::tries_ahead`]; the same layer).
+    pub(super) fn base_layer(&mut self, in_parallel: bool) {
         let target = self.target();
         let c = self.plan.container;
         let floor_area: Real = (0..D - 1).map(|k| c.size[k]).product();
@@ -37,7 +51,11 @@ impl<const D: usize> Engine<'_, D> {
         let patience = random_phase_patience::<D>(&self.plan.species, floor_area)
             .min(BASE_LAYER_PATIENCE.saturating_mul(bed_size.max(1)));
         let mut failures = 0;
+        let mut ahead = Ahead::default();
         while failures < patience && (self.bed.len() as u64) < target {
+            if in_parallel && self.tries_ahead(&mut ahead, &mut failures, patience) {
+                continue;
+            }
             let (s, r) = self.draw_particle();
             if let Some((shape, _)) = self.chain_of(s, r) {
                 // A chain lies flat on the floor, at a random azimuth.
@@ -71,6 +89,72 @@ impl<const D: usize> Engine<'_, D> {
             }
         }
         self.sweep();
+    }
+
+    /// Tries of spheres drawn ahead from the generator, tested against the
+    /// floor as it is on every core, then taken in order as the one-at-a-time
+    /// loop above takes them: a try that overlapped a particle before still
+    /// does; one that did not is tested again only if a sphere was placed
+    /// since. Stops before a chain is drawn (the loop above places it), when
+    /// the failures reach `patience` or when the bed is full, with the
+    /// generator where the one-at-a-time loop leaves it. False if it drew
+    /// nothing (the next draw is a chain).
+    fn tries_ahead(&mut self, ahead: &mut Ahead<D>, failures: &mut u64, patience: u64) -> bool {
+        let target = self.target();
+        let c = self.plan.container;
+        ahead.tries.clear();
+        while ahead.tries.len() < ahead.size {
+            let before = self.rng.clone();
+            let (species, r) = self.draw_particle();
+            if self.chain_of(species, r).is_some() {
+                self.rng = before;
+                break;
+            }
+            let mut p = Sphere(r).enter(&c, &mut self.rng);
+            p[D - 1] = r;
+            ahead.tries.push(Try {
+                species,
+                r,
+                p,
+                rng: before,
+            });
+        }
+        if ahead.tries.is_empty() {
+            return false;
+        }
+        let (grid, bed) = (&self.grid, &self.bed);
+        ahead
+            .tries
+            .par_iter()
+            .map_init(
+                || Terrain::of(&c, grid, bed),
+                |terrain, t| fits(terrain, &t.p, t.r, 0.0),
+            )
+            .collect_into_vec(&mut ahead.fit);
+        let placed_before = self.bed.len();
+        for (i, t) in ahead.tries.iter().enumerate() {
+            if *failures >= patience || (self.bed.len() as u64) >= target {
+                self.rng = t.rng.clone();
+                break;
+            }
+            let fit = ahead.fit[i]
+                && (self.bed.len() == placed_before || fits(&self.terrain(), &t.p, t.r, 0.0));
+            if fit {
+                self.place_body(&Sphere(t.r), &t.p, t.species);
+                *failures = 0;
+            } else {
+                *failures += 1;
+            }
+        }
+        // Few tries ahead while the floor still takes many spheres (each
+        // placed one makes the tries after it be tested again), more as it
+        // saturates.
+        ahead.size = if self.bed.len() > placed_before {
+            (ahead.size / 2).max(16)
+        } else {
+            (ahead.size * 2).min(MOST_AHEAD)
+        };
+        true
     }
 
     /// The sweep: along the floor in order of position, fill every gap where
@@ -130,6 +214,23 @@ impl<const D: usize> Engine<'_, D> {
         }
         self.report.base_layer_sweep = (self.bed.len() - before) as u64;
         self.report.base_layer = self.bed.len() as u64;
+    }
+}
+
+/// The tries of [`Engine::tries_ahead`], kept between calls.
+struct Ahead<const D: usize> {
+    tries: Vec<Try<D>>,
+    fit: Vec<bool>,
+    size: usize,
+}
+
+impl<const D: usize> Default for Ahead<D> {
+    fn default() -> Self {
+        Ahead {
+            tries: Vec::new(),
+            fit: Vec::new(),
+            size: 16,
+        }
     }
 }
 

@@ -143,7 +143,7 @@ impl<'p, const D: usize> Engine<'p, D> {
             self.grid.reserve(n);
         }
         if self.plan.base_layer == BaseLayerKind::Random {
-            self.base_layer();
+            self.base_layer(speculate);
         }
         let target = self.target();
         let mut batches = speculate.then(speculate::Batches::new);
