@@ -59,8 +59,11 @@ pub(super) struct Found<const D: usize> {
 /// placed before it in the batch (a narrow box), doubled otherwise. Batches
 /// larger than 24 lost on two cores (10^6 spheres: 8 to 32 took 1.54-1.60 s,
 /// 48 took 2.4 s): the helper thread falls asleep while a batch is taken.
+/// Since a sphere near a settling's box but not near its legs is spared, 16
+/// beat 24 (BENCHMARKS.md, 10^6 radii 10:50: 6.36-6.49 s against 6.57-6.79
+/// s; 8, 12 and 32 no better than 16).
 const FIRST_BATCH: usize = 8;
-const LARGEST_BATCH: usize = 24;
+const LARGEST_BATCH: usize = 16;
 /// Spheres drawn for a batch, as a multiple of its size (see `drop_batch`).
 const EXTRA: usize = 2;
 
