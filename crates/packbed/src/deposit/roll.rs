@@ -24,6 +24,11 @@ const MAX_ACTIVE: usize = 6;
 /// ones makes thousands of legitimate moves (radii 10 and 50: up to ~3000 in a
 /// bed 10 large diameters deep).
 pub(crate) const MAX_MOVES: usize = 100_000;
+/// Most legs a speculative settling notes (see `trail`): a sphere that moves
+/// more often (a fine percolating deep, a sphere stuck until `MAX_MOVES`) is
+/// judged by the box of its queries alone, and the trails of a batch stay
+/// within a few megabytes.
+pub(crate) const MOST_LEGS: usize = 4096;
 /// Relative size of "zero" for gaps (times the moving radius).
 const GAP_TOL: Real = 1e-12;
 /// Length of the NNLS residual below which forces balance, relative to the sum of
@@ -76,11 +81,15 @@ impl<'a, const D: usize> Terrain<'a, D> {
         }
     }
 
-    /// Notes a leg whose queries are asked (or were just answered).
+    /// Notes a leg whose queries are asked (or were just answered); a trail
+    /// is full at [`MOST_LEGS`] and says no more.
     #[inline]
     fn went(&self, leg: Leg<D>) {
         if let Some(trail) = self.trail {
-            trail.borrow_mut().push(leg);
+            let mut trail = trail.borrow_mut();
+            if trail.len() < MOST_LEGS {
+                trail.push(leg);
+            }
         }
     }
 

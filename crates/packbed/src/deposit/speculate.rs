@@ -262,7 +262,10 @@ impl<const D: usize> Engine<'_, D> {
                 if could_have_met(container, &f.lo, &f.hi, d.r + r, c) {
                     let reach = d.r + r;
                     let reach = reach + super::trail::margin(reach, c);
-                    if trail.iter().any(|leg| leg.near(container, c, reach)) {
+                    // A full trail may lack the legs that came near.
+                    if trail.len() >= roll::MOST_LEGS
+                        || trail.iter().any(|leg| leg.near(container, c, reach))
+                    {
                         return true;
                     }
                     spared = true;
