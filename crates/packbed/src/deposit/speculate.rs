@@ -8,8 +8,10 @@
 //! sphere of the batch takes the next draws meanwhile (up to the batch's size
 //! again), which join the batch. The results are then taken in draw order.
 //! Sphere `k`'s result is the one-at-a-time result when nothing placed earlier
-//! in the batch lies where its queries could have used it ([`could_have_met`])
-//! and the highest top under its entry point is unchanged; otherwise it
+//! in the batch lies where its queries could have used it ([`could_have_met`],
+//! then, within that box, near one of the legs its centre went: see
+//! [`super::trail`]) and the highest top under its entry point is unchanged;
+//! otherwise it
 //! settles again, alone, on the bed as it now is. A sphere whose settling
 //! drew from the generator (a random tip), found no rest (a re-drop draws
 //! again) or widened the grid's queries (the largest radius of its level) ends
