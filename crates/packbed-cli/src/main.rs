@@ -85,7 +85,7 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) if e.downcast_ref::<packbed::slurm::JobsFailed>().is_some() => {
             // The input was fine, a job on the cluster failed: exit code 1.
-            eprintln!("packbed: error: {e}");
+            eprintln!("packbed: error: {}", packbed::text::screen(&e.to_string()));
             ExitCode::FAILURE
         }
         Err(e) => {

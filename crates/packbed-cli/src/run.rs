@@ -41,7 +41,9 @@ impl Shown {
         warnings: impl IntoIterator<Item = S>,
     ) {
         if !self.quiet {
-            print!("{}", text());
+            // Names and paths are escaped where they are written; this is
+            // the last guard for whatever else a summary quotes.
+            print!("{}", text::screen(&text()));
         }
         eprint!("{}", text::warning_lines(warnings));
     }

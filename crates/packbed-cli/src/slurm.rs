@@ -6,6 +6,7 @@ use crate::parsers::at_least_one;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use packbed::slurm::{self, JobArray, Resources};
+use packbed::text;
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -50,19 +51,26 @@ pub fn slurm(args: SlurmArgs) -> Result<()> {
     }
     print!(
         "{}",
-        slurm::prepared_text(&plan, runs, &prepared, args.submit)
+        text::screen(&slurm::prepared_text(&plan, runs, &prepared, args.submit))
     );
     if !args.submit {
         return Ok(());
     }
     let jobs = slurm::submit(&plan)?;
-    print!("{}", slurm::submitted_text(&plan, &jobs, args.wait));
+    print!(
+        "{}",
+        text::screen(&slurm::submitted_text(&plan, &jobs, args.wait))
+    );
     if !args.wait {
         return Ok(());
     }
     println!(
         "{}",
-        slurm::wait_for_merge(&plan, &jobs, Duration::from_secs(2))??
+        text::screen(&slurm::wait_for_merge(
+            &plan,
+            &jobs,
+            Duration::from_secs(2)
+        )??)
     );
     Ok(())
 }

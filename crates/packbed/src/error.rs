@@ -133,6 +133,12 @@ pub fn echo(value: &str) -> String {
     cut(value, ECHO_CHARS)
 }
 
+/// `value` with every character [`echo`] escapes escaped, uncut: a path or
+/// a name shown whole, nothing in it acting on a terminal or starting a line.
+pub fn inert(value: &str) -> String {
+    cut(value, usize::MAX)
+}
+
 fn cut(value: &str, keep: usize) -> String {
     let mut out = String::new();
     for (k, c) in value.chars().enumerate() {
@@ -149,10 +155,12 @@ fn cut(value: &str, keep: usize) -> String {
     out
 }
 
-/// Characters that move the cursor, recolour or reorder text on a terminal.
+/// Characters that move the cursor, recolour or reorder text on a terminal
+/// (C0 and C1 controls, bidirectional and zero-width formatting), and the
+/// noncharacters U+FFFE and U+FFFF, which XML forbids.
 fn hidden(c: char) -> bool {
     c.is_control()
-        || matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}' | '\u{feff}')
+        || matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}' | '\u{feff}' | '\u{fffe}' | '\u{ffff}')
 }
 
 /// `text` as one clean line: whitespace runs (newlines too) become one

@@ -7,6 +7,7 @@ mod common;
 mod bounds;
 mod commands;
 mod ensemble;
+mod escapes;
 mod files;
 mod filtration;
 mod fragment;

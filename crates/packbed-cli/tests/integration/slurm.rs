@@ -551,3 +551,83 @@ fn an_out_with_blanks_relative_or_not_is_quoted_in_the_scripts() {
         assert!(st.success(), "bash -n {f}");
     }
 }
+
+/// What `packbed slurm` prints to paste into a shell, and what its scripts
+/// set, quotes every path: an `--out` holding `$(…)` and `;` runs nothing
+/// when the printed `sbatch` lines are pasted, and they hand `sbatch` the
+/// script's path intact.
+#[test]
+fn printed_submit_lines_and_script_paths_are_quoted_for_the_shell() {
+    let s = Scratch::new();
+    let out = "o$(touch X);x 'q'";
+    let o = s.ok(&cat(&[
+        &["slurm"],
+        SMALL,
+        &["--runs", "2", "--tasks", "1", "--out", out],
+    ]));
+    let dir = s.path(out);
+    // A fake sbatch that writes its arguments, one a line.
+    let bin = s.inputs.join("bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    let fake = bin.join("sbatch");
+    std::fs::write(&fake, "#!/bin/sh\nprintf '%s\\n' \"$@\" >> \"$ARGS\"\n").unwrap();
+    Command::new("chmod").arg("+x").arg(&fake).status().unwrap();
+    let args_file = s.inputs.join("args");
+    let lines: Vec<&str> = o
+        .stdout
+        .lines()
+        .map(str::trim)
+        .filter(|l| l.starts_with("sbatch "))
+        .collect();
+    assert_eq!(lines.len(), 2, "{}", o.stdout);
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap());
+    for line in &lines {
+        let st = Command::new("sh")
+            .args(["-c", line])
+            .current_dir(&s.work)
+            .env("PATH", &path)
+            .env("ARGS", &args_file)
+            .status()
+            .unwrap();
+        assert!(st.success(), "sh -c {line}");
+    }
+    assert!(!s.path("X").exists(), "a pasted line ran `touch X`");
+    let got = std::fs::read_to_string(&args_file).unwrap();
+    let want = format!(
+        "{}\n--dependency=afterok:ARRAY_JOB_ID\n{}\n",
+        dir.join("array.sh").display(),
+        dir.join("merge.sh").display()
+    );
+    assert_eq!(got, want);
+    // The scripts: valid shell, and DIR= and PACKBED= give the paths back.
+    for f in ["array.sh", "merge.sh"] {
+        let script = std::fs::read_to_string(dir.join(f)).unwrap();
+        let st = Command::new("sh")
+            .arg("-n")
+            .arg(dir.join(f))
+            .status()
+            .unwrap();
+        assert!(st.success(), "sh -n {f}");
+        let assign: Vec<&str> = script
+            .lines()
+            .filter(|l| l.starts_with("DIR=") || l.starts_with("PACKBED="))
+            .collect();
+        assert_eq!(assign.len(), 2, "{script}");
+        let shown = Command::new("sh")
+            .args([
+                "-c",
+                &format!(
+                    "{}\n{}\nprintf '%s\\n%s' \"$DIR\" \"$PACKBED\"",
+                    assign[0], assign[1]
+                ),
+            ])
+            .current_dir(&s.work)
+            .output()
+            .unwrap();
+        assert_eq!(
+            String::from_utf8(shown.stdout).unwrap(),
+            format!("{}\n{}", dir.display(), env!("CARGO_BIN_EXE_packbed"))
+        );
+        assert!(!s.path("X").exists(), "{f}: sourcing DIR= ran `touch X`");
+    }
+}

@@ -7,6 +7,7 @@
 use super::stats::{Aggregate, Kind, Measure, Stats};
 use crate::config::Config;
 use crate::io::tables::Num;
+use crate::text::markdown_cell;
 use serde_json::{json, Map, Value};
 use std::fmt::Write;
 
@@ -374,7 +375,12 @@ fn beds(n: u64) -> String {
 pub fn ensemble_md(h: &Header, a: &Aggregate) -> String {
     let mut t = String::new();
     let title = match &h.sweep {
-        Some((p, label, _)) => format!("Ensemble of {}: {p} = {label}", beds(a.replicates)),
+        Some((p, label, _)) => format!(
+            "Ensemble of {}: {} = {}",
+            beds(a.replicates),
+            markdown_cell(p),
+            markdown_cell(label)
+        ),
         None => format!("Ensemble of {}", beds(a.replicates)),
     };
     let _ = writeln!(t, "# {title}\n");
@@ -404,7 +410,7 @@ pub fn ensemble_md(h: &Header, a: &Aggregate) -> String {
         let _ = writeln!(t, "| --- | --- | ---: | ---: | ---: |");
         for (m, what) in &cake {
             let [lo, mid, hi] = cells(&m.stats, m.kind);
-            let key = label(m, a.replicates);
+            let key = markdown_cell(&label(m, a.replicates));
             let _ = writeln!(t, "| {what} | {key} | {lo} | {mid} | {hi} |");
         }
         let _ = writeln!(t, "\n## All measures\n");
@@ -426,13 +432,21 @@ pub fn ensemble_md(h: &Header, a: &Aggregate) -> String {
         if is_uninformative(m, a.replicates) {
             let unit = if m.kind == Kind::Percent { " %" } else { "" };
             left_out.push(match m.stats.min == m.stats.max {
-                true => format!("{} = {}{unit}", m.name, cells(&m.stats, m.kind)[0]),
-                false => m.name.clone(),
+                true => format!(
+                    "{} = {}{unit}",
+                    markdown_cell(&m.name),
+                    cells(&m.stats, m.kind)[0]
+                ),
+                false => markdown_cell(&m.name),
             });
             continue;
         }
         let [lo, mid, hi] = cells(&m.stats, m.kind);
-        let _ = writeln!(t, "| {} | {lo} | {mid} | {hi} |", label(m, a.replicates));
+        let _ = writeln!(
+            t,
+            "| {} | {lo} | {mid} | {hi} |",
+            markdown_cell(&label(m, a.replicates))
+        );
     }
     if !left_out.is_empty() {
         let _ = writeln!(
@@ -445,7 +459,7 @@ pub fn ensemble_md(h: &Header, a: &Aggregate) -> String {
         let _ = writeln!(
             t,
             "\n## {} (summed over {}, fraction of all entries)\n",
-            hist.name,
+            markdown_cell(&hist.name),
             beds(hist.replicates)
         );
         let bins: Vec<String> = (0..hist.counts.len()).map(|k| k.to_string()).collect();
@@ -455,8 +469,13 @@ pub fn ensemble_md(h: &Header, a: &Aggregate) -> String {
         let _ = writeln!(t, "| fraction | {} |", f.join(" | "));
     }
     if !a.series.is_empty() || !curves.is_empty() {
-        let names: Vec<&str> = a.series.iter().map(|s| s.name.as_str()).collect();
-        let names = [names, curves].concat();
+        let names: Vec<String> = a
+            .series
+            .iter()
+            .map(|s| s.name.as_str())
+            .chain(curves)
+            .map(markdown_cell)
+            .collect();
         let _ = writeln!(
             t,
             "\nProfiles ({}) are in `ensemble.csv` and `ensemble.json`, entry by entry.",
@@ -521,6 +540,7 @@ const HEADLINE: [&str; 9] = [
 /// measure in the source study's layout with one row per value.
 pub fn sweep_md(parameter: &str, base: &Config, rows: &[SweepRow]) -> String {
     let mut t = String::new();
+    let parameter = markdown_cell(parameter);
     let _ = writeln!(t, "# Sweep over {parameter}\n");
     let _ = writeln!(t, "{}.", describe(base));
     let _ = writeln!(
@@ -550,8 +570,8 @@ pub fn sweep_md(parameter: &str, base: &Config, rows: &[SweepRow]) -> String {
         headline
             .iter()
             .map(|h| match find(first.aggregate, h) {
-                Some(m) if m.kind == Kind::Percent => format!("{h} (% of beds)"),
-                _ => h.to_string(),
+                Some(m) if m.kind == Kind::Percent => format!("{} (% of beds)", markdown_cell(h)),
+                _ => markdown_cell(h),
             })
             .collect::<Vec<_>>()
             .join(" | ")
@@ -568,7 +588,7 @@ pub fn sweep_md(parameter: &str, base: &Config, rows: &[SweepRow]) -> String {
         let _ = writeln!(
             t,
             "| {} | {} | {} |",
-            r.label,
+            markdown_cell(r.label),
             r.aggregate.replicates,
             cells.join(" | ")
         );
@@ -584,7 +604,7 @@ pub fn sweep_md(parameter: &str, base: &Config, rows: &[SweepRow]) -> String {
         }
     }
     for name in &names {
-        let _ = writeln!(t, "\n## {name}\n");
+        let _ = writeln!(t, "\n## {}\n", markdown_cell(name));
         let _ = writeln!(t, "| {parameter} | min | mean ± sd | max |");
         let _ = writeln!(t, "| --- | ---: | ---: | ---: |");
         for r in rows {
@@ -592,10 +612,14 @@ pub fn sweep_md(parameter: &str, base: &Config, rows: &[SweepRow]) -> String {
                 Some(m) => {
                     let [lo, mid, hi] = cells(&m.stats, m.kind);
                     let unit = if m.kind == Kind::Percent { " %" } else { "" };
-                    let _ = writeln!(t, "| {} | {lo}{unit} | {mid}{unit} | {hi}{unit} |", r.label);
+                    let _ = writeln!(
+                        t,
+                        "| {} | {lo}{unit} | {mid}{unit} | {hi}{unit} |",
+                        markdown_cell(r.label)
+                    );
                 }
                 None => {
-                    let _ = writeln!(t, "| {} | – | – | – |", r.label);
+                    let _ = writeln!(t, "| {} | – | – | – |", markdown_cell(r.label));
                 }
             }
         }

@@ -198,14 +198,6 @@ pub fn cap_height(size: f64) -> f64 {
     0.73 * size
 }
 
-/// Escapes text for SVG.
-fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
-
 /// An SVG document being written.
 pub struct SvgCanvas {
     width: u32,
@@ -344,7 +336,7 @@ impl Canvas for SvgCanvas {
     }
 
     fn polyline_class(&mut self, points: &[(f64, f64)], color: Rgb, width: f64, class: &str) {
-        let class = format!(r#" class="{}""#, xml_escape(class));
+        let class = format!(r#" class="{}""#, crate::text::xml_text(class));
         self.write_polyline(points, color, width, &class);
     }
 
@@ -366,7 +358,7 @@ impl Canvas for SvgCanvas {
             fmt_px(y),
             fmt_px(style.size),
             style.color.hex(),
-            xml_escape(text)
+            crate::text::xml_text(text)
         );
     }
 }

@@ -1,9 +1,10 @@
 //! The short summary of an ensemble or a merge for a person, as `packbed
 //! ensemble` prints it: what ran, the headline statistics, where the files are.
 
-use super::run::{count, file_names};
+use super::run::{count, file_names, path};
 use crate::analysis::stats::Kind;
 use crate::ensemble::{tables, Outcome};
+use crate::error::inert;
 use std::fmt::Write;
 use std::path::Path;
 
@@ -35,7 +36,7 @@ pub fn reduced_note(out: &Path, runs: u64, earlier: u64) -> String {
     format!(
         "{} held an ensemble of {earlier} replicates; --runs {runs} reuses those of {} that are \
          finished, and the statistics are over the {runs} requested ({} stay on disk, unused)",
-        out.display(),
+        path(out),
         range(0, runs),
         range(runs, earlier)
     )
@@ -66,7 +67,7 @@ pub fn ensemble_text(o: &Outcome, out: &Path, threads: Option<usize>) -> String 
     );
     for p in &o.points {
         if let Some(l) = &p.label {
-            let _ = writeln!(t, "  {l}  ({})", p.dir.display());
+            let _ = writeln!(t, "  {}  ({})", inert(l), path(&p.dir));
         }
         let a = &p.aggregate;
         // In the order of ON_SCREEN, not of the aggregate: a measure null in
@@ -87,7 +88,7 @@ pub fn ensemble_text(o: &Outcome, out: &Path, threads: Option<usize>) -> String 
             let _ = writeln!(
                 t,
                 "    {:<40} {mid}  (min {lo}, max {hi})",
-                tables::label(m, a.replicates)
+                inert(&tables::label(m, a.replicates))
             );
         }
         if !p.percolation_asked {
@@ -100,7 +101,7 @@ pub fn ensemble_text(o: &Outcome, out: &Path, threads: Option<usize>) -> String 
     match o.points.first().filter(|p| p.label.is_some()) {
         // A sweep: its comparison on top, each value's statistics in its directory.
         Some(p) => {
-            let _ = writeln!(t, "  files in {}: {}", out.display(), names(&o.files));
+            let _ = writeln!(t, "  files in {}: {}", path(out), names(&o.files));
             let _ = writeln!(
                 t,
                 "  in each of {} sweep/*/: {}, runs/",
@@ -109,12 +110,7 @@ pub fn ensemble_text(o: &Outcome, out: &Path, threads: Option<usize>) -> String 
             );
         }
         None => {
-            let _ = writeln!(
-                t,
-                "  files in {}: {}, runs/",
-                out.display(),
-                names(&o.files)
-            );
+            let _ = writeln!(t, "  files in {}: {}, runs/", path(out), names(&o.files));
         }
     }
     t

@@ -6,4 +6,94 @@ mod ensemble;
 mod run;
 
 pub use ensemble::{ensemble_text, reduced_note};
-pub use run::{analyze_text, file_names, fragment_text, overlap_warning, run_text, warning_lines};
+pub use run::{
+    analyze_text, file_names, fragment_text, overlap_warning, path, run_text, warning_lines,
+};
+
+/// A text for the screen (several lines): every character that acts on a
+/// terminal escaped as [`crate::error::echo`] escapes it, the line breaks
+/// kept. The last guard before stdout; a value inside a line (a name, a
+/// path) is escaped where it is written, its line breaks too.
+pub fn screen(text: &str) -> String {
+    text.split('\n')
+        .map(crate::error::inert)
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// `text` as XML character data or an attribute value (SVG): `& < > " '` as
+/// entities, and the characters XML 1.0 forbids even as references (controls
+/// other than tab and line breaks) or that act on a terminal written as
+/// visible escapes (`\u{1b}`), as [`crate::error::echo`] shows them.
+pub fn xml_text(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in crate::error::inert(text).chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// `text` as one cell of a Markdown table (or a heading's text): `\` and `|`
+/// escaped with a backslash, `<` and `&` as entities (no HTML), and line
+/// breaks and control characters as visible escapes (`\u{a}`), so that a
+/// name never adds a column or a line.
+pub fn markdown_cell(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '\\' | '|' => {
+                out.push('\\');
+                out.push(c);
+            }
+            '<' => out.push_str("&lt;"),
+            '&' => out.push_str("&amp;"),
+            c => out.push(c),
+        }
+    }
+    crate::error::inert(&out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A name with every troublesome character: ESC (a colour), an OSC
+    /// (window title) ended by BEL, the C1 CSI U+009B, markup and a newline.
+    pub(crate) const HOSTILE: &str = "a\u{1b}[31m\u{1b}]0;t\u{7}\u{9b}2J<&>|\"'\nb";
+
+    #[test]
+    fn screen_text_keeps_its_lines_and_escapes_the_rest() {
+        let t = screen("x \u{1b}[2J\ny\u{9b}\u{7}\n");
+        assert_eq!(t, "x \\u{1b}[2J\ny\\u{9b}\\u{7}\n");
+    }
+
+    #[test]
+    fn xml_text_is_well_formed_xml() {
+        let x = xml_text(HOSTILE);
+        assert_eq!(
+            x,
+            "a\\u{1b}[31m\\u{1b}]0;t\\u{7}\\u{9b}2J&lt;&amp;&gt;|&quot;&apos;\\u{a}b"
+        );
+        assert!(x.chars().all(|c| !c.is_control()), "{x}");
+        assert_eq!(xml_text("\u{fffe}"), "\\u{fffe}");
+    }
+
+    #[test]
+    fn a_markdown_cell_adds_no_column_and_no_line() {
+        let m = markdown_cell(HOSTILE);
+        assert_eq!(
+            m,
+            "a\\u{1b}[31m\\u{1b}]0;t\\u{7}\\u{9b}2J&lt;&amp;>\\|\"'\\u{a}b"
+        );
+        // Every `|` is escaped: a table row keeps its columns.
+        assert!(!m.replace("\\|", "").contains('|'), "{m}");
+        assert_eq!(markdown_cell(r"a\|b_c"), r"a\\\|b_c");
+    }
+}

@@ -4,6 +4,7 @@
 
 use crate::analysis::percolation::DirectionPercolation;
 use crate::analysis::{Percolation, Summary};
+use crate::error::{echo, inert};
 use crate::io::summary::BoxSummary;
 use crate::io::{AnalyzeSummary, RunSummary};
 use std::fmt::Write;
@@ -12,6 +13,11 @@ use std::path::{Path, PathBuf};
 /// `1 cluster`, `2 clusters`.
 pub fn count(n: u64, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })
+}
+
+/// A path for the screen: whole, nothing in it acting on the terminal.
+pub fn path(p: &Path) -> String {
+    inert(&p.display().to_string())
 }
 
 /// A length for the screen (see [`crate::math::display_length`]).
@@ -38,7 +44,7 @@ fn box_size(b: &BoxSummary) -> String {
 pub fn file_names(files: &[PathBuf]) -> String {
     files
         .iter()
-        .filter_map(|f| f.file_name().map(|n| n.to_string_lossy().into_owned()))
+        .filter_map(|f| f.file_name().map(|n| inert(&n.to_string_lossy())))
         .collect::<Vec<_>>()
         .join(", ")
 }
@@ -64,7 +70,10 @@ pub fn run_text(s: &RunSummary, out: &Path, files: &[PathBuf]) -> String {
         let _ = writeln!(
             t,
             "  species {}: {}{shape}, ratio {}: {} placed",
-            sp.name, sp.size, sp.ratio, sp.placed
+            echo(&sp.name),
+            sp.size,
+            sp.ratio,
+            sp.placed
         );
     }
     if let Some(p) = &s.psd {
@@ -132,7 +141,7 @@ pub fn run_text(s: &RunSummary, out: &Path, files: &[PathBuf]) -> String {
         "  time: {:.3} s (deposition {:.3} s, analysis {:.3} s)",
         tm.total_seconds, tm.deposit_seconds, tm.analysis_seconds
     );
-    let _ = writeln!(t, "  files in {}: {}", out.display(), file_names(files));
+    let _ = writeln!(t, "  files in {}: {}", path(out), file_names(files));
     t
 }
 
@@ -150,7 +159,7 @@ pub fn analyze_text(s: &AnalyzeSummary, out: &Path, files: &[PathBuf]) -> String
     let _ = writeln!(
         t,
         "packbed: {} ({}D, {}, {}, {size} box{from}, {sides})",
-        s.source,
+        inert(&s.source),
         s.dim,
         count(s.counts.particles, "particle", "particles"),
         count(s.counts.bodies, "body", "bodies")
@@ -161,7 +170,7 @@ pub fn analyze_text(s: &AnalyzeSummary, out: &Path, files: &[PathBuf]) -> String
         "  time: read {:.3} s, analysis {:.3} s",
         s.timing.read_seconds, s.timing.analysis_seconds
     );
-    let _ = writeln!(t, "  files in {}: {}", out.display(), file_names(files));
+    let _ = writeln!(t, "  files in {}: {}", path(out), file_names(files));
     t
 }
 
@@ -297,15 +306,14 @@ fn measures_text_with(a: &Summary, names: &[String], bulk_hint: Option<&str>) ->
         names
             .get(i)
             .filter(|n| !n.is_empty())
-            .cloned()
             .or_else(|| {
                 a.coordination
                     .iter()
                     .flat_map(|k| &k.by_species)
                     .find(|s| s.species as usize == i && !s.name.is_empty())
-                    .map(|s| s.name.clone())
+                    .map(|s| &s.name)
             })
-            .unwrap_or_else(|| format!("species {i}"))
+            .map_or_else(|| format!("species {i}"), |n| echo(n))
     };
     let mut t = String::new();
     if let Some(c) = &a.cake {
@@ -523,7 +531,7 @@ pub fn fragment_text(
     let _ = writeln!(
         t,
         "packbed: {} ({}D, {}, {} box, {}) under {} (k_t/k_n {})",
-        s.source,
+        inert(&s.source),
         s.dim,
         count(s.counts.bodies, "body", "bodies"),
         box_size(b),
@@ -553,7 +561,7 @@ pub fn fragment_text(
         "  time: read {:.3} s, first solve {:.3} s, breaks {:.3} s",
         s.timing.read_seconds, s.timing.first_solve_seconds, s.timing.breakage_seconds
     );
-    let _ = writeln!(t, "  files in {}: {}", out.display(), file_names(files));
+    let _ = writeln!(t, "  files in {}: {}", path(out), file_names(files));
     t
 }
 

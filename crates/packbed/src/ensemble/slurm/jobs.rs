@@ -86,7 +86,7 @@ pub fn submit(plan: &JobArray) -> Result<Submitted> {
     .map_err(|e| {
         Error::Impossible(format!(
             "{e} (the array job {array} is submitted; submit merge.sh by hand: sbatch --dependency=afterok:{array} {})",
-            merge_path.display()
+            super::shell_path(&merge_path)
         ))
     })?;
     Ok(Submitted { array, merge })

@@ -111,6 +111,11 @@ pub fn shell_quote(text: &str) -> String {
     }
 }
 
+/// A path as one shell word ([`shell_quote`]), for a command a user pastes.
+pub fn shell_path(path: &Path) -> String {
+    shell_quote(&path.to_string_lossy())
+}
+
 /// `text` as one argument of an `#SBATCH` line: sbatch splits those lines at
 /// blanks outside quotes, drops quotes, reads `\` as an escape and an
 /// unescaped `#` as the start of a comment (its `_get_argument`), so a word
@@ -190,7 +195,7 @@ impl JobArray {
             format!(
                 "{} is usually local to each node; on a cluster of several nodes put --out on a \
                  shared file system",
-                self.out.display()
+                crate::text::path(&self.out)
             )
         })
     }
@@ -626,7 +631,8 @@ pub fn clear_statuses(plan: &JobArray) -> Result<()> {
 /// What `packbed slurm` prints once the scripts are written: where, which
 /// files, and (unless it submits them) how to submit them by hand.
 pub fn prepared_text(plan: &JobArray, runs: u64, prepared: &Prepared, submitting: bool) -> String {
-    let dir = plan.out.display();
+    use crate::text::path;
+    let dir = path(&plan.out);
     let resuming = if prepared.resumed {
         " (resuming the shards there)"
     } else {
@@ -636,15 +642,16 @@ pub fn prepared_text(plan: &JobArray, runs: u64, prepared: &Prepared, submitting
         "packbed slurm: {runs} replicates in {} array tasks, in {dir}{resuming}\n\
          \x20 {}  the config every task runs\n  {}  the job array\n  {}  the merge\n",
         plan.tasks,
-        plan.config_path().display(),
-        plan.array_path().display(),
-        plan.merge_path().display()
+        path(&plan.config_path()),
+        path(&plan.array_path()),
+        path(&plan.merge_path())
     );
     if !submitting {
+        // Lines to paste into a shell: each path one quoted word.
         t += &format!(
             "submit with:\n  sbatch {}\n  sbatch --dependency=afterok:ARRAY_JOB_ID {}\n",
-            plan.array_path().display(),
-            plan.merge_path().display()
+            shell_path(&plan.array_path()),
+            shell_path(&plan.merge_path())
         );
     }
     t
@@ -658,13 +665,13 @@ pub fn submitted_text(plan: &JobArray, jobs: &Submitted, waiting: bool) -> Strin
         jobs.array,
         plan.tasks,
         jobs.merge,
-        plan.out.join(LOGS_DIR).display()
+        crate::text::path(&plan.out.join(LOGS_DIR))
     );
     if !waiting {
         t += &format!(
             "the ensemble files appear in {} when the merge job ends; to resume, run the same \
              command again\n",
-            plan.out.display()
+            crate::text::path(&plan.out)
         );
     }
     t
@@ -686,8 +693,8 @@ pub fn wait_for_merge(
     Ok(match wait(plan, jobs, poll)? {
         WaitOutcome::Done => Ok(format!(
             "done: ensemble files in {} (log {})",
-            plan.out.display(),
-            plan.merge_log().display()
+            crate::text::path(&plan.out),
+            crate::text::path(&plan.merge_log())
         )),
         WaitOutcome::Failed(failures) => Err(JobsFailed(failed_text(jobs, &failures))),
     })
