@@ -457,3 +457,30 @@ fn a_resume_never_reuses_a_damaged_replicate_summary() {
     s.ok(&args(SMALL, &["--runs", "4", "--out", "e", "-q"]));
     assert_same_stats(&s, "full", "e", &STAT_FILES);
 }
+
+/// Random sequential addition places single spheres and discs: a chain is
+/// refused with the config, before any work or file, by every command.
+#[test]
+fn rsa_with_chains_is_refused_before_any_work() {
+    let s = Scratch::new();
+    let config = s.input(
+        "rsa-chains.toml",
+        "dim = 2\nmode = \"rsa\"\n[fill]\ncount = 20\n[[species]]\nname = \"rods\"\nradius = 10\n\
+         shape = \"chain\"\nbeads = 3\n",
+    );
+    let config = config.to_str().unwrap();
+    let needles = ["mode = \"rsa\"", "`rods` is a chain"];
+    assert_user_error(&s, &["run", config, "--out", "r"], &needles);
+    assert_user_error(
+        &s,
+        &["ensemble", config, "--runs", "2", "--out", "e"],
+        &needles,
+    );
+    let dir = s.path("cluster");
+    let dir = dir.to_str().unwrap();
+    assert_user_error(
+        &s,
+        &["slurm", config, "--runs", "2", "--tasks", "1", "--out", dir],
+        &needles,
+    );
+}

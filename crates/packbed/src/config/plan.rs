@@ -454,6 +454,7 @@ impl Config {
             return Err(Error::config("the species ratios sum to zero"));
         }
         let species = name_species(species);
+        rsa_places_single_particles(self.mode, &species)?;
         let r_max = Self::r_max(&species);
         let container = self.container.resolve::<D>(&species, r_max)?;
         let fill = match (&self.fill.until, self.fill.count) {
@@ -630,6 +631,25 @@ impl<const D: usize> Plan<D> {
 /// Refuses chains longer than the box is wide: such a chain cannot lie flat
 /// between the walls (it would end up standing through the floor or sticking
 /// out above the roof), and across periodic sides it would overlap its own image.
+/// Random sequential addition places spheres and discs only: a chain is
+/// refused with the config, before any work (not by the first replicate).
+fn rsa_places_single_particles(mode: Mode, species: &[Species]) -> Result<()> {
+    if mode != Mode::Rsa {
+        return Ok(());
+    }
+    match species
+        .iter()
+        .find(|s| matches!(s.shape, Shape::Chain { .. }))
+    {
+        Some(s) => Err(Error::config(format!(
+            "mode = \"rsa\" places spheres and discs only, but species `{}` is a chain \
+             (chains need mode = \"deposit\")",
+            crate::error::echo(&s.name)
+        ))),
+        None => Ok(()),
+    }
+}
+
 fn chains_fit<const D: usize>(species: &[Species], container: &Container<D>) -> Result<()> {
     for s in species {
         let Shape::Chain { beads, spacing, .. } = s.shape else {
