@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Coverage-guided fuzzing of packbed's input layers with AFL++ (cargo-afl,
-# stable toolchain). Targets: fuzz/src/lib.rs (bed, config, psd_table, merge).
+# stable toolchain). Targets: fuzz/src/lib.rs (bed, config, psd_table, merge,
+# resume).
 #
 #   scripts/fuzz.sh [--seconds N] [--memory MIB] [TARGET ...]   (default: all)
 #
@@ -28,7 +29,7 @@ while [ $# -gt 0 ]; do
         *) targets+=("$1"); shift ;;
     esac
 done
-[ ${#targets[@]} -gt 0 ] || targets=(bed config psd_table merge)
+[ ${#targets[@]} -gt 0 ] || targets=(bed config psd_table merge resume)
 
 command -v cargo-afl >/dev/null || { echo "fuzz.sh: cargo-afl not found (cargo install cargo-afl)" >&2; exit 1; }
 

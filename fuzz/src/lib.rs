@@ -15,7 +15,8 @@
 //! - [`config`]: the TOML config with the command-line overrides, sweeps and
 //!   the plan, then, for small beds, the deposition itself;
 //! - [`psd_table`]: measured size distributions, then sampling from them;
-//! - [`merge`]: a shard's manifest and replicate summary, as `merge` reads them.
+//! - [`merge`]: a shard's manifest and replicate summary, as `merge` reads them;
+//! - [`resume`]: a replicate summary, as a rerun of its ensemble reads it.
 //!
 //! Each returns whether the input was accepted (read, or planned), so that
 //! the replay test can tell a seed that still reaches deep from one that a
@@ -259,31 +260,69 @@ pub fn psd_table(data: &[u8]) -> bool {
     true
 }
 
+/// The config of the small ensemble of the `merge` and `resume` targets.
+fn ensemble_config() -> Config {
+    Config::from_toml(
+        "dim = 2\n[box]\nwidth = 120.0\nheight = 120.0\n[[species]]\nradius = 10.0\n[[species]]\nradius = 20.0\n",
+        "fuzz-merge.toml",
+    )
+    .expect("the merge target's config")
+}
+
+/// The options of shard `k` (`K/M`) of that ensemble: 3 replicates.
+fn shard_options(k: &str) -> packbed::EnsembleOptions {
+    packbed::EnsembleOptions {
+        runs: 3,
+        jobs: Some(1),
+        shard: Shard::parse(k).expect("shard"),
+        pictures: false,
+        ..Default::default()
+    }
+}
+
 /// Two shards of a small ensemble, made once per process with the library
 /// (so that they always match its format).
 fn shards() -> &'static (PathBuf, PathBuf) {
     static SHARDS: OnceLock<(PathBuf, PathBuf)> = OnceLock::new();
     SHARDS.get_or_init(|| {
-        let config = Config::from_toml(
-            "dim = 2\n[box]\nwidth = 120.0\nheight = 120.0\n[[species]]\nradius = 10.0\n[[species]]\nradius = 20.0\n",
-            "fuzz-merge.toml",
-        )
-        .expect("the merge target's config");
+        let config = ensemble_config();
         let make = |k: &str| {
             let out = scratch().join(format!("shard-{k}"));
             let _ = fs::remove_dir_all(&out);
-            let options = packbed::EnsembleOptions {
-                runs: 3,
-                jobs: Some(1),
-                shard: Shard::parse(k).expect("shard"),
-                pictures: false,
-                ..Default::default()
-            };
-            packbed::run_ensemble(&config, &options, &out, &|_| {}).expect("the template shard");
+            packbed::run_ensemble(&config, &shard_options(k), &out, &|_| {})
+                .expect("the template shard");
             out
         };
         (make("0/2"), make("1/2"))
     })
+}
+
+/// Copies the directory tree `from` to `to`.
+fn copy_tree(from: &Path, to: &Path) {
+    fs::create_dir_all(to).expect("scratch directory");
+    for e in fs::read_dir(from).expect("template directory") {
+        let e = e.expect("directory entry");
+        let dst = to.join(e.file_name());
+        if e.file_type().expect("file type").is_dir() {
+            copy_tree(&e.path(), &dst);
+        } else {
+            fs::copy(e.path(), &dst).expect("copy template file");
+        }
+    }
+}
+
+/// The first shard of a small ensemble as a rerun into it finds it, with its
+/// replicate 0's `summary.json` replaced by the input: resume reads it and
+/// reuses it (it belongs), rebuilds it (not JSON, another seed) or refuses
+/// it by path (another config, version or measures). Accepted: the rerun
+/// ended with the ensemble's files.
+pub fn resume(data: &[u8]) -> bool {
+    let (first, _) = shards();
+    let dir = scratch().join("resume");
+    let _ = fs::remove_dir_all(&dir);
+    copy_tree(first, &dir);
+    put(&dir.join("runs").join("0000"), "summary.json", data);
+    packbed::run_ensemble(&ensemble_config(), &shard_options("0/2"), &dir, &|_| {}).is_ok()
 }
 
 /// The second shard of a small ensemble as `merge` finds it, with its

@@ -458,6 +458,61 @@ fn a_resume_never_reuses_a_damaged_replicate_summary() {
     assert_same_stats(&s, "full", "e", &STAT_FILES);
 }
 
+/// A replicate summary proves it belongs to its ensemble (`proof` in the
+/// file: the config's hash and the measures it holds, beside its
+/// `packbed_version`); `merge` and a resume refuse one that does not, by path,
+/// instead of mixing it into the statistics.
+#[test]
+fn a_replicate_that_does_not_belong_is_refused_by_merge_and_resume() {
+    let s = Scratch::new();
+    s.ok(&args(
+        SMALL,
+        &["--runs", "4", "--shard", "0/2", "--out", "s0", "-q"],
+    ));
+    s.ok(&args(
+        SMALL,
+        &["--runs", "4", "--shard", "1/2", "--out", "s1", "-q"],
+    ));
+    // The same replicate (same seed) of another config: radii 20,15.
+    let other = ["--dim", "2", "--radii", "20,15", "--box", "diameters=8"];
+    s.ok(&args(
+        &other,
+        &["--runs", "4", "--shard", "1/2", "--out", "o1", "-q"],
+    ));
+    let file = "s1/runs/0001/summary.json";
+    let own = s.read(file);
+    let mut no_measure: Value = serde_json::from_str(&own).unwrap();
+    no_measure.as_object_mut().unwrap().remove("coordination");
+    let mut old: Value = serde_json::from_str(&own).unwrap();
+    old["packbed_version"] = Value::String("0.0.9".into());
+    let strangers = [
+        (s.read("o1/runs/0001/summary.json"), "another config"),
+        (no_measure.to_string(), "lacks the measure `coordination`"),
+        (old.to_string(), "made by packbed 0.0.9"),
+    ];
+    for (text, why) in &strangers {
+        std::fs::write(s.path(file), text).unwrap();
+        assert_user_error(
+            &s,
+            &["merge", "s0", "s1", "--out", "m"],
+            &[file, "does not belong to this ensemble", why],
+        );
+        assert_user_error(
+            &s,
+            &args(SMALL, &["--runs", "4", "--shard", "1/2", "--out", "s1"]),
+            &[file, "does not belong to this ensemble", why, "remove it"],
+        );
+    }
+    // Its own summary back: merged and resumed as before.
+    std::fs::write(s.path(file), &own).unwrap();
+    s.ok(&["merge", "s0", "s1", "--out", "m", "-q"]);
+    let o = s.ok(&args(
+        SMALL,
+        &["--runs", "4", "--shard", "1/2", "--out", "s1"],
+    ));
+    assert_contains(&o.stdout, "0 built, 2 resumed");
+}
+
 /// Random sequential addition places single spheres and discs: a chain is
 /// refused with the config, before any work or file, by every command.
 #[test]

@@ -23,8 +23,9 @@ use serde_json::{Map, Value};
 /// Keys of `summary.json` that are not measures of the bed: identity and
 /// settings of the run (the same in every replicate, or the seed), and
 /// timings, which are summarised apart ([`TIMING_KEY`]).
-const NOT_MEASURES: [&str; 7] = [
+const NOT_MEASURES: [&str; 8] = [
     "packbed_version",
+    crate::ensemble::proof::PROOF_KEY,
     "dim",
     "seed",
     "mode",

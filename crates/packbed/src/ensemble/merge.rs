@@ -1,6 +1,7 @@
 //! Joining the shards of one ensemble into the files of a single run.
 
 use super::manifest::{check_out, first_difference, write_manifest, Manifest, Shard, MANIFEST};
+use super::proof::{config_hash, not_belonging};
 use super::write::{write_point, write_sweep};
 use super::{points, run_dir, seeds, Outcome};
 use crate::error::{Error, Result};
@@ -108,6 +109,7 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
     // shard leaves no half-merged output.
     let mut gathered = Vec::new();
     for p in &pts {
+        let hash = config_hash(&p.config);
         let mut values = Vec::with_capacity(first.runs as usize);
         for i in 0..first.runs {
             let k = owner[(i % count) as usize].unwrap_or(0);
@@ -133,6 +135,15 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
                             &file,
                             &format!("its seed is not {seed}, the seed of replicate {i}"),
                         ));
+                    }
+                    if let Some(why) = not_belonging(&v, &hash, &first.packbed_version) {
+                        return Err(Error::Impossible(format!(
+                            "merge: {} does not belong to this ensemble: {why}; remove it and \
+                             rerun shard {}/{count} into {} to build it again",
+                            file.display(),
+                            i % count,
+                            dirs[k].display()
+                        )));
                     }
                     (v, text)
                 }

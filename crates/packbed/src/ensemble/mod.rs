@@ -29,6 +29,7 @@
 pub mod compare;
 pub(crate) mod manifest;
 pub(crate) mod merge;
+pub mod proof;
 pub(crate) mod replicates;
 pub mod seeds;
 pub mod slurm;

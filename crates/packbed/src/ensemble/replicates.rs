@@ -2,6 +2,7 @@
 //! finishes, those already done reused (resume).
 
 use super::manifest::{check_out, config_key, io_err, write_manifest, Manifest, MANIFEST};
+use super::proof::{config_hash, not_belonging, ReplicateProof};
 use super::write::{write_point, write_sweep};
 use super::{points, run_dir, seeds, worker_threads, EnsembleOptions, Outcome, Tick};
 use crate::config::Config;
@@ -21,6 +22,29 @@ pub(super) fn done_summary(dir: &Path, seed: u64) -> Option<(Value, String)> {
     let text = fs::read_to_string(dir.join("summary.json")).ok()?;
     let v: Value = serde_json::from_str(&text).ok()?;
     (v.get("seed").and_then(Value::as_u64) == Some(seed)).then_some((v, text))
+}
+
+/// Refuses, by path, a finished replicate of `replicates` under `dir` that
+/// does not belong to an ensemble of `config` ([`not_belonging`]): a summary
+/// copied from another ensemble, another config or another packbed version
+/// would otherwise enter the statistics. A summary of another seed, or one
+/// that is not valid JSON, is not finished: it is rebuilt.
+fn check_finished(config: &Config, dir: &Path, replicates: &[u64]) -> Result<()> {
+    let hash = config_hash(config);
+    for &i in replicates {
+        let rd = run_dir(dir, i);
+        let Some((v, _)) = done_summary(&rd, seeds::replicate_seed(config.seed, i)) else {
+            continue;
+        };
+        if let Some(why) = not_belonging(&v, &hash, env!("CARGO_PKG_VERSION")) {
+            return Err(Error::Impossible(format!(
+                "{} does not belong to this ensemble: {why}; remove it and rerun to build that \
+                 replicate again",
+                rd.join("summary.json").display()
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Removes temporary files an interrupted replicate left behind.
@@ -64,6 +88,8 @@ fn replicate(
         Error::Interrupted => e,
         e => Error::Impossible(format!("replicate {i} (seed {seed}): {e}")),
     })?;
+    let mut finished = finished;
+    finished.summary.proof = Some(ReplicateProof::of(&c, &finished.summary.analysis));
     let text = finished.summary.to_json()?;
     if keep_beds {
         finished.write(&rd)?;
@@ -102,8 +128,14 @@ pub fn run(
         config: config_key(config),
     };
     let earlier = check_out(out, &manifest)?;
-    write_manifest(out, &manifest)?;
     let mine: Vec<u64> = (0..opts.runs).filter(|&i| opts.shard.has(i)).collect();
+    // Every replicate found finished is checked before any work.
+    if earlier.is_some() {
+        for p in &pts {
+            check_finished(&p.config, &out.join(&p.dir), &mine)?;
+        }
+    }
+    write_manifest(out, &manifest)?;
     let total = mine.len() as u64 * pts.len() as u64;
     let done = AtomicU64::new(0);
     let pool = rayon::ThreadPoolBuilder::new()

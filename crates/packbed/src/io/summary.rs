@@ -88,6 +88,10 @@ pub struct RunSummary {
     pub species: Vec<SpeciesSummary>,
     /// The configuration as used: overrides applied, defaults filled in.
     pub config: Config,
+    /// A replicate of an ensemble: the proof that it belongs to it (absent
+    /// for `packbed run`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub proof: Option<crate::ensemble::proof::ReplicateProof>,
 }
 
 /// `box.*`.
@@ -204,6 +208,7 @@ impl RunSummary {
             timing,
             species: species_summaries(bed),
             config: config_as_used(config),
+            proof: None,
         }
     }
 
@@ -379,7 +384,7 @@ fn species_summaries<const D: usize>(bed: &Bed<D>) -> Vec<SpeciesSummary> {
 
 /// The config with the implicit choices spelled out, so that the summary alone
 /// tells how the bed was made.
-fn config_as_used(config: &Config) -> Config {
+pub(crate) fn config_as_used(config: &Config) -> Config {
     let mut c = config.clone();
     let b = &mut c.container;
     if b.preset.is_none()
