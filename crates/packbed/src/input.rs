@@ -67,6 +67,41 @@ pub fn check_memory(bytes: f64, what: &str) -> Result<()> {
     Ok(())
 }
 
+/// Refuses, before the work, a stage that would reserve `bytes` more of
+/// address space than `ulimit -v` leaves beside what the process holds
+/// (`VmSize`): an allocation beyond it aborts the process, even one whose
+/// pages are never touched. Without an address-space limit, nothing to check.
+pub fn check_address_space(bytes: f64, what: &str) -> Result<()> {
+    let read = |p: &str| std::fs::read_to_string(p).ok();
+    let Some(limit) = read("/proc/self/limits").and_then(|l| address_space_limit(&l)) else {
+        return Ok(());
+    };
+    let used = read("/proc/self/status")
+        .and_then(|s| status_kib(&s, "VmSize:"))
+        .map_or(0, |k| k * 1024);
+    if used as f64 + bytes > limit as f64 {
+        let gib = |b: f64| b / (1u64 << 30) as f64;
+        return Err(Error::Impossible(format!(
+            "{what} would reserve about {:.1} GiB of address space, more than the {:.1} GiB              that `ulimit -v` ({:.1} GiB) leaves",
+            gib(bytes),
+            gib(limit.saturating_sub(used) as f64),
+            gib(limit as f64)
+        )));
+    }
+    Ok(())
+}
+
+/// A `KEY: N kB` line of `/proc/self/status`, in KiB.
+fn status_kib(status: &str, key: &str) -> Option<u64> {
+    status
+        .lines()
+        .find(|l| l.starts_with(key))?
+        .split_whitespace()
+        .nth(1)?
+        .parse()
+        .ok()
+}
+
 /// The text of an input file (bed file, config, PSD table). A file that is
 /// not UTF-8 is refused at the line and column of its first bad byte, as any
 /// other bad content is (`FILE:LINE: what`), not with the system's bare

@@ -2,7 +2,7 @@
 //! a replicate without a word (issue 30): each is refused with one line or
 //! handled in memory sized by the particles.
 
-use crate::common::{assert_user_error, within_memory, Scratch, SMALL};
+use crate::common::{assert_user_error, within_memory, words, Scratch, SMALL};
 use serde_json::Value;
 
 /// Address space for each command here: far below what the inputs once asked for.
@@ -436,4 +436,103 @@ fn analysing_the_pore_space_beyond_the_memory_limit_is_refused_before_the_work()
     assert!(!s.work.join("p").exists(), "nothing may be written");
     let o = analyse("large", "packing,coordination", "d");
     assert_eq!(o.code, 0, "{}", o.stderr);
+}
+
+/// A 3D bed of 300 equal spheres written by `packbed run` into `work/bed`.
+fn small_bed(s: &Scratch) -> String {
+    s.ok(&words(
+        "run --radii 1 --box 20,20,23 --count 300 --out bed --no-pictures -q",
+    ));
+    "bed/particles.csv".to_string()
+}
+
+#[test]
+fn a_stiffness_solve_beyond_the_address_space_limit_is_refused_before_the_work() {
+    // Under 1 GiB of address space the factorisation of a 300-sphere bed
+    // aborted (SIGABRT) where faer's dense kernels reserve two L3-sized
+    // buffers per thread (600 MiB each on a 300 MiB-L3 machine). The solve's
+    // memory is now estimated from the symbolic factorisation first: either
+    // it fits and runs, or it is refused with one line, nothing written.
+    let s = Scratch::new();
+    let b = small_bed(&s);
+    let o = within_memory(
+        &s,
+        &[
+            "fragment",
+            &b,
+            "--breaks",
+            "1",
+            "--out",
+            "f",
+            "--no-pictures",
+            "-q",
+        ],
+        120,
+        1024,
+    );
+    if o.code == 0 {
+        assert!(s.work.join("f/bonds.csv").exists(), "{}", o.stderr);
+    } else {
+        assert_eq!(o.code, 2, "{}", o.stderr);
+        assert_eq!(o.stderr.lines().count(), 1, "{}", o.stderr);
+        assert!(o.stderr.starts_with("packbed: error: "), "{}", o.stderr);
+        assert!(o.stderr.contains("stiffness solve"), "{}", o.stderr);
+        assert!(o.stderr.contains("ulimit -v"), "{}", o.stderr);
+        assert!(!s.work.join("f").exists(), "nothing may be written");
+    }
+    // Without the limit the same bed is broken.
+    s.ok(&[
+        "fragment",
+        &b,
+        "--breaks",
+        "1",
+        "--out",
+        "g",
+        "--no-pictures",
+        "-q",
+    ]);
+}
+
+#[test]
+fn a_run_whose_fragmentation_does_not_fit_keeps_its_bed() {
+    // `run` with `[fragmentation]` under the same limit: the breakage is a
+    // late, optional stage, so a refused solve is a warning and the bed and
+    // its measures are written, exit code 0.
+    let s = Scratch::new();
+    let c = s.input(
+        "f.toml",
+        "seed = 1\n[box]\nwidth = 20\ndepth = 20\nheight = 23\n[fill]\ncount = 300\n\
+         [[species]]\nradius = 1\n[fragmentation]\nbreaks = 1\n",
+    );
+    let o = within_memory(
+        &s,
+        &[
+            "run",
+            c.to_str().unwrap(),
+            "--out",
+            "r",
+            "--no-pictures",
+            "-q",
+        ],
+        120,
+        1024,
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(s.work.join("r/particles.csv").exists());
+    let summary = s.summary("r");
+    match summary["fragmentation"].as_object() {
+        Some(f) => assert!(f.contains_key("bonds")),
+        None => {
+            let w = summary["warnings"].to_string();
+            assert!(
+                w.contains("fragmentation: ") && w.contains("ulimit -v"),
+                "{w}"
+            );
+            assert!(
+                o.stderr.contains("packbed: warning: fragmentation: "),
+                "{}",
+                o.stderr
+            );
+        }
+    }
 }

@@ -12,6 +12,7 @@ mod files;
 mod filtration;
 mod fragment;
 mod front_door;
+mod output_dir;
 mod python;
 mod render;
 mod slurm;

@@ -40,10 +40,9 @@ pub(super) fn stage_plots(
     for (name, bytes) in made {
         drawn.keep(name, bytes);
     }
-    for (name, bytes) in &drawn.files {
-        s.stage(name, |w| w.write_all(bytes))?;
-    }
     warnings.extend(drawn.missing);
+    // A plot the disk has no room for is named, never the loss of the tables.
+    crate::output::stage_pictures(s, &drawn.files, warnings);
     Ok(())
 }
 

@@ -181,7 +181,44 @@ impl Staging {
     }
 
     /// Writes `name` (a plain file name) to a temporary file through `fill`.
+    /// A file that cannot be written (a full disk, say) is removed again at
+    /// once, so that the files staged before it can still be committed and
+    /// the space it took is free for the next.
     pub fn stage(
+        &mut self,
+        name: &str,
+        fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+    ) -> Result<()> {
+        let staged = self.staged.len();
+        let done = self.stage_file(name, fill);
+        if done.is_err() {
+            for (tmp, _) in self.staged.drain(staged..) {
+                let _ = fs::remove_file(&tmp);
+                untrack(&tmp);
+            }
+        }
+        done
+    }
+
+    /// True when no file is staged.
+    pub fn is_empty(&self) -> bool {
+        self.staged.is_empty()
+    }
+
+    /// Removes the staged file `name` again (to free its space for another).
+    pub fn unstage(&mut self, name: &str) {
+        let target = self.dir.join(name);
+        self.staged.retain(|(tmp, t)| {
+            let keep = *t != target;
+            if !keep {
+                let _ = fs::remove_file(tmp);
+                untrack(tmp);
+            }
+            keep
+        });
+    }
+
+    fn stage_file(
         &mut self,
         name: &str,
         fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
@@ -209,6 +246,10 @@ impl Staging {
 
     /// Renames every staged file to its final name, in the order staged.
     pub fn commit(mut self) -> Result<Vec<PathBuf>> {
+        self.rename_all()
+    }
+
+    fn rename_all(&mut self) -> Result<Vec<PathBuf>> {
         let mut done = Vec::with_capacity(self.staged.len());
         for (tmp, target) in &self.staged {
             fs::rename(tmp, target).map_err(|e| io_err(target, e))?;
@@ -216,6 +257,27 @@ impl Staging {
             done.push(target.clone());
         }
         self.committed = true;
+        Ok(done)
+    }
+
+    /// [`Staging::commit`], then removes the files of the directory that
+    /// were not just committed and that `earlier` names as another run's
+    /// (plain files only: hidden files and subdirectories are kept).
+    pub fn commit_replacing(mut self, earlier: impl Fn(&str) -> bool) -> Result<Vec<PathBuf>> {
+        let done = self.rename_all()?;
+        if let Ok(entries) = fs::read_dir(&self.dir) {
+            for e in entries.flatten() {
+                let path = e.path();
+                let stale = e.file_name().to_str().is_some_and(|n| {
+                    !n.starts_with('.')
+                        && earlier(n)
+                        && !done.iter().any(|d| d.file_name() == path.file_name())
+                });
+                if stale && e.file_type().is_ok_and(|t| t.is_file()) {
+                    fs::remove_file(&path).map_err(|e| io_err(&path, e))?;
+                }
+            }
+        }
         Ok(done)
     }
 }

@@ -99,6 +99,43 @@ struct WColumn {
     val: Vec<Real>,
 }
 
+/// Bytes the stiffness solve holds at its peak: the factor's `factor_len`
+/// values, the matrix of `matrix_len` lower entries assembled and permuted
+/// (an index and a value each, twice), and 1 KB per unknown for the rest
+/// (the order, the supernodes' scratch, the broken bonds' columns). Fitted to
+/// the peak resident memory of `packbed fragment --breaks 1` (`/usr/bin/time
+/// -v`) on 3D beds of 5000 and 20000 spheres: 148 and 545 MB, estimated 124
+/// and 514 MB (the bed and its analysis hold the rest).
+fn solve_bytes(factor_len: usize, matrix_len: usize, n: usize) -> f64 {
+    8.0 * factor_len as f64 + 32.0 * matrix_len as f64 + 1024.0 * n as f64
+}
+
+/// Address space the dense kernels reserve: faer's x86 matrix product keeps
+/// two buffers of the L3 cache's size per thread (600 MiB a thread on a
+/// machine reporting 300 MiB of L3), allocated on first use and mostly never
+/// touched. Under `ulimit -v` that reservation alone aborted a 300-sphere
+/// bed's factorisation at 1 GiB. The L3 size is read from sysfs; 0 where
+/// it is not known.
+fn dense_reserve() -> f64 {
+    let l3 = std::fs::read_to_string("/sys/devices/system/cpu/cpu0/cache/index3/size")
+        .ok()
+        .and_then(|s| cache_bytes(s.trim()))
+        .unwrap_or(0);
+    2.0 * l3 as f64 * rayon::current_num_threads() as f64
+}
+
+/// A sysfs cache size (`307200K`, `32M`, `1024`) in bytes.
+fn cache_bytes(size: &str) -> Option<u64> {
+    let (digits, unit) = match size.strip_suffix('K') {
+        Some(d) => (d, 1 << 10),
+        None => match size.strip_suffix('M') {
+            Some(d) => (d, 1 << 20),
+            None => (size, 1),
+        },
+    };
+    digits.parse::<u64>().ok().map(|n| n * unit)
+}
+
 fn internal(what: &str) -> Error {
     Error::Impossible(format!("the stiffness matrix could not be {what}"))
 }
@@ -140,6 +177,16 @@ impl<'a, const D: usize> Solver<'a, D> {
         };
         let symbolic = factorize_symbolic_cholesky(pattern.as_ref(), Side::Lower, ordering, params)
             .map_err(|_| internal("ordered"))?;
+        // The symbolic analysis gives the factor's exact size: refuse here,
+        // before the numeric factorisation, what would abort the process.
+        let what = format!(
+            "the stiffness solve of {} bodies ({n} unknowns, {:.3e} factor entries)",
+            reach.len(),
+            symbolic.len_val() as f64
+        );
+        let bytes = solve_bytes(symbolic.len_val(), pattern.row_idx().len(), n);
+        crate::input::check_memory(bytes, &what)?;
+        crate::input::check_address_space(bytes + dense_reserve(), &what)?;
         let par = Par::rayon(DENSE_DEGREE);
         let factor = Factor::new(symbolic, par).ok_or_else(|| internal("ordered (supernodes)"))?;
         let mut solver = Solver {
@@ -606,4 +653,17 @@ fn dof_order<const D: usize>(
         inv[old] = new;
     }
     (fwd, inv)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sysfs_cache_sizes_are_read_in_bytes() {
+        assert_eq!(cache_bytes("307200K"), Some(300 << 20));
+        assert_eq!(cache_bytes("32M"), Some(32 << 20));
+        assert_eq!(cache_bytes("1024"), Some(1024));
+        assert_eq!(cache_bytes("big"), None);
+    }
 }

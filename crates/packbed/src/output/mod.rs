@@ -66,7 +66,7 @@ pub fn write_run_with<const D: usize>(
         .psd
         .as_ref()
         .map(|p| (p, summary.config.analysis.length_unit));
-    let (files, missing) = extra_files(
+    let made = extra_files(
         bed,
         contacts,
         &summary.analysis,
@@ -76,7 +76,77 @@ pub fn write_run_with<const D: usize>(
         psd,
         extras,
     )?;
-    stage_dir(dir, Some(bed), contacts, files, missing, summary)
+    let mut tables = vec![(
+        RUN_FILES[0].to_string(),
+        Content::Stream(Box::new(move |w| tables::write_particles(w, bed))),
+    )];
+    tables.extend(contact_tables(contacts));
+    tables.extend(made.tables);
+    let summary = warned(summary, made.missing);
+    stage_dir(dir, tables, made.pictures, summary, |n| {
+        earlier_file(n, true)
+    })
+}
+
+/// `contacts.csv` and `wall_contacts.csv`, written straight into their files.
+fn contact_tables(contacts: &Contacts) -> [(String, Content<'_>); 2] {
+    [
+        (
+            RUN_FILES[1].to_string(),
+            Content::Stream(Box::new(move |w| tables::write_contacts(w, contacts))),
+        ),
+        (
+            RUN_FILES[2].to_string(),
+            Content::Stream(Box::new(move |w| tables::write_wall_contacts(w, contacts))),
+        ),
+    ]
+}
+
+/// `summary` with the `missing` pictures named under its warnings.
+fn warned<S: WarnedSummary>(summary: &S, missing: Vec<String>) -> std::borrow::Cow<'_, S> {
+    let mut summary = std::borrow::Cow::Borrowed(summary);
+    if !missing.is_empty() {
+        summary.to_mut().warnings_mut().extend(missing);
+    }
+    summary
+}
+
+/// Whether `name` is a file that `run`, `analyze` or `fragment` writes: in
+/// a directory whose `summary.json` is packbed's, such a file that the new
+/// run does not write is an earlier run's, and is removed. The bed files
+/// (`particles.csv` and the exports) only when the new run writes a bed:
+/// they may be the input of `analyze` or `fragment`.
+pub fn earlier_file(name: &str, beds: bool) -> bool {
+    use crate::io::pores::PORE_FILES;
+    let picture = name
+        .strip_suffix(".png")
+        .or_else(|| name.strip_suffix(".svg"))
+        .is_some_and(|stem| {
+            stem.starts_with("plot_") || ["bed", "forces", "breakage"].contains(&stem)
+        });
+    let bed = name == RUN_FILES[0]
+        || [
+            export::Format::Vtk,
+            export::Format::Dump,
+            export::Format::Xyz,
+        ]
+        .iter()
+        .any(|f| f.file_name() == name);
+    picture
+        || (beds && bed)
+        || RUN_FILES[1..].contains(&name)
+        || FRAGMENT_FILES.contains(&name)
+        || PORE_FILES.contains(&name)
+        || name == crate::io::psd::PSD_FILE
+}
+
+/// Whether `dir` holds a `summary.json` that packbed wrote (a JSON object
+/// with `packbed_version`): its other files are then a run's, not the user's.
+fn packbed_dir(dir: &Path) -> bool {
+    std::fs::read(dir.join(RUN_FILES[3]))
+        .ok()
+        .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
+        .is_some_and(|v| v.get("packbed_version").is_some())
 }
 
 /// Names of the files [`write_analysis`] writes: a run's files minus the bed.
@@ -91,7 +161,7 @@ pub fn write_analysis<const D: usize>(
     summary: &AnalyzeSummary,
     extras: &RunExtras,
 ) -> Result<Written> {
-    let (files, missing) = extra_files(
+    let made = extra_files(
         bed,
         contacts,
         &summary.analysis,
@@ -102,7 +172,12 @@ pub fn write_analysis<const D: usize>(
         None,
         extras,
     )?;
-    stage_dir::<D, _>(dir, None, contacts, files, missing, summary)
+    let mut tables = Vec::from(contact_tables(contacts));
+    tables.extend(made.tables);
+    let summary = warned(summary, made.missing);
+    stage_dir(dir, tables, made.pictures, summary, |n| {
+        earlier_file(n, false)
+    })
 }
 
 /// A `summary.json` that names under `warnings` what its directory lacks.
@@ -136,40 +211,106 @@ impl WarnedSummary for AnalyzeSummary {
     }
 }
 
-/// Stages the tables (`particles.csv` only with a bed), the extra files and,
-/// last, so that a complete `summary.json` means a complete directory, the
-/// summary, naming the `missing` pictures; then commits them together.
-fn stage_dir<const D: usize, S: WarnedSummary>(
+/// Stages the `tables`, the `pictures` and, last, so that a complete
+/// `summary.json` means a complete directory, the summary; then commits them
+/// together, removing the files of an earlier run (those `earlier` names, in
+/// a directory whose `summary.json` is packbed's).
+///
+/// A full disk never costs the tables: a picture that cannot be written is
+/// left out and named under `warnings` (and all pictures are, when the
+/// summary then does not fit). A table that cannot be written ends the
+/// write, but the complete tables before it are kept and named.
+fn stage_dir<S: WarnedSummary>(
     dir: &Path,
-    bed: Option<&Bed<D>>,
-    contacts: &Contacts,
-    files: Vec<(String, Content)>,
-    missing: Vec<String>,
-    summary: &S,
+    tables: Vec<(String, Content)>,
+    pictures: Vec<(String, Vec<u8>)>,
+    mut summary: std::borrow::Cow<'_, S>,
+    earlier: impl Fn(&str) -> bool,
 ) -> Result<Written> {
-    let mut summary = std::borrow::Cow::Borrowed(summary);
-    if !missing.is_empty() {
-        summary.to_mut().warnings_mut().extend(missing);
-    }
     // Rendered before touching the disk: a bad value must not leave a directory.
-    let json = summary.to_json()?;
+    let mut json = summary.to_json()?;
+    let replacing = packbed_dir(dir);
+    let earlier = |name: &str| replacing && earlier(name);
     let mut out = Staging::new(dir)?;
-    if let Some(bed) = bed {
-        out.stage(RUN_FILES[0], |w| tables::write_particles(w, bed))?;
-    }
-    out.stage(RUN_FILES[1], |w| tables::write_contacts(w, contacts))?;
-    out.stage(RUN_FILES[2], |w| tables::write_wall_contacts(w, contacts))?;
-    for (name, content) in &files {
-        match content {
-            Content::Bytes(bytes) => out.stage(name, |w| w.write_all(bytes))?,
-            Content::Stream(write) => out.stage(name, |w| write(w))?,
+    for (name, content) in &tables {
+        let staged = match content {
+            Content::Bytes(bytes) => out.stage(name, |w| w.write_all(bytes)),
+            Content::Stream(write) => out.stage(name, |w| write(w)),
+        };
+        if let Err(e) = staged {
+            return Err(keep_complete(out, e, &earlier));
         }
     }
-    out.stage(RUN_FILES[3], |w| w.write_all(json.as_bytes()))?;
+    let mut missing = Vec::new();
+    let staged = stage_pictures(&mut out, &pictures, &mut missing);
+    if !missing.is_empty() {
+        summary.to_mut().warnings_mut().extend(missing);
+        json = summary.to_json()?;
+    }
+    if out
+        .stage(RUN_FILES[3], |w| w.write_all(json.as_bytes()))
+        .is_err()
+    {
+        // The pictures took the summary's room: they go, the summary stays.
+        for name in &staged {
+            out.unstage(name);
+            let e = Error::Impossible(format!("no room left for {}", RUN_FILES[3]));
+            summary
+                .to_mut()
+                .warnings_mut()
+                .push(crate::error::picture_not_written(name, &e));
+        }
+        json = summary.to_json()?;
+        if let Err(e) = out.stage(RUN_FILES[3], |w| w.write_all(json.as_bytes())) {
+            return Err(keep_complete(out, e, &earlier));
+        }
+    }
     Ok(Written {
-        files: out.commit()?,
+        files: out.commit_replacing(earlier)?,
         warnings: summary.warnings().clone(),
     })
+}
+
+/// Stages each picture; one that cannot be written (a full disk) is named in
+/// `missing` instead. Returns the names staged.
+pub(crate) fn stage_pictures(
+    out: &mut Staging,
+    pictures: &[(String, Vec<u8>)],
+    missing: &mut Vec<String>,
+) -> Vec<String> {
+    let mut staged = Vec::new();
+    for (name, bytes) in pictures {
+        match out.stage(name, |w| w.write_all(bytes)) {
+            Ok(()) => staged.push(name.clone()),
+            Err(e) => missing.push(crate::error::picture_not_written(name, &e)),
+        }
+    }
+    staged
+}
+
+/// The error `e` of a file that could not be written, after committing the
+/// complete files staged before it: the bed of hours of work is kept even
+/// when its contacts do not fit. An earlier run's files go (its summary
+/// too: it would describe another bed). Nothing staged: `e` alone.
+fn keep_complete(out: Staging, e: Error, earlier: &dyn Fn(&str) -> bool) -> Error {
+    if out.is_empty() {
+        // Dropped: the directory it created goes, an earlier run stays whole.
+        return e;
+    }
+    match out.commit_replacing(earlier) {
+        Ok(kept) if !kept.is_empty() => {
+            let names: Vec<String> = kept
+                .iter()
+                .filter_map(|p| p.file_name())
+                .map(|n| n.to_string_lossy().into_owned())
+                .collect();
+            Error::Impossible(format!(
+                "{e}; kept, complete: {} (no summary.json)",
+                names.join(", ")
+            ))
+        }
+        _ => e,
+    }
 }
 
 /// `(file name, contents)` of the pictures, plots and exports `extras` asks
@@ -190,6 +331,7 @@ fn extra_files<'a, const D: usize>(
 ) -> Result<Extras<'a>> {
     let mut out = Vec::new();
     let mut missing = Vec::new();
+    let mut drawn_files = Vec::new();
     if let Some((p, _)) = psd {
         let mut buf = Vec::new();
         crate::io::psd::write_psd(&mut buf, p).map_err(|e| Error::Io {
@@ -228,7 +370,7 @@ fn extra_files<'a, const D: usize>(
         if let Some((p, unit)) = psd {
             crate::render::run_files::psd_plot(&mut drawn, p, unit.map(LengthUnit::symbol));
         }
-        out.extend(drawn.0.into_iter().map(|(n, b)| (n, Content::Bytes(b))));
+        drawn_files = drawn.0;
         missing.extend(drawn.1);
     }
     if !extras.exports.is_empty() {
@@ -242,7 +384,11 @@ fn extra_files<'a, const D: usize>(
             out.push((f.file_name().to_string(), Content::Bytes(buf)));
         }
     }
-    Ok((out, missing))
+    Ok(Extras {
+        tables: out,
+        pictures: drawn_files,
+        missing,
+    })
 }
 
 /// A file's contents for the staging: drawn beforehand, or written straight
@@ -254,9 +400,15 @@ enum Content<'a> {
 
 type Stream<'a> = Box<dyn Fn(&mut dyn std::io::Write) -> std::io::Result<()> + 'a>;
 
-/// The extra files, in writing order, and a warning for each picture left
-/// out.
-type Extras<'a> = (Vec<(String, Content<'a>)>, Vec<String>);
+/// The extra files, in writing order.
+struct Extras<'a> {
+    /// Tables and exports.
+    tables: Vec<(String, Content<'a>)>,
+    /// Pictures and plots.
+    pictures: Vec<(String, Vec<u8>)>,
+    /// A warning for each picture that could not be drawn.
+    missing: Vec<String>,
+}
 
 /// Refuses an output directory that cannot be created or written, before the
 /// work, so that a long run does not fail at its very end.
@@ -363,22 +515,33 @@ pub fn write_fragmentation<const D: usize>(
             Vec::new()
         }
     };
-    let json = summary.to_json()?;
-    let mut out = Staging::new(dir)?;
-    out.stage(FRAGMENT_FILES[0], |w| {
-        crate::io::fragmentation::write_bonds(w, frag)
-    })?;
-    out.stage(FRAGMENT_FILES[1], |w| {
-        crate::io::fragmentation::write_breakage(w, frag)
-    })?;
-    for (name, bytes) in &files {
-        out.stage(name, |w| w.write_all(bytes))?;
+    let tables: Vec<(String, Content)> = vec![
+        (
+            FRAGMENT_FILES[0].to_string(),
+            Content::Stream(Box::new(move |w| {
+                crate::io::fragmentation::write_bonds(w, frag)
+            })),
+        ),
+        (
+            FRAGMENT_FILES[1].to_string(),
+            Content::Stream(Box::new(move |w| {
+                crate::io::fragmentation::write_breakage(w, frag)
+            })),
+        ),
+    ];
+    stage_dir(dir, tables, files, summary, |n| earlier_file(n, false))
+}
+
+impl WarnedSummary for crate::io::summary::FragmentSummary {
+    fn warnings(&self) -> &Vec<String> {
+        &self.warnings
     }
-    out.stage(FRAGMENT_FILES[2], |w| w.write_all(json.as_bytes()))?;
-    Ok(Written {
-        files: out.commit()?,
-        warnings: summary.warnings.clone(),
-    })
+    fn warnings_mut(&mut self) -> &mut Vec<String> {
+        &mut self.warnings
+    }
+    fn to_json(&self) -> Result<String> {
+        crate::io::summary::FragmentSummary::to_json(self)
+    }
 }
 
 #[cfg(feature = "render")]
