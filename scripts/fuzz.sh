@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Coverage-guided fuzzing of packbed's input layers with AFL++ (cargo-afl,
 # stable toolchain). Targets: fuzz/src/lib.rs (bed, config, psd_table, merge,
-# resume).
+# resume, compare).
 #
 #   scripts/fuzz.sh [--seconds N] [--memory MIB] [TARGET ...]   (default: all)
 #
@@ -24,12 +24,12 @@ while [ $# -gt 0 ]; do
     case "$1" in
         --seconds) seconds="$2"; shift 2 ;;
         --memory) memory="$2"; shift 2 ;;
-        -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+        -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
         all) shift ;;
         *) targets+=("$1"); shift ;;
     esac
 done
-[ ${#targets[@]} -gt 0 ] || targets=(bed config psd_table merge resume)
+[ ${#targets[@]} -gt 0 ] || targets=(bed config psd_table merge resume compare)
 
 command -v cargo-afl >/dev/null || { echo "fuzz.sh: cargo-afl not found (cargo install cargo-afl)" >&2; exit 1; }
 

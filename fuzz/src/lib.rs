@@ -16,7 +16,9 @@
 //!   the plan, then, for small beds, the deposition itself;
 //! - [`psd_table`]: measured size distributions, then sampling from them;
 //! - [`merge`]: a shard's manifest and replicate summary, as `merge` reads them;
-//! - [`resume`]: a replicate summary, as a rerun of its ensemble reads it.
+//! - [`resume`]: a replicate summary, as a rerun of its ensemble reads it;
+//! - [`compare`]: two runs' `summary.json`, as `compare` reads and sets them
+//!   side by side (units converted, tests and ratios, its files and plots).
 //!
 //! Each returns whether the input was accepted (read, or planned), so that
 //! the replay test can tell a seed that still reaches deep from one that a
@@ -344,4 +346,37 @@ pub fn merge(data: &[u8]) -> bool {
     let out = scratch().join("merge-out");
     let _ = fs::remove_dir_all(&out);
     packbed::ensemble::merge_with(&[first.clone(), shard], &out, false).is_ok()
+}
+
+/// Two runs as `compare` finds them: the first's `summary.json` is the input
+/// up to its first NUL byte, the second's the rest (or, without a NUL, a
+/// replicate summary of the small ensemble of [`merge`]). The comparison is
+/// computed and written with its files; with its plots when the input's
+/// length is even (drawing is the slow half: half the inputs skip it).
+pub fn compare(data: &[u8]) -> bool {
+    let (a, b) = split_nul(data);
+    let b = match b {
+        Some(b) => b.to_vec(),
+        None => fs::read(shards().1.join("runs/0001/summary.json")).expect("template summary"),
+    };
+    let dirs = [scratch().join("compare-a"), scratch().join("compare-b")];
+    for (dir, summary) in dirs.iter().zip([a, &b[..]]) {
+        let _ = fs::remove_dir_all(dir);
+        fs::create_dir_all(dir).expect("scratch run");
+        put(dir, "summary.json", summary);
+    }
+    let out = scratch().join("compare-out");
+    let _ = fs::remove_dir_all(&out);
+    let Ok(groups) = packbed::compare::read_groups(&dirs) else {
+        return false;
+    };
+    let Ok(c) = packbed::compare::compare(&groups) else {
+        return false;
+    };
+    // Every text of the comparison, as the command prints and writes them.
+    let _ = (c.to_text(&out), c.report(), c.permeability_lines());
+    let pictures = data.len() % 2 == 0;
+    c.to_csv().is_ok()
+        && c.to_json().is_ok()
+        && packbed::compare::write_comparison(&out, &groups, &c, pictures).is_ok()
 }

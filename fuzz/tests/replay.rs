@@ -12,12 +12,13 @@ const LIVENESS_SECONDS: f64 = 10.0;
 
 type Target = fn(&[u8]) -> bool;
 
-const TARGETS: [(&str, Target); 5] = [
+const TARGETS: [(&str, Target); 6] = [
     ("bed", packbed_fuzz::bed),
     ("config", packbed_fuzz::config),
     ("psd_table", packbed_fuzz::psd_table),
     ("merge", packbed_fuzz::merge),
     ("resume", packbed_fuzz::resume),
+    ("compare", packbed_fuzz::compare),
 ];
 
 fn inputs(kind: &str, target: &str) -> Vec<PathBuf> {

@@ -569,8 +569,11 @@ def compare(*dirs: PathLike, out: Optional[PathLike] = None, pictures: bool = Tr
 
     One row per measure the groups share (the cake first): per group
     ``<name>.mean``, ``.sd``, ``.n``; per group after the first its
-    ``.difference`` from the first and Welch's ``.t``, ``.df`` and ``.p``.
-    With ``out``, ``compare.md``, ``compare.csv`` and the plots go there;
+    ``.difference`` from the first, Welch's ``.t``, ``.df`` and ``.p``, and
+    for a positive measure the ``.ratio`` of the means with its 95 %
+    confidence interval (``.ratio_ci_low``, ``.ratio_ci_high``). Lengths are
+    in the first group's unit when the groups name different ones.
+    With ``out``, ``compare.md``, ``compare.csv``, ``compare.json`` and the plots go there;
     without, to a temporary folder that is removed.
     """
     try:

@@ -11,7 +11,7 @@ pub struct CompareArgs {
     /// Runs, ensembles or sweeps (each sweep value a group; one sweep alone is enough); the first group is the reference.
     #[arg(required = true, num_args = 1.., value_name = "DIR")]
     pub dirs: Vec<PathBuf>,
-    /// Where compare.md, compare.csv and the plots go.
+    /// Where compare.md, compare.csv, compare.json and the plots go.
     #[arg(long, value_name = "DIR", default_value = "packbed-compare")]
     pub out: PathBuf,
     /// No plots.
@@ -25,6 +25,7 @@ pub fn compare(args: CompareArgs) -> Result<()> {
     let groups = read_groups(&args.dirs)?;
     let c = compare_groups(&groups)?;
     let files = write_comparison(&args.out, &groups, &c, !args.no_pictures)?;
+    eprint!("{}", packbed::text::warning_lines(&c.warnings));
     let beds: Vec<String> = c
         .groups
         .iter()

@@ -6,6 +6,7 @@ mod common;
 
 mod bounds;
 mod commands;
+mod compare;
 mod ensemble;
 mod escapes;
 mod files;

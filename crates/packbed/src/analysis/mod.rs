@@ -4,6 +4,7 @@
 pub mod cake;
 mod cells;
 pub mod contacts;
+pub mod dimensions;
 mod disjoint_paths;
 pub mod histogram;
 mod maxflow;

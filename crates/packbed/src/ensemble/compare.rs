@@ -2,10 +2,21 @@
 //! or a sweep (each of its values a group); the measures the groups share are
 //! tabled with mean ± sd, and every group after the first is set against the
 //! first by Welch's t-test: is the difference larger than the replicate
-//! scatter would make by chance?
+//! scatter would make by chance? For a positive measure the groups are also
+//! set against the first as a ratio of means with its 95 % confidence
+//! interval ([`Ratio`]).
+//!
+//! Groups whose beds name different length units (`[analysis] length_unit`)
+//! are compared in the first group's unit: every measure is converted by the
+//! power of the length in it ([`crate::analysis::dimensions::length_power`]);
+//! a measure of unknown dimension is left out rather than compared across
+//! units. A group that names no unit cannot be set against one that does.
 
 use super::stats::{measures_of, Kind, Measure, Stats};
-use crate::error::{Error, Result};
+use crate::analysis::dimensions::length_power;
+use crate::config::LengthUnit;
+use crate::error::{echo, Error, Result};
+use crate::text::markdown_cell;
 use serde::Serialize;
 use serde_json::Value;
 use statrs::distribution::{ContinuousCDF, StudentsT};
@@ -107,6 +118,129 @@ impl Welch {
     }
 }
 
+/// The confidence level of [`Ratio`]'s interval.
+pub const CONFIDENCE: f64 = 0.95;
+
+/// The ratio of a group's mean to the first group's, `b / a`, of a measure
+/// that is positive in every bed of both, with its 95 % confidence interval
+/// by the delta method on the logarithm of the means: the variance of
+/// `ln(mean)` is `(sd / mean)² / n` per group, `ln(b / a)` has their sum
+/// `se²` as variance, with Welch–Satterthwaite's degrees of freedom
+/// `df = se⁴ / Σ (cv²/n)² / (n − 1)`, and the interval is
+/// `b / a × exp(± t(0.975, df) × se)`. Without a second bed in either group
+/// there is no interval (`ci` is `None`); with no scatter in either it is
+/// the ratio itself.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Ratio {
+    /// Mean of this group over the mean of the first.
+    pub ratio: f64,
+    /// The 95 % confidence interval of the ratio, `[low, high]`.
+    pub ci: Option<[f64; 2]>,
+    /// The degrees of freedom of the interval.
+    pub df: Option<f64>,
+}
+
+impl Ratio {
+    /// The ratio of `b` to `a`; `None` unless every value of both is positive.
+    pub fn of(a: &Stats, b: &Stats) -> Option<Ratio> {
+        let positive = |s: &Stats| s.n > 0 && s.min > 0.0 && s.mean > 0.0;
+        if !positive(a) || !positive(b) {
+            return None;
+        }
+        let ratio = b.mean / a.mean;
+        if !ratio.is_finite() || ratio <= 0.0 {
+            return None;
+        }
+        let none = Ratio {
+            ratio,
+            ci: None,
+            df: None,
+        };
+        if a.n < 2 || b.n < 2 {
+            return Some(none);
+        }
+        let var = |s: &Stats| (s.sd / s.mean).powi(2) / s.n as f64;
+        let (va, vb) = (var(a), var(b));
+        let se2 = va + vb;
+        if !se2.is_finite() {
+            return Some(none);
+        }
+        if se2 <= 0.0 {
+            return Some(Ratio {
+                ci: Some([ratio, ratio]),
+                ..none
+            });
+        }
+        let df = se2 * se2 / (va * va / (a.n - 1) as f64 + vb * vb / (b.n - 1) as f64);
+        let t = StudentsT::new(0.0, 1.0, df)
+            .ok()
+            .map(|d| d.inverse_cdf(0.5 + CONFIDENCE / 2.0))
+            .filter(|t| t.is_finite());
+        let Some(t) = t else {
+            return Some(none);
+        };
+        let half = t * se2.sqrt();
+        let ci = [ratio * (-half).exp(), ratio * half.exp()];
+        Some(Ratio {
+            ci: ci.iter().all(|x| x.is_finite()).then_some(ci),
+            df: Some(df),
+            ..none
+        })
+    }
+
+    /// "56.2× less (95 % CI 51.0–61.9×)", "2.50× more (…)", "1.00× (…)".
+    pub fn text(&self) -> String {
+        let (factor, word) = self.factor();
+        format!("{factor}{word} ({})", self.interval())
+    }
+
+    /// The factor, at least 1, and " less" (ratio below 1), " more" or "".
+    fn factor(&self) -> (String, &'static str) {
+        let word = match self.ratio {
+            r if r < 1.0 => " less",
+            r if r > 1.0 => " more",
+            _ => "",
+        };
+        (format!("{}×", times(self.up(self.ratio))), word)
+    }
+
+    /// "95 % CI 51.0–61.9×", the bounds of the factor, or why there is none.
+    fn interval(&self) -> String {
+        match self.ci {
+            Some([lo, hi]) => {
+                let (a, b) = if self.ratio < 1.0 {
+                    (self.up(hi), self.up(lo))
+                } else {
+                    (lo, hi)
+                };
+                format!("95 % CI {}–{}×", times(a), times(b))
+            }
+            None => "no CI: one bed".into(),
+        }
+    }
+
+    /// A ratio as the factor `text` shows: `1 / r` when the ratio is below 1.
+    fn up(&self, r: f64) -> f64 {
+        if self.ratio < 1.0 {
+            1.0 / r
+        } else {
+            r
+        }
+    }
+}
+
+/// A factor with three significant digits (four near 1, where a factor of
+/// 1.002 would read as none).
+fn times(x: f64) -> String {
+    if (1e-3..1e5).contains(&x.abs()) {
+        let near_one = usize::from((0.9..1.1).contains(&x.abs()));
+        let digits = (2 - x.abs().log10().floor() as i32).max(0) as usize + near_one;
+        format!("{x:.digits$}")
+    } else {
+        format!("{x:.2e}")
+    }
+}
+
 /// One measure across the groups.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
@@ -118,6 +252,10 @@ pub struct Row {
     pub stats: Vec<Stats>,
     /// Each group after the first against the first.
     pub tests: Vec<Welch>,
+    /// Each group after the first over the first, for a positive measure.
+    pub ratios: Vec<Option<Ratio>>,
+    /// The power of the length unit in the measure (`None`: not known).
+    pub length_power: Option<i32>,
 }
 
 /// The comparison of groups.
@@ -129,6 +267,20 @@ pub struct Comparison {
     pub rows: Vec<Row>,
     /// Measures of some groups only, left out of the table.
     pub not_shared: Vec<String>,
+    /// Measures of unknown dimension left out because the groups' length
+    /// units differ.
+    pub not_converted: Vec<String>,
+    /// The unit every length is in: the first group's (`None`: no group
+    /// names one).
+    pub length_unit: Option<LengthUnit>,
+    /// Per group, the length of its unit in the common unit (1 for a group
+    /// in it): its lengths were multiplied by this.
+    pub length_factors: Vec<f64>,
+    /// Which groups' lengths were converted to the common unit, and from what.
+    pub unit_note: Option<String>,
+    /// What a reader must be warned of: 2D beds against 3D ones, beds of
+    /// different packbed versions, measures left out for their unit.
+    pub warnings: Vec<String>,
 }
 
 /// Reads the beds of each directory: a run (`summary.json`), an ensemble
@@ -137,16 +289,20 @@ pub struct Comparison {
 pub fn read_groups(dirs: &[PathBuf]) -> Result<Vec<Group>> {
     let mut groups = Vec::new();
     for dir in dirs {
-        let name = dir.file_name().map_or_else(
+        // Names are shown on the terminal, in Markdown and in SVG: control
+        // characters of a directory's name are escaped once, here.
+        let name = echo(&dir.file_name().map_or_else(
             || dir.display().to_string(),
             |n| n.to_string_lossy().into_owned(),
-        );
+        ));
         let sweep = dir.join("sweep");
         if sweep.is_dir() {
             for point in sorted_dirs(&sweep)? {
-                let label = point
-                    .file_name()
-                    .map_or(String::new(), |n| n.to_string_lossy().into_owned());
+                let label = echo(
+                    &point
+                        .file_name()
+                        .map_or(String::new(), |n| n.to_string_lossy().into_owned()),
+                );
                 groups.push(Group {
                     name: format!("{name}/{label}"),
                     summaries: replicates(&point)?,
@@ -237,13 +393,182 @@ fn read_json(path: &Path) -> Result<Value> {
     })
 }
 
+/// What a group's beds say of themselves: their length unit (the same in
+/// every bed, or an error), their dimensions and packbed versions.
+struct Identity {
+    unit: Option<LengthUnit>,
+    dims: Vec<u64>,
+    versions: Vec<String>,
+}
+
+fn identity(g: &Group) -> Result<Identity> {
+    let mut id = Identity {
+        unit: None,
+        dims: Vec::new(),
+        versions: Vec::new(),
+    };
+    for (k, s) in g.summaries.iter().enumerate() {
+        let unit = match s.pointer("/config/analysis/length_unit") {
+            None | Some(Value::Null) => None,
+            Some(u) => Some(
+                serde_json::from_value::<LengthUnit>(u.clone()).map_err(|_| {
+                    Error::Impossible(format!(
+                        "{}: unknown length_unit `{}` in its summary",
+                        g.name,
+                        echo(&u.to_string())
+                    ))
+                })?,
+            ),
+        };
+        if k > 0 && unit != id.unit {
+            return Err(Error::Impossible(format!(
+                "{}: its beds name different length units ({} and {}); compare beds of one unit per group",
+                g.name,
+                unit_name(id.unit),
+                unit_name(unit)
+            )));
+        }
+        id.unit = unit;
+        if let Some(d) = s.get("dim").and_then(Value::as_u64) {
+            if !id.dims.contains(&d) {
+                id.dims.push(d);
+            }
+        }
+        if let Some(v) = s.get("packbed_version").and_then(Value::as_str) {
+            let v = echo(v);
+            if !id.versions.contains(&v) {
+                id.versions.push(v);
+            }
+        }
+    }
+    Ok(id)
+}
+
+fn unit_name(u: Option<LengthUnit>) -> &'static str {
+    u.map_or("none", LengthUnit::symbol)
+}
+
+/// The notes of beds of different dimensions or packbed versions.
+fn mixture_notes(groups: &[Group], ids: &[Identity]) -> Vec<String> {
+    let mut notes = Vec::new();
+    let per_group = |f: &dyn Fn(&Identity) -> String| -> String {
+        groups
+            .iter()
+            .zip(ids)
+            .map(|(g, id)| format!("{} {}", g.name, f(id)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut dims: Vec<u64> = ids.iter().flat_map(|i| i.dims.clone()).collect();
+    dims.sort_unstable();
+    dims.dedup();
+    if dims.len() > 1 {
+        notes.push(format!(
+            "the groups mix 2D and 3D beds ({}): their measures are not of the same kind \
+             (2D values are per unit depth)",
+            per_group(&|id| {
+                id.dims
+                    .iter()
+                    .map(|d| format!("{d}D"))
+                    .collect::<Vec<_>>()
+                    .join("+")
+            })
+        ));
+    }
+    let mut versions: Vec<&String> = ids.iter().flat_map(|i| &i.versions).collect();
+    versions.sort();
+    versions.dedup();
+    if versions.len() > 1 {
+        notes.push(format!(
+            "the beds come from different packbed versions ({}): a difference may be the \
+             version's, not the beds'",
+            per_group(&|id| id.versions.join("+"))
+        ));
+    }
+    notes
+}
+
 /// Compares the groups: the measures all share, with the same value in
 /// every bed of every group left out (settings and table sizes, not results).
+/// Lengths are converted to the first group's unit (see the module).
 pub fn compare(groups: &[Group]) -> Result<Comparison> {
-    let aggregates = groups
+    let ids = groups.iter().map(identity).collect::<Result<Vec<_>>>()?;
+    let unit = ids.first().and_then(|i| i.unit);
+    if let Some(k) = ids.iter().position(|i| i.unit.is_some() != unit.is_some()) {
+        let (named, bare) = if unit.is_some() { (0, k) } else { (k, 0) };
+        return Err(Error::Impossible(format!(
+            "{} names its length unit ({}) and {} does not: their lengths cannot be compared; \
+             set [analysis] length_unit for both (`packbed analyze --length-unit` for beds built)",
+            groups[named].name,
+            unit_name(ids[named].unit),
+            groups[bare].name
+        )));
+    }
+    let length_factors: Vec<f64> = ids
+        .iter()
+        .map(|i| match (i.unit, unit) {
+            (Some(u), Some(r)) => u.metres() / r.metres(),
+            _ => 1.0,
+        })
+        .collect();
+    let converting = length_factors.iter().any(|&f| f != 1.0);
+    let mut unit_note = None;
+    if converting {
+        let converted: Vec<String> = groups
+            .iter()
+            .zip(&ids)
+            .filter(|(_, i)| i.unit != unit)
+            .map(|(g, i)| format!("{} from {}", g.name, unit_name(i.unit)))
+            .collect();
+        unit_note = Some(format!(
+            "lengths in {} (the unit of {}): converted {} (lengths, areas and inverse lengths by \
+             the unit's power)",
+            unit_name(unit),
+            groups[0].name,
+            converted.join(", ")
+        ));
+    }
+    let mut warnings = mixture_notes(groups, &ids);
+    let mut aggregates = groups
         .iter()
         .map(|g| measures_of(&g.summaries))
         .collect::<Result<Vec<_>>>()?;
+    let dims: Vec<u8> = ids
+        .iter()
+        .map(|i| i.dims.first().map_or(3, |&d| d.min(3) as u8))
+        .collect();
+    let mut not_converted = Vec::new();
+    for ((a, &f), &dim) in aggregates.iter_mut().zip(&length_factors).zip(&dims) {
+        if f == 1.0 {
+            continue;
+        }
+        a.measures.retain_mut(|m| match length_power(&m.name, dim) {
+            Some(p) => {
+                let s = f.powi(p);
+                let st = &mut m.stats;
+                (st.mean, st.sd, st.min, st.max) = (st.mean * s, st.sd * s, st.min * s, st.max * s);
+                true
+            }
+            None => {
+                if !not_converted.contains(&m.name) {
+                    not_converted.push(m.name.clone());
+                }
+                false
+            }
+        });
+    }
+    if converting {
+        // A measure of unknown dimension is left out of every group.
+        for a in &mut aggregates {
+            a.measures.retain(|m| !not_converted.contains(&m.name));
+        }
+    }
+    if !not_converted.is_empty() {
+        warnings.push(format!(
+            "not compared across length units (dimension not known): {}",
+            not_converted.join(", ")
+        ));
+    }
     let find = |a: &[Measure], name: &str| a.iter().position(|m| m.name == name);
     let mut rows = Vec::new();
     let mut not_shared = Vec::new();
@@ -264,11 +589,17 @@ pub fn compare(groups: &[Group]) -> Result<Comparison> {
             continue;
         }
         let tests = stats[1..].iter().map(|s| Welch::of(&stats[0], s)).collect();
+        let ratios = stats[1..]
+            .iter()
+            .map(|s| Ratio::of(&stats[0], s).filter(|_| m.kind == Kind::Value))
+            .collect();
         rows.push(Row {
             name: m.name.clone(),
             kind: m.kind,
             stats,
             tests,
+            ratios,
+            length_power: length_power(&m.name, dims[0]),
         });
     }
     for a in &aggregates[1..] {
@@ -293,6 +624,11 @@ pub fn compare(groups: &[Group]) -> Result<Comparison> {
             .collect(),
         rows,
         not_shared,
+        not_converted,
+        length_unit: unit,
+        length_factors,
+        unit_note,
+        warnings,
     })
 }
 
@@ -305,7 +641,8 @@ impl Comparison {
     }
 
     /// `compare.csv`: one row per measure; per group `mean`, `sd`, `n`; per
-    /// group after the first `difference`, `t`, `df`, `p`.
+    /// group after the first `difference`, `t`, `df`, `p` and, for a positive
+    /// measure, `ratio`, `ratio_ci_low`, `ratio_ci_high` (95 %).
     pub fn to_csv(&self) -> Result<String> {
         let mut w = csv::Writer::from_writer(Vec::new());
         let mut header = vec!["measure".to_string(), "kind".to_string()];
@@ -315,7 +652,15 @@ impl Comparison {
             }
         }
         for (g, _) in &self.groups[1..] {
-            for c in ["difference", "t", "df", "p"] {
+            for c in [
+                "difference",
+                "t",
+                "df",
+                "p",
+                "ratio",
+                "ratio_ci_low",
+                "ratio_ci_high",
+            ] {
                 header.push(format!("{g}.{c}"));
             }
         }
@@ -327,8 +672,14 @@ impl Comparison {
             for s in &r.stats {
                 rec.extend([s.mean.to_string(), s.sd.to_string(), s.n.to_string()]);
             }
-            for t in &r.tests {
+            for (t, q) in r.tests.iter().zip(&r.ratios) {
                 rec.extend([t.difference.to_string(), opt(t.t), opt(t.df), opt(t.p)]);
+                let ci = q.and_then(|q| q.ci);
+                rec.extend([
+                    opt(q.map(|q| q.ratio)),
+                    opt(ci.map(|c| c[0])),
+                    opt(ci.map(|c| c[1])),
+                ]);
             }
             w.write_record(&rec).map_err(csv_err)?;
         }
@@ -344,7 +695,10 @@ impl Comparison {
         let rows = self.table(headline_only);
         let mut lines: Vec<String> = rows
             .iter()
-            .map(|r| format!("| {} |", r.join(" | ")))
+            .map(|r| {
+                let cells: Vec<String> = r.iter().map(|c| markdown_cell(c)).collect();
+                format!("| {} |", cells.join(" | "))
+            })
             .collect();
         lines.insert(1, format!("|{}", " --- |".repeat(rows[0].len())));
         lines.join("\n") + "\n"
@@ -383,10 +737,131 @@ impl Comparison {
             ));
         }
         t.push_str(&format!(
-            "  n: beds in which the measure is defined; p: Welch's t-test against {}, \"beyond scatter\" when p < {ALPHA}\n",
+            "  n: beds in which the measure is defined; p: Welch's t-test against {}, \"beyond scatter\" when p < {ALPHA}; \
+             ratio: of the means, 95 % CI by the delta method on their logarithms\n",
             self.groups[0].0
         ));
+        for line in self.permeability_lines() {
+            t.push_str(&format!("  {line}\n"));
+        }
+        if let Some(u) = &self.unit_note {
+            t.push_str(&format!("  {u}\n"));
+        }
         t
+    }
+
+    /// "fine is 56.2× less permeable than coarse (permeability.k_z, 95 % CI …)",
+    /// per group after the first, from the network's `k_z` or else the
+    /// Kozeny–Carman `k`.
+    pub fn permeability_lines(&self) -> Vec<String> {
+        let row = ["permeability.k_z", "cake.k_kozeny_carman"]
+            .iter()
+            .find_map(|k| self.rows.iter().find(|r| r.name == *k));
+        let Some(row) = row else {
+            return Vec::new();
+        };
+        row.ratios
+            .iter()
+            .zip(&self.groups[1..])
+            .filter_map(|(q, (g, _))| {
+                let q = q.as_ref()?;
+                let (factor, word) = q.factor();
+                let how = if word.is_empty() {
+                    format!("{factor} as permeable as")
+                } else {
+                    format!("{factor}{word} permeable than")
+                };
+                Some(format!(
+                    "{g} is {how} {} ({}, {})",
+                    self.groups[0].0,
+                    row.name,
+                    q.interval()
+                ))
+            })
+            .collect()
+    }
+
+    /// `compare.json`: the groups, the common length unit and what was
+    /// converted, the warnings, and per measure each group's `mean`, `sd`,
+    /// `n` and each later group against the first (`difference`, Welch's
+    /// `t`, `df`, `p`, and the `ratio` of the means with `ratio_ci_95`).
+    /// A number that is not finite is `null`.
+    pub fn to_json(&self) -> Result<String> {
+        use serde_json::json;
+        let num = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
+        let opt = |x: Option<f64>| x.map_or(Value::Null, num);
+        let groups: Vec<Value> = self
+            .groups
+            .iter()
+            .zip(&self.length_factors)
+            .map(|((g, n), f)| json!({"name": g, "beds": n, "length_factor": num(*f)}))
+            .collect();
+        let rows: Vec<Value> = self
+            .rows
+            .iter()
+            .map(|r| {
+                let stats: Vec<Value> = r
+                    .stats
+                    .iter()
+                    .map(|s| {
+                        // No scatter is known of one bed.
+                        let sd = if s.n < 2 { Value::Null } else { num(s.sd) };
+                        json!({"mean": num(s.mean), "sd": sd, "n": s.n})
+                    })
+                    .collect();
+                let against: Vec<Value> = r
+                    .tests
+                    .iter()
+                    .zip(&r.ratios)
+                    .zip(&self.groups[1..])
+                    .map(|((t, q), (g, _))| {
+                        let mut v = json!({
+                            "group": g,
+                            "difference": num(t.difference),
+                            "relative": opt(t.relative),
+                            "t": opt(t.t),
+                            "df": opt(t.df),
+                            "p": opt(t.p),
+                            "beyond_scatter": t.beyond_scatter,
+                            "ratio": opt(q.map(|q| q.ratio)),
+                            "ratio_ci_95": q.and_then(|q| q.ci).map_or(Value::Null, |c| json!([num(c[0]), num(c[1])])),
+                        });
+                        let note = match q {
+                            None => Some("no ratio: the measure is not positive in every bed"),
+                            Some(q) if q.ci.is_none() => {
+                                Some("no confidence interval: a group has one bed")
+                            }
+                            _ => None,
+                        };
+                        if let Some(n) = note {
+                            v["ratio_note"] = json!(n);
+                        }
+                        v
+                    })
+                    .collect();
+                json!({
+                    "measure": r.name,
+                    "kind": r.kind.as_str(),
+                    "length_power": r.length_power,
+                    "groups": stats,
+                    "against_first": against,
+                })
+            })
+            .collect();
+        let doc = json!({
+            "length_unit": self.length_unit.map(LengthUnit::name),
+            "unit_note": self.unit_note,
+            "warnings": self.warnings,
+            "groups": groups,
+            "measures": rows,
+            "not_shared": self.not_shared,
+            "not_converted": self.not_converted,
+            "ratio_method": "ratio of the means; 95 % CI by the delta method on the logarithms of the means with Welch's degrees of freedom",
+        });
+        let mut text = serde_json::to_string_pretty(&doc)
+            .map_err(|e| Error::Impossible(format!("compare.json: {e}")))?;
+        text.push('\n');
+        Ok(text)
     }
 
     /// The cells of the table, its header first.
@@ -398,6 +873,7 @@ impl Comparison {
         for (g, _) in &self.groups[1..] {
             head.push(format!("{g} − {}", self.groups[0].0));
             head.push("p (Welch)".to_string());
+            head.push(format!("{g} / {}", self.groups[0].0));
         }
         let mut lines = vec![head];
         let rows: Vec<&Row> = if headline_only {
@@ -415,7 +891,7 @@ impl Comparison {
             for s in &r.stats {
                 cells.push(mean_sd(s));
             }
-            for t in &r.tests {
+            for (t, q) in r.tests.iter().zip(&r.ratios) {
                 let rel = t
                     .relative
                     .map_or(String::new(), |x| format!(" ({:+.1} %)", 100.0 * x));
@@ -425,6 +901,7 @@ impl Comparison {
                     (Some(p), _) => format!("{} within scatter", p_value(p)),
                     _ => "n/a (fewer than 2 beds)".to_string(),
                 });
+                cells.push(q.map_or_else(String::new, |q| q.text()));
             }
             lines.push(cells);
         }
@@ -435,19 +912,35 @@ impl Comparison {
     pub fn report(&self) -> String {
         let mut t = String::from("# packbed compare\n\n");
         for (g, n) in &self.groups {
-            t.push_str(&format!("- `{g}`: {n} beds\n"));
+            t.push_str(&format!("- {}: {n} beds\n", markdown_cell(g)));
         }
         t.push_str(&format!(
             "\nmean ± sd over each group's beds (n: beds in which the measure is defined); \
              each group after the first against the first by Welch's t-test, two-sided: \
-             \"beyond scatter\" when p < {ALPHA}. Measures with the same value in every bed \
-             (settings, table sizes) are left out.\n\n"
+             \"beyond scatter\" when p < {ALPHA}; for a positive measure the ratio of the \
+             means with its 95 % confidence interval (delta method on the logarithms of the \
+             means, Welch's degrees of freedom; none with one bed in a group). Measures with \
+             the same value in every bed (settings, table sizes) are left out.\n\n"
         ));
+        match &self.unit_note {
+            Some(u) => t.push_str(&format!("Units: {}.\n\n", markdown_cell(u))),
+            None => {
+                if let Some(u) = self.length_unit {
+                    t.push_str(&format!("Units: lengths in {}.\n\n", u.symbol()));
+                }
+            }
+        }
+        for w in &self.warnings {
+            t.push_str(&format!("Note: {}.\n\n", markdown_cell(w)));
+        }
+        for line in self.permeability_lines() {
+            t.push_str(&format!("{}\n\n", markdown_cell(&line)));
+        }
         t.push_str(&self.to_markdown(false));
         if !self.not_shared.is_empty() {
             t.push_str(&format!(
                 "\nIn some groups only (not compared): {}\n",
-                self.not_shared.join(", ")
+                markdown_cell(&self.not_shared.join(", "))
             ));
         }
         t
@@ -510,9 +1003,9 @@ const PLOTTED: [&str; 6] = [
 ];
 
 /// Files of a comparison (plots aside).
-pub const COMPARE_FILES: [&str; 2] = ["compare.md", "compare.csv"];
+pub const COMPARE_FILES: [&str; 3] = ["compare.md", "compare.csv", "compare.json"];
 
-/// Writes `compare.md`, `compare.csv` and, with `pictures`, a bar plot per
+/// Writes `compare.md`, `compare.csv`, `compare.json` and, with `pictures`, a bar plot per
 /// headline measure (`plot_compare_<measure>`) and the groups' size
 /// distributions (`plot_compare_psd`) into `out`, atomically.
 pub fn write_comparison(
@@ -524,8 +1017,10 @@ pub fn write_comparison(
     let mut s = crate::io::Staging::new(out)?;
     let md = c.report();
     let csv = c.to_csv()?;
+    let json = c.to_json()?;
     s.stage(COMPARE_FILES[0], |w| w.write_all(md.as_bytes()))?;
     s.stage(COMPARE_FILES[1], |w| w.write_all(csv.as_bytes()))?;
+    s.stage(COMPARE_FILES[2], |w| w.write_all(json.as_bytes()))?;
     if pictures {
         #[cfg(feature = "render")]
         {
@@ -551,12 +1046,8 @@ pub fn write_comparison(
 fn plots(groups: &[Group], c: &Comparison) -> Vec<(String, crate::render::plot::Plot)> {
     use crate::render::plot::{BarGroup, Plot, PlotData, Series};
     let names: Vec<String> = c.groups.iter().map(|g| g.0.clone()).collect();
-    let unit = groups
-        .first()
-        .and_then(|g| g.summaries.first())
-        .and_then(|s| s.pointer("/config/analysis/length_unit"))
-        .and_then(|u| serde_json::from_value::<crate::config::LengthUnit>(u.clone()).ok())
-        .map_or("length units", crate::config::LengthUnit::symbol);
+    // Every group's lengths are in the common unit (`compare`).
+    let unit = c.length_unit.map_or("length units", LengthUnit::symbol);
     let mut out: Vec<(String, Plot)> = c
         .rows
         .iter()
@@ -577,7 +1068,7 @@ fn plots(groups: &[Group], c: &Comparison) -> Vec<(String, crate::render::plot::
                         errors: Some(r.stats.iter().map(|s| s.sd).collect()),
                     }],
                 },
-                y_range: None,
+                y_range: dots_range(&r.stats),
                 x_range: None,
             };
             (stem, plot)
@@ -586,10 +1077,13 @@ fn plots(groups: &[Group], c: &Comparison) -> Vec<(String, crate::render::plot::
 
     // Each group's placed curve (mean over its beds) and its request.
     let mut series = Vec::new();
-    for g in groups {
-        let Some(curves) = psd_curves(&g.summaries) else {
+    for (g, &f) in groups.iter().zip(&c.length_factors) {
+        let Some(mut curves) = psd_curves(&g.summaries) else {
             continue;
         };
+        for p in curves.placed.iter_mut().chain(&mut curves.requested) {
+            p.0 *= f;
+        }
         series.push(Series {
             name: format!("{} placed", g.name),
             points: curves.placed,
@@ -617,6 +1111,36 @@ fn plots(groups: &[Group], c: &Comparison) -> Vec<(String, crate::render::plot::
         ));
     }
     out
+}
+
+/// The y axis of a measure's dots: the means ± sd, padded by 5 %, and for a
+/// measure that no bed has below 0 never below 0 (its error bars are cut at
+/// the axis). `None`: the plot's own range (a measure that may be negative).
+#[cfg(feature = "render")]
+fn dots_range(stats: &[Stats]) -> Option<(f64, f64)> {
+    if stats.iter().any(|s| s.min < 0.0) {
+        return None;
+    }
+    let lo = stats
+        .iter()
+        .map(|s| s.mean - s.sd)
+        .fold(f64::INFINITY, f64::min);
+    let hi = stats
+        .iter()
+        .map(|s| s.mean + s.sd)
+        .fold(f64::NEG_INFINITY, f64::max);
+    if !lo.is_finite() || !hi.is_finite() {
+        return None;
+    }
+    if hi - lo <= 1e-12 * hi.abs() {
+        return Some(if hi > 0.0 {
+            (0.9 * hi, 1.1 * hi)
+        } else {
+            (0.0, 1.0)
+        });
+    }
+    let pad = 0.05 * (hi - lo);
+    Some(((lo - pad).max(0.0), hi + pad))
 }
 
 /// A plotted measure's name with its unit.
@@ -781,9 +1305,152 @@ mod tests {
         let csv = c.to_csv().unwrap();
         assert!(
             csv.starts_with(
-                "measure,kind,a.mean,a.sd,a.n,b.mean,b.sd,b.n,b.difference,b.t,b.df,b.p\n"
+                "measure,kind,a.mean,a.sd,a.n,b.mean,b.sd,b.n,b.difference,b.t,b.df,b.p,b.ratio,b.ratio_ci_low,b.ratio_ci_high\n"
             ),
             "{csv}"
         );
+    }
+
+    #[test]
+    fn ratio_ci_matches_a_hand_solved_case() {
+        // a: mean 2, sd 1, n 3; b: mean 4, sd 2, n 3: ratio 2, both cv 0.5.
+        // Var ln(mean) = cv²/n = 1/12 each, se² = 1/6; df = (1/6)² /
+        // (2 (1/12)² / 2) = 4; t(0.975, 4) = 2.776445 (Student's t table).
+        // CI = 2 exp(± 2.776445 × √(1/6)) = [0.643823, 6.212890].
+        let a = stats(&[1.0, 2.0, 3.0]);
+        let b = stats(&[2.0, 4.0, 6.0]);
+        let q = Ratio::of(&a, &b).unwrap();
+        assert_eq!(q.ratio, 2.0);
+        assert!((q.df.unwrap() - 4.0).abs() < 1e-12, "{q:?}");
+        let [lo, hi] = q.ci.unwrap();
+        assert!((lo - 0.643823).abs() < 2e-6, "{lo}");
+        assert!((hi - 6.212890).abs() < 2e-5, "{hi}");
+        assert_eq!(q.text(), "2.00× more (95 % CI 0.644–6.21×)");
+        // The other way round: b to a is 2× less, the bounds inverted.
+        let back = Ratio::of(&b, &a).unwrap();
+        assert_eq!(back.text(), "2.00× less (95 % CI 0.644–6.21×)");
+        // One bed: the ratio, no interval; a value ≤ 0: no ratio.
+        let one = Ratio::of(&stats(&[4.0]), &a).unwrap();
+        assert_eq!((one.ratio, one.ci), (0.5, None));
+        assert_eq!(one.text(), "2.00× less (no CI: one bed)");
+        assert_eq!(Ratio::of(&stats(&[0.0, 1.0]), &a), None);
+        assert_eq!(Ratio::of(&a, &stats(&[-1.0, 1.0])), None);
+    }
+
+    fn cake(unit: Option<&str>, dim: u8, version: &str, k: f64, d32: f64) -> Value {
+        let mut v = serde_json::json!({
+            "packbed_version": version,
+            "dim": dim,
+            "cake": {"porosity": 0.4 + k * 1e-9, "d32": d32, "k_kozeny_carman": k,
+                     "specific_resistance": 1e9 / k},
+            "fragmentation": {"max_force": k},
+            "config": {"seed": 1, "analysis": {}},
+        });
+        if let Some(u) = unit {
+            v["config"]["analysis"]["length_unit"] = u.into();
+        }
+        v
+    }
+
+    fn group(name: &str, beds: Vec<Value>) -> Group {
+        Group {
+            name: name.into(),
+            dir: name.into(),
+            summaries: beds,
+        }
+    }
+
+    #[test]
+    fn lengths_are_compared_in_the_first_groups_unit() {
+        // Sand in mm (k 2.0e-5 mm², d32 0.2 mm), flour in µm (k 0.36 µm²,
+        // d32 20 µm): in mm flour's k is 3.6e-7 mm², 55.6× less.
+        let sand = group(
+            "sand",
+            vec![
+                cake(Some("mm"), 3, "1.0.0", 2.0e-5, 0.20),
+                cake(Some("mm"), 3, "1.0.0", 2.2e-5, 0.21),
+            ],
+        );
+        let flour = group(
+            "flour",
+            vec![
+                cake(Some("um"), 3, "1.0.0", 0.34, 20.0),
+                cake(Some("um"), 3, "1.0.0", 0.38, 21.0),
+            ],
+        );
+        let c = compare(&[sand.clone(), flour.clone()]).unwrap();
+        let row = |name: &str| c.rows.iter().find(|r| r.name == name).unwrap();
+        let k = row("cake.k_kozeny_carman");
+        assert!(
+            (k.stats[1].mean - 0.36e-6).abs() < 1e-18,
+            "{:?}",
+            k.stats[1]
+        );
+        assert!((k.stats[1].sd - (0.02f64 * 2.0f64.sqrt()) * 1e-6).abs() < 1e-15);
+        let q = k.ratios[0].unwrap();
+        assert!((q.ratio - 0.36e-6 / 2.1e-5).abs() < 1e-12, "{q:?}");
+        assert!(k.tests[0].difference < 0.0);
+        let d32 = row("cake.d32");
+        assert!((d32.stats[1].mean - 0.0205).abs() < 1e-15);
+        // SI values stay as they are.
+        let alpha = row("cake.specific_resistance");
+        let raw = (1e9 / 0.34 + 1e9 / 0.38) / 2.0;
+        assert!((alpha.stats[1].mean / raw - 1.0).abs() < 1e-12);
+        // A measure of unknown dimension is not compared across units.
+        assert!(c.rows.iter().all(|r| !r.name.starts_with("fragmentation")));
+        assert_eq!(c.not_converted, vec!["fragmentation.max_force".to_string()]);
+        assert_eq!(c.length_unit, Some(LengthUnit::Millimetre));
+        assert_eq!(c.length_factors, vec![1.0, 1e-3]);
+        let note = c.unit_note.as_deref().unwrap();
+        assert!(
+            note.contains("lengths in mm") && note.contains("flour from µm"),
+            "{note}"
+        );
+        assert!(c.permeability_lines()[0].starts_with("flour is 58.3× less permeable than sand"));
+        let json: Value = serde_json::from_str(&c.to_json().unwrap()).unwrap();
+        assert_eq!(json["length_unit"], "mm");
+        assert_eq!(json["groups"][1]["length_factor"], 1e-3);
+        // The same units: nothing converted, every measure compared.
+        let c = compare(&[sand.clone(), sand.clone()]).unwrap();
+        assert!(c.unit_note.is_none() && c.not_converted.is_empty());
+        // One group names its unit, the other does not: refused.
+        let bare = group("bare", vec![cake(None, 3, "1.0.0", 0.3, 20.0)]);
+        let e = compare(&[sand.clone(), bare]).unwrap_err().to_string();
+        assert!(
+            e.contains("sand names its length unit (mm) and bare does not"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn beds_of_2d_and_3d_or_of_two_versions_are_noted() {
+        let a = group("a", vec![cake(Some("mm"), 3, "1.0.0", 2e-5, 0.2)]);
+        let b = group("b", vec![cake(Some("mm"), 2, "1.1.0", 3e-5, 0.3)]);
+        let c = compare(&[a, b]).unwrap();
+        assert_eq!(c.warnings.len(), 2, "{:?}", c.warnings);
+        assert!(c.warnings[0].contains("mix 2D and 3D beds (a 3D, b 2D)"));
+        assert!(c.warnings[1].contains("different packbed versions (a 1.0.0, b 1.1.0)"));
+        assert!(c.report().contains("Note: the groups mix 2D and 3D beds"));
+    }
+
+    #[cfg(feature = "render")]
+    #[test]
+    fn a_positive_measure_is_plotted_above_zero() {
+        // Porosities 0.01–0.9: mean − sd is below 0.
+        let beds = |xs: &[f64]| {
+            xs.iter()
+                .map(|&x| serde_json::json!({"dim": 3, "cake": {"porosity": x}}))
+                .collect()
+        };
+        let groups = vec![
+            group("a", beds(&[0.01, 0.02, 0.9])),
+            group("b", beds(&[0.02, 0.03, 0.95])),
+        ];
+        let c = compare(&groups).unwrap();
+        let stats = &c.rows[0].stats;
+        assert!(stats[0].mean - stats[0].sd < 0.0);
+        let p = plots(&groups, &c);
+        let (_, y) = p[0].1.ranges();
+        assert!(y.0 >= 0.0 && y.1 > stats[1].mean + stats[1].sd, "{y:?}");
     }
 }

@@ -265,7 +265,12 @@ impl Plot {
                         let cap = if dots { 0.4 * f } else { gw / 4.0 };
                         let ink = if dots { c } else { Rgb::BLACK };
                         if let Some(e) = &group.errors {
-                            let (lo, hi) = (ymap(v - e[k]), ymap(v + e[k]));
+                            // A bar is cut where it leaves the axis (a fixed
+                            // range that stops at 0 for a positive measure).
+                            let (lo, hi) = (
+                                ymap((v - e[k]).max(yr.0).min(yr.1)),
+                                ymap((v + e[k]).max(yr.0).min(yr.1)),
+                            );
                             canvas.line(xm, lo, xm, hi, ink, 1.2);
                             canvas.line(xm - cap, lo, xm + cap, lo, ink, 1.2);
                             canvas.line(xm - cap, hi, xm + cap, hi, ink, 1.2);

@@ -1,0 +1,137 @@
+//! The dimension of every measure of `summary.json` in the bed's length unit
+//! (`[analysis] length_unit`): what `packbed compare` needs to set beds
+//! measured in different units side by side. Kept here, beside the summary's
+//! keys ([`super::Summary`]), so that a measure added there gets its line here
+//! (the integration test `compare_converts_lengths_to_the_first_groups_unit`
+//! fails on a key of a full summary missing from this table).
+
+/// The power of the length unit in a measure of `summary.json`, by its dotted
+/// key as [`super::stats`] names it (`cake.d32`, `permeability.axes[0].k`,
+/// `species.<name>.placed`), for a bed of `dim` dimensions: 1 for a length
+/// (`cake.d32`), 2 for an area (`permeability.k_z`), −1 for a length's
+/// inverse (`cake.specific_surface`), 0 for a number, a ratio or a value
+/// already in SI units (`cake.k_kozeny_carman_m2`, `cake.specific_resistance`
+/// in m/kg, the flow's viscosity in its own unit). `None` for a key whose
+/// dimension is not known here (the fragmentation's forces, a key of a later
+/// version): its values mean different things in different units.
+pub fn length_power(key: &str, dim: u8) -> Option<i32> {
+    let key = normalised(key);
+    let k = key.as_str();
+    // Whole families of numbers, ratios and counts.
+    const NUMBERS: [&str; 5] = [
+        "packing.",
+        "coordination.",
+        "counts.",
+        "orientation.",
+        "species.*.",
+    ];
+    if NUMBERS.iter().any(|p| k.starts_with(p)) {
+        return Some(0);
+    }
+    let power = match k {
+        // The cake (and the same over the whole cake).
+        "cake.porosity" | "cake.whole.porosity" => 0,
+        "cake.d32" | "cake.whole.d32" => 1,
+        "cake.specific_surface" | "cake.whole.specific_surface" => -1,
+        "cake.surface_per_bed_volume" | "cake.whole.surface_per_bed_volume" => -1,
+        "cake.k_kozeny_carman" | "cake.whole.k_kozeny_carman" => 2,
+        "cake.height" | "cake.solids_per_area" => 1,
+        // Already in SI units: m², kg/m², m/kg.
+        "cake.k_kozeny_carman_m2" | "cake.solids_mass_per_area" | "cake.specific_resistance" => 0,
+        // Pores and constrictions of the slab.
+        "pores.d_c35" => 1,
+        "pores.network_porosity"
+        | "pores.network_pores"
+        | "pores.network_throats"
+        | "pores.hidden_particles"
+        | "pores.clamped_cells"
+        | "pores.body_radius.count"
+        | "pores.constriction_radius.count" => 0,
+        _ if k.starts_with("pores.body_radius.") || k.starts_with("pores.constriction_radius.") => {
+            1
+        }
+        // The network's flow: k in length², the flux under a unit gradient
+        // through the section (an area in 3D, a length per unit depth in 2D).
+        "permeability.k_x" | "permeability.k_y" | "permeability.k_z" | "permeability.axes[].k" => 2,
+        "permeability.axes[].flux" => i32::from(dim) + 1,
+        "permeability.k_over_d32_squared"
+        | "permeability.k_over_kozeny_carman"
+        | "permeability.anisotropy"
+        | "permeability.conductance_factor"
+        // In the viscosity's own unit, which `length_unit` does not set.
+        | "permeability.viscosity"
+        | "permeability.throats_merged"
+        | "permeability.imbalance"
+        | "permeability.axes[].imbalance"
+        | "permeability.axes[].pores" => 0,
+        // Percolation: bodies, chains (lengths counted in bodies), flags.
+        "percolation.large_radius" => 1,
+        _ if k.starts_with("percolation.") => 0,
+        // Segregation.
+        "segregation.slab" | "segregation.bed_height" => 1,
+        "segregation.bottom_fraction_all" => 0,
+        // Voids of a 2D bed: areas.
+        "voids.min_area" | "voids.mean_area" | "voids.max_area" | "voids.total_area" => 2,
+        "voids.count" | "voids.mean_area_scaled" | "voids.mean_sides" => 0,
+        // The size distribution: diameters, and percentages and spans.
+        "psd.requested.d10" | "psd.requested.d50" | "psd.requested.d90" => 1,
+        "psd.placed.d10" | "psd.placed.d50" | "psd.placed.d90" => 1,
+        "psd.table[].radius" | "psd.table[].diameter" => 1,
+        "psd.requested.span" | "psd.placed.span" => 0,
+        _ if k.starts_with("psd.table[].") && k.ends_with("_percent_passing") => 0,
+        _ => return None,
+    };
+    Some(power)
+}
+
+/// `key` with its indices as `[]` and a species' name as `*`.
+fn normalised(key: &str) -> String {
+    let mut out = String::with_capacity(key.len());
+    let mut in_index = false;
+    for c in key.chars() {
+        match c {
+            '[' => {
+                in_index = true;
+                out.push('[');
+            }
+            ']' => {
+                in_index = false;
+                out.push(']');
+            }
+            _ if in_index => {}
+            _ => out.push(c),
+        }
+    }
+    // A species' name may hold dots: its field is the key's last part.
+    match out.strip_prefix("species.") {
+        Some(rest) => match rest.rsplit_once('.') {
+            Some((_, field)) => format!("species.*.{field}"),
+            None => out,
+        },
+        None => out,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lengths_areas_and_numbers() {
+        assert_eq!(length_power("cake.d32", 3), Some(1));
+        assert_eq!(length_power("cake.specific_surface", 3), Some(-1));
+        assert_eq!(length_power("permeability.k_z", 3), Some(2));
+        assert_eq!(length_power("permeability.axes[2].k", 3), Some(2));
+        assert_eq!(length_power("permeability.axes[0].flux", 3), Some(4));
+        assert_eq!(length_power("permeability.axes[0].flux", 2), Some(3));
+        assert_eq!(length_power("cake.specific_resistance", 3), Some(0));
+        assert_eq!(length_power("species.batch A. sieved.placed", 3), Some(0));
+        assert_eq!(length_power("psd.table[12].diameter", 3), Some(1));
+        assert_eq!(
+            length_power("pores.body_radius.by_void_volume.p35", 3),
+            Some(1)
+        );
+        assert_eq!(length_power("fragmentation.max_force", 3), None);
+        assert_eq!(length_power("cake.something_new", 3), None);
+    }
+}
