@@ -11,6 +11,7 @@ mod files;
 mod filtration;
 mod fragment;
 mod front_door;
+mod pores;
 mod python;
 mod render;
 mod slurm;
