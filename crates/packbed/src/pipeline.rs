@@ -9,7 +9,7 @@ use crate::config::{AnalysisConfig, Config, Measure};
 use crate::deposit::DepositReport;
 use crate::deposit::Progress;
 use crate::error::{Error, Result};
-use crate::io::read::{read_bed_report, BoxHint, ReadReport};
+use crate::io::read::{read_bed_for, BoxHint, ReadReport};
 use crate::io::summary::{
     AnalyzeSettings, AnalyzeTiming, FragmentSettings, FragmentSummary, FragmentTiming,
 };
@@ -93,10 +93,11 @@ fn analyse<const D: usize>(
         analysis_seconds: t.elapsed().as_secs_f64(),
         total_seconds: start.elapsed().as_secs_f64(),
         triangulation_seconds: analysis.triangulation_seconds,
+        network_seconds: analysis.network_seconds,
     };
     let mut summary = RunSummary::new(config, bed, deposit, &analysis, timing);
     summary.fragmentation = fragmentation;
-    summary.warnings = warnings;
+    summary.warnings.extend(warnings);
     Ok((contacts, summary))
 }
 
@@ -126,7 +127,7 @@ pub struct AnalyzedBed {
     pub summary: AnalyzeSummary,
 }
 
-/// Reads the bed file at `path` (any format [`read_bed_report`] knows; `hint`
+/// Reads the bed file at `path` (any format [`crate::read_bed_report`] knows; `hint`
 /// is the box for files without one, and wins over a box in the file) and
 /// analyses it with `settings`.
 pub fn analyze_file(
@@ -135,7 +136,8 @@ pub fn analyze_file(
     settings: &AnalysisConfig,
 ) -> Result<AnalyzedBed> {
     settings.check()?;
-    let (bed, read, read_seconds) = read_timed(path, hint)?;
+    let measures = settings.measures.as_deref().unwrap_or(&Measure::DEFAULT);
+    let (bed, read, read_seconds) = read_timed(path, hint, measures)?;
     analyze_read_bed(
         &path.display().to_string(),
         bed,
@@ -182,12 +184,16 @@ pub fn analyze_bed(bed: &AnyBed, settings: &AnalysisConfig) -> Result<(Contacts,
 
 /// Reads the bed file at `path` after checking the caller's box `hint`; also
 /// returns the seconds the reading took.
-fn read_timed(path: &Path, hint: Option<&BoxHint>) -> Result<(AnyBed, ReadReport, f64)> {
+fn read_timed(
+    path: &Path,
+    hint: Option<&BoxHint>,
+    measures: &[Measure],
+) -> Result<(AnyBed, ReadReport, f64)> {
     if let Some(h) = hint {
         check_box_hint(h).map_err(|e| e.within("box"))?;
     }
     let t = Instant::now();
-    let (bed, read) = read_bed_report(path, hint)?;
+    let (bed, read) = read_bed_for(path, hint, measures)?;
     Ok((bed, read, t.elapsed().as_secs_f64()))
 }
 
@@ -307,6 +313,7 @@ fn analyze_read<const D: usize>(
         read_seconds,
         analysis_seconds: t.elapsed().as_secs_f64(),
         triangulation_seconds: analysis.triangulation_seconds,
+        network_seconds: analysis.network_seconds,
     };
     let recorded = AnalyzeSettings {
         contact_tol: settings.contact_tol,
@@ -371,7 +378,7 @@ pub fn fragment_file_with(
     if let Some(why) = crate::config::contact_tol_problem(contact_tol, "contact_tol") {
         return Err(Error::config(why));
     }
-    let (bed, read, read_seconds) = read_timed(path, hint)?;
+    let (bed, read, read_seconds) = read_timed(path, hint, &Measure::DEFAULT)?;
     fragment_bed(
         &path.display().to_string(),
         bed,

@@ -535,4 +535,50 @@ fn a_run_whose_fragmentation_does_not_fit_keeps_its_bed() {
             );
         }
     }
+#[test]
+fn the_memory_refusal_of_the_pore_measures_quotes_their_estimate() {
+    // 400,000 spheres under 512 MiB of address space: too many even for the
+    // default measures. Asked for the pores, the refusal must quote the
+    // estimate with the pore space (issue 57: it quoted the default
+    // measures', about 0.6 GB, for a pore space needing 1.8 GB).
+    use std::fmt::Write;
+    let s = Scratch::new();
+    let mut text = String::from("x,y,z,r\n");
+    for k in 0..40 {
+        for j in 0..100 {
+            for i in 0..100 {
+                let at = |m: i32| 2.2 * f64::from(m) + 1.1;
+                writeln!(text, "{},{},{},1", at(i), at(j), at(k)).unwrap();
+            }
+        }
+    }
+    let bed = s.input("big.csv", &text);
+    let bed = bed.to_str().unwrap();
+    let quoted = |measures: &str| -> f64 {
+        let o = within_memory(
+            &s,
+            &[
+                "analyze",
+                bed,
+                "--box",
+                "220,220,88",
+                "--measures",
+                measures,
+                "--out",
+                "o",
+                "-q",
+            ],
+            120,
+            512,
+        );
+        assert_eq!(o.code, 2, "{}", o.stderr);
+        assert_eq!(o.stderr.lines().count(), 1, "{}", o.stderr);
+        assert!(!s.work.join("o").exists(), "nothing may be written");
+        let after = o.stderr.split("need about ").nth(1).expect(&o.stderr);
+        after.split(' ').next().unwrap().parse().expect(&o.stderr)
+    };
+    let packing = quoted("packing");
+    let pores = quoted("pores,permeability");
+    // 400,000 × (1024 + 3072) bytes and the fixed part, against 1024 bytes.
+    assert!(pores > 1.7 && pores > 2.5 * packing, "{pores} {packing}");
 }

@@ -14,6 +14,7 @@ mod filtration;
 mod fragment;
 mod front_door;
 mod output_dir;
+mod pores;
 mod python;
 mod render;
 mod slurm;

@@ -78,9 +78,16 @@ pub struct Summary {
     /// The pore network's tables for the files (not in `summary.json`).
     #[serde(skip)]
     pub pore_tables: Option<std::sync::Arc<pores::PoreTables>>,
+    /// What the measures warn of (a slab too small for its permeability):
+    /// reported under the summary's `warnings` and on stderr.
+    #[serde(skip)]
+    pub warnings: Vec<String>,
     /// Wall time of the triangulation (reported under `timing`).
     #[serde(skip)]
     pub triangulation_seconds: Option<f64>,
+    /// Wall time of the pore network built on it (reported under `timing`).
+    #[serde(skip)]
+    pub network_seconds: Option<f64>,
 }
 
 /// `packing.*` keys of `summary.json`.
@@ -362,10 +369,12 @@ pub fn analyze_timed<const D: usize>(
     match pore_space {
         Some(Ok(space)) => {
             summary.triangulation_seconds = Some(space.triangulation_seconds);
+            summary.network_seconds = Some(space.network_seconds);
             summary.pores = want(Measure::Pores).then_some(space.pores);
             summary.permeability = space.permeability;
             summary.pores_note = space.note;
             summary.pore_tables = Some(std::sync::Arc::new(space.tables));
+            summary.warnings.extend(space.warning);
         }
         Some(Err(why)) => summary.pores_note = Some(why),
         None => {}
@@ -455,8 +464,18 @@ fn pore_measures<const D: usize>(
         .measures
         .has(Measure::Permeability)
         .then_some(&opts.flow);
-    let space =
+    let mut space =
         pores::pore_space_timed(bed, slab, flow, d32, k_kc, times).map_err(|e| e.to_string())?;
+    // The slab's size in d32: the cake's, else the whole bed's.
+    let d32 = d32.unwrap_or_else(|| {
+        let (r3, r2) = bed
+            .radii
+            .iter()
+            .fold((0.0, 0.0), |(a, b), r| (a + r * r * r, b + r * r));
+        2.0 * r3 / r2
+    });
+    let d_max = 2.0 * bed.r_max();
+    space.warning = pores::check_slab(&mut space, &bed.container.size, slab, d32, d_max);
     if let (Some(c), Some(k)) = (cake, space.permeability.as_ref().and_then(|p| p.k_z)) {
         c.use_network_k(k);
     }

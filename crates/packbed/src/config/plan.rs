@@ -702,14 +702,6 @@ fn name_species(mut species: Vec<Species>) -> Vec<Species> {
     species
 }
 
-/// Refuses a bed of `particles` particles (read from a file) that this
-/// machine could not analyse: the bound deposition puts on a run (3D, the
-/// default measures). [`check_analysis`] checks again once the measures are
-/// known.
-pub fn check_particles(particles: usize, what: &str) -> Result<()> {
-    check_analysis(particles, 3, &Measure::DEFAULT, 1.0, what)
-}
-
 /// The widest spread of a bed whose pore space packbed computes, in smallest
 /// particle diameters. The exact triangulation's arithmetic grows with the
 /// spread of the coordinates it compares: 80 spheres spread through a box

@@ -153,9 +153,12 @@ pub struct Timing {
     pub analysis_seconds: f64,
     /// The whole run, file writing included up to the summary itself.
     pub total_seconds: f64,
-    /// The regular triangulation and pore network (part of the analysis).
+    /// The regular triangulation alone (part of the analysis).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub triangulation_seconds: Option<f64>,
+    /// The pore network built on the triangulation (part of the analysis).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub network_seconds: Option<f64>,
 }
 
 /// One entry of `species`.
@@ -189,7 +192,7 @@ impl RunSummary {
     ) -> RunSummary {
         RunSummary {
             packbed_version: env!("CARGO_PKG_VERSION"),
-            warnings: Vec::new(),
+            warnings: analysis.warnings.clone(),
             dim: D as u8,
             seed: config.seed,
             mode: config.mode,
@@ -289,9 +292,12 @@ pub struct AnalyzeTiming {
     pub read_seconds: f64,
     /// Analysis.
     pub analysis_seconds: f64,
-    /// The regular triangulation and pore network (part of the analysis).
+    /// The regular triangulation alone (part of the analysis).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub triangulation_seconds: Option<f64>,
+    /// The pore network built on the triangulation (part of the analysis).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub network_seconds: Option<f64>,
 }
 
 impl Checks {
@@ -317,7 +323,7 @@ impl AnalyzeSummary {
     ) -> AnalyzeSummary {
         AnalyzeSummary {
             packbed_version: env!("CARGO_PKG_VERSION"),
-            warnings: Vec::new(),
+            warnings: analysis.warnings.clone(),
             source: source.to_string(),
             dim: D as u8,
             container: BoxSummary::of(bed, Some(read.box_source.name())),

@@ -94,7 +94,8 @@ pub fn pictures<const D: usize>(
             let body: Vec<Real> = t
                 .pores
                 .iter()
-                .filter(|p| p.in_slab)
+                // As `pores.body_radius`: the pores with a tangent sphere.
+                .filter(|p| p.in_slab && p.body_radius > 0.0)
                 .map(|p| p.body_radius)
                 .collect();
             let constriction: Vec<Real> = t

@@ -368,7 +368,7 @@ fn measures_text_with(a: &Summary, names: &[String], bulk_hint: Option<&str>) ->
     if let Some(p) = &a.pores {
         let _ = writeln!(
             t,
-            "  pores (slab z {}–{}): {} pores, body radius median {} (by void volume {}); {} constrictions, radius median {}, d_c35 {}; network porosity {:.4}",
+            "  pores (slab z {}–{}): {} pores, body radius median {} (by void volume {}); {} constrictions, radius median {}, d_c35 {}; network porosity {}",
             length(p.slab[0]),
             length(p.slab[1]),
             p.body_radius.count,
@@ -376,15 +376,22 @@ fn measures_text_with(a: &Summary, names: &[String], bulk_hint: Option<&str>) ->
             length(p.body_radius.by_void_volume.p50),
             p.constriction_radius.count,
             length(p.constriction_radius.p50),
-            length(p.d_c35),
+            p.d_c35.map_or("null".into(), length),
             p.network_porosity
+                .map_or("null".into(), |v| format!("{v:.4}"))
         );
+        if let Some(why) = &p.note {
+            let _ = writeln!(t, "    {why}");
+        }
     }
     if let Some(k) = &a.permeability {
         let axes: Vec<String> = k
             .axes
             .iter()
-            .map(|f| format!("k_{} {:.4e}", f.axis, f.k))
+            .map(|f| match f.k {
+                Some(k) => format!("k_{} {k:.4e}", f.axis),
+                None => format!("k_{} null", f.axis),
+            })
             .collect();
         let mut line = format!("  permeability: {}", axes.join(", "));
         if let Some(r) = k.k_over_kozeny_carman {
@@ -397,6 +404,9 @@ fn measures_text_with(a: &Summary, names: &[String], bulk_hint: Option<&str>) ->
             let _ = write!(line, ", anisotropy k_z/k_side {r:.3}");
         }
         let _ = writeln!(t, "{line}");
+        if let Some(why) = &k.note {
+            let _ = writeln!(t, "    {why}");
+        }
     }
     if let Some(why) = &a.pores_note {
         let _ = writeln!(t, "  pores: none ({why})");

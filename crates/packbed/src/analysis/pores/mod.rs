@@ -103,16 +103,23 @@ pub struct Percentiles {
 pub struct PoresSummary {
     /// The slab `[z_lo, z_hi]` the pores are counted in (power centres).
     pub slab: [Real; 2],
-    /// Pore body radius (largest sphere touching the cell's spheres).
+    /// Pore body radius (the sphere touching the cell's four spheres from
+    /// outside), over the pores that have one.
     pub body_radius: SizeDistribution,
+    /// Pores of the slab left out of `body_radius`: no sphere touches their
+    /// four spheres from outside (spheres of very different sizes, about 2.3
+    /// times or more, where the size changes faster across the cell than a
+    /// sphere between them could follow); `body_radius` 0 in `pores.csv`.
+    pub body_radius_undefined: u64,
     /// Constriction radius of the throats between two pores of the slab.
     pub constriction_radius: SizeDistribution,
     /// Constriction diameter 35 % of the constrictions are smaller than
-    /// (by number): the granular filter design size `d_c35`.
-    pub d_c35: Real,
+    /// (by number): the granular filter design size `d_c35`; `None` (null)
+    /// when the slab's cells enclose no volume (`note` says why).
+    pub d_c35: Option<Real>,
     /// Void volume of the slab's cells over their volume: the network's
-    /// porosity, to hold against `cake.porosity`.
-    pub network_porosity: Real,
+    /// porosity, to hold against `cake.porosity`; `None` (null) as `d_c35`.
+    pub network_porosity: Option<Real>,
     /// Pores and throats in the whole network (all heights).
     pub network_pores: u64,
     /// Throats in the whole network.
@@ -121,6 +128,9 @@ pub struct PoresSummary {
     pub hidden_particles: u64,
     /// Cells whose spheres' sectors exceeded the cell (void clamped at 0).
     pub clamped_cells: u64,
+    /// Why a figure above is null, when one is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
 }
 
 /// `permeability.*` keys of `summary.json`.
@@ -136,8 +146,13 @@ pub struct PermeabilitySummary {
     pub k_over_d32_squared: Option<Real>,
     /// The mean of the axes over the Kozeny–Carman `k` of the bulk.
     pub k_over_kozeny_carman: Option<Real>,
-    /// `k_z` over the mean of `k_x` and `k_y` (periodic beds).
+    /// `k_z` over the mean of `k_x` and `k_y` (periodic beds); null where
+    /// the slab is too thin for the side axes ([`SLAB_MIN_SIDE`]).
     pub anisotropy: Option<Real>,
+    /// The anisotropy's standard uncertainty: the spread of `k_x` and `k_y`
+    /// as the sampling error of an axis, and the thin slab's bias on the
+    /// side axes (see [`check_slab`]).
+    pub anisotropy_uncertainty: Option<Real>,
     /// The fluid viscosity used.
     pub viscosity: Real,
     /// Which length set the throats' conductances (`constriction` or
@@ -153,6 +168,9 @@ pub struct PermeabilitySummary {
     pub throats_merged: u64,
     /// The largest flux imbalance of the axes (inflow against outflow).
     pub imbalance: Real,
+    /// Why a figure above is null, or not to be trusted, when one is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
 }
 
 /// A pore as written to `pores.csv` (the same for 2D and 3D). Fixed-size
@@ -311,8 +329,13 @@ pub struct PoreSpace {
     pub note: Option<String>,
     /// The tables.
     pub tables: PoreTables,
-    /// Wall time of the triangulation and network, seconds.
+    /// Wall time of the triangulation alone, seconds (every attempt, when
+    /// the images had to reach further).
     pub triangulation_seconds: f64,
+    /// Wall time of the network built on the triangulation, seconds.
+    pub network_seconds: f64,
+    /// The warning of a slab too small for its permeability ([`check_slab`]).
+    pub warning: Option<String>,
 }
 
 /// Builds the pore network of `bed`, measures its pores and, when `flow` is
@@ -338,9 +361,16 @@ pub fn pore_space_timed<const D: usize>(
     k_kc: Option<Real>,
     times: &mut StageTimes,
 ) -> crate::error::Result<PoreSpace> {
-    let t0 = Instant::now();
+    let stages = |times: &StageTimes| {
+        (
+            times.total("pores/triangulation"),
+            times.total("pores/network"),
+        )
+    };
+    let (t0, n0) = stages(times);
     let mut net = network::network_timed(bed, slab, times)?;
-    let triangulation_seconds = t0.elapsed().as_secs_f64();
+    let (t1, n1) = stages(times);
+    let (triangulation_seconds, network_seconds) = (t1 - t0, n1 - n0);
     let in_slab: Vec<bool> = net
         .pores
         .iter()
@@ -385,6 +415,8 @@ pub fn pore_space_timed<const D: usize>(
         note,
         tables,
         triangulation_seconds,
+        network_seconds,
+        warning: None,
     })
 }
 
@@ -397,6 +429,11 @@ fn summary<const D: usize>(net: &Network<D>, in_slab: &[bool], slab: (Real, Real
         .filter(|e| *e.1)
         .map(|(p, _)| (p.body_radius, p.void_volume))
         .collect();
+    let slab_pores = body.len();
+    // A pore with no tangent sphere has no body radius (0 stood for it,
+    // a step at 0 in `plot_pores`).
+    let body: Vec<(Real, Real)> = body.into_iter().filter(|e| e.0 > 0.0).collect();
+    let body_radius_undefined = (slab_pores - body.len()) as u64;
     let constriction: Vec<(Real, Real)> = net
         .throats
         .iter()
@@ -413,12 +450,30 @@ fn summary<const D: usize>(net: &Network<D>, in_slab: &[bool], slab: (Real, Real
             (acc.0 + p.void_volume, acc.1 + p.volume)
         });
     let constriction_dist = distribution(constriction);
+    // The cells of centres on one plane (a single layer on the floor) are
+    // flat: they enclose no volume, so neither a porosity nor a constriction
+    // of the pore space is measured (0 would read as a closed bed).
+    let flat = volume.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater);
+    let note = if slab_pores == 0 {
+        Some("the slab holds no pore: the network's porosity and d_c35 are not defined".into())
+    } else if flat {
+        Some(format!(
+            "the slab's {} cells enclose no volume (the particle centres lie on one plane): \
+             the network's porosity and d_c35 are not defined",
+            slab_pores
+        ))
+    } else if constriction_dist.count == 0 {
+        Some("the slab holds no throat between two of its pores: d_c35 is not defined".into())
+    } else {
+        None
+    };
     PoresSummary {
         slab: [slab.0, slab.1],
         body_radius: distribution(body),
-        d_c35: 2.0 * constriction_dist.p35,
+        body_radius_undefined,
+        d_c35: (!flat && constriction_dist.count > 0).then(|| 2.0 * constriction_dist.p35),
         constriction_radius: constriction_dist,
-        network_porosity: if volume > 0.0 { void / volume } else { 0.0 },
+        network_porosity: (!flat).then(|| void / volume),
         network_pores: net.pores.len() as u64,
         network_throats: net.throats.len() as u64,
         hidden_particles: net.hidden.len() as u64,
@@ -427,6 +482,7 @@ fn summary<const D: usize>(net: &Network<D>, in_slab: &[bool], slab: (Real, Real
             .iter()
             .filter(|p| p.void_volume <= 0.0 && p.volume > 0.0)
             .count() as u64,
+        note,
     }
 }
 
@@ -452,14 +508,34 @@ fn permeability_summary<const D: usize>(
     d32: Option<Real>,
     k_kc: Option<Real>,
 ) -> PermeabilitySummary {
-    let get = |name: &str| f.axes.iter().find(|a| a.axis == name).map(|a| a.k);
+    let get = |name: &str| f.axes.iter().find(|a| a.axis == name).and_then(|a| a.k);
     let (k_x, k_y, k_z) = (get("x"), get("y"), get("z"));
-    let ks: Vec<Real> = f.axes.iter().map(|a| a.k).collect();
-    let mean = (!ks.is_empty()).then(|| ks.iter().sum::<Real>() / ks.len() as Real);
+    // An axis whose balance failed has no `k`: neither has any figure made
+    // from it (the mean of the axes, the anisotropy).
+    let failed: Vec<&str> = f
+        .axes
+        .iter()
+        .filter(|a| a.k.is_none())
+        .map(|a| a.axis)
+        .collect();
+    let ks: Vec<Real> = f.axes.iter().filter_map(|a| a.k).collect();
+    let mean =
+        (!ks.is_empty() && failed.is_empty()).then(|| ks.iter().sum::<Real>() / ks.len() as Real);
     let sides: Vec<Real> = [k_x, k_y].into_iter().flatten().collect();
-    let anisotropy = k_z.filter(|_| !sides.is_empty()).and_then(|kz| {
-        let side = sides.iter().sum::<Real>() / sides.len() as Real;
-        (side > 0.0 && kz > 0.0).then(|| kz / side)
+    let anisotropy = k_z
+        .filter(|_| !sides.is_empty() && failed.is_empty())
+        .and_then(|kz| {
+            let side = sides.iter().sum::<Real>() / sides.len() as Real;
+            (side > 0.0 && kz > 0.0).then(|| kz / side)
+        });
+    let note = (!failed.is_empty()).then(|| {
+        let worst = f.axes.iter().map(|a| a.imbalance).fold(0.0, Real::max);
+        format!(
+            "the flux through the slab does not balance along {} (imbalance {worst:.3e}, more \
+             than {:e}): no permeability is given along it, nor the figures made from it",
+            failed.join(", "),
+            flow::BALANCE
+        )
     });
     PermeabilitySummary {
         k_x,
@@ -471,13 +547,142 @@ fn permeability_summary<const D: usize>(
             .map(|(k, d)| k / (d * d)),
         k_over_kozeny_carman: mean.zip(k_kc).filter(|e| e.1 > 0.0).map(|(k, kc)| k / kc),
         anisotropy,
+        anisotropy_uncertainty: None,
         viscosity: options.viscosity,
         conductance: options.conductance.name(),
         conductance_factor: options.conductance_factor,
         axes: f.axes.clone(),
         throats_merged: f.merged,
         imbalance: f.axes.iter().map(|a| a.imbalance).fold(0.0, Real::max),
+        note,
     }
+}
+
+/// The thinnest slab whose `k_z` is within a few percent of a thick slab's
+/// of the same bed: 3 Sauter diameters `d32` and 2 largest diameters
+/// `d_max` (BENCHMARKS.md, "How large a slab": equal spheres 1.3 % at
+/// 3 `d32`; lognormal gsd 1.6, `d_max` = 2.4 `d32`, 4 % at 2 `d_max`).
+pub const SLAB_MIN_Z: [Real; 2] = [3.0, 2.0];
+
+/// The same for the side axes (x, y): 10 `d32` and 3 `d_max`. Along a
+/// side axis the flow runs inside the slab and loses the half pores at its
+/// two faces, about `0.5 d32 / thickness` of `k` (equal spheres: 13 % at
+/// 4 `d32`, 6 % at 8, 3 % at 12), so the anisotropy is reported from here on.
+pub const SLAB_MIN_SIDE: [Real; 2] = [10.0, 3.0];
+
+/// The narrowest box side whose `k` is within the seed-to-seed spread
+/// (3 %) of a wide box's: 4 `d32` and 2 `d_max`.
+pub const SLAB_MIN_WIDTH: [Real; 2] = [4.0, 2.0];
+
+/// Holds the permeability of `space` against the size of its slab
+/// (`slab`, in a box `size`, a bed of Sauter diameter `d32` and largest
+/// diameter `d_max`): below [`SLAB_MIN_Z`], [`SLAB_MIN_SIDE`] or
+/// [`SLAB_MIN_WIDTH`] its `k` is not within a few percent of the bed's.
+/// Returns the warning, and notes it under `permeability.note`; a `k` of 0
+/// there (no pore path inside a slab thinner than its pores) and the
+/// anisotropy become null, and the anisotropy gets its uncertainty where it
+/// is given.
+pub fn check_slab<const D: usize>(
+    space: &mut PoreSpace,
+    size: &crate::math::Vector<D>,
+    slab: (Real, Real),
+    d32: Real,
+    d_max: Real,
+) -> Option<String> {
+    let k = space.permeability.as_mut()?;
+    if !(d32 > 0.0 && d_max > 0.0) {
+        return None;
+    }
+    let least = |rule: [Real; 2]| (rule[0] * d32).max(rule[1] * d_max);
+    let thickness = slab.1 - slab.0;
+    let width = (0..D - 1).map(|a| size[a]).fold(Real::INFINITY, Real::min);
+    let (thick, wide) = (thickness / d32, width / d32);
+    let has_side = k.axes.iter().any(|a| a.axis != "z");
+    let has_z = k.axes.iter().any(|a| a.axis == "z");
+    let narrow = width < least(SLAB_MIN_WIDTH);
+    let thin_z = has_z && thickness < least(SLAB_MIN_Z);
+    let thin_side = has_side && thickness < least(SLAB_MIN_SIDE);
+    let mut notes = Vec::new();
+    if thin_side || narrow {
+        if let Some(a) = k.anisotropy.take() {
+            notes.push(format!(
+                "anisotropy {a:.3} not converged: the side axes' k is low by about {:.0} % in a \
+                 slab {thick:.2} d32 thick",
+                50.0 / thick
+            ));
+        }
+    } else if let (Some(a), Some(x), Some(y)) = (k.anisotropy, k.k_x, k.k_y) {
+        // The spread of the two side axes, the sampling error of one axis'
+        // k, and the thin slab's bias on the side axes (0.5 d32 / thickness).
+        let spread = (x - y).abs() / (x + y);
+        let bias = 0.5 / thick;
+        k.anisotropy_uncertainty = Some(a * (3.0 * spread * spread + bias * bias).sqrt());
+    }
+    if thin_z || thin_side || narrow {
+        for axis in &mut k.axes {
+            let thin = if axis.axis == "z" { thin_z } else { thin_side };
+            let short = thin || narrow;
+            if short && axis.k == Some(0.0) {
+                axis.k = None;
+                notes.push(format!(
+                    "k_{} null: no pore path crosses a slab this thin along {}, 0 would not be the \
+                     bed's",
+                    axis.axis, axis.axis
+                ));
+            }
+        }
+        let get = |name: &str| k.axes.iter().find(|a| a.axis == name).and_then(|a| a.k);
+        let kept = (get("x"), get("y"), get("z"));
+        if kept != (k.k_x, k.k_y, k.k_z) {
+            // The mean of the axes lost one of them.
+            (k.k_x, k.k_y, k.k_z) = kept;
+            k.k_over_d32_squared = None;
+            k.k_over_kozeny_carman = None;
+            k.anisotropy = None;
+        }
+    }
+    let warning = (thin_z || thin_side || narrow).then(|| {
+        let need = if has_side {
+            least(SLAB_MIN_SIDE)
+        } else {
+            least(SLAB_MIN_Z)
+        };
+        let show = crate::math::display_length;
+        let mut would_do = Vec::new();
+        if thickness < need {
+            would_do.push(format!(
+                "a slab at least {} thick ({:.1} d32; a box {} taller)",
+                show(need),
+                need / d32,
+                show(need - thickness)
+            ));
+        }
+        if narrow {
+            would_do.push(format!(
+                "a box at least {} wide",
+                show(least(SLAB_MIN_WIDTH))
+            ));
+        }
+        format!(
+            "permeability: the flow slab is {thick:.2} d32 thick in a box {wide:.1} d32 wide \
+             ({} and {}), too small for k within a few percent of the bed's (BENCHMARKS.md, \
+             \"How large a slab\"): {} would do",
+            show(thickness),
+            show(width),
+            would_do.join(" and ")
+        )
+    });
+    if let Some(w) = &warning {
+        notes.insert(0, w.trim_start_matches("permeability: ").to_string());
+    }
+    if !notes.is_empty() {
+        let joined = notes.join("; ");
+        k.note = Some(match k.note.take() {
+            Some(n) => format!("{n}; {joined}"),
+            None => joined,
+        });
+    }
+    warning
 }
 
 /// Percentiles by number and by weight of `(size, weight)` pairs.

@@ -35,6 +35,18 @@ pub fn read_bed(path: &Path, box_hint: Option<&BoxHint>) -> Result<AnyBed> {
 /// [`read_bed`], also telling where the box came from. A given `box_hint` wins
 /// over a box in the file (or in the `summary.json` beside it).
 pub fn read_bed_report(path: &Path, box_hint: Option<&BoxHint>) -> Result<(AnyBed, ReadReport)> {
+    read_bed_for(path, box_hint, &crate::config::Measure::DEFAULT)
+}
+
+/// [`read_bed_report`] of a bed to be analysed with `measures`: a bed this
+/// machine could not analyse with them is refused once its particles are
+/// counted, quoting the estimate for those measures (the pore space's
+/// included when they ask for it).
+pub fn read_bed_for(
+    path: &Path,
+    box_hint: Option<&BoxHint>,
+    measures: &[crate::config::Measure],
+) -> Result<(AnyBed, ReadReport)> {
     let text = crate::input::read_text(path)?;
     let r = Reader { path };
     let first = text
@@ -65,6 +77,6 @@ pub fn read_bed_report(path: &Path, box_hint: Option<&BoxHint>) -> Result<(AnyBe
         r.table(&text, box_hint)?
     };
     drop(text);
-    crate::config::check_particles(raw.pos.len(), &path.display().to_string())?;
+    crate::config::check_analysis(raw.pos.len(), 3, measures, 1.0, &path.display().to_string())?;
     r.finish(raw, box_hint)
 }
