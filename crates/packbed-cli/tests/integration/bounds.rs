@@ -535,6 +535,8 @@ fn a_run_whose_fragmentation_does_not_fit_keeps_its_bed() {
             );
         }
     }
+}
+
 #[test]
 fn the_memory_refusal_of_the_pore_measures_quotes_their_estimate() {
     // 400,000 spheres under 512 MiB of address space: too many even for the
