@@ -306,14 +306,15 @@ fn measures_text_with(a: &Summary, names: &[String], bulk_hint: Option<&str>) ->
         names
             .get(i)
             .filter(|n| !n.is_empty())
+            .map(String::as_str)
             .or_else(|| {
                 a.coordination
                     .iter()
                     .flat_map(|k| &k.by_species)
                     .find(|s| s.species as usize == i && !s.name.is_empty())
-                    .map(|s| &s.name)
+                    .map(|s| s.name.as_str())
             })
-            .map_or_else(|| format!("species {i}"), |n| echo(n))
+            .map_or_else(|| format!("species {i}"), echo)
     };
     let mut t = String::new();
     if let Some(c) = &a.cake {
