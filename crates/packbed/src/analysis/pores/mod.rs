@@ -471,7 +471,7 @@ fn summary<const D: usize>(net: &Network<D>, in_slab: &[bool], slab: (Real, Real
         slab: [slab.0, slab.1],
         body_radius: distribution(body),
         body_radius_undefined,
-        d_c35: (!flat && constriction_dist.count > 0).then(|| 2.0 * constriction_dist.p35),
+        d_c35: (!flat && constriction_dist.count > 0).then_some(2.0 * constriction_dist.p35),
         constriction_radius: constriction_dist,
         network_porosity: (!flat).then(|| void / volume),
         network_pores: net.pores.len() as u64,
