@@ -96,7 +96,7 @@ fn analyse<const D: usize>(
     };
     let mut summary = RunSummary::new(config, bed, deposit, &analysis, timing);
     summary.fragmentation = fragmentation;
-    summary.warnings = warnings;
+    summary.warnings.extend(warnings);
     Ok((contacts, summary))
 }
 

@@ -13,4 +13,5 @@ mod fragment;
 mod front_door;
 mod python;
 mod render;
+mod sizes;
 mod slurm;
