@@ -17,4 +17,5 @@ mod output_dir;
 mod pores;
 mod python;
 mod render;
+mod sizes;
 mod slurm;

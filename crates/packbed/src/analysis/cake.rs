@@ -66,6 +66,9 @@ pub struct CakeSummary {
     /// The bed's length unit (`m`, `mm`, `um`, `nm`) when one was given.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub length_unit: Option<&'static str>,
+    /// Metres per length unit (`length_unit`).
+    #[serde(skip)]
+    pub metres_per_unit: Option<Real>,
     /// What the numbers mean where they differ from a filter cake's (2D).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub note: Option<&'static str>,
@@ -152,6 +155,7 @@ pub fn cake<const D: usize>(
         whole,
         solid_density_used: options.solid_density,
         length_unit: unit.and_then(unit_name),
+        metres_per_unit: unit,
         note: (D == 2).then_some(
             "2D: areas and perimeters per unit depth; no Kozeny-Carman permeability (a relation for 3D beds)",
         ),
@@ -176,6 +180,104 @@ impl CakeSummary {
         };
         self.specific_resistance = specific_resistance(k_z * m2_per_unit, rho, porosity);
         self.specific_resistance_from = self.specific_resistance.map(|_| "network");
+    }
+}
+
+/// The physical ranges of a filter cake's figures, outside which a figure is
+/// far more likely a wrong unit than a cake (`CakeSummary::implausible`).
+///
+/// - Sizes: cake filtration handles particles from about 0.1 µm (colloids,
+///   which blind a filter cloth) to about 10 mm (coarse sands and gravels);
+///   the span the particle-size charts of filtration texts give (e.g. Wakeman
+///   & Tarleton, *Solid/Liquid Separation: Principles of Industrial
+///   Filtration*, Elsevier 2005; Svarovsky, *Solid-Liquid Separation*, 4th ed.,
+///   2000).
+/// - Porosity: random packings of equal spheres lie between about 0.36
+///   (close; Scott & Kilgour 1969) and 0.45 (loose); wide size distributions
+///   go lower, loose or elongated particles higher; outside 0.15–0.95 a bulk
+///   is no cake.
+/// - Permeability and specific resistance: what Kozeny–Carman gives at the
+///   ends of the size range for porosities 0.3–0.6 and solid densities
+///   1,000–5,000 kg/m³, rounded outward: k from 3e-18 m² (0.1 µm, ε 0.3) to
+///   7.5e-7 m² (10 mm, ε 0.6), α from 3e3 m/kg (10 mm, ε 0.6, 1,000 kg/m³) to
+///   1e14 m/kg (0.1 µm, ε 0.3, 5,000 kg/m³), α's top widened to the 1e16 m/kg
+///   of compressible colloidal cakes. A coarse sand's α of 3e7 m/kg is
+///   within them: a floor of 1e8 would call it implausible.
+pub const PLAUSIBLE: Plausible = Plausible {
+    diameter_m: (1e-7, 1e-2),
+    porosity: (0.15, 0.95),
+    k_m2: (1e-18, 1e-6),
+    alpha_m_per_kg: (1e3, 1e16),
+};
+
+/// Ranges of [`PLAUSIBLE`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plausible {
+    /// Particle (Sauter) diameter, m.
+    pub diameter_m: (Real, Real),
+    /// Bulk porosity.
+    pub porosity: (Real, Real),
+    /// Permeability, m².
+    pub k_m2: (Real, Real),
+    /// Specific cake resistance, m/kg.
+    pub alpha_m_per_kg: (Real, Real),
+}
+
+impl CakeSummary {
+    /// A warning for each figure outside [`PLAUSIBLE`], for a bed with a
+    /// length unit (3D: a filter cake; without a unit the figures have no
+    /// physical scale to check).
+    pub fn implausible(&self) -> Vec<String> {
+        let Some(m) = self.metres_per_unit.filter(|_| self.note.is_none()) else {
+            return Vec::new();
+        };
+        let unit = self.length_unit.unwrap_or("units");
+        let r = PLAUSIBLE;
+        let mut out = Vec::new();
+        let mut check = |what: String, x: Real, (lo, hi): (Real, Real), si: &str, why: &str| {
+            if x.is_finite() && !(lo..=hi).contains(&x) {
+                out.push(format!(
+                    "cake: {what} {x:.3e}{si} lies outside {lo:e}..{hi:e}{si}, the range of \
+                     filter cakes; {why}"
+                ));
+            }
+        };
+        let unit_hint = format!(
+            "are the bed's lengths really in {unit} (`length_unit`, and the unit of a size \
+             table's header)?"
+        );
+        let d32 = self.d32.unwrap_or(self.whole.d32);
+        if d32 > 0.0 {
+            check(
+                format!("d32 ({} {unit})", crate::math::display_length(d32)),
+                d32 * m,
+                r.diameter_m,
+                " m",
+                &unit_hint,
+            );
+        }
+        if let Some(p) = self.porosity {
+            check(
+                "bulk porosity".into(),
+                p,
+                r.porosity,
+                "",
+                "is the bulk region a cake (box, roof)?",
+            );
+        }
+        if let Some(k) = self.k_kozeny_carman_m2 {
+            check("k (Kozeny-Carman)".into(), k, r.k_m2, " m²", &unit_hint);
+        }
+        if let Some(a) = self.specific_resistance {
+            check(
+                "specific resistance".into(),
+                a,
+                r.alpha_m_per_kg,
+                " m/kg",
+                "check length_unit and solid_density (kg/m³)",
+            );
+        }
+        out
     }
 }
 

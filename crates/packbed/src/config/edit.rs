@@ -248,9 +248,11 @@ impl Config {
                 if let SizeEdit::Table(t) = e {
                     s.radius = None;
                     let within = s.size.as_ref().and_then(|z| z.within.clone());
+                    let pan_min = s.size.as_ref().and_then(|z| z.pan_min);
                     s.size = Some(super::SizeConfig {
                         table: Some(t.clone()),
                         within,
+                        pan_min,
                         ..Default::default()
                     });
                     return Ok(());

@@ -493,11 +493,13 @@ pub const MAX_CONTACT_TOL: Real = 1.0;
 
 /// Why the contact tolerance `tol` (named `what`) is refused, if it is.
 pub fn contact_tol_problem(tol: Real, what: &str) -> Option<String> {
+    // Shortest form: `1e300` is echoed as typed, not as 301 digits.
+    let shown = crate::math::display_length(tol);
     if !(tol.is_finite() && tol >= 0.0) {
-        Some(format!("{what} must be a non-negative number, got {tol}"))
+        Some(format!("{what} must be a non-negative number, got {shown}"))
     } else if tol > MAX_CONTACT_TOL {
         Some(format!(
-            "{what} is {tol}, but at most {MAX_CONTACT_TOL}: it is a gap relative to the \
+            "{what} is {shown}, but at most {MAX_CONTACT_TOL}: it is a gap relative to the \
              smaller radius, and a larger gap no longer means touching"
         ))
     } else {

@@ -6,7 +6,7 @@ use super::*;
 use crate::container::Container;
 use crate::error::{Error, Result};
 use crate::math::{Real, Vector};
-use crate::species::{EntryOrientation, Shape, SizeDist, SizeTable, Species, Within};
+use crate::species::{EntryOrientation, Shape, SizeDist, SizeTable, Species, TableOptions, Within};
 
 /// When deposition stops.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,9 +94,20 @@ fn own_overlaps(beads: u32, spacing: Real) -> u64 {
     (reach.min(u64::MAX as Real) as u64).min(beads.saturating_sub(1) as u64)
 }
 
+/// Longest species name, in bytes: a name labels tables, plots and the
+/// screen, and a longer one is a mistake (a file pasted into the config).
+pub const MAX_NAME_BYTES: usize = 256;
+
 impl SpeciesConfig {
     fn resolve(&self, index: usize, metres_per_unit: Option<Real>) -> Result<Species> {
         let at = format!("species[{index}]");
+        if let Some(name) = self.name.as_deref().filter(|n| n.len() > MAX_NAME_BYTES) {
+            return Err(Error::config(format!(
+                "{at}.name is {} bytes long, at most {MAX_NAME_BYTES}: `{}`",
+                name.len(),
+                crate::error::echo(name)
+            )));
+        }
         let size = match (&self.radius, &self.size) {
             (Some(_), Some(_)) => {
                 return Err(Error::config(format!(
@@ -217,11 +228,20 @@ impl SizeConfig {
                     )))
                 }
             };
-            return SizeTable::read(t, within, metres_per_unit).map(SizeDist::Table);
+            let options = TableOptions {
+                within,
+                pan_min: self.pan_min,
+            };
+            return SizeTable::read_with(t, &options, metres_per_unit).map(SizeDist::Table);
         }
         if self.within.is_some() {
             return Err(Error::config(format!(
                 "{at}.size.within applies to a `table`'s classes only"
+            )));
+        }
+        if self.pan_min.is_some() {
+            return Err(Error::config(format!(
+                "{at}.size.pan_min applies to a sieve `table` only"
             )));
         }
         let dist = self.dist.as_deref().ok_or_else(|| {

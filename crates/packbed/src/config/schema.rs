@@ -196,6 +196,10 @@ pub struct SizeConfig {
     /// `uniform`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub within: Option<String>,
+    /// A sieve table's smallest size in the pan, in the table's size unit
+    /// (default: half the finest aperture).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pan_min: Option<Real>,
 }
 
 /// `[sweep]`: the parameter to vary and its values.

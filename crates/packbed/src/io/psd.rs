@@ -30,17 +30,19 @@ mod tests {
             d90: 3.0,
             span: 1.0,
         };
+        let table = vec![PsdRow {
+            radius: 0.5,
+            diameter: 1.0,
+            requested_mass_percent_passing: 10.0,
+            placed_mass_percent_passing: 12.5,
+            requested_number_percent_passing: 50.0,
+            placed_number_percent_passing: 60.0,
+        }];
         let psd = PsdSummary {
             requested: stats,
             placed: stats,
-            table: vec![PsdRow {
-                radius: 0.5,
-                diameter: 1.0,
-                requested_mass_percent_passing: 10.0,
-                placed_mass_percent_passing: 12.5,
-                requested_number_percent_passing: 50.0,
-                placed_number_percent_passing: 60.0,
-            }],
+            departure: crate::analysis::psd::departure(&table, 10),
+            table,
         };
         let mut buf = Vec::new();
         write_psd(&mut buf, &psd).unwrap();

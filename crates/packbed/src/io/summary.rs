@@ -190,9 +190,14 @@ impl RunSummary {
         analysis: &Summary,
         timing: Timing,
     ) -> RunSummary {
+        let psd = crate::analysis::psd::size_distribution(bed);
+        let mut warnings = analysis.warnings.clone();
+        warnings.extend(psd.iter().filter_map(|p| p.departure.warning()));
+        warnings.extend(unitless_tables(bed, config.analysis.length_unit));
+        warnings.extend(analysis.cake.iter().flat_map(|c| c.implausible()));
         RunSummary {
             packbed_version: env!("CARGO_PKG_VERSION"),
-            warnings: analysis.warnings.clone(),
+            warnings,
             dim: D as u8,
             seed: config.seed,
             mode: config.mode,
@@ -206,7 +211,7 @@ impl RunSummary {
                 roof_overflows: report.roof_overflows,
             },
             analysis: analysis.clone(),
-            psd: crate::analysis::psd::size_distribution(bed),
+            psd,
             fragmentation: None,
             timing,
             species: species_summaries(bed),
@@ -219,6 +224,33 @@ impl RunSummary {
     pub fn to_json(&self) -> Result<String> {
         json_text(self, "the run's results")
     }
+}
+
+/// A warning for each size table of `bed`'s species that names no unit in a
+/// bed with a length unit: its sizes are read in the bed's unit, and a table
+/// in mm read as µm builds a cake a thousand times too fine without an
+/// implausible figure (a 0.2 µm powder is a possible cake).
+fn unitless_tables<const D: usize>(
+    bed: &Bed<D>,
+    unit: Option<crate::config::LengthUnit>,
+) -> Vec<String> {
+    let Some(unit) = unit.map(|u| u.name()) else {
+        return Vec::new();
+    };
+    bed.species_info
+        .iter()
+        .filter_map(|s| match &s.size {
+            crate::species::SizeDist::Table(t) if t.unit.is_none() => Some(format!(
+                "species `{}`: the header of {} names no unit, so its sizes are read in the \
+                 bed's length_unit, {unit}; name the unit in the header (e.g. `{}_{unit}`) to \
+                 be sure",
+                crate::error::echo(&s.name),
+                crate::error::echo(&t.source.file_name().unwrap_or_default().to_string_lossy()),
+                t.size_word
+            )),
+            _ => None,
+        })
+        .collect()
 }
 
 /// `summary.json` of `packbed analyze`: the keys of a run's summary that a bed
@@ -323,7 +355,12 @@ impl AnalyzeSummary {
     ) -> AnalyzeSummary {
         AnalyzeSummary {
             packbed_version: env!("CARGO_PKG_VERSION"),
-            warnings: analysis.warnings.clone(),
+            warnings: analysis
+                .warnings
+                .iter()
+                .cloned()
+                .chain(analysis.cake.iter().flat_map(|c| c.implausible()))
+                .collect(),
             source: source.to_string(),
             dim: D as u8,
             container: BoxSummary::of(bed, Some(read.box_source.name())),

@@ -3,14 +3,20 @@
 //! two-column file of numbers can mean diameters or radii, number or mass
 //! fractions: read the wrong way, it builds a wrong bed without a word.
 //!
-//! Three layouts, each with `radius` or `diameter` sizes (optionally with a
+//! Four layouts, each with `radius` or `diameter` sizes (optionally with a
 //! unit, `diameter_um`) and `number`, `volume` or `mass` weights (equal
 //! density: mass = volume):
 //! - discrete sizes: `diameter_um,mass_percent`;
 //! - classes given by their edges, as sieves retain them:
 //!   `diameter_min_um,diameter_max_um,mass_percent`;
 //! - a cumulative curve: `diameter_um,percent_passing` (mass unless the column
-//!   says `number_percent_passing`).
+//!   says `number_percent_passing`);
+//! - a sieve analysis as a lab writes it, the mass retained on each sieve:
+//!   `sieve_mm,retained_percent`, a row `pan` for what passed the finest
+//!   sieve. What a sieve retains lies between its aperture and the next larger
+//!   one; the largest sieve must retain nothing (what it held would have no
+//!   upper size); the pan's lower edge is [`TableOptions::pan_min`], by
+//!   default half the finest aperture.
 //!
 //! Sizes within a class (and between two points of a curve) are drawn
 //! log-uniformly unless the config says `within = "uniform"`: sieve classes
@@ -26,8 +32,21 @@ use std::path::{Path, PathBuf};
 pub const ACCEPTED_HEADERS: &str =
     "`diameter,mass_percent` (sizes; `radius` for radii; weights `number`, `volume` or `mass`), \
 `diameter_min,diameter_max,mass_percent` (classes by their edges, as sieves give them), \
-`diameter,percent_passing` (a cumulative mass curve; `number_percent_passing` by number); \
+`diameter,percent_passing` (a cumulative mass curve; `number_percent_passing` by number), \
+`sieve,retained_percent` (mass retained on each sieve, a row `pan` for the pan); \
 a size column may name its unit: `diameter_um` (m, mm, um, nm)";
+
+/// How a table is read, beyond what its header says.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct TableOptions {
+    /// How sizes spread within a class.
+    pub within: Within,
+    /// The smallest size in the pan of a sieve table, in the table's size unit
+    /// (`None`: half the finest aperture, one octave below it: the pan's
+    /// fines have a size a log-uniform draw can start from, and a pan of a
+    /// few percent moves the mass curve little whichever edge is chosen).
+    pub pan_min: Option<Real>,
+}
 
 /// How sizes spread within a class of a table.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -80,6 +99,8 @@ pub enum Layout {
     Classes,
     /// A cumulative curve: the share finer than each size.
     Passing,
+    /// Sieve apertures with the share retained on each (and a pan).
+    Retained,
 }
 
 /// One class of radii `[lo, hi]` (`lo == hi`: a single size).
@@ -119,6 +140,8 @@ pub struct SizeTable {
 enum Column {
     Size {
         diameter: bool,
+        /// Named as sieve apertures (`sieve`, `aperture`).
+        sieve: bool,
         bound: Option<Bound>,
         unit: Option<(&'static str, Real)>,
     },
@@ -126,6 +149,7 @@ enum Column {
         basis: Option<Basis>,
         fraction: bool,
         passing: bool,
+        retained: bool,
     },
 }
 
@@ -164,10 +188,17 @@ fn column(field: &str) -> std::result::Result<Column, Option<String>> {
     let mut fraction = false;
     let mut percent = false;
     let mut passing = false;
+    let mut retained = false;
+    let mut sieve = false;
     for t in &tokens {
         match *t {
             "radius" | "radii" => size = Some(false),
             "diameter" | "diameters" => size = Some(true),
+            "sieve" | "sieves" | "aperture" | "apertures" => {
+                size = Some(true);
+                sieve = true;
+            }
+            "retained" | "oversize" => retained = true,
             "min" | "lower" | "from" => bound = Some(Bound::Min),
             "max" | "upper" | "to" => bound = Some(Bound::Max),
             "number" | "count" => basis = Some(Basis::Number),
@@ -188,10 +219,18 @@ fn column(field: &str) -> std::result::Result<Column, Option<String>> {
             },
         }
     }
-    let weighty = basis.is_some() || fraction || percent || passing;
+    if passing && retained {
+        return Err(Some(format!(
+            "`{field}` says both passing and retained: give the cumulative curve as \
+             `percent_passing` (100 minus the cumulative percent retained), or the \
+             `retained_percent` on each sieve"
+        )));
+    }
+    let weighty = basis.is_some() || fraction || percent || passing || retained;
     match size {
         Some(diameter) if !weighty => Ok(Column::Size {
             diameter,
+            sieve,
             bound,
             unit: unit_of,
         }),
@@ -199,6 +238,7 @@ fn column(field: &str) -> std::result::Result<Column, Option<String>> {
             basis,
             fraction: fraction && !percent,
             passing,
+            retained,
         }),
         _ => Err(None),
     }
@@ -220,15 +260,18 @@ fn header(fields: &[&str]) -> std::result::Result<Header, Option<String>> {
         .iter()
         .map(|f| column(f))
         .collect::<std::result::Result<Vec<_>, _>>()?;
-    let weight = |c: &Column, passing_wanted: bool| match *c {
+    // The weight column of a layout: plain weights, `passing` or `retained`.
+    let weight = |c: &Column, passing_wanted: bool, retained_wanted: bool| match *c {
         Column::Weight {
             basis,
             fraction,
             passing,
-        } if passing == passing_wanted => {
-            // A passing curve is by mass unless it says otherwise: sieve
-            // analyses and laser diffraction both report mass (volume).
-            let basis = match (basis, passing) {
+            retained,
+        } if passing == passing_wanted && retained == retained_wanted => {
+            // A passing curve or a sieve residue is by mass unless it says
+            // otherwise: sieve analyses and laser diffraction both report
+            // mass (volume).
+            let basis = match (basis, passing || retained) {
                 (Some(b), _) => Some(b),
                 (None, true) => Some(Basis::Mass),
                 (None, false) => None,
@@ -240,10 +283,35 @@ fn header(fields: &[&str]) -> std::result::Result<Header, Option<String>> {
     match cols.as_slice() {
         [Column::Size {
             diameter,
+            sieve,
             bound: None,
             unit,
         }, w] => {
-            if let Some((basis, fraction)) = weight(w, false) {
+            if let Some((basis, fraction)) = weight(w, false, true) {
+                if !*diameter {
+                    return Err(Some(
+                        "what a sieve retains is given by its aperture: name the size \
+                         column `sieve` (e.g. `sieve_mm`), not a radius"
+                            .into(),
+                    ));
+                }
+                return Ok(Header {
+                    layout: Layout::Retained,
+                    diameter: true,
+                    unit: *unit,
+                    basis,
+                    fraction,
+                    min_max: (0, 0),
+                });
+            }
+            if *sieve && weight(w, true, false).is_none() {
+                return Err(Some(
+                    "sieve apertures with plain weights: say whether they are the share \
+                     `retained_percent` on each sieve or the `percent_passing` it"
+                        .into(),
+                ));
+            }
+            if let Some((basis, fraction)) = weight(w, false, false) {
                 return Ok(Header {
                     layout: Layout::Sizes,
                     diameter: *diameter,
@@ -253,7 +321,7 @@ fn header(fields: &[&str]) -> std::result::Result<Header, Option<String>> {
                     min_max: (0, 0),
                 });
             }
-            if let Some((basis, fraction)) = weight(w, true) {
+            if let Some((basis, fraction)) = weight(w, true, false) {
                 return Ok(Header {
                     layout: Layout::Passing,
                     diameter: *diameter,
@@ -269,14 +337,16 @@ fn header(fields: &[&str]) -> std::result::Result<Header, Option<String>> {
             diameter: d0,
             bound: Some(b0),
             unit: u0,
+            ..
         }, Column::Size {
             diameter: d1,
             bound: Some(b1),
             unit: u1,
+            ..
         }, w]
             if d0 == d1 && u0 == u1 && b0 != b1 =>
         {
-            let (basis, fraction) = weight(w, false).ok_or(None)?;
+            let (basis, fraction) = weight(w, false, false).ok_or(None)?;
             Ok(Header {
                 layout: Layout::Classes,
                 diameter: *d0,
@@ -348,6 +418,20 @@ impl SizeTable {
     /// (`[analysis] length_unit`): sizes in a unit the file names are
     /// converted to it, and a file that names a unit needs one.
     pub fn read(path: &Path, within: Within, metres_per_unit: Option<Real>) -> Result<SizeTable> {
+        let options = TableOptions {
+            within,
+            pan_min: None,
+        };
+        SizeTable::read_with(path, &options, metres_per_unit)
+    }
+
+    /// [`SizeTable::read`] with every option of [`TableOptions`].
+    pub fn read_with(
+        path: &Path,
+        options: &TableOptions,
+        metres_per_unit: Option<Real>,
+    ) -> Result<SizeTable> {
+        let within = options.within;
         let text = crate::input::read_text(path)?;
         let err = |line: usize, message: String| Error::Data {
             path: path.to_path_buf(),
@@ -409,7 +493,12 @@ impl SizeTable {
                 ));
             }
             let mut v = Vec::with_capacity(f.len());
-            for x in f {
+            for (k, x) in f.into_iter().enumerate() {
+                // The pan of a sieve table: its size is the option's (0 here).
+                if h.layout == Layout::Retained && k == 0 && x.eq_ignore_ascii_case("pan") {
+                    v.push(0.0);
+                    continue;
+                }
                 match x.parse::<Real>() {
                     Ok(x) if x.is_finite() => v.push(x),
                     _ => return Err(err(line, format!("not a number: `{x}` in `{l}`"))),
@@ -511,6 +600,72 @@ impl SizeTable {
                             ),
                         ));
                     }
+                }
+            }
+            Layout::Retained => {
+                // Sieves by aperture, the pan (aperture 0) first.
+                let mut sieves: Vec<(usize, Real, Real)> = Vec::with_capacity(data.len());
+                for (line, v) in &data {
+                    let a = if v[0] == 0.0 {
+                        0.0
+                    } else {
+                        positive_size(*line, v[0])?
+                    };
+                    sieves.push((*line, a, weight(*line, v[1])?));
+                }
+                sieves.sort_by(|a, b| a.1.total_cmp(&b.1));
+                for w in sieves.windows(2) {
+                    if w[0].1 == w[1].1 {
+                        let what = if w[1].1 == 0.0 { "the pan" } else { "a sieve" };
+                        return Err(err(
+                            w[1].0.max(w[0].0),
+                            format!("{what} appears twice (also on line {})", w[1].0.min(w[0].0)),
+                        ));
+                    }
+                }
+                let (pan, sieves) = match sieves.first() {
+                    Some(&(line, a, w)) if a == 0.0 => (Some((line, w)), &sieves[1..]),
+                    _ => (None, &sieves[..]),
+                };
+                let Some(&(top_line, top, top_weight)) = sieves.last() else {
+                    return Err(err(
+                        last_line,
+                        "a sieve table needs at least one sieve".into(),
+                    ));
+                };
+                if top_weight > 0.0 {
+                    return Err(err(
+                        top_line,
+                        format!(
+                            "the largest sieve, {}, retains {top_weight}: what it holds has no \
+                             upper size; add the next larger sieve, retaining 0",
+                            length(top / scale)
+                        ),
+                    ));
+                }
+                for w in sieves.windows(2) {
+                    classes.push((class(w[0].1, w[1].1), w[0].2));
+                }
+                if let Some((line, w)) = pan {
+                    let finest = sieves[0].1;
+                    let lo = match options.pan_min {
+                        None => 0.5 * finest,
+                        Some(p) => match positive_size(line, p)? {
+                            lo if lo < finest => lo,
+                            _ => {
+                                return Err(err(
+                                    line,
+                                    format!(
+                                        "the pan's smallest size (pan_min {}) must lie below \
+                                         the finest sieve, {}",
+                                        length(p),
+                                        length(finest / scale)
+                                    ),
+                                ))
+                            }
+                        },
+                    };
+                    classes.push((class(lo, finest), w));
                 }
             }
         }
@@ -702,6 +857,7 @@ impl SizeTable {
             Layout::Sizes => format!("{n} sizes by {}", self.basis.name()),
             Layout::Classes => format!("{n} classes by {}", self.basis.name()),
             Layout::Passing => format!("a cumulative {} curve", self.basis.name()),
+            Layout::Retained => format!("{n} classes by {} retained on sieves", self.basis.name()),
         };
         let unit = self.unit.map_or(String::new(), |u| format!(" in {u}"));
         let within = match self.layout {
@@ -893,6 +1049,112 @@ mod tests {
         }
         let uniform = SizeTable::read(&curve.source, Within::Uniform, Some(1e-6));
         assert!(uniform.is_err(), "the file is gone with its directory");
+    }
+
+    /// The mass-median diameter of a table read in mm.
+    fn d_mass(t: &SizeTable, q: Real) -> Real {
+        let (lo, hi) = t.bounds();
+        2.0 * crate::species::passing_quantile(lo, hi, q, |x| t.volume_passing(x))
+    }
+
+    #[test]
+    fn a_lab_sieve_table_is_the_mass_retained_between_apertures() {
+        // 30 % stays on the 0.25 mm sieve (it passed 0.5 mm), 50 % on 0.125 mm,
+        // 20 % in the pan. By hand: 20 % passes 0.125 mm and 70 % passes
+        // 0.25 mm; d50 lies 0.6 of the way through the 0.125–0.25 class by
+        // mass, and log-uniform by number puts mass ∝ d² dd in a class:
+        // d50³ = 0.125³ + 0.6 (0.25³ − 0.125³), d50 = 0.216560 mm.
+        let text = "Sieve (mm);Retained %\n0.5;0\n0.25;30\n0.125;50\npan;20\n";
+        let t = table(text, Some(1e-3)).unwrap();
+        assert_eq!(t.layout, Layout::Retained);
+        assert_eq!(t.basis, Basis::Mass);
+        assert!((d_mass(&t, 0.5) - 0.216_559_776_335_225_7).abs() < 1e-9);
+        assert!((t.volume_passing(0.125 / 2.0) - 0.2).abs() < 1e-12);
+        assert!((t.volume_passing(0.25 / 2.0) - 0.7).abs() < 1e-12);
+        // The pan by default from half the finest aperture: d10 by hand is
+        // (0.0625³ + 0.5 (0.125³ − 0.0625³))^⅓ = 0.103185 mm.
+        assert_eq!(t.bounds().0, 0.0625 / 2.0);
+        assert!((d_mass(&t, 0.1) - 0.103_185_226_527_957_1).abs() < 1e-9);
+        // Or from the size the config states, in the table's unit.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("sieve.csv");
+        std::fs::write(&path, text).unwrap();
+        let options = TableOptions {
+            within: Within::LogUniform,
+            pan_min: Some(0.1),
+        };
+        let t = SizeTable::read_with(&path, &options, Some(1e-3)).unwrap();
+        assert!((d_mass(&t, 0.1) - 0.113_872_086_445_337_4).abs() < 1e-9);
+        // The same apertures read as discrete sizes, as before a sieve
+        // layout existed: the d50 falls to the 0.25 mm size itself.
+        let sizes = table(
+            "diameter_mm,mass_percent\n0.25,30\n0.125,50\n0.0625,20\n",
+            Some(1e-3),
+        );
+        assert!((d_mass(&sizes.unwrap(), 0.5) - 0.216_56).abs() > 0.03);
+        // A table with no pan holds nothing finer than its finest sieve.
+        let t = table(
+            "sieve_um,retained_percent\n90,0\n63,40\n45,60\n",
+            Some(1e-6),
+        )
+        .unwrap();
+        assert_eq!(t.bounds(), (22.5, 45.0));
+    }
+
+    #[test]
+    fn sieve_tables_that_do_not_say_what_they_hold_are_refused() {
+        // The largest sieve holds something: no upper size.
+        let e = refusal("sieve_mm,retained_percent\n0.5,5\n0.25,95\n", Some(1e-3));
+        assert!(
+            e.contains("psd.csv:2:") && e.contains("largest sieve, 0.5"),
+            "{e}"
+        );
+        // Apertures with plain weights: retained or passing?
+        let e = refusal("sieve_mm,mass_percent\n0.5,0\n0.25,100\n", Some(1e-3));
+        assert!(
+            e.contains("psd.csv:1:") && e.contains("retained_percent"),
+            "{e}"
+        );
+        // Cumulative retained is not the mass on each sieve.
+        let e = refusal(
+            "sieve_mm,cumulative_percent_retained\n0.5,0\n0.25,100\n",
+            Some(1e-3),
+        );
+        assert!(
+            e.contains("psd.csv:1:") && e.contains("both passing and retained"),
+            "{e}"
+        );
+        let e = refusal("radius_mm,retained_percent\n0.5,0\n0.25,100\n", Some(1e-3));
+        assert!(e.contains("not a radius"), "{e}");
+        let e = refusal(
+            "sieve_mm,retained_percent\n0.5,0\npan,50\n0.25,25\npan,25\n",
+            Some(1e-3),
+        );
+        assert!(
+            e.contains("psd.csv:5:") && e.contains("pan appears twice"),
+            "{e}"
+        );
+        // A pan edge at or above the finest sieve.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("psd.csv");
+        std::fs::write(&path, "sieve_mm,retained_percent\n0.5,0\n0.25,80\npan,20\n").unwrap();
+        let options = TableOptions {
+            within: Within::LogUniform,
+            pan_min: Some(0.3),
+        };
+        let e = SizeTable::read_with(&path, &options, Some(1e-3))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("pan_min 0.3") && e.contains("finest sieve, 0.25"),
+            "{e}"
+        );
+        // Sieve apertures with a passing curve are a cumulative curve.
+        let t = table(
+            "sieve_mm,percent_passing\n0.125,0\n0.25,40\n0.5,100\n",
+            Some(1e-3),
+        );
+        assert_eq!(t.unwrap().layout, Layout::Passing);
     }
 
     #[test]

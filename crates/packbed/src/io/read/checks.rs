@@ -59,7 +59,19 @@ impl Reader<'_> {
             .chain(raw.pos.iter().flatten())
             .fold(0.0, |m: Real, x| m.max(x.abs()));
         if let Some(why) = crate::config::length_scale_problem(r_min, longest) {
-            return Err(self.err(1, format!("radii, box and positions: {why}")));
+            // The line of the particle out of range: its radius is the
+            // shortest length, or its radius or a coordinate the longest (line
+            // 1 when the box is).
+            let (lo, _) = crate::config::LENGTH_RANGE;
+            let culprit = if r_min < lo {
+                raw.radii.iter().position(|&r| r == r_min)
+            } else {
+                (0..raw.radii.len()).find(|&k| {
+                    raw.radii[k].abs() == longest || raw.pos[k].iter().any(|x| x.abs() == longest)
+                })
+            };
+            let line = culprit.map_or(1, |k| raw.lines[k]);
+            return Err(self.err(line, format!("radii, box and positions: {why}")));
         }
         // As `run` refuses a box narrower than its largest particle: such a bed
         // has no packing fraction (a radius of 1e300 overflowed every volume).
