@@ -624,7 +624,7 @@ impl SizeTable {
                     }
                 }
                 let (pan, sieves) = match sieves.first() {
-                    Some(&(line, a, w)) if a == 0.0 => (Some((line, w)), &sieves[1..]),
+                    Some(&(line, 0.0, w)) => (Some((line, w)), &sieves[1..]),
                     _ => (None, &sieves[..]),
                 };
                 let Some(&(top_line, top, top_weight)) = sieves.last() else {
