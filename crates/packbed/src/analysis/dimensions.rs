@@ -45,6 +45,7 @@ pub fn length_power(key: &str, dim: u8) -> Option<i32> {
         | "pores.network_throats"
         | "pores.hidden_particles"
         | "pores.clamped_cells"
+        | "pores.body_radius_undefined"
         | "pores.body_radius.count"
         | "pores.constriction_radius.count" => 0,
         _ if k.starts_with("pores.body_radius.") || k.starts_with("pores.constriction_radius.") => {
@@ -57,6 +58,7 @@ pub fn length_power(key: &str, dim: u8) -> Option<i32> {
         "permeability.k_over_d32_squared"
         | "permeability.k_over_kozeny_carman"
         | "permeability.anisotropy"
+        | "permeability.anisotropy_uncertainty"
         | "permeability.conductance_factor"
         // In the viscosity's own unit, which `length_unit` does not set.
         | "permeability.viscosity"
@@ -79,6 +81,9 @@ pub fn length_power(key: &str, dim: u8) -> Option<i32> {
         "psd.table[].radius" | "psd.table[].diameter" => 1,
         "psd.requested.span" | "psd.placed.span" => 0,
         _ if k.starts_with("psd.table[].") && k.ends_with("_percent_passing") => 0,
+        // How far the placed curve is from the requested, and where.
+        "psd.departure.at_diameter" => 1,
+        _ if k.starts_with("psd.departure.") => 0,
         _ => return None,
     };
     Some(power)

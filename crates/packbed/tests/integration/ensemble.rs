@@ -181,6 +181,9 @@ fn a_replicate_is_the_single_run_of_its_seed() {
         assert_eq!(from_ensemble["seed"], single.seed);
         from_ensemble.as_object_mut().unwrap().remove("timing");
         direct.as_object_mut().unwrap().remove("timing");
+        // A replicate adds only the proof that it belongs to its ensemble.
+        let proof = from_ensemble.as_object_mut().unwrap().remove("proof");
+        assert!(proof.is_some_and(|p| p["config_hash"].is_string()));
         assert_eq!(from_ensemble, direct);
     }
 }

@@ -621,7 +621,7 @@ fn bad_files_are_refused_with_file_and_line() {
         ("", "e.txt", 1, "empty"),
         ("1 1 1 1e-40\n", "tiny.txt", 1, "choose other units"),
         ("1 1 1 1\n5 5 5 6\n", "wide.txt", 2, "larger than the box"),
-        ("1 1 1 1\n5 5 5 1e300\n", "huge.txt", 1, "lengths from 1e0 to 1e300"),
+        ("1 1 1 1\n5 5 5 1e300\n", "huge.txt", 2, "lengths from 1e0 to 1e300"),
         ("x,y,z,r\n1,2,3,1\n1,2,x,1\n", "c.csv", 3, "not a number"),
         ("x,y,z,r\n1,2,3,1\n1,2,3,NaN\n", "n.csv", 3, "not a finite number"),
         ("1 2 3 1\n1 2 3 -1\n", "neg.txt", 2, "must be > 0"),
