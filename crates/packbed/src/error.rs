@@ -163,6 +163,51 @@ fn hidden(c: char) -> bool {
         || matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}' | '\u{feff}' | '\u{fffe}' | '\u{ffff}')
 }
 
+/// A path for a message or the screen: whole, nothing in it acting on the
+/// terminal ([`inert`]).
+pub fn inert_path(p: &std::path::Path) -> String {
+    inert(&p.display().to_string())
+}
+
+/// `text` as XML character data or an attribute value (SVG): `& < > " '` as
+/// entities, and the characters XML 1.0 forbids even as references (controls
+/// other than tab and line breaks) or that act on a terminal written as
+/// visible escapes (`\u{1b}`), as [`echo`] shows them.
+pub fn xml_text(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in inert(text).chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// `text` as one cell of a Markdown table (or a heading's text): `\` and `|`
+/// escaped with a backslash, `<` and `&` as entities (no HTML), and line
+/// breaks and control characters as visible escapes (`\u{a}`), so that a
+/// name never adds a column or a line.
+pub fn markdown_cell(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '\\' | '|' => {
+                out.push('\\');
+                out.push(c);
+            }
+            '<' => out.push_str("&lt;"),
+            '&' => out.push_str("&amp;"),
+            c => out.push(c),
+        }
+    }
+    inert(&out)
+}
+
 /// `text` as one clean line: whitespace runs (newlines too) become one
 /// blank, and every word is shown as [`echo`] shows a value, cut at a
 /// generous length, so an error or a warning is one short line whatever a

@@ -25,7 +25,7 @@ use serde_json::{Map, Value};
 /// timings, which are summarised apart ([`TIMING_KEY`]).
 const NOT_MEASURES: [&str; 8] = [
     "packbed_version",
-    crate::ensemble::proof::PROOF_KEY,
+    "proof",
     "dim",
     "seed",
     "mode",

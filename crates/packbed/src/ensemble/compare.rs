@@ -15,8 +15,8 @@
 use super::stats::{measures_of, Kind, Measure, Stats};
 use crate::analysis::dimensions::length_power;
 use crate::config::LengthUnit;
+use crate::error::markdown_cell;
 use crate::error::{echo, Error, Result};
-use crate::text::markdown_cell;
 use serde::Serialize;
 use serde_json::Value;
 use statrs::distribution::{ContinuousCDF, StudentsT};

@@ -7,20 +7,11 @@
 use crate::analysis::Summary;
 use crate::config::Config;
 use crate::error::echo;
-use serde::Serialize;
+pub use crate::io::summary::ReplicateProof;
 use serde_json::Value;
 
 /// The key of the proof in a replicate's `summary.json`.
 pub const PROOF_KEY: &str = "proof";
-
-/// What a replicate's summary carries to prove it belongs to its ensemble.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct ReplicateProof {
-    /// [`config_hash`] of the config the replicate was built from.
-    pub config_hash: String,
-    /// The measures the summary holds (`cake`, `packing`, …), in its order.
-    pub measures: Vec<&'static str>,
-}
 
 impl ReplicateProof {
     /// The proof of a replicate built from `config` with the measures of `analysis`.

@@ -6,8 +6,8 @@
 
 use super::stats::{Aggregate, Kind, Measure, Stats};
 use crate::config::Config;
+use crate::error::markdown_cell;
 use crate::io::tables::Num;
-use crate::text::markdown_cell;
 use serde_json::{json, Map, Value};
 use std::fmt::Write;
 

@@ -51,6 +51,17 @@ pub const SUMMARY_KEYS: &[&str] = &[
     "/config/analysis/contact_tol",
 ];
 
+/// What a replicate's summary carries to prove it belongs to its ensemble
+/// (built and checked in `ensemble::proof`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ReplicateProof {
+    /// The fingerprint of the config the replicate was built from, its seed
+    /// and `[ensemble]` table left out.
+    pub config_hash: String,
+    /// The measures the summary holds (`cake`, `packing`, …), in its order.
+    pub measures: Vec<&'static str>,
+}
+
 /// The whole of `summary.json`.
 #[derive(Clone, Debug, Serialize)]
 pub struct RunSummary {
@@ -91,7 +102,7 @@ pub struct RunSummary {
     /// A replicate of an ensemble: the proof that it belongs to it (absent
     /// for `packbed run`).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub proof: Option<crate::ensemble::proof::ReplicateProof>,
+    pub proof: Option<ReplicateProof>,
 }
 
 /// `box.*`.

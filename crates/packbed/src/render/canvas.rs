@@ -336,7 +336,7 @@ impl Canvas for SvgCanvas {
     }
 
     fn polyline_class(&mut self, points: &[(f64, f64)], color: Rgb, width: f64, class: &str) {
-        let class = format!(r#" class="{}""#, crate::text::xml_text(class));
+        let class = format!(r#" class="{}""#, crate::error::xml_text(class));
         self.write_polyline(points, color, width, &class);
     }
 
@@ -358,7 +358,7 @@ impl Canvas for SvgCanvas {
             fmt_px(y),
             fmt_px(style.size),
             style.color.hex(),
-            crate::text::xml_text(text)
+            crate::error::xml_text(text)
         );
     }
 }

@@ -21,48 +21,10 @@ pub fn screen(text: &str) -> String {
         .join("\n")
 }
 
-/// `text` as XML character data or an attribute value (SVG): `& < > " '` as
-/// entities, and the characters XML 1.0 forbids even as references (controls
-/// other than tab and line breaks) or that act on a terminal written as
-/// visible escapes (`\u{1b}`), as [`crate::error::echo`] shows them.
-pub fn xml_text(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in crate::error::inert(text).chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
-
-/// `text` as one cell of a Markdown table (or a heading's text): `\` and `|`
-/// escaped with a backslash, `<` and `&` as entities (no HTML), and line
-/// breaks and control characters as visible escapes (`\u{a}`), so that a
-/// name never adds a column or a line.
-pub fn markdown_cell(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '\\' | '|' => {
-                out.push('\\');
-                out.push(c);
-            }
-            '<' => out.push_str("&lt;"),
-            '&' => out.push_str("&amp;"),
-            c => out.push(c),
-        }
-    }
-    crate::error::inert(&out)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::{markdown_cell, xml_text};
 
     /// A name with every troublesome character: ESC (a colour), an OSC
     /// (window title) ended by BEL, the C1 CSI U+009B, markup and a newline.

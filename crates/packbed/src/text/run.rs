@@ -15,10 +15,8 @@ pub fn count(n: u64, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })
 }
 
-/// A path for the screen: whole, nothing in it acting on the terminal.
-pub fn path(p: &Path) -> String {
-    inert(&p.display().to_string())
-}
+/// A path for the screen (see [`crate::error::inert_path`]).
+pub use crate::error::inert_path as path;
 
 /// A length for the screen (see [`crate::math::display_length`]).
 pub use crate::math::display_length as length;

@@ -195,7 +195,7 @@ impl JobArray {
             format!(
                 "{} is usually local to each node; on a cluster of several nodes put --out on a \
                  shared file system",
-                crate::text::path(&self.out)
+                crate::error::inert_path(&self.out)
             )
         })
     }
@@ -631,7 +631,7 @@ pub fn clear_statuses(plan: &JobArray) -> Result<()> {
 /// What `packbed slurm` prints once the scripts are written: where, which
 /// files, and (unless it submits them) how to submit them by hand.
 pub fn prepared_text(plan: &JobArray, runs: u64, prepared: &Prepared, submitting: bool) -> String {
-    use crate::text::path;
+    use crate::error::inert_path as path;
     let dir = path(&plan.out);
     let resuming = if prepared.resumed {
         " (resuming the shards there)"
@@ -665,13 +665,13 @@ pub fn submitted_text(plan: &JobArray, jobs: &Submitted, waiting: bool) -> Strin
         jobs.array,
         plan.tasks,
         jobs.merge,
-        crate::text::path(&plan.out.join(LOGS_DIR))
+        crate::error::inert_path(&plan.out.join(LOGS_DIR))
     );
     if !waiting {
         t += &format!(
             "the ensemble files appear in {} when the merge job ends; to resume, run the same \
              command again\n",
-            crate::text::path(&plan.out)
+            crate::error::inert_path(&plan.out)
         );
     }
     t
@@ -693,8 +693,8 @@ pub fn wait_for_merge(
     Ok(match wait(plan, jobs, poll)? {
         WaitOutcome::Done => Ok(format!(
             "done: ensemble files in {} (log {})",
-            crate::text::path(&plan.out),
-            crate::text::path(&plan.merge_log())
+            crate::error::inert_path(&plan.out),
+            crate::error::inert_path(&plan.merge_log())
         )),
         WaitOutcome::Failed(failures) => Err(JobsFailed(failed_text(jobs, &failures))),
     })
