@@ -165,9 +165,13 @@ for trapped in modes:
         cu[round(p, 6)] = s
     keys = sorted(cu)
     full = [[k, round(cu[k], 5)] for k in keys]
-    if len(full) > 300:  # thin out for the JSON line, keep ends
-        idx = np.unique(np.linspace(0, len(full) - 1, 300).astype(int))
-        full = [full[i] for i in idx]
+    if len(full) > 300:  # thin out for the JSON line: the curve (a step
+        # function) read at 300 pressures evenly spaced over its range
+        ps_ = np.array([k for k, _ in full])
+        ss_ = np.array([s for _, s in full])
+        grid = np.linspace(ps_[0], ps_[-1], 300)
+        idx = np.searchsorted(ps_, grid, side="right") - 1
+        full = [[round(float(g), 5), float(ss_[i])] for g, i in zip(grid, idx)]
     sw_end = flow.getSaturation(False)
     res = dict(tool="yade TwoPhaseFlowEngine", yade=str(getattr(yade.config, "version", "2023.02a")),
                bed=os.path.abspath(bed), spheres=int(len(pts)), cells=int(n),
