@@ -7,6 +7,7 @@ mod common;
 mod bounds;
 mod commands;
 mod compare;
+mod drainage;
 mod ensemble;
 mod escapes;
 mod files;

@@ -66,6 +66,11 @@ pub fn length_power(key: &str, dim: u8) -> Option<i32> {
         | "permeability.imbalance"
         | "permeability.axes[].imbalance"
         | "permeability.axes[].pores" => 0,
+        // The drainage: pressures reduced by d32 or in Pa, saturations,
+        // counts, N/m and degrees: all free of the bed's unit but these.
+        "drainage.d32" => 1,
+        "drainage.pore_volume" => i32::from(dim),
+        _ if k.starts_with("drainage.") => 0,
         // Percolation: bodies, chains (lengths counted in bodies), flags.
         "percolation.large_radius" => 1,
         _ if k.starts_with("percolation.") => 0,

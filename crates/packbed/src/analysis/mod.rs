@@ -75,6 +75,16 @@ pub struct Summary {
     /// Why `pores` or `permeability` is absent although asked for.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pores_note: Option<String>,
+    /// Primary drainage of the pore network (absent when left out).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drainage: Option<pores::drainage::DrainageSummary>,
+    /// Why `drainage` is absent although asked for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drainage_note: Option<String>,
+    /// The drainage's curve, pores and bridges for the files (not in
+    /// `summary.json`).
+    #[serde(skip)]
+    pub liquid: Option<std::sync::Arc<pores::drainage::Drainage>>,
     /// The pore network's tables for the files (not in `summary.json`).
     #[serde(skip)]
     pub pore_tables: Option<std::sync::Arc<pores::PoreTables>>,
@@ -177,6 +187,8 @@ pub struct AnalysisOptions {
     pub cake: CakeOptions,
     /// The flow through the pore network.
     pub flow: pores::FlowOptions,
+    /// Gas displacing the liquid from the pore network.
+    pub drainage: pores::drainage::DrainageOptions,
 }
 
 pub use crate::config::BULK_MIN_BODIES;
@@ -191,6 +203,7 @@ impl Default for AnalysisOptions {
             measures: Measures::default_set(),
             cake: CakeOptions::default(),
             flow: pores::FlowOptions::default(),
+            drainage: pores::drainage::DrainageOptions::default(),
         }
     }
 }
@@ -308,7 +321,8 @@ pub fn analyze_timed<const D: usize>(
             profile::profile_of(bed, 0.25 * d_max, &volumes)
         }),
     });
-    let pores_wanted = want(Measure::Pores) || want(Measure::Permeability);
+    let pores_wanted =
+        want(Measure::Pores) || want(Measure::Permeability) || want(Measure::Drainage);
     // The permeability's ratios (`k / d32²`, `k / k_KC`) read the cake's d32
     // and Kozeny–Carman k: computed for them even when the packing measure
     // (which reports the cake) is not asked for.
@@ -375,6 +389,15 @@ pub fn analyze_timed<const D: usize>(
             summary.pores_note = space.note;
             summary.pore_tables = Some(std::sync::Arc::new(space.tables));
             summary.warnings.extend(space.warning);
+            match space.drainage {
+                Some(Ok(d)) => {
+                    summary.warnings.extend(d.warning.clone());
+                    summary.drainage = Some(d.summary.clone());
+                    summary.liquid = Some(std::sync::Arc::new(d));
+                }
+                Some(Err(why)) => summary.drainage_note = Some(why),
+                None => {}
+            }
         }
         Some(Err(why)) => summary.pores_note = Some(why),
         None => {}
@@ -397,6 +420,7 @@ impl crate::config::AnalysisConfig {
                 metres_per_unit: self.length_unit.map(|u| u.metres()),
             },
             flow: self.flow.options(),
+            drainage: self.drainage.options(),
             ..AnalysisOptions::new(self.contact_tol, self.large_radius)
         }
     }
@@ -464,16 +488,25 @@ fn pore_measures<const D: usize>(
         .measures
         .has(Measure::Permeability)
         .then_some(&opts.flow);
-    let mut space =
-        pores::pore_space_timed(bed, slab, flow, d32, k_kc, times).map_err(|e| e.to_string())?;
     // The slab's size in d32: the cake's, else the whole bed's.
-    let d32 = d32.unwrap_or_else(|| {
+    let d32_or_bed = d32.unwrap_or_else(|| {
         let (r3, r2) = bed
             .radii
             .iter()
             .fold((0.0, 0.0), |(a, b), r| (a + r * r * r, b + r * r));
         2.0 * r3 / r2
     });
+    let drain = opts
+        .measures
+        .has(Measure::Drainage)
+        .then_some(pores::DrainageRequest {
+            options: opts.drainage,
+            metres_per_unit: opts.cake.metres_per_unit,
+            d32: d32_or_bed,
+        });
+    let mut space = pores::pore_space_timed(bed, slab, flow, drain.as_ref(), d32, k_kc, times)
+        .map_err(|e| e.to_string())?;
+    let d32 = d32_or_bed;
     let d_max = 2.0 * bed.r_max();
     space.warning = pores::check_slab(&mut space, &bed.container.size, slab, d32, d_max);
     if let (Some(c), Some(k)) = (cake, space.permeability.as_ref().and_then(|p| p.k_z)) {

@@ -55,6 +55,144 @@ pub struct AnalysisConfig {
     #[serde(default, skip_serializing_if = "FlowConfig::is_default")]
     #[cfg_attr(feature = "cli", arg(skip))]
     pub flow: FlowConfig,
+    /// `[analysis.drainage]`: gas displacing the liquid from the pore network.
+    #[serde(default, skip_serializing_if = "DrainageConfig::is_default")]
+    #[cfg_attr(feature = "cli", arg(skip))]
+    pub drainage: DrainageConfig,
+}
+
+/// `[analysis.drainage]`: the liquid, its wetting and the pressure the
+/// liquid left in the cake is reported at. The defaults are water on clean
+/// glass at 20 °C.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DrainageConfig {
+    /// Surface tension of the liquid, N/m (default 0.0728, water).
+    #[serde(default = "default_surface_tension")]
+    pub surface_tension: Real,
+    /// Contact angle of the liquid on the particles, degrees, in [0, 90)
+    /// (default 0).
+    #[serde(default)]
+    pub contact_angle: Real,
+    /// Liquid cut off from the outlet stays in the cake (default true);
+    /// false: it leaves through films, the bound the literature compares.
+    #[serde(default = "default_true")]
+    pub trapping: bool,
+    /// The throats' entry-pressure model: `msp` (default) or `inscribed`.
+    #[serde(default)]
+    pub entry: EntryModel,
+    /// Where the liquid is reported (`liquid.csv`, the residual
+    /// saturation): at this capillary pressure, in Pa (needs
+    /// `[analysis] length_unit`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pressure: Option<Real>,
+    /// The same as `P_c·d32/γ` (default: twice the breakthrough pressure).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reduced_pressure: Option<Real>,
+    /// Rows of the capillary pressure–saturation curve (default 60).
+    #[serde(default = "default_points")]
+    pub points: usize,
+}
+
+/// How a throat's capillary entry pressure follows from its shape.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EntryModel {
+    /// Mayer–Stowe–Princen: the force balance of the throat's section,
+    /// the liquid left in its corners counted.
+    #[default]
+    Msp,
+    /// Haines: the inscribed circle of the constriction, `2γ cos θ / r_c`.
+    Inscribed,
+}
+
+impl EntryModel {
+    /// The name in configs and summaries.
+    pub fn name(self) -> &'static str {
+        match self {
+            EntryModel::Msp => "msp",
+            EntryModel::Inscribed => "inscribed",
+        }
+    }
+}
+
+fn default_surface_tension() -> Real {
+    0.0728
+}
+
+fn default_true() -> bool {
+    true
+}
+
+fn default_points() -> usize {
+    60
+}
+
+impl Default for DrainageConfig {
+    fn default() -> Self {
+        DrainageConfig {
+            surface_tension: default_surface_tension(),
+            contact_angle: 0.0,
+            trapping: true,
+            entry: EntryModel::default(),
+            pressure: None,
+            reduced_pressure: None,
+            points: default_points(),
+        }
+    }
+}
+
+impl DrainageConfig {
+    /// True when nothing is set.
+    pub fn is_default(&self) -> bool {
+        *self == DrainageConfig::default()
+    }
+
+    fn check(&self, length_unit: Option<LengthUnit>) -> Result<()> {
+        if !(self.surface_tension.is_finite() && self.surface_tension > 0.0) {
+            return Err(Error::config(format!(
+                "analysis.drainage.surface_tension must be a positive number of N/m, got {}",
+                self.surface_tension
+            )));
+        }
+        let theta = self.contact_angle;
+        if !(theta.is_finite() && theta >= 0.0) {
+            return Err(Error::config(format!(
+                "analysis.drainage.contact_angle must be in [0, 90) degrees, got {theta}"
+            )));
+        }
+        if theta >= 90.0 {
+            return Err(Error::config(format!(
+                "analysis.drainage.contact_angle {theta} degrees: at 90 or more the liquid does \
+                 not wet the particles, and gas displacing it is not a drainage"
+            )));
+        }
+        if let Some(p) = self.pressure {
+            positive(p, "analysis.drainage.pressure")?;
+            if length_unit.is_none() {
+                return Err(Error::config(
+                    "analysis.drainage.pressure (Pa) needs analysis.length_unit, the length of \
+                     one unit of the bed; or give analysis.drainage.reduced_pressure (P_c d32 / \
+                     surface tension)",
+                ));
+            }
+        }
+        if let Some(p) = self.reduced_pressure {
+            positive(p, "analysis.drainage.reduced_pressure")?;
+        }
+        if self.pressure.is_some() && self.reduced_pressure.is_some() {
+            return Err(Error::config(
+                "analysis.drainage: give pressure or reduced_pressure, not both",
+            ));
+        }
+        if !(2..=100_000).contains(&self.points) {
+            return Err(Error::config(format!(
+                "analysis.drainage.points must be between 2 and 100000, got {}",
+                self.points
+            )));
+        }
+        Ok(())
+    }
 }
 
 /// `[analysis.flow]`.
@@ -235,7 +373,7 @@ impl LengthUnit {
 
 /// A set of measures (a copyable value for the analysis options).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Measures(u8);
+pub struct Measures(u16);
 
 impl Measures {
     /// Every measure.
@@ -299,11 +437,13 @@ pub enum Measure {
     Pores,
     /// `permeability.*`: Stokes flow through the pore network.
     Permeability,
+    /// `drainage.*`: gas displacing the liquid, and where the liquid stays.
+    Drainage,
 }
 
 impl Measure {
     /// Every measure, in the order of `summary.json`.
-    pub const ALL: [Measure; 8] = [
+    pub const ALL: [Measure; 9] = [
         Measure::Packing,
         Measure::Coordination,
         Measure::Percolation,
@@ -312,6 +452,7 @@ impl Measure {
         Measure::Segregation,
         Measure::Pores,
         Measure::Permeability,
+        Measure::Drainage,
     ];
 
     /// The measures computed when none are chosen: the first six of [`Measure::ALL`].
@@ -331,10 +472,11 @@ impl Measure {
             Measure::Segregation => "segregation",
             Measure::Pores => "pores",
             Measure::Permeability => "permeability",
+            Measure::Drainage => "drainage",
         }
     }
 
-    fn bit(self) -> u8 {
+    fn bit(self) -> u16 {
         1 << Measure::ALL.iter().position(|&m| m == self).unwrap_or(0)
     }
 
@@ -387,6 +529,7 @@ impl Default for AnalysisConfig {
             solid_density: None,
             length_unit: None,
             flow: FlowConfig::default(),
+            drainage: DrainageConfig::default(),
         }
     }
 }
@@ -408,6 +551,7 @@ impl AnalysisConfig {
             positive(r, &name("large_radius"))?;
         }
         self.flow.check()?;
+        self.drainage.check(self.length_unit)?;
         if let Some(rho) = self.solid_density {
             positive(rho, &name("solid_density"))?;
             if self.length_unit.is_none() {

@@ -7,6 +7,7 @@ pub mod atomic;
 pub mod export;
 mod finite;
 pub mod fragmentation;
+pub mod liquid;
 pub mod pores;
 pub mod psd;
 pub mod read;

@@ -137,6 +137,17 @@ pub fn write_network_vtp(w: &mut dyn Write, t: &PoreTables, size: &[f64]) -> std
     for (k, axis) in t.axes.iter().enumerate() {
         point_array(w, &format!("pressure_{axis}"), &|p| t.pores[p].pressure[k])?;
     }
+    if let Some(liquid) = &t.liquid {
+        // The drainage's state: 0 off the slab, 1 drained, 2 filled, 3 trapped.
+        point_array(w, "liquid_state", &|p| match liquid[p].0 {
+            crate::analysis::pores::drainage::PoreState::Outside => 0.0,
+            crate::analysis::pores::drainage::PoreState::Drained => 1.0,
+            crate::analysis::pores::drainage::PoreState::Filled => 2.0,
+            crate::analysis::pores::drainage::PoreState::Trapped => 3.0,
+        })?;
+        point_array(w, "cluster", &|p| liquid[p].1 as f64)?;
+        point_array(w, "liquid", &|p| liquid[p].2)?;
+    }
     writeln!(w, "</PointData>")?;
     writeln!(w, "<CellData>")?;
     let line_array =
@@ -226,6 +237,7 @@ mod tests {
                     flux: [-0.5, 0.0, 0.0],
                 },
             ],
+            liquid: None,
         }
     }
 

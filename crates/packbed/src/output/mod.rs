@@ -355,6 +355,16 @@ fn extra_files<'a, const D: usize>(
             out.push((name.to_string(), Content::Stream(write)));
         }
     }
+    if let Some(d) = &measures.liquid {
+        use crate::io::liquid::{write_bridges, write_curve, LIQUID_FILES};
+        let writers: [Stream; 2] = [
+            Box::new(move |w| write_curve(w, d)),
+            Box::new(move |w| write_bridges(w, d)),
+        ];
+        for (name, write) in LIQUID_FILES.iter().zip(writers) {
+            out.push((name.to_string(), Content::Stream(write)));
+        }
+    }
     if extras.pictures {
         // Only the PSD plot, a picture of the `render` feature, adds to it.
         #[cfg_attr(not(feature = "render"), allow(unused_mut))]

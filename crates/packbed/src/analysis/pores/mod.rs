@@ -3,6 +3,7 @@
 //! facets (throats), their sizes, and the permeability from the Stokes flow
 //! through the network.
 
+pub mod drainage;
 pub mod flow;
 pub mod geometry;
 pub mod network;
@@ -227,6 +228,9 @@ pub struct PoreTables {
     pub pores: Vec<PoreRow>,
     /// Every throat.
     pub throats: Vec<ThroatRow>,
+    /// Per pore, where the liquid is at the drainage's reported pressure
+    /// (state, cluster, liquid volume), when the drainage ran.
+    pub liquid: Option<Vec<(drainage::PoreState, i64, Real)>>,
 }
 
 /// One column of a pore table.
@@ -290,6 +294,41 @@ impl PoreTables {
         for (k, axis) in self.axes.iter().enumerate() {
             out.push((format!("pressure_{axis}"), float(&|r| r.pressure[k])));
         }
+        if let Some(liquid) = &self.liquid {
+            // 0 outside the slab, 1 drained, 2 filled, 3 trapped.
+            let code = |s: drainage::PoreState| match s {
+                drainage::PoreState::Outside => 0,
+                drainage::PoreState::Drained => 1,
+                drainage::PoreState::Filled => 2,
+                drainage::PoreState::Trapped => 3,
+            };
+            out.push((
+                "filled".into(),
+                Column::Int(
+                    liquid
+                        .iter()
+                        .map(|l| {
+                            i64::from(
+                                l.0 == drainage::PoreState::Filled
+                                    || l.0 == drainage::PoreState::Trapped,
+                            )
+                        })
+                        .collect(),
+                ),
+            ));
+            out.push((
+                "liquid_state".into(),
+                Column::Int(liquid.iter().map(|l| code(l.0)).collect()),
+            ));
+            out.push((
+                "cluster".into(),
+                Column::Int(liquid.iter().map(|l| l.1).collect()),
+            ));
+            out.push((
+                "liquid".into(),
+                Column::Float(liquid.iter().map(|l| l.2).collect()),
+            ));
+        }
         out
     }
 
@@ -336,6 +375,20 @@ pub struct PoreSpace {
     pub network_seconds: f64,
     /// The warning of a slab too small for its permeability ([`check_slab`]).
     pub warning: Option<String>,
+    /// The drainage, when asked for; `Err` says why there is none.
+    pub drainage: Option<Result<drainage::Drainage, String>>,
+}
+
+/// What the drainage needs beside the network: its settings, the length
+/// unit (pressures in Pa) and the `d32` the pressures are reduced with.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DrainageRequest {
+    /// `[analysis.drainage]`.
+    pub options: drainage::DrainageOptions,
+    /// Metres per unit of the bed's lengths.
+    pub metres_per_unit: Option<Real>,
+    /// The Sauter diameter the pressures are reduced with.
+    pub d32: Real,
 }
 
 /// Builds the pore network of `bed`, measures its pores and, when `flow` is
@@ -348,7 +401,7 @@ pub fn pore_space<const D: usize>(
     d32: Option<Real>,
     k_kc: Option<Real>,
 ) -> crate::error::Result<PoreSpace> {
-    pore_space_timed(bed, slab, flow, d32, k_kc, &mut StageTimes::default())
+    pore_space_timed(bed, slab, flow, None, d32, k_kc, &mut StageTimes::default())
 }
 
 /// [`pore_space`], timing its stages (`pores/triangulation`, `pores/network`,
@@ -357,6 +410,7 @@ pub fn pore_space_timed<const D: usize>(
     bed: &Bed<D>,
     slab: (Real, Real),
     flow: Option<&FlowOptions>,
+    drain: Option<&DrainageRequest>,
     d32: Option<Real>,
     k_kc: Option<Real>,
     times: &mut StageTimes,
@@ -379,6 +433,11 @@ pub fn pore_space_timed<const D: usize>(
     // The distributions' inputs go before the flow: at 10^6 spheres they
     // are 0.24 GB beside its peak.
     let pores = summary(&net, &in_slab, slab);
+    let drainage = drain.map(|d| {
+        times.time("pores/drainage", || {
+            drainage::drain(bed, &net, slab, d.d32, d.metres_per_unit, &d.options)
+        })
+    });
     let shapes = std::mem::take(&mut net.shapes);
     let mut note = None;
     let mut permeability = None;
@@ -408,8 +467,12 @@ pub fn pore_space_timed<const D: usize>(
     } else {
         drop(shapes);
     }
-    let tables = tables(bed, net, &in_slab, solved);
+    let mut tables = tables(bed, net, &in_slab, solved);
+    if let Some(Ok(d)) = &drainage {
+        tables.liquid = Some(d.pores.clone());
+    }
     Ok(PoreSpace {
+        drainage,
         pores,
         permeability,
         note,
@@ -786,6 +849,7 @@ fn tables<const D: usize>(
         axes,
         pores,
         throats,
+        liquid: None,
     }
 }
 

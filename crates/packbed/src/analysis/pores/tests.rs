@@ -450,7 +450,7 @@ fn permeability_alone_has_its_ratios() {
 fn the_triangulation_and_the_network_are_timed_apart() {
     let bed = simple_cubic(4, 8, 1.0);
     let mut times = StageTimes::default();
-    let space = pore_space_timed(&bed, (3.0, 13.0), None, None, None, &mut times).unwrap();
+    let space = pore_space_timed(&bed, (3.0, 13.0), None, None, None, None, &mut times).unwrap();
     assert_eq!(
         space.triangulation_seconds,
         times.total("pores/triangulation")

@@ -1,0 +1,81 @@
+//! `--measures drainage` through the command: its files, its summary and
+//! its refusals.
+
+use crate::common::{assert_config_refused, Scratch};
+
+fn config(extra: &str) -> String {
+    format!(
+        "dim = 3\nseed = 1\n[box]\nwidth = 12\ndepth = 12\nheight = 60\nperiodic = true\n\
+         [fill]\ncount = 1200\n[[species]]\nradius = 1\n\
+         [analysis]\nmeasures = [\"packing\", \"drainage\"]\n{extra}"
+    )
+}
+
+#[test]
+fn drainage_writes_its_curve_bridges_and_pore_states() {
+    let s = Scratch::new();
+    let c = s.input("wet.toml", &config("length_unit = \"um\"\n"));
+    s.ok(&["run", c.to_str().unwrap(), "--out", "wet", "--no-pictures"]);
+    let summary = s.summary("wet");
+    let d = &summary["drainage"];
+    let bt = d["breakthrough"]["reduced"].as_f64().unwrap();
+    // Random packs of equal spheres break through at P_c R/γ of about 3.3
+    // (Yade, MS-P) to 6 (Haines): reduced by d32 = 2R, 6.6 to 12.
+    assert!((6.0..13.0).contains(&bt), "{bt}");
+    // With the length unit, Pa: γ/R = 0.0728 / 1e-6 Pa per unit of P_c R/γ.
+    let pa = d["breakthrough"]["pa"].as_f64().unwrap();
+    assert!((pa - bt / 2.0 * 0.0728 / 1e-6).abs() < 1e-6 * pa, "{pa}");
+    let curve = s.read("wet/drainage.csv");
+    let header = curve.lines().next().unwrap();
+    assert_eq!(
+        header,
+        "pc_reduced,pc_pa,saturation,connected,trapped,pendular"
+    );
+    assert!(curve.lines().count() > 50);
+    let liquid = s.read("wet/liquid.csv");
+    assert!(liquid.starts_with("particle_a,particle_b,sx,sy,gap,volume"));
+    assert_eq!(
+        liquid.lines().count() as u64 - 1,
+        d["bridges"].as_u64().unwrap()
+    );
+    let pores = s.read("wet/pores.csv");
+    assert!(pores
+        .lines()
+        .next()
+        .unwrap()
+        .ends_with(",filled,liquid_state,cluster,liquid"));
+}
+
+#[test]
+fn drainage_bad_input() {
+    let s = Scratch::new();
+    let bad = [
+        (
+            "[analysis.drainage]\ncontact_angle = 95\n",
+            "not a drainage",
+        ),
+        (
+            "[analysis.drainage]\nsurface_tension = -0.07\n",
+            "surface_tension",
+        ),
+        ("[analysis.drainage]\npressure = 5000\n", "length_unit"),
+    ];
+    for (k, (extra, needle)) in bad.iter().enumerate() {
+        assert_config_refused(&s, &format!("bad{k}.toml"), &config(extra), &[needle]);
+    }
+    // A slab down to the floor has no outlet: no drainage, a note says why.
+    let c = s.input("floor.toml", &config("[analysis.flow]\nslab = [-5, 20]\n"));
+    s.ok(&[
+        "run",
+        c.to_str().unwrap(),
+        "--out",
+        "floor",
+        "--no-pictures",
+    ]);
+    let summary = s.summary("floor");
+    assert!(summary.get("drainage").is_none());
+    assert!(summary["drainage_note"]
+        .as_str()
+        .unwrap()
+        .contains("no outlet"));
+}

@@ -1,0 +1,791 @@
+//! Primary drainage of the pore network: a gas displacing the wetting liquid
+//! that fills the cake, as when a filter cake is deliquored by gas pressure
+//! or suction (VDI 2762), and where the liquid stays.
+//!
+//! The sample is the flow's slab (the bulk slab unless `[analysis.flow]
+//! slab` says otherwise), as a cake between a gas chamber and a filter
+//! medium held wet: every pore above the slab is gas, every pore below is
+//! the liquid reservoir the displaced liquid leaves by. The gas drains the
+//! slab's pores by invasion percolation ([`invasion`]), each throat passing
+//! it at its capillary entry pressure ([`entry`]); the liquid cut off from
+//! the outlet is trapped, unless trapping is switched off (the liquid then
+//! leaves through the films in the corners, the bound the literature
+//! compares with). In the drained pores the liquid stays as pendular bridges
+//! at the contacts ([`pendular`]), at the curvature the gas pressure sets.
+//!
+//! Assumptions, stated where a user reads the figures (README, Deliquoring):
+//! quasi-static (capillary forces dominate: low capillary number, no
+//! viscous pressure drop), a rigid bed, one contact angle, no evaporation,
+//! gravity neglected across the slab (Bond number of the pores ≪ 1).
+//!
+//! Pressures are computed as curvatures `κ = P_c / γ` in the bed's length
+//! unit and reported both as `P_c·d32/γ` (dimensionless, always) and in Pa
+//! (with `[analysis] length_unit`).
+
+pub mod bridge;
+pub mod entry;
+pub mod invasion;
+pub mod msp;
+pub mod pendular;
+
+use super::network::{Network, Site};
+use crate::bed::Bed;
+use crate::math::Real;
+use invasion::{Invasion, InvasionGraph, Sets};
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// Settings of the drainage (`[analysis.drainage]`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DrainageOptions {
+    /// Surface tension of the liquid, N/m.
+    pub surface_tension: Real,
+    /// Contact angle of the liquid on the solid, radians, in `[0, π/2)`.
+    pub contact_angle: Real,
+    /// Liquid cut off from the outlet stays (true) or leaves by films.
+    pub trapping: bool,
+    /// How a throat's entry pressure follows from its shape.
+    pub entry: EntryModel,
+    /// Where the liquid is reported; `None`: twice the breakthrough
+    /// pressure.
+    pub state: Option<StatePressure>,
+    /// Rows of the capillary pressure–saturation table.
+    pub points: usize,
+}
+
+impl Default for DrainageOptions {
+    fn default() -> Self {
+        DrainageOptions {
+            surface_tension: WATER_SURFACE_TENSION,
+            contact_angle: 0.0,
+            trapping: true,
+            entry: EntryModel::default(),
+            state: None,
+            points: DEFAULT_POINTS,
+        }
+    }
+}
+
+/// The pressure the liquid is reported at.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StatePressure {
+    /// `P_c·d32/γ`.
+    Reduced(Real),
+    /// Pa (the bed's length unit known).
+    Pascal(Real),
+}
+
+impl crate::config::DrainageConfig {
+    /// The options the drainage runs with for this `[analysis.drainage]`.
+    pub fn options(&self) -> DrainageOptions {
+        DrainageOptions {
+            surface_tension: self.surface_tension,
+            contact_angle: self.contact_angle.to_radians(),
+            trapping: self.trapping,
+            entry: self.entry,
+            state: match (self.pressure, self.reduced_pressure) {
+                (Some(p), _) => Some(StatePressure::Pascal(p)),
+                (None, Some(r)) => Some(StatePressure::Reduced(r)),
+                (None, None) => None,
+            },
+            points: self.points,
+        }
+    }
+}
+
+/// Water at 20 °C against air, N/m (the default liquid: water on glass,
+/// contact angle 0).
+pub const WATER_SURFACE_TENSION: Real = 0.0728;
+
+/// Rows of the drainage curve by default.
+pub const DEFAULT_POINTS: usize = 60;
+
+pub use crate::config::EntryModel;
+
+/// One row of the capillary pressure–saturation curve (`drainage.csv`).
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct CurvePoint {
+    /// `P_c·d32/γ`.
+    pub pc_reduced: Real,
+    /// `P_c` in Pa (`None` without a length unit).
+    pub pc_pa: Option<Real>,
+    /// Wetting saturation: liquid in filled pores, trapped clusters and
+    /// pendular bridges over the slab's pore volume.
+    pub saturation: Real,
+    /// The part in pores still filled and joined to the outlet.
+    pub connected: Real,
+    /// The part in clusters cut off from the outlet.
+    pub trapped: Real,
+    /// The part in pendular bridges of drained pores.
+    pub pendular: Real,
+}
+
+/// A capillary pressure, two ways.
+#[derive(Clone, Copy, Debug, Default, Serialize, PartialEq)]
+pub struct Pressure {
+    /// `P_c·d32/γ`.
+    pub reduced: Real,
+    /// In Pa (`None` without `[analysis] length_unit`).
+    pub pa: Option<Real>,
+}
+
+/// Sizes of the liquid clusters cut off from the outlet.
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct Clusters {
+    /// Number of clusters.
+    pub count: u64,
+    /// Pores in the largest.
+    pub largest_pores: u64,
+    /// Liquid volume of the largest over the slab's pore volume.
+    pub largest_fraction: Real,
+    /// Median pores per cluster (by number of clusters).
+    pub median_pores: Real,
+    /// Clusters of 1, 2, 3–4, 5–8, … pores (powers of two).
+    pub pores_histogram: Vec<u64>,
+}
+
+/// `drainage.*` keys of `summary.json`.
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct DrainageSummary {
+    /// Surface tension, N/m.
+    pub surface_tension: Real,
+    /// Contact angle, degrees.
+    pub contact_angle: Real,
+    /// Whether liquid cut off from the outlet was kept.
+    pub trapping: bool,
+    /// The entry-pressure model (`msp` or `inscribed`).
+    pub entry: &'static str,
+    /// The `d32` the pressures are reduced with.
+    pub d32: Real,
+    /// Pores of the slab (the sample).
+    pub pores: u64,
+    /// Their void volume.
+    pub pore_volume: Real,
+    /// The capillary pressure at which the gas first reaches the outlet
+    /// (the threshold pressure); `None` when it never does.
+    pub breakthrough: Option<Pressure>,
+    /// The wetting saturation just after breakthrough.
+    pub saturation_at_breakthrough: Option<Real>,
+    /// The lowest entry pressure met at the inlet face: where the gas
+    /// first enters the sample.
+    pub entry_pressure: Option<Pressure>,
+    /// The pressure the liquid is reported at (`state` in `liquid.csv`).
+    pub state: Option<Pressure>,
+    /// The wetting saturation at `state` (filled, trapped and pendular).
+    pub residual_saturation: Option<Real>,
+    /// Its parts at `state`.
+    pub residual_connected: Option<Real>,
+    /// The trapped part at `state`.
+    pub residual_trapped: Option<Real>,
+    /// The pendular part at `state`.
+    pub residual_pendular: Option<Real>,
+    /// Liquid clusters cut off from the outlet at `state`.
+    pub clusters: Clusters,
+    /// Pendular bridges at `state`.
+    pub bridges: u64,
+    /// Mean bridges per particle of the slab at `state`.
+    pub bridges_per_particle: Real,
+    /// Drained pores whose bridges would hold more than the pore's void
+    /// (the rings have merged: funicular); their liquid is the pore's void.
+    pub funicular_pores: u64,
+    /// Why a figure above is null, when one is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+}
+
+/// Where a pore's liquid is at the reported pressure.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PoreState {
+    /// Not a pore of the slab.
+    #[default]
+    Outside,
+    /// Drained by the gas (pendular bridges may remain).
+    Drained,
+    /// Filled, joined to the outlet.
+    Filled,
+    /// Filled, cut off from the outlet.
+    Trapped,
+}
+
+impl PoreState {
+    /// The `state` column of `pores.csv`.
+    pub fn name(self) -> &'static str {
+        match self {
+            PoreState::Outside => "",
+            PoreState::Drained => "drained",
+            PoreState::Filled => "filled",
+            PoreState::Trapped => "trapped",
+        }
+    }
+}
+
+/// A pendular bridge, as written to `liquid.csv`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BridgeRow {
+    /// The two particles.
+    pub particles: [u32; 2],
+    /// Periods the second lies from the first (periodic beds).
+    pub shift: [i8; 2],
+    /// Surface gap (negative: overlap).
+    pub gap: Real,
+    /// Liquid volume of the bridge inside the slab's pores (area in 2D).
+    pub volume: Real,
+    /// Neck radius.
+    pub neck_radius: Real,
+    /// Half-filling angle on the first and second particle, degrees.
+    pub filling_angle: [Real; 2],
+}
+
+/// What the drainage found: the summary and the tables for the files.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Drainage {
+    /// `drainage.*`.
+    pub summary: DrainageSummary,
+    /// The capillary pressure–saturation curve.
+    pub curve: Vec<CurvePoint>,
+    /// Per network pore at `state`: its state, cluster id (-1: none; 0 the
+    /// liquid joined to the outlet; 1… the trapped clusters, largest first)
+    /// and liquid volume.
+    pub pores: Vec<(PoreState, i64, Real)>,
+    /// The pendular bridges at `state`.
+    pub bridges: Vec<BridgeRow>,
+    /// Liquid held in bridges per particle at `state` (half of each of its
+    /// bridges), and bridge count per particle.
+    pub per_particle: Vec<(Real, u32)>,
+    /// Warnings (a slab too thin).
+    pub warning: Option<String>,
+}
+
+/// Why drainage cannot run on this bed: a one-line reason.
+pub type Refusal = String;
+
+/// Checks the options, naming the keys of `[analysis.drainage]`.
+pub fn check_options(o: &DrainageOptions) -> Result<(), Refusal> {
+    if !(o.surface_tension.is_finite() && o.surface_tension > 0.0) {
+        return Err(format!(
+            "analysis.drainage.surface_tension must be a positive number of N/m, got {}",
+            o.surface_tension
+        ));
+    }
+    let deg = o.contact_angle.to_degrees();
+    if !(o.contact_angle.is_finite() && o.contact_angle >= 0.0) {
+        return Err(format!(
+            "analysis.drainage.contact_angle must be between 0 and 90 degrees, got {deg}"
+        ));
+    }
+    if o.contact_angle >= std::f64::consts::FRAC_PI_2 {
+        return Err(format!(
+            "analysis.drainage.contact_angle {deg} degrees: at 90 degrees or more the liquid does \
+             not wet the solid and gas displacing it is not a drainage (imbibition of the gas)"
+        ));
+    }
+    Ok(())
+}
+
+/// Where a site (a particle or one of its images) is.
+pub fn site_position<const D: usize>(bed: &Bed<D>, site: Site) -> [Real; D] {
+    let mut p = bed.centres[site.particle as usize].0;
+    let size = bed.container.size;
+    for a in 0..D - 1 {
+        let s = site.image[a];
+        if s == 0 {
+            continue;
+        }
+        p[a] = if bed.container.periodic {
+            p[a] + Real::from(s) * size[a]
+        } else if s < 0 {
+            -p[a]
+        } else {
+            2.0 * size[a] - p[a]
+        };
+    }
+    p
+}
+
+/// The sites of the facet a throat crosses: those its two pores share (the
+/// second pore's shifted by the throat's periods).
+pub fn facet_sites<const D: usize>(net: &Network<D>, throat: usize) -> [Site; 3] {
+    let th = &net.throats[throat];
+    let a = &net.pores[th.pores[0] as usize].sites;
+    let b = &net.pores[th.pores[1] as usize].sites;
+    let shifted = |s: Site| Site {
+        particle: s.particle,
+        image: [
+            s.image[0].saturating_add(th.shift[0]),
+            s.image[1].saturating_add(th.shift[1]),
+        ],
+    };
+    let mut out = [a[0]; 3];
+    let mut k = 0;
+    for &s in &a[..=D] {
+        if k < D && b[..=D].iter().any(|&t| shifted(t) == s) {
+            out[k] = s;
+            k += 1;
+        }
+    }
+    out
+}
+
+/// Where each pore of the network lies against the slab.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Side {
+    Below,
+    In,
+    Above,
+}
+
+/// Drains the slab `[z_lo, z_hi]` of `net`, the network of `bed`, and finds
+/// where the liquid stays. `d32` reduces the pressures; `metres_per_unit`
+/// gives them in Pa.
+pub fn drain<const D: usize>(
+    bed: &Bed<D>,
+    net: &Network<D>,
+    slab: (Real, Real),
+    d32: Real,
+    metres_per_unit: Option<Real>,
+    options: &DrainageOptions,
+) -> Result<Drainage, Refusal> {
+    check_options(options)?;
+    let z = D - 1;
+    let side: Vec<Side> = net
+        .pores
+        .iter()
+        .map(|p| {
+            if p.centre[z] < slab.0 {
+                Side::Below
+            } else if p.centre[z] > slab.1 {
+                Side::Above
+            } else {
+                Side::In
+            }
+        })
+        .collect();
+    // The sample's pores, numbered in network order.
+    let mut index = vec![u32::MAX; net.pores.len()];
+    let mut members: Vec<u32> = Vec::new();
+    for (p, s) in side.iter().enumerate() {
+        if *s == Side::In {
+            index[p] = members.len() as u32;
+            members.push(p as u32);
+        }
+    }
+    if members.is_empty() {
+        return Err(
+            "drainage: the slab holds no pore (a taller bed or [analysis.flow] slab)".into(),
+        );
+    }
+    let cos = options.contact_angle.cos();
+    // Entry curvatures (P_e / γ) of every throat, on every core.
+    let entry: Vec<Real> = (0..net.throats.len())
+        .into_par_iter()
+        .map(|t| entry::entry_curvature(bed, net, t, options.entry, cos))
+        .collect();
+    let mut graph = InvasionGraph {
+        pores: members.len(),
+        outlet: vec![false; members.len()],
+        ..InvasionGraph::default()
+    };
+    for (t, th) in net.throats.iter().enumerate() {
+        let (a, b) = (th.pores[0] as usize, th.pores[1] as usize);
+        match (side[a], side[b]) {
+            (Side::In, Side::In) => graph.throats.push((index[a], index[b], entry[t])),
+            (Side::In, Side::Above) => graph.inlets.push((index[a], entry[t])),
+            (Side::Above, Side::In) => graph.inlets.push((index[b], entry[t])),
+            (Side::In, Side::Below) => graph.outlet[index[a] as usize] = true,
+            (Side::Below, Side::In) => graph.outlet[index[b] as usize] = true,
+            _ => {}
+        }
+    }
+    if graph.inlets.is_empty() {
+        return Err(
+            "drainage: no pore of the slab opens to the gas above it (the slab reaches the top of \
+             the bed): lower [analysis.flow] slab's top"
+                .into(),
+        );
+    }
+    if !graph.outlet.iter().any(|&o| o) {
+        return Err(
+            "drainage: no pore of the slab opens to the liquid below it, the bed has no outlet \
+             (the slab reaches the floor): raise [analysis.flow] slab's bottom"
+                .into(),
+        );
+    }
+    let invasion = invasion::invade(&graph, options.trapping);
+    let voids: Vec<Real> = members
+        .iter()
+        .map(|&p| net.pores[p as usize].void_volume.max(0.0))
+        .collect();
+    let pore_volume: Real = voids.iter().sum();
+    let scale = Scale {
+        d32,
+        gamma: options.surface_tension,
+        metres_per_unit,
+    };
+
+    // When each network pore drains (below: never; above: gas from the start).
+    let drains_at: Vec<Real> = side
+        .iter()
+        .zip(&index)
+        .map(|(s, &i)| match s {
+            Side::Below => Real::INFINITY,
+            Side::Above => 0.0,
+            Side::In => invasion.drains_at[i as usize],
+        })
+        .collect();
+    let breakthrough = invasion.breakthrough;
+    let first_entry = graph
+        .inlets
+        .iter()
+        .map(|e| e.1)
+        .fold(Real::INFINITY, Real::min);
+    let pendular = pendular::Pendular::new(
+        bed,
+        net,
+        &side_in(&side),
+        options.contact_angle,
+        0.8 * first_entry,
+    );
+    // The curve's pressures: from below the first entry to past the end of
+    // drainage, with the breakthrough itself.
+    let curve_kappas = curve_pressures(&invasion, &voids, first_entry, options.points);
+    let curve: Vec<CurvePoint> = curve_kappas
+        .par_iter()
+        .map(|&kappa| {
+            let at = state_at(&graph, &invasion, &voids, kappa, options.trapping);
+            let pend = pendular.volumes(&drains_at, kappa, &members, &voids);
+            point(&scale, kappa, &at, &voids, pend.total, pore_volume)
+        })
+        .collect();
+    let mut summary = DrainageSummary {
+        surface_tension: options.surface_tension,
+        contact_angle: options.contact_angle.to_degrees(),
+        trapping: options.trapping,
+        entry: options.entry.name(),
+        d32,
+        pores: members.len() as u64,
+        pore_volume,
+        entry_pressure: first_entry.is_finite().then(|| scale.pressure(first_entry)),
+        breakthrough: breakthrough.map(|k| scale.pressure(k)),
+        ..DrainageSummary::default()
+    };
+    if let Some(k) = breakthrough {
+        let at = state_at(&graph, &invasion, &voids, k, options.trapping);
+        let pend = pendular.volumes(&drains_at, k, &members, &voids);
+        summary.saturation_at_breakthrough =
+            Some(point(&scale, k, &at, &voids, pend.total, pore_volume).saturation);
+    }
+    let state_kappa =
+        match (options.state, breakthrough) {
+            (Some(StatePressure::Reduced(r)), _) => Some(r / d32),
+            (Some(StatePressure::Pascal(p)), _) => match metres_per_unit {
+                Some(m) => Some(p * m / options.surface_tension),
+                None => return Err(
+                    "drainage: a pressure in Pa needs [analysis] length_unit, the length of one \
+                     unit of the bed"
+                        .into(),
+                ),
+            },
+            (None, Some(k)) => Some(2.0 * k),
+            (None, None) => None,
+        };
+    let mut out = Drainage {
+        pores: vec![(PoreState::Outside, -1, 0.0); net.pores.len()],
+        per_particle: vec![(0.0, 0); bed.len()],
+        ..Drainage::default()
+    };
+    if breakthrough.is_none() {
+        summary.note = Some(
+            "the gas never reaches the bottom of the slab (no open path of throats through it): \
+             no breakthrough; the liquid is reported at the pressure asked for, if any"
+                .into(),
+        );
+    }
+    if let Some(kappa) = state_kappa {
+        let at = state_at(&graph, &invasion, &voids, kappa, options.trapping);
+        let pend = pendular.volumes(&drains_at, kappa, &members, &voids);
+        let p = point(&scale, kappa, &at, &voids, pend.total, pore_volume);
+        summary.state = Some(scale.pressure(kappa));
+        summary.residual_saturation = Some(p.saturation);
+        summary.residual_connected = Some(p.connected);
+        summary.residual_trapped = Some(p.trapped);
+        summary.residual_pendular = Some(p.pendular);
+        summary.clusters = clusters(&at, &voids, pore_volume);
+        summary.funicular_pores = pend.funicular;
+        for (i, &p) in members.iter().enumerate() {
+            let liquid = if at.liquid[i] {
+                voids[i]
+            } else {
+                pend.per_pore[i]
+            };
+            let state = if !at.liquid[i] {
+                PoreState::Drained
+            } else if at.cluster[i] == 0 {
+                PoreState::Filled
+            } else {
+                PoreState::Trapped
+            };
+            out.pores[p as usize] = (state, at.cluster[i], liquid);
+        }
+        let bridges = pendular.bridges(&drains_at, kappa);
+        for b in &bridges {
+            for &particle in &b.particles {
+                let e = &mut out.per_particle[particle as usize];
+                e.0 += 0.5 * b.volume;
+                e.1 += 1;
+            }
+        }
+        summary.bridges = bridges.len() as u64;
+        let in_slab = (0..bed.len())
+            .filter(|&i| {
+                let h = bed.centres[i].0[z];
+                h >= slab.0 && h <= slab.1
+            })
+            .count();
+        summary.bridges_per_particle = if in_slab > 0 {
+            2.0 * bridges.len() as Real / in_slab as Real
+        } else {
+            0.0
+        };
+        out.bridges = bridges;
+    }
+    let thickness = (slab.1 - slab.0) / d32;
+    if thickness < MIN_THICKNESS {
+        out.warning = Some(format!(
+            "drainage: the slab is {thickness:.1} d32 thick, under {MIN_THICKNESS} d32: the \
+             breakthrough pressure of so thin a sample is lower than a cake's (the gas finds a \
+             path through few pores), give a taller bed or [analysis.flow] slab"
+        ));
+    }
+    out.summary = summary;
+    out.curve = curve;
+    Ok(out)
+}
+
+/// The thinnest slab, in `d32`, whose breakthrough is read as the cake's.
+pub const MIN_THICKNESS: Real = 5.0;
+
+fn side_in(side: &[Side]) -> Vec<bool> {
+    side.iter().map(|&s| s == Side::In).collect()
+}
+
+/// Converts curvatures to the reported pressures.
+struct Scale {
+    d32: Real,
+    gamma: Real,
+    metres_per_unit: Option<Real>,
+}
+
+impl Scale {
+    fn pressure(&self, kappa: Real) -> Pressure {
+        Pressure {
+            reduced: kappa * self.d32,
+            pa: self.metres_per_unit.map(|m| kappa * self.gamma / m),
+        }
+    }
+}
+
+/// The liquid of the sample at one pressure: which pores hold it, and their
+/// clusters (0: joined to the outlet; 1…: cut off, largest first).
+struct State {
+    liquid: Vec<bool>,
+    cluster: Vec<i64>,
+}
+
+/// The sample at curvature `kappa`: a pore is liquid when it has not drained
+/// by then; the liquid pores are grouped by the throats between them.
+///
+/// Without trapping the liquid cut off through the pores is joined to the
+/// outlet by the films in the corners (the model's meaning of no trapping):
+/// it is all cluster 0.
+fn state_at(
+    g: &InvasionGraph,
+    inv: &Invasion,
+    voids: &[Real],
+    kappa: Real,
+    trapping: bool,
+) -> State {
+    let n = g.pores;
+    let liquid: Vec<bool> = (0..n).map(|p| !(inv.drains_at[p] <= kappa)).collect();
+    let mut sets = Sets::new(n + 1);
+    if !trapping {
+        for p in 0..n {
+            if liquid[p] {
+                sets.union(p, n);
+            }
+        }
+    }
+    for &(a, b, _) in &g.throats {
+        if liquid[a as usize] && liquid[b as usize] {
+            sets.union(a as usize, b as usize);
+        }
+    }
+    for p in 0..n {
+        if liquid[p] && g.outlet[p] {
+            sets.union(p, n);
+        }
+    }
+    let outlet = sets.find(n);
+    // Cut-off clusters by volume, largest first (ties by first pore).
+    let mut volume: Vec<(Real, usize)> = Vec::new();
+    let mut slot = vec![usize::MAX; n + 1];
+    for p in 0..n {
+        if !liquid[p] {
+            continue;
+        }
+        let r = sets.find(p);
+        if r == outlet {
+            continue;
+        }
+        if slot[r] == usize::MAX {
+            slot[r] = volume.len();
+            volume.push((0.0, p));
+        }
+        volume[slot[r]].0 += voids[p];
+    }
+    let mut rank: Vec<usize> = (0..volume.len()).collect();
+    rank.sort_by(|&a, &b| {
+        volume[b]
+            .0
+            .total_cmp(&volume[a].0)
+            .then(volume[a].1.cmp(&volume[b].1))
+    });
+    let mut id_of = vec![0i64; volume.len()];
+    for (k, &c) in rank.iter().enumerate() {
+        id_of[c] = k as i64 + 1;
+    }
+    let cluster = (0..n)
+        .map(|p| {
+            if !liquid[p] {
+                -1
+            } else {
+                let r = sets.find(p);
+                if r == outlet {
+                    0
+                } else {
+                    id_of[slot[r]]
+                }
+            }
+        })
+        .collect();
+    State { liquid, cluster }
+}
+
+fn point(
+    scale: &Scale,
+    kappa: Real,
+    at: &State,
+    voids: &[Real],
+    pendular: Real,
+    pore_volume: Real,
+) -> CurvePoint {
+    let (mut connected, mut trapped) = (0.0, 0.0);
+    for (&c, &v) in at.cluster.iter().zip(voids) {
+        match c {
+            0 => connected += v,
+            c if c > 0 => trapped += v,
+            _ => {}
+        }
+    }
+    let frac = |v: Real| {
+        if pore_volume > 0.0 {
+            v / pore_volume
+        } else {
+            0.0
+        }
+    };
+    let p = scale.pressure(kappa);
+    CurvePoint {
+        pc_reduced: p.reduced,
+        pc_pa: p.pa,
+        saturation: frac(connected + trapped + pendular),
+        connected: frac(connected),
+        trapped: frac(trapped),
+        pendular: frac(pendular),
+    }
+}
+
+fn clusters(at: &State, voids: &[Real], pore_volume: Real) -> Clusters {
+    let count = at.cluster.iter().copied().max().unwrap_or(0).max(0) as usize;
+    let mut pores = vec![0u64; count + 1];
+    let mut volume = vec![0.0; count + 1];
+    for (p, &c) in at.cluster.iter().enumerate() {
+        if c > 0 {
+            pores[c as usize] += 1;
+            volume[c as usize] += voids[p];
+        }
+    }
+    let mut sizes: Vec<u64> = pores[1..].to_vec();
+    sizes.sort_unstable();
+    let median = if sizes.is_empty() {
+        0.0
+    } else if sizes.len() % 2 == 1 {
+        sizes[sizes.len() / 2] as Real
+    } else {
+        0.5 * (sizes[sizes.len() / 2 - 1] + sizes[sizes.len() / 2]) as Real
+    };
+    let mut histogram: Vec<u64> = Vec::new();
+    for &s in &sizes {
+        let bin = (u64::BITS - s.leading_zeros() - 1) as usize;
+        if histogram.len() <= bin {
+            histogram.resize(bin + 1, 0);
+        }
+        histogram[bin] += 1;
+    }
+    Clusters {
+        count: count as u64,
+        largest_pores: if count > 0 { pores[1] } else { 0 },
+        largest_fraction: if count > 0 && pore_volume > 0.0 {
+            volume[1] / pore_volume
+        } else {
+            0.0
+        },
+        median_pores: median,
+        pores_histogram: histogram,
+    }
+}
+
+/// The curvatures the curve is written at: `points` evenly spaced from
+/// 0.8 of the lowest inlet entry to past the end of drainage (the curvature
+/// by which 99.5 % of the volume that ever drains has drained, and at
+/// least twice the breakthrough), with the breakthrough itself.
+fn curve_pressures(inv: &Invasion, voids: &[Real], first_entry: Real, points: usize) -> Vec<Real> {
+    let mut drained: Vec<(Real, Real)> = inv
+        .drains_at
+        .iter()
+        .zip(voids)
+        .filter(|e| e.0.is_finite())
+        .map(|(&k, &v)| (k, v))
+        .collect();
+    drained.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let total: Real = drained.iter().map(|e| e.1).sum();
+    let mut acc = 0.0;
+    let mut end = first_entry;
+    for &(k, v) in &drained {
+        acc += v;
+        end = k;
+        if acc >= 0.995 * total {
+            break;
+        }
+    }
+    if let Some(b) = inv.breakthrough {
+        end = end.max(2.0 * b);
+    }
+    if !first_entry.is_finite() {
+        return Vec::new();
+    }
+    let lo = 0.8 * first_entry;
+    let hi = (1.1 * end).max(lo * 1.5);
+    let points = points.max(2);
+    let mut out: Vec<Real> = (0..points)
+        .map(|i| lo + (hi - lo) * i as Real / (points - 1) as Real)
+        .collect();
+    if let Some(b) = inv.breakthrough {
+        out.push(b);
+    }
+    out.sort_by(Real::total_cmp);
+    out.dedup();
+    out
+}
+
+#[cfg(test)]
+mod tests;

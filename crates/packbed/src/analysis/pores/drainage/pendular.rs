@@ -1,0 +1,329 @@
+//! The pendular bridges the gas leaves at the contacts of drained pores.
+//!
+//! A bridge sits on a pair of particles that is an edge of the
+//! triangulation, when every pore around that edge has drained (liquid still
+//! filling one of them is that pore's liquid, not a bridge) and the pair is
+//! close enough for a bridge of the gas pressure's curvature
+//! ([`super::bridge`]). Its volume is shared among the pores around the
+//! edge in proportion to their dihedral angle at it: a bridge is a body of
+//! revolution about its pair's line of centres, so a cell's wedge holds
+//! that share of it exactly as long as the bridge does not reach the cell's
+//! two other faces (in 2D each of the two triangles on an edge holds half).
+//! A pore whose bridges would hold more than its void is counted as
+//! funicular (the rings have merged) and holds its void.
+//!
+//! Assumptions: the bridges are at equilibrium with the gas pressure (they
+//! exchange liquid through films while the pressure rises), their walls are
+//! the particles only (wall contacts hold none), and a bridge takes the
+//! shape of an isolated pair's (the toroidal meridian).
+
+use super::super::network::{Network, Site};
+use super::bridge;
+use super::BridgeRow;
+use crate::bed::Bed;
+use crate::math::Real;
+use rayon::prelude::*;
+
+/// The widest gap, in the pair's harmonic mean radius, considered for a
+/// bridge: past it no bridge of a drained pore's curvature exists (a bridge
+/// ruptures at a gap of about its volume's cube root, Lian et al. 1993, and
+/// a ring wider than this has merged with its neighbours).
+pub const MAX_GAP: Real = 0.5;
+
+/// One pair of particles that may hold a bridge.
+#[derive(Clone, Debug)]
+struct Edge {
+    particles: [u32; 2],
+    shift: [i8; 2],
+    radii: [Real; 2],
+    gap: Real,
+    /// The pair's bridges (3D), its fold found once.
+    pair: Option<bridge::Pair>,
+    /// The pores around the edge: (network pore, share of the bridge it
+    /// holds, whether it is a pore of the slab).
+    pores: Vec<(u32, Real, bool)>,
+}
+
+/// The candidate bridges of a network.
+pub struct Pendular {
+    edges: Vec<Edge>,
+    theta: Real,
+    dim: usize,
+    /// Slab index of each network pore (`u32::MAX` off the slab).
+    slab_index: Vec<u32>,
+}
+
+/// Bridge volumes at one pressure, per pore of the slab.
+pub struct Volumes {
+    /// Liquid in bridges per pore of the slab (capped at the pore's void).
+    pub per_pore: Vec<Real>,
+    /// Their sum.
+    pub total: Real,
+    /// Pores whose bridges would have held more than the void.
+    pub funicular: u64,
+}
+
+/// The key of an edge: its two sites, the first with no image shift on
+/// periodic beds (all translates of a pair are one pair), lower site first.
+fn key(a: Site, b: Site, periodic: bool) -> Option<(u32, u32, [i8; 2], [i8; 2])> {
+    if periodic {
+        let rel = |x: Site, y: Site| {
+            [
+                y.image[0].wrapping_sub(x.image[0]),
+                y.image[1].wrapping_sub(x.image[1]),
+            ]
+        };
+        let (lo, hi) = if (a.particle, a.image) <= (b.particle, b.image) {
+            (a, b)
+        } else {
+            (b, a)
+        };
+        if lo.particle == hi.particle {
+            return None; // a particle and its own image: a box narrower than it
+        }
+        let r = rel(lo, hi);
+        let (first, second, shift) = if lo.particle < hi.particle {
+            (lo.particle, hi.particle, r)
+        } else {
+            (
+                hi.particle,
+                lo.particle,
+                [r[0].wrapping_neg(), r[1].wrapping_neg()],
+            )
+        };
+        Some((first, second, shift, [0; 2]))
+    } else {
+        // Across a side wall (a particle and a mirror image) is no contact.
+        if a.image != b.image || a.particle == b.particle {
+            return None;
+        }
+        let (p, q) = if a.particle < b.particle {
+            (a.particle, b.particle)
+        } else {
+            (b.particle, a.particle)
+        };
+        Some((p, q, [0; 2], a.image))
+    }
+}
+
+/// The dihedral angle of the tetrahedron `v` at its edge `(v[i], v[j])`.
+fn dihedral(v: &[[Real; 3]; 4], i: usize, j: usize) -> Real {
+    let others: Vec<usize> = (0..4).filter(|&k| k != i && k != j).collect();
+    let sub = |a: [Real; 3], b: [Real; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let dot = |a: [Real; 3], b: [Real; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let e = sub(v[j], v[i]);
+    let ee = dot(e, e);
+    if !(ee > 0.0) {
+        return 0.0;
+    }
+    let perp = |p: [Real; 3]| {
+        let w = sub(p, v[i]);
+        let t = dot(w, e) / ee;
+        [w[0] - t * e[0], w[1] - t * e[1], w[2] - t * e[2]]
+    };
+    let (u, w) = (perp(v[others[0]]), perp(v[others[1]]));
+    let c = [
+        u[1] * w[2] - u[2] * w[1],
+        u[2] * w[0] - u[0] * w[2],
+        u[0] * w[1] - u[1] * w[0],
+    ];
+    let angle = dot(c, c).sqrt().atan2(dot(u, w));
+    if angle.is_finite() {
+        angle
+    } else {
+        0.0
+    }
+}
+
+impl Pendular {
+    /// The pairs of `net` close enough for a bridge; `in_slab` flags the
+    /// network's pores of the slab; `theta` is the contact angle.
+    ///
+    /// Pairs that hold no bridge at `kappa_lo`, the lowest curvature asked
+    /// for later, are left out: a 3D bridge's meridian radius is below
+    /// `1/κ`, so it spans no gap a 2D meniscus of radius `1/κ` cannot
+    /// (closed form), and a bridge at a higher curvature spans less.
+    pub fn new<const D: usize>(
+        bed: &Bed<D>,
+        net: &Network<D>,
+        in_slab: &[bool],
+        theta: Real,
+        kappa_lo: Real,
+    ) -> Pendular {
+        let periodic = bed.container.periodic;
+        type Entry = ((u32, u32, [i8; 2], [i8; 2]), u32, Real, Real);
+        let mut entries: Vec<Entry> = net
+            .pores
+            .par_iter()
+            .enumerate()
+            .flat_map_iter(|(p, pore)| {
+                let pos: Vec<[Real; D]> = pore.sites[..=D]
+                    .iter()
+                    .map(|&s| super::site_position(bed, s))
+                    .collect();
+                let mut out: Vec<Entry> = Vec::new();
+                for i in 0..=D {
+                    for j in i + 1..=D {
+                        let (a, b) = (pore.sites[i], pore.sites[j]);
+                        let Some(k) = key(a, b, periodic) else {
+                            continue;
+                        };
+                        let (ra, rb) = (
+                            bed.radii[a.particle as usize],
+                            bed.radii[b.particle as usize],
+                        );
+                        let dist = (0..D)
+                            .map(|x| (pos[i][x] - pos[j][x]).powi(2))
+                            .sum::<Real>()
+                            .sqrt();
+                        let gap = dist - ra - rb;
+                        let harmonic = 2.0 * ra * rb / (ra + rb);
+                        let reach = bridge::rupture_gap_2d(ra, rb, theta, kappa_lo)
+                            .unwrap_or(Real::INFINITY)
+                            .min(MAX_GAP * harmonic);
+                        if !(gap <= reach) {
+                            continue;
+                        }
+                        let share = if D == 3 {
+                            let v: [[Real; 3]; 4] =
+                                std::array::from_fn(|m| std::array::from_fn(|x| pos[m][x]));
+                            dihedral(&v, i, j) / std::f64::consts::TAU
+                        } else {
+                            0.5
+                        };
+                        out.push((k, p as u32, share, gap));
+                    }
+                }
+                out
+            })
+            .collect();
+        entries.par_sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut edges: Vec<Edge> = Vec::new();
+        let mut last = None;
+        for (k, p, share, gap) in entries {
+            if last != Some(k) {
+                last = Some(k);
+                edges.push(Edge {
+                    particles: [k.0, k.1],
+                    shift: k.2,
+                    radii: [bed.radii[k.0 as usize], bed.radii[k.1 as usize]],
+                    gap,
+                    pair: None,
+                    pores: Vec::new(),
+                });
+            }
+            if let Some(e) = edges.last_mut() {
+                e.pores.push((p, share, in_slab[p as usize]));
+            }
+        }
+        if D == 3 {
+            edges.par_iter_mut().for_each(|e| {
+                e.pair = bridge::Pair::new(e.radii[0], e.radii[1], e.gap, theta);
+            });
+            edges.retain(|e| e.pair.is_some_and(|p| p.kappa_max >= kappa_lo));
+        }
+        let mut slab_index = vec![u32::MAX; net.pores.len()];
+        let mut n = 0;
+        for (p, &s) in in_slab.iter().enumerate() {
+            if s {
+                slab_index[p] = n;
+                n += 1;
+            }
+        }
+        Pendular {
+            edges,
+            theta,
+            dim: D,
+            slab_index,
+        }
+    }
+
+    /// The bridge of edge `e` at curvature `kappa`, if every pore around it
+    /// has drained by then (`drains_at` per network pore).
+    fn bridge(&self, e: &Edge, drains_at: &[Real], kappa: Real) -> Option<bridge::Bridge> {
+        if !e
+            .pores
+            .iter()
+            .all(|&(p, _, _)| drains_at[p as usize] <= kappa)
+        {
+            return None;
+        }
+        let [r1, r2] = e.radii;
+        if self.dim == 3 {
+            e.pair.as_ref()?.bridge(kappa)
+        } else {
+            bridge::bridge_2d(r1, r2, e.gap, self.theta, kappa).map(|b| bridge::Bridge {
+                volume: b.area,
+                neck_radius: b.neck_half_width,
+                half_angle_1: b.half_angle_1,
+                half_angle_2: b.half_angle_2,
+                meridian_radius: b.meridian_radius,
+            })
+        }
+    }
+
+    /// The liquid in bridges per pore of the slab at curvature `kappa`.
+    /// `members` are the slab's pores (network indices), `voids` their void.
+    pub fn volumes(
+        &self,
+        drains_at: &[Real],
+        kappa: Real,
+        members: &[u32],
+        voids: &[Real],
+    ) -> Volumes {
+        let mut per_pore = vec![0.0; members.len()];
+        // The bridges on every core, added up in edge order (the same bits
+        // whatever the thread count).
+        let volumes: Vec<Real> = self
+            .edges
+            .par_iter()
+            .map(|e| {
+                if !e.pores.iter().any(|p| p.2) {
+                    return 0.0;
+                }
+                self.bridge(e, drains_at, kappa).map_or(0.0, |b| b.volume)
+            })
+            .collect();
+        for (e, &v) in self.edges.iter().zip(&volumes) {
+            if v > 0.0 {
+                for &(p, share, slab) in &e.pores {
+                    if slab {
+                        per_pore[self.slab_index[p as usize] as usize] += share * v;
+                    }
+                }
+            }
+        }
+        let mut funicular = 0;
+        for (v, &void) in per_pore.iter_mut().zip(voids) {
+            if *v > void {
+                *v = void;
+                funicular += 1;
+            }
+        }
+        Volumes {
+            total: per_pore.iter().sum(),
+            per_pore,
+            funicular,
+        }
+    }
+
+    /// The bridges at curvature `kappa` with a share in the slab's pores.
+    pub fn bridges(&self, drains_at: &[Real], kappa: Real) -> Vec<BridgeRow> {
+        self.edges
+            .iter()
+            .filter(|e| e.pores.iter().any(|p| p.2))
+            .filter_map(|e| {
+                let b = self.bridge(e, drains_at, kappa)?;
+                let share: Real = e.pores.iter().filter(|p| p.2).map(|p| p.1).sum();
+                Some(BridgeRow {
+                    particles: e.particles,
+                    shift: e.shift,
+                    gap: e.gap,
+                    volume: share * b.volume,
+                    neck_radius: b.neck_radius,
+                    filling_angle: [b.half_angle_1.to_degrees(), b.half_angle_2.to_degrees()],
+                })
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,181 @@
+//! The drainage against closed forms, invariants and bad input.
+
+use super::*;
+use crate::analysis::pores::network::network;
+use crate::container::Container;
+use crate::math::Vector;
+use crate::{run_bed, Config};
+
+/// Touching spheres of radius 1 on a simple cubic lattice, periodic sides.
+fn simple_cubic(n: usize, layers: usize) -> Bed<3> {
+    let size = 2.0 * n as Real;
+    let mut bed = Bed::new(
+        Container {
+            size: Vector([size, size, 2.0 * layers as Real]),
+            periodic: true,
+        },
+        Vec::new(),
+    );
+    for k in 0..layers {
+        for j in 0..n {
+            for i in 0..n {
+                let at = |m: usize| 2.0 * m as Real + 1.0;
+                bed.push(Vector([at(i), at(j), at(k)]), 1.0, 0);
+            }
+        }
+    }
+    bed
+}
+
+fn deposited(count: u64, seed: u64, radius: &str) -> Bed<3> {
+    let text = format!(
+        "dim = 3\nseed = {seed}\n[box]\nwidth = 12\ndepth = 12\nheight = 400\nperiodic = true\n\
+         [fill]\ncount = {count}\n[[species]]\nradius = {radius}\n"
+    );
+    let config = Config::from_toml(&text, "test").unwrap();
+    match run_bed(&config, &mut |_| {}).unwrap().bed {
+        crate::bed::AnyBed::D3(b) => b,
+        crate::bed::AnyBed::D2(_) => unreachable!(),
+    }
+}
+
+fn drain_bed(bed: &Bed<3>, slab: (Real, Real), o: &DrainageOptions) -> Drainage {
+    let net = network(bed, slab).unwrap();
+    drain(bed, &net, slab, 2.0, None, o).unwrap()
+}
+
+/// Every throat of a touching simple cubic array that gas must pass is a
+/// square face of four spheres, whose inscribed circle has radius
+/// `(√2 − 1) R`: the gas breaks through at `P_c R / γ = 2 / (√2 − 1)`.
+#[test]
+fn simple_cubic_breaks_through_at_its_square_faces() {
+    let bed = simple_cubic(4, 12);
+    let o = DrainageOptions {
+        entry: EntryModel::Inscribed,
+        ..DrainageOptions::default()
+    };
+    // Cube centres sit at even heights; the slab holds whole cubes.
+    let d = drain_bed(&bed, (5.0, 17.0), &o);
+    let bt = d.summary.breakthrough.unwrap().reduced / 2.0; // P_c R / γ
+    let exact = 2.0 / (2f64.sqrt() - 1.0);
+    assert!((bt - exact).abs() < 1e-9 * exact, "{bt} against {exact}");
+    // Below it the slab is full, above it nothing but bridges is left
+    // (no cube is cut off: each drains through its faces).
+    let full = d
+        .curve
+        .iter()
+        .find(|p| p.pc_reduced < 2.0 * exact * 0.99)
+        .unwrap();
+    assert!((full.saturation - 1.0).abs() < 1e-12);
+}
+
+#[test]
+fn the_curve_is_monotone_and_the_liquid_is_accounted_for() {
+    let bed = deposited(1500, 3, "1.0");
+    let slab = (4.0, 16.0);
+    for trapping in [true, false] {
+        let o = DrainageOptions {
+            trapping,
+            ..DrainageOptions::default()
+        };
+        let d = drain_bed(&bed, slab, &o);
+        assert!(d.summary.breakthrough.is_some());
+        for w in d.curve.windows(2) {
+            assert!(w[1].pc_reduced > w[0].pc_reduced);
+            assert!(w[1].saturation <= w[0].saturation + 1e-12, "{:?}", w);
+            assert!(w[1].trapped + 1e-12 >= w[0].trapped);
+        }
+        for p in &d.curve {
+            let parts = p.connected + p.trapped + p.pendular;
+            assert!((parts - p.saturation).abs() < 1e-12);
+            assert!((0.0..=1.0 + 1e-12).contains(&p.saturation));
+        }
+        // The pores' liquid at the reported pressure: the full void of the
+        // filled and trapped ones, the bridges' share (never more than the
+        // void) of the drained ones, adding up to the summary's saturation.
+        let s = &d.summary;
+        let v = s.pore_volume;
+        let mut filled = 0.0;
+        let mut held = 0.0;
+        let net = network(&bed, slab).unwrap();
+        for (p, &(state, cluster, liquid)) in d.pores.iter().enumerate() {
+            let void = net.pores[p].void_volume.max(0.0);
+            match state {
+                PoreState::Outside => assert_eq!(liquid, 0.0),
+                PoreState::Filled => {
+                    assert_eq!(cluster, 0);
+                    assert_eq!(liquid, void);
+                    filled += liquid;
+                }
+                PoreState::Trapped => {
+                    assert!(cluster > 0 && trapping);
+                    assert_eq!(liquid, void);
+                    filled += liquid;
+                }
+                PoreState::Drained => {
+                    assert!(liquid <= void && liquid >= 0.0);
+                    held += liquid;
+                }
+            }
+        }
+        let total = s.residual_saturation.unwrap();
+        assert!(
+            ((filled + held) / v - total).abs() < 1e-9,
+            "{} {}",
+            (filled + held) / v,
+            total
+        );
+        // The bridges of liquid.csv carry the drained pores' liquid.
+        let bridged: Real = d.bridges.iter().map(|b| b.volume).sum();
+        assert!((bridged - held).abs() <= 1e-9 * v, "{bridged} {held}");
+        if !trapping {
+            assert_eq!(s.residual_trapped, Some(0.0));
+        }
+    }
+}
+
+/// Trapping keeps liquid: without it the same bed holds less at the same
+/// pressure, and the breakthrough does not move (it is the first path).
+#[test]
+fn trapping_keeps_liquid_the_breakthrough_stays() {
+    let bed = deposited(1500, 4, "1.0");
+    let slab = (4.0, 16.0);
+    let on = drain_bed(&bed, slab, &DrainageOptions::default());
+    let off = drain_bed(
+        &bed,
+        slab,
+        &DrainageOptions {
+            trapping: false,
+            ..DrainageOptions::default()
+        },
+    );
+    assert_eq!(on.summary.breakthrough, off.summary.breakthrough);
+    assert!(on.summary.residual_saturation > off.summary.residual_saturation);
+    assert!(on.summary.residual_trapped.unwrap() > 0.0);
+}
+
+#[test]
+fn bad_wetting_and_missing_outlets_are_refused() {
+    let bed = simple_cubic(3, 8);
+    let net = network(&bed, (3.0, 13.0)).unwrap();
+    let run = |o: DrainageOptions, slab: (Real, Real)| drain(&bed, &net, slab, 2.0, None, &o);
+    let theta = DrainageOptions {
+        contact_angle: 90f64.to_radians(),
+        ..DrainageOptions::default()
+    };
+    assert!(run(theta, (3.0, 13.0))
+        .unwrap_err()
+        .contains("not a drainage"));
+    let gamma = DrainageOptions {
+        surface_tension: -1.0,
+        ..DrainageOptions::default()
+    };
+    assert!(run(gamma, (3.0, 13.0))
+        .unwrap_err()
+        .contains("surface_tension"));
+    // A slab down to the floor has no liquid below it.
+    let e = run(DrainageOptions::default(), (-1.0, 13.0)).unwrap_err();
+    assert!(e.contains("no outlet"), "{e}");
+    let e = run(DrainageOptions::default(), (3.0, 100.0)).unwrap_err();
+    assert!(e.contains("gas above"), "{e}");
+}
