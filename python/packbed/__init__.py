@@ -314,6 +314,38 @@ class Bed:
             _, pores, throats = self._bed.pores(_settings(chosen), p)
         return pd.DataFrame(pores), pd.DataFrame(throats)
 
+    def drainage(self, *, progress: ProgressLike = None, **options: Any) -> Dict[str, Any]:
+        """Primary drainage of the bed's pore network (README, "Deliquoring").
+
+        Returns a dict: ``summary`` (``summary.json``'s ``drainage``), and as
+        ``pandas.DataFrame`` ``curve`` (the capillary pressure–saturation
+        curve of ``drainage.csv``), ``relative`` (its rows with the relative
+        permeabilities ``k_rw``, ``k_rg``, with the permeability measure),
+        ``bridges`` (``liquid.csv``: the pendular bridges) and ``pores``
+        (``pores.csv`` with ``liquid_state``, ``cluster``, ``liquid``).
+        ``options`` are keys of ``[analysis]``; ``drainage`` for
+        ``[analysis.drainage]`` (``surface_tension``, ``contact_angle``,
+        ``trapping``, ``entry``, ``pressure``, ``reduced_pressure``,
+        ``points``). Raises ``ImpossibleError`` when the bed has no drainage
+        (no bulk slab, no outlet), with the reason.
+        """
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("Bed.drainage needs pandas: pip install pandas") from None
+        chosen = dict(options)
+        chosen.setdefault("measures", ["packing", "permeability", "drainage"])
+        with _Progress(progress, "") as p:
+            text, curve, relative, bridges, pores = self._bed.drainage(_settings(chosen), p)
+        summary = json.loads(text)
+        return {
+            "summary": summary.get("drainage"),
+            "curve": pd.DataFrame(curve),
+            "relative": pd.DataFrame(relative),
+            "bridges": pd.DataFrame(bridges),
+            "pores": pd.DataFrame(pores),
+        }
+
     def permeability(self, *, progress: ProgressLike = None, **options: Any) -> Dict[str, Any]:
         """The permeability of the bed's pore network, as ``summary.json``'s ``permeability``.
 

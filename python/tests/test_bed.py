@@ -247,6 +247,32 @@ def test_pores_and_permeability_match_the_command(tmp_path, run_cli):
         small.permeability()
 
 
+def test_drainage_matches_the_command(tmp_path, run_cli):
+    args = ("--radii", "10", "--box", "160,160,700", "--periodic", "--count", "1200", "--seed", "2")
+    out = tmp_path / "cli"
+    run_cli("run", *args, "--measures", "packing,permeability,drainage", "--out", str(out), "--quiet", "--no-pictures")
+    bed = packbed.deposit(dim=3, radii=10, box=[160, 160, 700], periodic=True, count=1200, seed=2)
+    pd = optional("pandas")
+    d = bed.drainage()
+    summary = json.loads((out / "summary.json").read_text())
+    assert d["summary"] == summary["drainage"]
+    curve = pd.read_csv(out / "drainage.csv")
+    pd.testing.assert_frame_equal(
+        d["curve"], curve[["pc_reduced", "saturation", "connected", "trapped", "pendular"]], check_exact=True
+    )
+    rel = curve.dropna(subset=["k_rw"]).reset_index(drop=True)
+    pd.testing.assert_frame_equal(d["relative"], rel[["pc_reduced", "saturation", "k_rw", "k_rg"]], check_exact=True)
+    bridges = pd.read_csv(out / "liquid.csv").drop(columns=["state"])
+    pd.testing.assert_frame_equal(d["bridges"], bridges, check_dtype=False, check_exact=True)
+    pores = pd.read_csv(out / "pores.csv")
+    pd.testing.assert_frame_equal(d["pores"], pores, check_dtype=False, check_exact=True)
+    # The saturation falls as the pressure rises; a contact angle of 90
+    # degrees is not a drainage.
+    assert (d["curve"]["saturation"].diff().dropna() <= 1e-12).all()
+    with pytest.raises(packbed.ConfigError, match="not a drainage"):
+        bed.drainage(drainage={"contact_angle": 90})
+
+
 def test_cake_psd_and_compare_match_the_command(tmp_path, run_cli):
     pd = optional("pandas")
     table = tmp_path / "sieve.csv"

@@ -206,6 +206,62 @@ impl Bed {
         ))
     }
 
+    /// The drainage with the analysis settings (`measures` given by the
+    /// caller): the measures (JSON text) and, as dicts of numpy arrays, the
+    /// curve, its rows with relative permeabilities, the pendular bridges
+    /// and the pores' columns; raises `ImpossibleError` with the reason when
+    /// the bed has no drainage.
+    #[pyo3(signature = (settings_json, progress=None))]
+    #[allow(clippy::type_complexity)]
+    fn drainage<'py>(
+        &self,
+        py: Python<'py>,
+        settings_json: &str,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<(
+        String,
+        Bound<'py, PyDict>,
+        Bound<'py, PyDict>,
+        Bound<'py, PyDict>,
+        Bound<'py, PyDict>,
+    )> {
+        let settings = self.settings(settings_json)?;
+        let bed = self.bed();
+        let (_, summary) = detached::run(py, progress, |_| {
+            packbed::analyze_bed(bed, &settings).map_err(to_py)
+        })?;
+        let (Some(d), Some(tables)) = (summary.liquid.clone(), summary.pore_tables.clone()) else {
+            let why = summary
+                .drainage_note
+                .clone()
+                .or_else(|| summary.pores_note.clone())
+                .unwrap_or_else(|| "the drainage was not asked for".into());
+            return Err(crate::errors::ImpossibleError::new_err(format!(
+                "drainage: {why}"
+            )));
+        };
+        let dict = |columns: Vec<(String, packbed::PoreColumn)>| -> PyResult<Bound<'py, PyDict>> {
+            let out = PyDict::new(py);
+            for (name, column) in columns {
+                match column {
+                    packbed::PoreColumn::Int(v) => out.set_item(name, PyArray1::from_vec(py, v))?,
+                    packbed::PoreColumn::Float(v) => {
+                        out.set_item(name, PyArray1::from_vec(py, v))?
+                    }
+                }
+            }
+            Ok(out)
+        };
+        let json = serde_json::to_string(&summary).map_err(|e| config_error(e.to_string()))?;
+        Ok((
+            json,
+            dict(d.curve_columns())?,
+            dict(d.relative_columns())?,
+            dict(d.bridge_columns())?,
+            dict(tables.pore_columns())?,
+        ))
+    }
+
     /// Particle–particle contacts with the analysis settings: arrays i, j, gap.
     #[pyo3(signature = (settings_json))]
     #[allow(clippy::type_complexity)]

@@ -29,7 +29,7 @@ fn drainage_writes_its_curve_bridges_and_pore_states() {
     let header = curve.lines().next().unwrap();
     assert_eq!(
         header,
-        "pc_reduced,pc_pa,saturation,connected,trapped,pendular"
+        "pc_reduced,pc_pa,saturation,connected,trapped,pendular,k_rw,k_rg"
     );
     assert!(curve.lines().count() > 50);
     let liquid = s.read("wet/liquid.csv");

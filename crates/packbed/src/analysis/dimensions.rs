@@ -70,7 +70,7 @@ pub fn length_power(key: &str, dim: u8) -> Option<i32> {
         // counts, N/m and degrees: all free of the bed's unit but these.
         "drainage.d32" => 1,
         "drainage.pore_volume" => i32::from(dim),
-        _ if k.starts_with("drainage.") => 0,
+        _ if k.starts_with("drainage.") || k.starts_with("transport.") => 0,
         // Percolation: bodies, chains (lengths counted in bodies), flags.
         "percolation.large_radius" => 1,
         _ if k.starts_with("percolation.") => 0,

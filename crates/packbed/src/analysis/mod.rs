@@ -75,6 +75,9 @@ pub struct Summary {
     /// Why `pores` or `permeability` is absent although asked for.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pores_note: Option<String>,
+    /// The formation factor and tortuosities (with the permeability).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub transport: Option<pores::transport::TransportSummary>,
     /// Primary drainage of the pore network (absent when left out).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub drainage: Option<pores::drainage::DrainageSummary>,
@@ -386,6 +389,7 @@ pub fn analyze_timed<const D: usize>(
             summary.network_seconds = Some(space.network_seconds);
             summary.pores = want(Measure::Pores).then_some(space.pores);
             summary.permeability = space.permeability;
+            summary.transport = space.transport;
             summary.pores_note = space.note;
             summary.pore_tables = Some(std::sync::Arc::new(space.tables));
             summary.warnings.extend(space.warning);

@@ -113,6 +113,9 @@ pub fn pictures<const D: usize>(
                 ));
             }
         }
+        if let Some(d) = measures.liquid.as_ref().filter(|d| !d.curve.is_empty()) {
+            plots.push(("plot_drainage", run_plots::drainage_curve(d)));
+        }
         let angles = run_plots::chain_angles(bed);
         if !angles.is_empty() {
             plots.push((

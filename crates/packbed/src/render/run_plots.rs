@@ -173,6 +173,52 @@ pub fn pore_sizes(body: &[Real], constriction: &[Real], unit: Option<LengthUnit>
     }
 }
 
+/// The capillary pressure–saturation curve of the drainage as a lab draws
+/// it: `P_c·d32/γ` up against the wetting saturation, the whole liquid and
+/// the part left when the trapped and pendular liquid is set aside, with
+/// the breakthrough marked.
+pub fn drainage_curve(d: &crate::analysis::pores::drainage::Drainage) -> Plot {
+    let points = |f: &dyn Fn(&crate::analysis::pores::drainage::CurvePoint) -> Real| {
+        d.curve
+            .iter()
+            .map(|p| (f(p), p.pc_reduced))
+            .collect::<Vec<_>>()
+    };
+    let mut series = vec![
+        Series {
+            name: "wetting saturation".into(),
+            points: points(&|p| p.saturation),
+            errors: None,
+            markers: false,
+        },
+        Series {
+            name: "of it joined to the outlet".into(),
+            points: points(&|p| p.connected),
+            errors: None,
+            markers: false,
+        },
+    ];
+    if let (Some(b), Some(s)) = (
+        &d.summary.breakthrough,
+        d.summary.saturation_at_breakthrough,
+    ) {
+        series.push(Series {
+            name: format!("breakthrough, P_c·d32/γ = {:.2}", b.reduced),
+            points: vec![(s, b.reduced)],
+            errors: None,
+            markers: true,
+        });
+    }
+    Plot {
+        title: "Primary drainage".into(),
+        x_label: "wetting saturation".into(),
+        y_label: "capillary pressure P_c·d32/γ".into(),
+        data: PlotData::Lines { series },
+        y_range: None,
+        x_range: Some((0.0, 1.0)),
+    }
+}
+
 /// The size distribution as sieve analyses draw it: mass % passing against
 /// diameter on a log axis, requested and placed (the roof cuts the coarse
 /// tail; fines that percolate down stay). `unit` names the length unit.

@@ -218,10 +218,7 @@ pub fn solve<const D: usize>(
     // `memory::Allocator`).
     let _huge = crate::memory::huge_pages();
     let z = D - 1;
-    let merge: Vec<bool> = shapes
-        .par_iter()
-        .map(|shape| !(shape.length >= LENGTH_FLOOR * shape.mean_radius))
-        .collect();
+    let merge = merged(&shapes);
     let conductance: Vec<Real> = shapes
         .par_iter()
         .zip(&net.throats)
@@ -312,6 +309,50 @@ pub fn solve<const D: usize>(
     }
     flow.conductance = conductance;
     Ok(flow)
+}
+
+/// The flow along z through the slab of `net` with these throat
+/// conductances (0: closed) at unit viscosity, throats `merge` merging their
+/// pores as in [`solve`]: the one solver for the other transports of the
+/// network (diffusion, each phase of a partly drained bed). Returns the
+/// axis' figures and the throat fluxes; `k` is 0 when no open path crosses
+/// the slab.
+pub fn solve_z<const D: usize>(
+    net: &Network<D>,
+    merge: &[bool],
+    conductance: &[Real],
+    size: &Vector<D>,
+    slab: (Real, Real),
+) -> Result<(AxisFlow, Vec<Real>), FlowError> {
+    let nodes = nodes(net, merge, slab);
+    let relink = || links(net, &nodes, conductance, merge);
+    match solve_axes(&nodes, &relink, conductance, size, slab, &[D - 1]) {
+        Ok(mut axes) => {
+            let (mut f, _, q) = axes.remove(0);
+            if !(f.imbalance <= BALANCE) {
+                f.k = None;
+            }
+            Ok((f, q))
+        }
+        Err(FlowError::NoPath(axis)) => Ok((
+            AxisFlow {
+                axis,
+                k: Some(0.0),
+                ..AxisFlow::default()
+            },
+            vec![0.0; conductance.len()],
+        )),
+        Err(e) => Err(e),
+    }
+}
+
+/// Which throats [`solve`] merges: shorter than [`LENGTH_FLOOR`] of their
+/// spheres' mean radius.
+pub fn merged(shapes: &[ThroatShape]) -> Vec<bool> {
+    shapes
+        .par_iter()
+        .map(|shape| !(shape.length >= LENGTH_FLOOR * shape.mean_radius))
+        .collect()
 }
 
 /// One axis' result: the flow, node pressures and throat fluxes.

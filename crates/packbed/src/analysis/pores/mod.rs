@@ -7,6 +7,7 @@ pub mod drainage;
 pub mod flow;
 pub mod geometry;
 pub mod network;
+pub mod transport;
 pub mod triangulation;
 
 use super::StageTimes;
@@ -377,6 +378,8 @@ pub struct PoreSpace {
     pub warning: Option<String>,
     /// The drainage, when asked for; `Err` says why there is none.
     pub drainage: Option<Result<drainage::Drainage, String>>,
+    /// The formation factor and tortuosities, with the permeability.
+    pub transport: Option<transport::TransportSummary>,
 }
 
 /// What the drainage needs beside the network: its settings, the length
@@ -433,7 +436,7 @@ pub fn pore_space_timed<const D: usize>(
     // The distributions' inputs go before the flow: at 10^6 spheres they
     // are 0.24 GB beside its peak.
     let pores = summary(&net, &in_slab, slab);
-    let drainage = drain.map(|d| {
+    let mut drainage = drain.map(|d| {
         times.time("pores/drainage", || {
             drainage::drain(bed, &net, slab, d.d32, d.metres_per_unit, &d.options)
         })
@@ -442,14 +445,31 @@ pub fn pore_space_timed<const D: usize>(
     let mut note = None;
     let mut permeability = None;
     let mut solved: Option<Flow> = None;
+    let mut transported = None;
     if let Some(options) = flow {
         let axes = flow_axes::<D>(bed.container.periodic, options.axes);
+        let merge = flow::merged(&shapes);
+        let diffusive = transport::diffusive_conductances(&shapes);
         let t = Instant::now();
-        let solved_flow = flow::solve(&net, shapes, &bed.container.size, slab, options, &axes);
+        let size = &bed.container.size;
+        let solved_flow = flow::solve(&net, shapes, size, slab, options, &axes);
         times.0.push(("pores/flow", t.elapsed().as_secs_f64()));
         match solved_flow {
             Ok(f) => {
                 permeability = Some(permeability_summary::<D>(&f, options, d32, k_kc));
+                let t = Instant::now();
+                let porosity = pores.network_porosity;
+                transported = Some(
+                    transport::transport(&net, &merge, &diffusive, &f, &axes, size, slab, porosity)
+                        .unwrap_or_else(|e| transport::TransportSummary {
+                            note: Some(format!("the transport could not be solved ({e:?})")),
+                            ..Default::default()
+                        }),
+                );
+                if let Some(Ok(d)) = drainage.as_mut() {
+                    d.relative_permeability(&net, &merge, &f.conductance, &in_slab, size, slab);
+                }
+                times.0.push(("pores/transport", t.elapsed().as_secs_f64()));
                 solved = Some(f);
             }
             Err(flow::FlowError::NoPath(axis)) => {
@@ -472,6 +492,7 @@ pub fn pore_space_timed<const D: usize>(
         tables.liquid = Some(d.pores.clone());
     }
     Ok(PoreSpace {
+        transport: transported,
         drainage,
         pores,
         permeability,

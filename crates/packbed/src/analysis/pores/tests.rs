@@ -513,3 +513,35 @@ fn pores_with_no_tangent_sphere_are_left_out_of_the_body_radii() {
         .fold(Real::INFINITY, Real::min);
     assert!(p.body_radius.p10 >= smallest, "{p:?}");
 }
+
+/// Along z through a touching simple cubic array the flow runs straight up
+/// the columns of cubes: hydraulic tortuosity 1. Each cube face passes
+/// `A_f / L` = `(4 − π) R² / 2R` of diffusion over a cell face of `4 R²`:
+/// the network's formation factor is `4 / (4 − π)` exactly, and the
+/// electrical tortuosity `F φ` with the lattice's porosity `1 − π/6`.
+#[test]
+fn simple_cubic_tortuosity_and_formation_factor() {
+    let bed = simple_cubic(4, 12, 1.0);
+    let space = pore_space(&bed, (5.0, 17.0), Some(&flow_everywhere()), None, None).unwrap();
+    let t = space.transport.unwrap();
+    let tau = t.hydraulic_tortuosity.unwrap();
+    assert!((tau - 1.0).abs() < 1e-9, "{tau}");
+    let f = t.formation_factor.unwrap();
+    let exact = 4.0 / (4.0 - std::f64::consts::PI);
+    assert!((f - exact).abs() < 1e-9 * exact, "{f} against {exact}");
+    let phi = 1.0 - std::f64::consts::PI / 6.0;
+    assert!((t.electrical_tortuosity.unwrap() - exact * phi).abs() < 1e-9);
+}
+
+/// A deposited bed: the flow winds (τ > 1) and conduction is hindered more
+/// than the porosity alone says (Archie's m > 1, Wong et al. 1984).
+#[test]
+fn deposited_beds_wind_and_hinder_conduction() {
+    let bed = deposited(1500, 3, "[[species]]\nradius = 10");
+    let space = pore_space(&bed, slab_of(&bed), Some(&flow_everywhere()), None, None).unwrap();
+    let t = space.transport.unwrap();
+    let tau = t.hydraulic_tortuosity.unwrap();
+    assert!(tau > 1.2 && tau < 2.5, "{tau}");
+    let m = t.archie_exponent.unwrap();
+    assert!(m > 1.0 && m < 2.5, "{m}");
+}

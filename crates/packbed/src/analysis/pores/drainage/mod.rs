@@ -118,6 +118,11 @@ pub struct CurvePoint {
     pub trapped: Real,
     /// The part in pendular bridges of drained pores.
     pub pendular: Real,
+    /// Relative permeability of the liquid along z (every few rows; empty
+    /// on the others, and without the permeability measure).
+    pub k_rw: Option<Real>,
+    /// Relative permeability of the gas along z.
+    pub k_rg: Option<Real>,
 }
 
 /// A capillary pressure, two ways.
@@ -254,6 +259,115 @@ pub struct Drainage {
     pub per_particle: Vec<(Real, u32)>,
     /// Warnings (a slab too thin).
     pub warning: Option<String>,
+    /// When each network pore drains (0 above the slab, `+∞` below).
+    pub drains_at: Vec<Real>,
+}
+
+impl Drainage {
+    /// The columns of `drainage.csv` without the relative permeabilities
+    /// (for Python's `Bed.drainage()`; `pc_pa` only with a length unit).
+    pub fn curve_columns(&self) -> Vec<(String, super::Column)> {
+        use super::Column::Float;
+        let c = &self.curve;
+        let col = |f: &dyn Fn(&CurvePoint) -> Real| Float(c.iter().map(f).collect());
+        let mut out = vec![("pc_reduced".to_string(), col(&|p| p.pc_reduced))];
+        if c.iter().all(|p| p.pc_pa.is_some()) && !c.is_empty() {
+            out.push(("pc_pa".into(), col(&|p| p.pc_pa.unwrap_or(0.0))));
+        }
+        out.push(("saturation".into(), col(&|p| p.saturation)));
+        out.push(("connected".into(), col(&|p| p.connected)));
+        out.push(("trapped".into(), col(&|p| p.trapped)));
+        out.push(("pendular".into(), col(&|p| p.pendular)));
+        out
+    }
+
+    /// The rows of the curve with relative permeabilities: `pc_reduced`,
+    /// `saturation`, `k_rw`, `k_rg`.
+    pub fn relative_columns(&self) -> Vec<(String, super::Column)> {
+        use super::Column::Float;
+        let rows: Vec<&CurvePoint> = self
+            .curve
+            .iter()
+            .filter(|p| p.k_rw.is_some() && p.k_rg.is_some())
+            .collect();
+        let col = |f: &dyn Fn(&CurvePoint) -> Real| Float(rows.iter().map(|p| f(p)).collect());
+        vec![
+            ("pc_reduced".into(), col(&|p| p.pc_reduced)),
+            ("saturation".into(), col(&|p| p.saturation)),
+            ("k_rw".into(), col(&|p| p.k_rw.unwrap_or(0.0))),
+            ("k_rg".into(), col(&|p| p.k_rg.unwrap_or(0.0))),
+        ]
+    }
+
+    /// The columns of `liquid.csv` (the state column aside).
+    pub fn bridge_columns(&self) -> Vec<(String, super::Column)> {
+        use super::Column::{Float, Int};
+        let b = &self.bridges;
+        let int = |f: &dyn Fn(&BridgeRow) -> i64| Int(b.iter().map(f).collect());
+        let float = |f: &dyn Fn(&BridgeRow) -> Real| Float(b.iter().map(f).collect());
+        vec![
+            ("particle_a".into(), int(&|r| i64::from(r.particles[0]))),
+            ("particle_b".into(), int(&|r| i64::from(r.particles[1]))),
+            ("sx".into(), int(&|r| i64::from(r.shift[0]))),
+            ("sy".into(), int(&|r| i64::from(r.shift[1]))),
+            ("gap".into(), float(&|r| r.gap)),
+            ("volume".into(), float(&|r| r.volume)),
+            ("neck_radius".into(), float(&|r| r.neck_radius)),
+            ("filling_angle_a".into(), float(&|r| r.filling_angle[0])),
+            ("filling_angle_b".into(), float(&|r| r.filling_angle[1])),
+        ]
+    }
+}
+
+/// Rows of the curve between two relative permeabilities: each costs two
+/// solves of the flow.
+pub const RELATIVE_EVERY: usize = 6;
+
+impl Drainage {
+    /// Fills `k_rw` and `k_rg` of every [`RELATIVE_EVERY`]th row of the
+    /// curve (and its last): the flow along z through the throats whose two
+    /// pores hold the phase, over the flow through all of them. Pores off
+    /// the slab (`in_slab` false) hold both phases: the sample sits between
+    /// reservoirs of both, as in a steady-state measurement. Throat
+    /// conductances `g`, merged throats `merge`, as the flow's. Film flow of
+    /// the liquid in drained pores is left out.
+    pub fn relative_permeability<const D: usize>(
+        &mut self,
+        net: &Network<D>,
+        merge: &[bool],
+        g: &[Real],
+        in_slab: &[bool],
+        size: &crate::math::Vector<D>,
+        slab: (Real, Real),
+    ) {
+        let k_of = |open: &dyn Fn(usize) -> bool| -> Option<Real> {
+            let c: Vec<Real> = g
+                .iter()
+                .enumerate()
+                .map(|(t, &g)| if open(t) { g } else { 0.0 })
+                .collect();
+            super::flow::solve_z(net, merge, &c, size, slab)
+                .ok()
+                .and_then(|(f, _)| f.k)
+        };
+        let Some(k) = k_of(&|_| true).filter(|&k| k > 0.0) else {
+            return;
+        };
+        let d32 = self.summary.d32;
+        let last = self.curve.len().saturating_sub(1);
+        for i in (0..self.curve.len()).filter(|&i| i % RELATIVE_EVERY == 0 || i == last) {
+            let kappa = self.curve[i].pc_reduced / d32;
+            let drains_at = &self.drains_at;
+            let wet = |p: u32| !in_slab[p as usize] || !(drains_at[p as usize] <= kappa);
+            let dry = |p: u32| !in_slab[p as usize] || drains_at[p as usize] <= kappa;
+            let both = |t: usize, f: &dyn Fn(u32) -> bool| {
+                let th = &net.throats[t];
+                f(th.pores[0]) && f(th.pores[1])
+            };
+            self.curve[i].k_rw = k_of(&|t| both(t, &wet)).map(|w| w / k);
+            self.curve[i].k_rg = k_of(&|t| both(t, &dry)).map(|w| w / k);
+        }
+    }
 }
 
 /// Why drainage cannot run on this bed: a one-line reason.
@@ -558,6 +672,7 @@ pub fn drain<const D: usize>(
     }
     out.summary = summary;
     out.curve = curve;
+    out.drains_at = drains_at;
     Ok(out)
 }
 
@@ -701,6 +816,8 @@ fn point(
         connected: frac(connected),
         trapped: frac(trapped),
         pendular: frac(pendular),
+        k_rw: None,
+        k_rg: None,
     }
 }
 
