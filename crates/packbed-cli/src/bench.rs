@@ -32,6 +32,11 @@ pub struct BenchArgs {
     /// axis), after the contacts and packing it needs.
     #[arg(long)]
     pub pores: bool,
+    /// With `--pores`: also the drainage (water on glass, its curve, the
+    /// pendular bridges and the relative permeabilities) and the transport
+    /// (formation factor, tortuosity), each its own stage.
+    #[arg(long, requires = "pores")]
+    pub drainage: bool,
     /// Analyse this bed file (anything `packbed analyze` reads) instead of
     /// depositing one; implies `--analysis`.
     #[arg(long, value_name = "PATH")]
@@ -62,7 +67,7 @@ pub fn bench(args: BenchArgs) -> Result<()> {
         }
     };
     if args.pores {
-        r.analysis = bench::time_pores(&bed);
+        r.analysis = bench::time_pores(&bed, args.drainage);
     } else if args.analysis || args.bed.is_some() {
         r.analysis = bench::time_analysis(&bed);
     }

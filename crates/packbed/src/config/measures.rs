@@ -92,6 +92,11 @@ pub struct DrainageConfig {
     /// Rows of the capillary pressure–saturation curve (default 60).
     #[serde(default = "default_points")]
     pub points: usize,
+    /// Relative permeabilities of both phases on every 6th row of the curve
+    /// (with the permeability measure; default false: two solves of the flow
+    /// a row).
+    #[serde(default)]
+    pub relative_permeability: bool,
 }
 
 /// How a throat's capillary entry pressure follows from its shape.
@@ -138,6 +143,7 @@ impl Default for DrainageConfig {
             pressure: None,
             reduced_pressure: None,
             points: default_points(),
+            relative_permeability: false,
         }
     }
 }

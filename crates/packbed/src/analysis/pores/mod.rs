@@ -466,7 +466,8 @@ pub fn pore_space_timed<const D: usize>(
                             ..Default::default()
                         }),
                 );
-                if let Some(Ok(d)) = drainage.as_mut() {
+                let relative = drain.is_some_and(|d| d.options.relative_permeability);
+                if let (Some(Ok(d)), true) = (drainage.as_mut(), relative) {
                     d.relative_permeability(&net, &merge, &f.conductance, &in_slab, size, slab);
                 }
                 times.0.push(("pores/transport", t.elapsed().as_secs_f64()));

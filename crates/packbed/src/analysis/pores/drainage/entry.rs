@@ -39,7 +39,7 @@ pub fn entry_curvature<const D: usize>(
             let (c, radii) = facet_circles(bed, net, t);
             // A facet MS-P cannot measure (degenerate, or closed by overlaps
             // deeper than it handles) keeps the inscribed circle's value.
-            super::msp::msp_entry_radius(&c, &radii, cos.clamp(-1.0, 1.0).acos())
+            super::msp::msp_entry_radius_near(&c, &radii, cos.clamp(-1.0, 1.0).acos(), Some(r))
                 .map_or(inscribed, |r_e| 1.0 / r_e)
         }
         EntryModel::Msp => inscribed,

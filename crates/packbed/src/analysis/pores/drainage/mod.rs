@@ -51,6 +51,8 @@ pub struct DrainageOptions {
     pub state: Option<StatePressure>,
     /// Rows of the capillary pressure–saturation table.
     pub points: usize,
+    /// Relative permeabilities along the curve (with the permeability).
+    pub relative_permeability: bool,
 }
 
 impl Default for DrainageOptions {
@@ -62,6 +64,7 @@ impl Default for DrainageOptions {
             entry: EntryModel::default(),
             state: None,
             points: DEFAULT_POINTS,
+            relative_permeability: false,
         }
     }
 }
@@ -89,6 +92,7 @@ impl crate::config::DrainageConfig {
                 (None, None) => None,
             },
             points: self.points,
+            relative_permeability: self.relative_permeability,
         }
     }
 }
@@ -490,9 +494,22 @@ pub fn drain<const D: usize>(
     }
     let cos = options.contact_angle.cos();
     // Entry curvatures (P_e / γ) of every throat, on every core.
+    // Only the throats the gas may pass into or within the slab count.
     let entry: Vec<Real> = (0..net.throats.len())
         .into_par_iter()
-        .map(|t| entry::entry_curvature(bed, net, t, options.entry, cos))
+        .map(|t| {
+            let th = &net.throats[t];
+            let (a, b) = (side[th.pores[0] as usize], side[th.pores[1] as usize]);
+            let wanted = matches!(
+                (a, b),
+                (Side::In, Side::In) | (Side::In, Side::Above) | (Side::Above, Side::In)
+            );
+            if wanted {
+                entry::entry_curvature(bed, net, t, options.entry, cos)
+            } else {
+                Real::INFINITY
+            }
+        })
         .collect();
     let mut graph = InvasionGraph {
         pores: members.len(),

@@ -227,6 +227,30 @@ impl Throat {
                 continue;
             }
             let ok = |rr: f64| meniscus_2d(self.r[i], self.r[j], self.d[k], theta, rr).is_some();
+            // The arc first spans the gap where it touches the line of
+            // centres (closed form in the radius, `bridge::rupture_gap_2d`):
+            // taken when the meniscus exists just above it and not just
+            // below; else the search below decides.
+            let (ri, rj, c) = (self.r[i], self.r[j], theta.cos());
+            let span = |rr: f64| {
+                (ri * ri + 2.0 * ri * rr * c).sqrt() + (rj * rj + 2.0 * rj * rr * c).sqrt()
+            };
+            let (mut a, mut b) = (0.0, self.scale);
+            while span(b) < self.d[k] && b < 1e12 * self.scale {
+                b *= 2.0;
+            }
+            for _ in 0..80 {
+                let m = 0.5 * (a + b);
+                if span(m) < self.d[k] {
+                    a = m;
+                } else {
+                    b = m;
+                }
+            }
+            if ok(b * (1.0 + 1e-9)) && !ok(a * (1.0 - 1e-9)) {
+                out[k] = b * (1.0 + 1e-9);
+                continue;
+            }
             let mut hi = 1e-6 * self.scale;
             let mut n = 0;
             while !ok(hi) {
@@ -412,6 +436,18 @@ pub fn inscribed_radius(c: &[[f64; 2]; 3], r: &[f64; 3]) -> Option<f64> {
 /// entry); the entry pressure is `P_e = γ / R_e` (see the module doc for the equation, the
 /// geometry and the cases). `theta` in `[0, π/2)`. `None` for invalid or degenerate input.
 pub fn msp_entry_radius(c: &[[f64; 2]; 3], r: &[f64; 3], theta: f64) -> Option<f64> {
+    msp_entry_radius_near(c, r, theta, None)
+}
+
+/// [`msp_entry_radius`], with the throat's constriction radius when the
+/// caller knows it (the pore network does): the root lies above half of it,
+/// where a short search starts.
+pub fn msp_entry_radius_near(
+    c: &[[f64; 2]; 3],
+    r: &[f64; 3],
+    theta: f64,
+    constriction: Option<f64>,
+) -> Option<f64> {
     if !theta.is_finite() || !(0.0..PI / 2.0).contains(&theta) {
         return None;
     }
@@ -421,12 +457,81 @@ pub fn msp_entry_radius(c: &[[f64; 2]; 3], r: &[f64; 3], theta: f64) -> Option<f
     // The root lies above half the inscribed radius (module docs): a short
     // scan from just below it finds it in most throats (a scan over ten
     // decades cost 200 µs a throat); the full scan decides the rest.
-    let fast = inscribed_radius(c, r).and_then(|ins| {
-        let lo = 0.45 * ins;
-        let ct = theta.cos();
-        let below = state(lo).map(|(a, lnw, lns)| lnw + lns * ct - a / lo)?;
-        (below < 0.0).then(|| solve_balance_n(state, theta, lo, 10.0 * t.scale, 40))?
-    });
+    let fast = constriction
+        .filter(|&x| x > 0.0)
+        .or_else(|| inscribed_radius(c, r))
+        .and_then(|ins| {
+            let lo = 0.45 * ins;
+            let ct = theta.cos();
+            let below = state(lo).map(|(a, lnw, lns)| lnw + lns * ct - a / lo)?;
+            if !(below < 0.0) {
+                return None;
+            }
+            // Up in steps of 15 % until the balance is met, then regula falsi.
+            let f = |rr: f64| state(rr).map(|(a, lnw, lns)| lnw + lns * ct - a / rr);
+            let (mut a, mut fa) = (lo, below);
+            let mut b = a;
+            let mut fb = None;
+            for _ in 0..60 {
+                b *= 1.15;
+                match f(b) {
+                    Some(v) if v >= 0.0 => {
+                        fb = Some(v);
+                        break;
+                    }
+                    Some(v) => {
+                        a = b;
+                        fa = v;
+                    }
+                    // The corner arcs meet before the balance is met: the
+                    // entry is at the end of the valid range (as the full scan
+                    // returns it), found by bisection.
+                    None => {
+                        let (mut lo, mut hi) = (a, b);
+                        for _ in 0..200 {
+                            let mid = 0.5 * (lo + hi);
+                            if f(mid).is_some() {
+                                lo = mid;
+                            } else {
+                                hi = mid;
+                            }
+                            if hi - lo <= 1e-14 * hi {
+                                break;
+                            }
+                        }
+                        return Some(lo);
+                    }
+                }
+            }
+            let mut fb = fb?;
+            let mut side = 0;
+            for _ in 0..100 {
+                if b - a <= 1e-13 * b {
+                    break;
+                }
+                let mut x = (a * fb - b * fa) / (fb - fa);
+                if !(x > a && x < b) {
+                    x = 0.5 * (a + b);
+                }
+                let v = f(x)?;
+                if v < 0.0 {
+                    a = x;
+                    fa = v;
+                    if side == -1 {
+                        fb *= 0.5;
+                    }
+                    side = -1;
+                } else {
+                    b = x;
+                    fb = v;
+                    if side == 1 {
+                        fa *= 0.5;
+                    }
+                    side = 1;
+                }
+            }
+            Some(0.5 * (a + b))
+        });
     let out = match fast {
         Some(v) => v,
         None => solve_balance(state, theta, 0.0, 10.0 * t.scale)?,
