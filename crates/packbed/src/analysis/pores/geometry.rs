@@ -498,7 +498,7 @@ pub fn cell_volumes_3d(c: &[[f64; 3]; 4], r: &[f64; 4]) -> CellVolume {
         let om = solid_angle(sub3(d[j], d[i]), sub3(d[k], d[i]), sub3(d[m], d[i]));
         sectors += rs[i].powi(3) * om / 3.0;
     }
-    let (lenses, inexact) = cell_lenses_3d(&d, &rs, det);
+    let (lenses, inexact) = cell_lenses_3d(&d, &rs);
     let void = volume - sectors + lenses;
     let l3 = l * l * l;
     CellVolume {
@@ -511,9 +511,10 @@ pub fn cell_volumes_3d(c: &[[f64; 3]; 4], r: &[f64; 4]) -> CellVolume {
 
 /// The lens parts inside the tetrahedron `d` (frame units, `det` six times
 /// its volume) of its overlapping vertex spheres, and whether they are
-/// inexact (a triple overlap, or an overlapping sphere past its opposite
-/// face). `(0, false)` when no two spheres overlap.
-fn cell_lenses_3d(d: &[V3; 4], rs: &[f64; 4], det: f64) -> (f64, bool) {
+/// inexact (module docs: a lens reaching another face, three spheres sharing
+/// a point, or a centre inside another sphere). `(0, false)` when no two
+/// spheres overlap.
+fn cell_lenses_3d(d: &[V3; 4], rs: &[f64; 4]) -> (f64, bool) {
     const EDGES: [[usize; 4]; 6] = [
         [0, 1, 2, 3],
         [0, 2, 1, 3],
@@ -525,39 +526,75 @@ fn cell_lenses_3d(d: &[V3; 4], rs: &[f64; 4], det: f64) -> (f64, bool) {
     let mut lenses = 0.0;
     let mut overlaps = [[false; 4]; 4];
     let mut any = false;
+    let mut inexact = false;
     for [i, j, k, m] in EDGES {
         let Some(h) = cap_heights(rs[i], rs[j], norm3(sub3(d[j], d[i]))) else {
             continue;
         };
-        let phi = dihedral(d[i], d[j], d[k], d[m]);
-        lenses += lens_3d(rs[i], rs[j], h).0 * phi / (2.0 * std::f64::consts::PI);
+        any = true;
         overlaps[i][j] = true;
         overlaps[j][i] = true;
-        any = true;
+        match lens_ball(d[i], rs[i], d[j], rs[j], h) {
+            Some(ball) => {
+                // The faces opposite i and j: (j, k, m) and (i, k, m).
+                inexact |=
+                    crosses_plane(ball, d[j], d[k], d[m]) || crosses_plane(ball, d[i], d[k], d[m]);
+            }
+            None => return (0.0, true),
+        }
+        let phi = dihedral(d[i], d[j], d[k], d[m]);
+        lenses += lens_3d(rs[i], rs[j], h).0 * phi / (2.0 * std::f64::consts::PI);
     }
     if !any {
         return (0.0, false);
     }
-    const OTHERS: [[usize; 3]; 4] = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]];
-    // The sector condition of an overlapping sphere, r_i · 2·area(opposite
-    // face) <= 6·volume; broken, the lens shares are no bound either, and
-    // the sectors alone (a lower bound on the void) stand.
-    let broken = OTHERS.into_iter().enumerate().any(|(i, [j, k, m])| {
-        let face = norm3(cross3(sub3(d[k], d[j]), sub3(d[m], d[j])));
-        overlaps[i].contains(&true) && rs[i] * face > det
-    });
-    if broken {
-        return (0.0, true);
+    // A face whose three spheres share a point (needs all its pairs).
+    let triple = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]]
+        .into_iter()
+        .any(|[j, k, m]| {
+            overlaps[j][k]
+                && overlaps[k][m]
+                && overlaps[j][m]
+                && balls_share_a_point(d[j], d[k], d[m], [rs[j], rs[k], rs[m]])
+        });
+    (lenses, inexact || triple)
+}
+
+/// A ball holding the lens of two overlapping spheres: centred on the
+/// circle where their surfaces meet, with that circle's radius (each cap is
+/// at most a hemisphere, so its points lie within the rim's distance).
+/// `None` when a centre lies inside the other sphere: the lens is then no
+/// small blob on the edge, and the sectors alone stand.
+fn lens_ball<const D: usize>(
+    ci: [f64; D],
+    ri: f64,
+    cj: [f64; D],
+    rj: f64,
+    (hi, hj): (f64, f64),
+) -> Option<([f64; D], f64)> {
+    let mut dist = 0.0;
+    for a in 0..D {
+        dist += (cj[a] - ci[a]) * (cj[a] - ci[a]);
     }
-    // A face (j, k, m) whose three spheres share a point: the pairwise value
-    // is an upper bound (Bonferroni).
-    let triple = OTHERS.into_iter().any(|[j, k, m]| {
-        overlaps[j][k]
-            && overlaps[k][m]
-            && overlaps[j][m]
-            && balls_share_a_point(d[j], d[k], d[m], [rs[j], rs[k], rs[m]])
-    });
-    (lenses, triple)
+    let dist = dist.sqrt();
+    if !(dist > ri.max(rj) && hi <= ri && hj <= rj) {
+        return None;
+    }
+    let t = (ri - hi) / dist;
+    let m = std::array::from_fn(|a| ci[a] + t * (cj[a] - ci[a]));
+    Some((m, (hi * (2.0 * ri - hi)).max(0.0).sqrt()))
+}
+
+/// True when the ball reaches across the plane through `a, b, c`.
+fn crosses_plane((m, rho): (V3, f64), a: V3, b: V3, c: V3) -> bool {
+    let n = cross3(sub3(b, a), sub3(c, a));
+    dot3(n, sub3(m, a)).abs() < rho * norm3(n)
+}
+
+/// True when the disc reaches across the line through `a, b`.
+fn crosses_line((m, rho): (V2, f64), a: V2, b: V2) -> bool {
+    let e = sub2(b, a);
+    cross2(e, sub2(m, a)).abs() < rho * norm2(e)
 }
 
 /// Area of the triangle and its void area, `area − Σ ½ r_i² θ_i` with θ_i
@@ -580,7 +617,7 @@ pub fn cell_volumes_2d(c: &[[f64; 2]; 3], r: &[f64; 3]) -> CellVolume {
         let (j, k) = ((i + 1) % 3, (i + 2) % 3);
         sectors += 0.5 * rs[i] * rs[i] * angle2(sub2(d[j], d[i]), sub2(d[k], d[i]));
     }
-    let (lenses, inexact) = triangle_lenses(&d, &rs, twice);
+    let (lenses, inexact) = triangle_lenses(&d, &rs);
     let void = area - sectors + lenses;
     let l2 = l * l;
     CellVolume {
@@ -591,34 +628,33 @@ pub fn cell_volumes_2d(c: &[[f64; 2]; 3], r: &[f64; 3]) -> CellVolume {
     }
 }
 
-/// The lens halves inside the triangle `d` (`twice` its doubled area) of
+/// The lens halves inside the triangle `d` of
 /// its overlapping discs, and whether they are inexact (three discs sharing
 /// a point, or an overlapping disc past its opposite edge). `(0, false)` when
 /// no two discs overlap.
-fn triangle_lenses(d: &[V2; 3], rs: &[f64; 3], twice: f64) -> (f64, bool) {
+fn triangle_lenses(d: &[V2; 3], rs: &[f64; 3]) -> (f64, bool) {
     let mut lenses = 0.0;
-    let mut overlapping = [false; 3];
+    let mut any = false;
+    let mut inexact = false;
     for i in 0..3 {
-        let j = (i + 1) % 3;
-        if let Some(h) = cap_heights(rs[i], rs[j], norm2(sub2(d[j], d[i]))) {
-            lenses += 0.5 * lens_2d(rs[i], rs[j], h).0;
-            overlapping[i] = true;
-            overlapping[j] = true;
+        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+        let Some(h) = cap_heights(rs[i], rs[j], norm2(sub2(d[j], d[i]))) else {
+            continue;
+        };
+        any = true;
+        match lens_ball(d[i], rs[i], d[j], rs[j], h) {
+            // The edges opposite i and j.
+            Some(disc) => {
+                inexact |= crosses_line(disc, d[j], d[k]) || crosses_line(disc, d[i], d[k]);
+            }
+            None => return (0.0, true),
         }
+        lenses += 0.5 * lens_2d(rs[i], rs[j], h).0;
     }
-    if !overlapping.contains(&true) {
+    if !any {
         return (0.0, false);
     }
-    // The sector condition, r_i · |opposite edge| <= twice the area; rules
-    // as in `cell_lenses_3d`.
-    let broken = (0..3).any(|i| {
-        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
-        overlapping[i] && rs[i] * norm2(sub2(d[k], d[j])) > twice
-    });
-    if broken {
-        return (0.0, true);
-    }
-    (lenses, discs_share_a_point(d, rs))
+    (lenses, inexact || discs_share_a_point(d, rs))
 }
 
 /// Constriction radius of a throat facet with vertex spheres `(c_i, r_i)`:
@@ -777,17 +813,18 @@ pub fn throat_3d(p1: [f64; 3], p2: [f64; 3], c: &[[f64; 3]; 3], r: &[f64; 3]) ->
     }
     // Overlapping spheres: each pair's lens (volume, its two caps) with the
     // third vertex of the facet, and the facet's own lens halves.
-    let mut lenses: [Option<(usize, usize, usize, (f64, f64, f64))>; 3] = [None; 3];
+    type Lens = (usize, usize, usize, (f64, f64, f64), (f64, f64));
+    let mut lenses: [Option<Lens>; 3] = [None; 3];
     for (slot, (v, w, u)) in [(0, 1, 2), (1, 2, 0), (0, 2, 1)].into_iter().enumerate() {
         if let Some(h) = cap_heights(rs[v], rs[w], norm3(sub3(f[w], f[v]))) {
-            lenses[slot] = Some((v, w, u, lens_3d(rs[v], rs[w], h)));
+            lenses[slot] = Some((v, w, u, lens_3d(rs[v], rs[w], h), h));
         }
     }
     let overlaps = lenses.iter().any(Option::is_some);
     let mut facet_inexact = false;
     if overlaps && !collinear {
         if let Some(plane) = in_plane(f[0], f[1], f[2]) {
-            let (halves, inexact) = triangle_lenses(&plane, &[rs[0], rs[1], rs[2]], twice);
+            let (halves, inexact) = triangle_lenses(&plane, &[rs[0], rs[1], rs[2]]);
             fluid += halves;
             facet_inexact = inexact;
         }
@@ -815,26 +852,16 @@ pub fn throat_3d(p1: [f64; 3], p2: [f64; 3], c: &[[f64; 3]; 3], r: &[f64; 3]) ->
         if !overlaps {
             return t;
         }
-        // The sector condition of an overlapping sphere in this
-        // tetrahedron, r_v · 2·area(p, c_j, c_k) <= 6·volume; broken, the
-        // sectors alone stand (rules as in `cell_lenses_3d`).
-        let mut overlapping = [false; 3];
-        for &(v, w, _, _) in lenses.iter().flatten() {
-            overlapping[v] = true;
-            overlapping[w] = true;
-        }
-        let broken = (0..3).any(|v| {
-            let (j, k) = ((v + 1) % 3, (v + 2) % 3);
-            let face = norm3(cross3(sub3(f[j], p), sub3(f[k], p)));
-            overlapping[v] && rs[v] * face > h.abs()
-        });
-        t.inexact = facet_inexact || broken;
-        if broken {
-            return t;
-        }
         // The lens of c_v, c_w is axisymmetric about their edge: the part in
-        // (p, c_0, c_1, c_2) is its share φ / 2π of the dihedral angle there.
-        for &(v, w, u, (vol, cap_v, cap_w)) in lenses.iter().flatten() {
+        // (p, c_0, c_1, c_2) is its share φ / 2π of the dihedral angle there,
+        // exact while it stays off the faces opposite c_v and c_w.
+        t.inexact = facet_inexact;
+        for &(v, w, u, (vol, cap_v, cap_w), h) in lenses.iter().flatten() {
+            let Some(ball) = lens_ball(f[v], rs[v], f[w], rs[w], h) else {
+                t.inexact = true;
+                continue;
+            };
+            t.inexact |= crosses_plane(ball, p, f[w], f[u]) || crosses_plane(ball, p, f[v], f[u]);
             let share = dihedral(f[v], f[w], f[u], p) / (2.0 * std::f64::consts::PI);
             t.sectors -= s * vol * share;
             t.surface -= s * (cap_v + cap_w) * share;
@@ -856,7 +883,7 @@ pub fn throat_2d(p1: [f64; 2], p2: [f64; 2], c: &[[f64; 2]; 2], r: &[f64; 2]) ->
     };
     let e = d[1];
     let fluid = (norm2(e) - rs[0] - rs[1]).max(0.0);
-    let lens = cap_heights(rs[0], rs[1], norm2(e)).map(|h| lens_2d(rs[0], rs[1], h));
+    let lens = cap_heights(rs[0], rs[1], norm2(e)).map(|h| (h, lens_2d(rs[0], rs[1], h)));
     let side = |p: V2| -> RegionTotals {
         let h = cross2(e, p);
         let s = sign(h);
@@ -869,14 +896,17 @@ pub fn throat_2d(p1: [f64; 2], p2: [f64; 2], c: &[[f64; 2]; 2], r: &[f64; 2]) ->
         let th1 = angle2(sub2(p, e), [-e[0], -e[1]]);
         t.sectors = s * 0.5 * (rs[0] * rs[0] * th0 + rs[1] * rs[1] * th1);
         t.surface = s * (rs[0] * th0 + rs[1] * th1);
-        if let Some((area, arc0, arc1)) = lens {
+        if let Some((hh, (area, arc0, arc1))) = lens {
             // Overlapping discs: half their lens, symmetric about the edge,
-            // lies on this side, while each disc stays within the triangle's
-            // edge opposite its centre (else the sectors alone stand).
-            t.inexact = rs[0] * norm2(sub2(p, e)) > h.abs() || rs[1] * norm2(p) > h.abs();
-            if !t.inexact {
-                t.sectors -= s * 0.5 * area;
-                t.surface -= s * 0.5 * (arc0 + arc1);
+            // lies on this side, exactly while it stays off the triangle's
+            // other two edges.
+            match lens_ball([0.0, 0.0], rs[0], e, rs[1], hh) {
+                Some(disc) => {
+                    t.inexact = crosses_line(disc, p, e) || crosses_line(disc, p, [0.0, 0.0]);
+                    t.sectors -= s * 0.5 * area;
+                    t.surface -= s * 0.5 * (arc0 + arc1);
+                }
+                None => t.inexact = true,
             }
         }
         t
