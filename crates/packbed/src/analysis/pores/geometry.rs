@@ -26,34 +26,37 @@
 //! * Overlapping spheres (DEM pours, scans) are inclusion–exclusion over the
 //!   vertex spheres. Two overlapping vertex spheres `i, j` share a lens that
 //!   the sectors subtract twice. The lens is axisymmetric about the line
-//!   `c_i c_j`, an edge of the cell, and when both spheres meet the sector
-//!   condition it lies within the other two faces, so the part inside the
-//!   cell is exactly `V_lens · φ_ij / 2π` (φ_ij the cell's dihedral angle at
-//!   that edge), added back. In 2D, and for a throat's facet (the great
-//!   circles in its plane), the lens is symmetric about the edge and half of
-//!   it lies in the triangle. The same holds for a throat region's
-//!   tetrahedra `(p, c_i, c_j, c_k)`: the lens part `V_lens · φ / 2π` is
-//!   added back to its void, and the caps of each sphere inside the other
-//!   (`2π r h` each, not a solid–fluid surface) times `φ / 2π` are taken off
-//!   its solid surface, so the hydraulic radius sees the wetted surface
-//!   only. Exact, whatever the overlap, as long as no three spheres share a
-//!   point and every overlapping sphere meets the sector condition.
-//! * Three spheres sharing a point (a triple overlap, which needs about 13 %
-//!   overlap for equal spheres) are not integrated: their common part is
-//!   left out of the inclusion–exclusion, which by Bonferroni's inequality
-//!   makes the void an upper bound (too large by at most half the triple
-//!   intersection, which lies inside each of its lenses), clamped to the
-//!   cell's volume. Such a cell, facet or throat region, and one whose
-//!   overlapping sphere breaks the sector condition, is flagged
-//!   (`overlap_inexact`) and counted in the summary. Detection: the common
-//!   part of three balls is symmetric about the plane of their centres, so
-//!   it is non-empty exactly when their great discs in that plane share a
-//!   point, i.e. when a crossing point of two of the circles lies in the
-//!   third disc or one disc lies inside the other two.
-//! * The pore body radius and the constriction radius need no change: they
-//!   are the tangent sphere (circle) of the gap the spheres leave, whether or
-//!   not those overlap; a gap closed by the overlaps has no positive root and
-//!   gives 0.
+//!   `c_i c_j`, an edge of the cell, so while it stays within the cell's two
+//!   other faces (checked with a ball holding it: centred on the circle where
+//!   the spheres meet, of that circle's radius) the part inside the cell is
+//!   exactly `V_lens · φ_ij / 2π` (φ_ij the cell's dihedral angle at that
+//!   edge), added back. In 2D, and for a throat's facet (the great circles in
+//!   its plane), the lens is symmetric about the edge and half of it lies in
+//!   the triangle while it stays off the other two edges. The same holds for
+//!   a throat region's tetrahedra `(p, c_i, c_j, c_k)`: the lens part
+//!   `V_lens · φ / 2π` is added back to its void, and the caps of each sphere
+//!   inside the other (`2π r h` each, not a solid–fluid surface) times
+//!   `φ / 2π` are taken off its solid surface, so the hydraulic radius sees
+//!   the wetted surface only.
+//! * Not exact, flagged (`overlap_inexact`) and counted in the summary: three
+//!   spheres sharing a point (a triple overlap, about 13 % overlap for equal
+//!   spheres), whose common part is left out of the inclusion–exclusion,
+//!   and a lens reaching another face (slivers, thin throat regions), whose
+//!   wedge share exceeds its part in the cell. Both make the value the
+//!   pairwise one, an upper bound on the void when the sectors are exact
+//!   (Bonferroni's inequality), clamped to the cell's volume. A centre
+//!   inside the other sphere (overlap of a radius or more) has no small lens
+//!   on the edge: the sectors alone stand there (a lower bound on the void).
+//!   Detection of a triple overlap: the common part of three balls is
+//!   symmetric about the plane of their centres, so it is non-empty exactly
+//!   when their great discs in that plane share a point, i.e. when a
+//!   crossing point of two of the circles lies in the third disc or one disc
+//!   lies inside the other two.
+//! * The pore body radius and the constriction radius are the tangent
+//!   sphere (circle) of the gap the spheres leave, whether or not those
+//!   overlap (checked against Newton at 0.1–5 % overlap); circles sharing a
+//!   point leave no gap, and the constriction (2D: the pore body) is 0 there
+//!   rather than a circle outside them.
 
 use crate::math::v3::{
     add as add3, cross as cross3, dot as dot3, norm as norm3, scale as scale3, sub as sub3,
@@ -70,9 +73,8 @@ pub struct CellVolume {
     /// clamped to zero, or when the cell was too degenerate to measure.
     pub clamped: bool,
     /// True when vertex spheres overlap and the void is not exact: three of
-    /// them share a point, or one of an overlapping pair reaches past the
-    /// face opposite its centre (module docs); the void is then the
-    /// pairwise inclusion–exclusion value, clamped to `[0, volume]`.
+    /// them share a point, a lens reaches another face, or a centre lies
+    /// inside another sphere (module docs, which give the bound used).
     pub overlap_inexact: bool,
 }
 
@@ -628,10 +630,10 @@ pub fn cell_volumes_2d(c: &[[f64; 2]; 3], r: &[f64; 3]) -> CellVolume {
     }
 }
 
-/// The lens halves inside the triangle `d` of
-/// its overlapping discs, and whether they are inexact (three discs sharing
-/// a point, or an overlapping disc past its opposite edge). `(0, false)` when
-/// no two discs overlap.
+/// The lens halves inside the triangle `d` of its overlapping discs, and
+/// whether they are inexact (module docs: a lens reaching another edge,
+/// three discs sharing a point, or a centre inside another disc). `(0,
+/// false)` when no two discs overlap.
 fn triangle_lenses(d: &[V2; 3], rs: &[f64; 3]) -> (f64, bool) {
     let mut lenses = 0.0;
     let mut any = false;

@@ -129,9 +129,10 @@ pub struct PoresSummary {
     /// Cells whose spheres' sectors exceeded the cell (void clamped at 0).
     pub clamped_cells: u64,
     /// Cells of the slab whose overlapping spheres' void is not exact: three
-    /// spheres sharing a point (the void is then an upper bound, clamped to
-    /// the cell), or an overlapping sphere reaching past the face opposite
-    /// its centre (`geometry`'s module docs). 0 on beds that do not overlap.
+    /// spheres sharing a point or a lens reaching another face of the cell
+    /// (the void is then an upper bound, clamped to the cell), or a centre
+    /// inside another sphere (`geometry`'s module docs). 0 on beds that do
+    /// not overlap.
     pub overlap_inexact_cells: u64,
     /// Throats between pores of the slab whose fluid area, void or solid
     /// surface is not exact for the same reasons.
