@@ -380,7 +380,8 @@ fn discs_share_a_point(c: &[V2; 3], r: &[f64; 3]) -> bool {
 fn in_plane(a: V3, b: V3, c: V3) -> Option<[V2; 3]> {
     let ab = sub3(b, a);
     let n1 = norm3(ab);
-    if !(n1 > 0.0) {
+    // A norm: 0 or NaN is all that can fail here.
+    if n1 == 0.0 || !n1.is_finite() {
         return None;
     }
     let e1 = scale3(ab, 1.0 / n1);
@@ -471,8 +472,8 @@ pub fn pore_body_radius_2d(c: &[[f64; 2]; 3], r: &[f64; 3]) -> f64 {
     fin(apollonius_2d_scaled(&[d[1], d[2]], &rs) * l)
 }
 
-/// Volume of the tetrahedron and its void volume, `volume − Σ r_i³ Ω_i / 3
-/// + Σ V_lens,ij φ_ij / 2π` (the sectors and, for each pair of overlapping
+/// Volume of the tetrahedron and its void volume,
+/// `volume − Σ r_i³ Ω_i / 3 + Σ V_lens,ij φ_ij / 2π` (the sectors and, for each pair of overlapping
 /// vertex spheres, the part of their lens inside the cell, counted twice by
 /// the sectors; module docs), clamped to `[0, volume]` with `clamped = true`
 /// when it fell below 0.
