@@ -45,6 +45,8 @@ pub fn length_power(key: &str, dim: u8) -> Option<i32> {
         | "pores.network_throats"
         | "pores.hidden_particles"
         | "pores.clamped_cells"
+        | "pores.overlap_inexact_cells"
+        | "pores.overlap_inexact_throats"
         | "pores.body_radius_undefined"
         | "pores.body_radius.count"
         | "pores.constriction_radius.count" => 0,

@@ -346,7 +346,6 @@ pub fn analyze_timed<const D: usize>(
     });
     let pore_space = pores_wanted.then(|| {
         pore_measures(
-            &contacts,
             bed,
             opts,
             region.as_ref().filter(|_| bulk_ok),
@@ -446,30 +445,15 @@ impl crate::bed::AnyBed {
 /// The pore space and, when asked, the permeability; the cake's specific
 /// resistance then comes from the network's `k_z`. `Err` says why there is none.
 fn pore_measures<const D: usize>(
-    contacts: &Contacts,
     bed: &Bed<D>,
     opts: &AnalysisOptions,
     bulk: Option<&packing::Region<D>>,
     cake: Option<&mut CakeSummary>,
     times: &mut StageTimes,
 ) -> Result<pores::PoreSpace, String> {
-    // The pore space is that of non-overlapping spheres (beads of one chain
-    // aside): a bed from DEM or a scan with overlaps is refused, naming a pair.
-    let overlap = contacts.pairs.iter().find(|c| {
-        let (i, j) = (c.i as usize, c.j as usize);
-        let r = bed.radii[i].min(bed.radii[j]);
-        bed.bodies[i] != bed.bodies[j] && -c.gap > contacts::OVERLAP_TOL * r
-    });
-    if let Some(c) = overlap {
-        let r = bed.radii[c.i as usize].min(bed.radii[c.j as usize]);
-        return Err(format!(
-            "particles {} and {} overlap by {:.3e} of the smaller radius; the pore space is \
-             defined for spheres that do not overlap (shrink or separate them first)",
-            c.i,
-            c.j,
-            -c.gap / r
-        ));
-    }
+    // Overlapping spheres (DEM pours, scans) need no refusal: the network's
+    // geometry takes their lenses out exactly (`pores::geometry`), and a
+    // sphere inside another has no cell (`pores.hidden_particles`).
     let z = D - 1;
     let slab = match (opts.flow.slab, bulk) {
         (Some(s), _) => s,

@@ -130,6 +130,15 @@ pub struct PoresSummary {
     pub hidden_particles: u64,
     /// Cells whose spheres' sectors exceeded the cell (void clamped at 0).
     pub clamped_cells: u64,
+    /// Cells of the slab whose overlapping spheres' void is not exact: three
+    /// spheres sharing a point or a lens reaching another face of the cell
+    /// (the void is then an upper bound, clamped to the cell), or a centre
+    /// inside another sphere (`geometry`'s module docs). 0 on beds that do
+    /// not overlap.
+    pub overlap_inexact_cells: u64,
+    /// Throats between pores of the slab whose fluid area, void or solid
+    /// surface is not exact for the same reasons.
+    pub overlap_inexact_throats: u64,
     /// Why a figure above is null, when one is.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
@@ -566,6 +575,19 @@ fn summary<const D: usize>(net: &Network<D>, in_slab: &[bool], slab: (Real, Real
             .pores
             .iter()
             .filter(|p| p.void_volume <= 0.0 && p.volume > 0.0)
+            .count() as u64,
+        overlap_inexact_cells: net
+            .overlap_inexact_pores
+            .iter()
+            .filter(|&&p| in_slab[p as usize])
+            .count() as u64,
+        overlap_inexact_throats: net
+            .overlap_inexact_throats
+            .iter()
+            .filter(|&&t| {
+                let [a, b] = net.throats[t as usize].pores;
+                in_slab[a as usize] && in_slab[b as usize]
+            })
             .count() as u64,
         note,
     }

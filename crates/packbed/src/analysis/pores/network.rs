@@ -56,7 +56,8 @@ pub struct Pore<const D: usize> {
     pub centre: [Real; D],
     /// Volume of the cell (area in 2D).
     pub volume: Real,
-    /// Its void volume: the cell less the vertex spheres' sectors.
+    /// Its void volume: the cell less the vertex spheres (sectors, with the
+    /// overlaps' lenses counted once).
     pub void_volume: Real,
     /// Radius of the largest sphere touching the four vertex spheres.
     pub body_radius: Real,
@@ -105,6 +106,13 @@ pub struct Network<const D: usize> {
     pub shapes: Vec<ThroatShape>,
     /// Particles with no cell (their sphere sits inside others').
     pub hidden: Vec<u32>,
+    /// Pores whose void volume is not exact for overlapping spheres (a
+    /// triple overlap, or an overlapping sphere past its opposite face:
+    /// `geometry::CellVolume::overlap_inexact`), in order.
+    pub overlap_inexact_pores: Vec<u32>,
+    /// Throats (indices into `throats`) whose fluid area or region is not
+    /// exact for overlapping spheres, in order.
+    pub overlap_inexact_throats: Vec<u32>,
     /// The margin of images the network was built with.
     pub margin: Real,
     /// Points triangulated (particles and their images).
@@ -299,13 +307,15 @@ fn assemble<const D: usize>(
         kept.push(k as u32);
     }
     drop(verdicts);
-    let pores: Vec<Pore<D>> = kept
+    let (pores, inexact): (Vec<Pore<D>>, Vec<bool>) = kept
         .par_iter()
         .map(|&k| {
             let v = t.vertices(cells[k as usize]);
             measure_pore(t, v, sites_of(sites, v), centres[k as usize].0)
         })
-        .collect();
+        .unzip();
+    let overlap_inexact_pores = flagged(&inexact);
+    drop(inexact);
     // Each stage's inputs go as soon as it is done: at 10^6 spheres the
     // centres, the kept cells and the key table held 1.1 GB past their use.
     drop((kept, centres));
@@ -372,7 +382,7 @@ fn assemble<const D: usize>(
             power_centre(t, t.vertices(cell)).0
         }
     };
-    let (throats, shapes): (Vec<Throat>, Vec<ThroatShape>) = links
+    let ((throats, shapes), inexact): ((Vec<Throat>, Vec<ThroatShape>), Vec<bool>) = links
         .par_iter()
         .map(|&(a, b, i, shift)| {
             let (c, i) = (cell_of_pore[a as usize], usize::from(i));
@@ -380,8 +390,10 @@ fn assemble<const D: usize>(
             let ends = [centre_of(c, a), centre_of(n, b)];
             measure_throat(t, c, i, ends, [a, b], shift)
         })
-        .collect();
+        .unzip();
     drop(cell_of_pore);
+    let overlap_inexact_throats = flagged(&inexact);
+    drop(inexact);
     Ok(Some(Network {
         pores,
         throats,
@@ -392,11 +404,20 @@ fn assemble<const D: usize>(
             .filter(|&&h| sites[h as usize].image == [0; 2])
             .copied()
             .collect(),
+        overlap_inexact_pores,
+        overlap_inexact_throats,
         margin,
         points: t.input_len(),
         mean_squared_radius: bed.radii.iter().map(|r| r * r).sum::<Real>()
             / bed.radii.len().max(1) as Real,
     }))
+}
+
+/// The indices of the `true` entries.
+fn flagged(flags: &[bool]) -> Vec<u32> {
+    (0..flags.len() as u32)
+        .filter(|&k| flags[k as usize])
+        .collect()
 }
 
 /// A throat found in [`assemble`]: the two pores, the facet's index in the
@@ -532,7 +553,7 @@ fn measure_pore<const D: usize>(
     v: &[u32],
     sites: [Site; 4],
     centre: [f64; D],
-) -> Pore<D> {
+) -> (Pore<D>, bool) {
     let (c, r) = coords(t, v);
     let (cell, body_radius) = match D {
         2 => {
@@ -551,13 +572,16 @@ fn measure_pore<const D: usize>(
             )
         }
     };
-    Pore {
-        sites,
-        centre,
-        volume: cell.volume,
-        void_volume: cell.void_volume,
-        body_radius,
-    }
+    (
+        Pore {
+            sites,
+            centre,
+            volume: cell.volume,
+            void_volume: cell.void_volume,
+            body_radius,
+        },
+        cell.overlap_inexact,
+    )
 }
 
 fn measure_throat<const D: usize>(
@@ -567,7 +591,7 @@ fn measure_throat<const D: usize>(
     [p1, p2]: [[f64; D]; 2],
     pores: [u32; 2],
     shift: [i8; 2],
-) -> (Throat, ThroatShape) {
+) -> ((Throat, ThroatShape), bool) {
     let v = t.vertices(c);
     let mut facet = [0u32; 3];
     for (slot, k) in (0..D + 1).filter(|&k| k != i).enumerate() {
@@ -594,19 +618,22 @@ fn measure_throat<const D: usize>(
         }
     };
     (
-        Throat {
-            pores,
-            shift,
-            constriction_radius,
-        },
-        ThroatShape {
-            // The radii are the weights' square roots: √(r·r) is r to the
-            // bit in binary floating point.
-            mean_radius: fr[..D].iter().sum::<Real>() / D as Real,
-            length: geometry.length,
-            fluid_area: geometry.fluid_area,
-            void_volume: geometry.void_volume,
-            hydraulic_radius: geometry.hydraulic_radius,
-        },
+        (
+            Throat {
+                pores,
+                shift,
+                constriction_radius,
+            },
+            ThroatShape {
+                // The radii are the weights' square roots: √(r·r) is r to the
+                // bit in binary floating point.
+                mean_radius: fr[..D].iter().sum::<Real>() / D as Real,
+                length: geometry.length,
+                fluid_area: geometry.fluid_area,
+                void_volume: geometry.void_volume,
+                hydraulic_radius: geometry.hydraulic_radius,
+            },
+        ),
+        geometry.overlap_inexact,
     )
 }
