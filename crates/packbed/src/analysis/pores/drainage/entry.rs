@@ -13,6 +13,8 @@
 //!   pressure of such throats (Mason & Morrow 1991; Joekar-Niasar et al.
 //!   2010). In 2D the throat between two discs has no corners: `msp` is
 //!   `inscribed` there.
+// NaN-rejecting guards read `!(x > 0.0)`: true for NaN as well.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::super::network::Network;
 use crate::bed::Bed;

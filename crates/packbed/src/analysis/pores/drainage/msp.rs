@@ -104,6 +104,8 @@
 //! radius below by the largest half-gap; here θ is general and a corner whose gap the arc
 //! cannot span simply holds no liquid, which reproduces Yade's clamp when the balance changes
 //! sign where that corner fills.
+// NaN-rejecting guards read `!(x > 0.0)`: true for NaN as well.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::bridge::{half_lens_area, meniscus_2d};
 use std::f64::consts::PI;

@@ -16,6 +16,8 @@
 //! exchange liquid through films while the pressure rises), their walls are
 //! the particles only (wall contacts hold none), and a bridge takes the
 //! shape of an isolated pair's (the toroidal meridian).
+// NaN-rejecting guards read `!(x > 0.0)`: true for NaN as well.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::super::network::{Network, Site};
 use super::bridge;
