@@ -58,6 +58,15 @@ class Bed:
     def pores(
         self, settings_json: str, progress: _Progress = None
     ) -> Tuple[str, dict[str, npt.NDArray[Any]], dict[str, npt.NDArray[Any]]]: ...
+    def drainage(
+        self, settings_json: str, progress: _Progress = None
+    ) -> Tuple[
+        str,
+        dict[str, npt.NDArray[Any]],
+        dict[str, npt.NDArray[Any]],
+        dict[str, npt.NDArray[Any]],
+        dict[str, npt.NDArray[Any]],
+    ]: ...
     def contacts(
         self, settings_json: str
     ) -> Tuple[npt.NDArray[np.uint32], npt.NDArray[np.uint32], npt.NDArray[np.float64]]: ...

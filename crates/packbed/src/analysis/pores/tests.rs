@@ -8,7 +8,7 @@ use crate::{run_bed, Config};
 
 /// Touching spheres of radius `r` on a simple cubic lattice of spacing 2, `n`
 /// by `n` by `layers`, in a periodic box.
-fn simple_cubic(n: usize, layers: usize, r: Real) -> Bed<3> {
+pub(super) fn simple_cubic(n: usize, layers: usize, r: Real) -> Bed<3> {
     let size = 2.0 * n as Real;
     let mut bed = Bed::new(
         Container {

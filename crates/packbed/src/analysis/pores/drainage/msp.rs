@@ -280,6 +280,23 @@ impl Throat {
     }
 }
 
+/// The end of the range where `f` is defined, between `lo` (defined) and
+/// `hi` (not), by bisection: the radius at which the corner arcs meet.
+fn valid_end(f: &dyn Fn(f64) -> Option<f64>, mut lo: f64, mut hi: f64) -> f64 {
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if f(mid).is_some() {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+        if hi - lo <= 1e-14 * hi {
+            break;
+        }
+    }
+    lo
+}
+
 /// The MS-P balance `F(R) = L_nw + L_ns cos θ − A_eff / R` solved for the entry radius on
 /// `[r_lo, r_end]`, where `state(R)` gives `(A_eff, L_nw, L_ns)` or `None` outside the range
 /// of valid configurations (assumed to be one interval starting at `r_lo`). Returns
@@ -345,19 +362,7 @@ where
             None => {
                 if let Some((pr, _)) = prev {
                     // End of the valid range between pr and rr: corners merge there.
-                    let (mut lo, mut hi) = (pr, rr);
-                    for _ in 0..200 {
-                        let mid = 0.5 * (lo + hi);
-                        if f(mid).is_some() {
-                            lo = mid;
-                        } else {
-                            hi = mid;
-                        }
-                        if hi - lo <= 1e-14 * hi {
-                            break;
-                        }
-                    }
-                    return Some(lo);
+                    return Some(valid_end(&f, pr, rr));
                 }
             }
         }
@@ -488,21 +493,7 @@ pub fn msp_entry_radius_near(
                     // The corner arcs meet before the balance is met: the
                     // entry is at the end of the valid range (as the full scan
                     // returns it), found by bisection.
-                    None => {
-                        let (mut lo, mut hi) = (a, b);
-                        for _ in 0..200 {
-                            let mid = 0.5 * (lo + hi);
-                            if f(mid).is_some() {
-                                lo = mid;
-                            } else {
-                                hi = mid;
-                            }
-                            if hi - lo <= 1e-14 * hi {
-                                break;
-                            }
-                        }
-                        return Some(lo);
-                    }
+                    None => return Some(valid_end(&f, a, b)),
                 }
             }
             let mut fb = fb?;

@@ -2,29 +2,11 @@
 
 use super::*;
 use crate::analysis::pores::network::network;
-use crate::container::Container;
-use crate::math::Vector;
 use crate::{run_bed, Config};
 
 /// Touching spheres of radius 1 on a simple cubic lattice, periodic sides.
 fn simple_cubic(n: usize, layers: usize) -> Bed<3> {
-    let size = 2.0 * n as Real;
-    let mut bed = Bed::new(
-        Container {
-            size: Vector([size, size, 2.0 * layers as Real]),
-            periodic: true,
-        },
-        Vec::new(),
-    );
-    for k in 0..layers {
-        for j in 0..n {
-            for i in 0..n {
-                let at = |m: usize| 2.0 * m as Real + 1.0;
-                bed.push(Vector([at(i), at(j), at(k)]), 1.0, 0);
-            }
-        }
-    }
-    bed
+    super::super::tests::simple_cubic(n, layers, 1.0)
 }
 
 fn deposited(count: u64, seed: u64, radius: &str) -> Bed<3> {
