@@ -558,6 +558,21 @@ impl AnalysisConfig {
         }
         self.flow.check()?;
         self.drainage.check(self.length_unit)?;
+        // The displaced liquid leaves the drainage's slab downwards (the
+        // filter medium): a slab from the floor has nothing below it.
+        let drains = self
+            .measures
+            .as_ref()
+            .is_some_and(|m| m.contains(&Measure::Drainage));
+        if let (true, Some([lo, _])) = (drains, self.flow.slab) {
+            if lo <= 0.0 {
+                return Err(Error::config(format!(
+                    "analysis.flow.slab starts at {lo}, on the floor: the drainage's liquid leaves \
+                     the slab downwards and the bed has no outlet below it; start the slab above \
+                     the first layer of particles"
+                )));
+            }
+        }
         if let Some(rho) = self.solid_density {
             positive(rho, &name("solid_density"))?;
             if self.length_unit.is_none() {
