@@ -15,7 +15,14 @@ fn config(extra: &str) -> String {
 fn drainage_writes_its_curve_bridges_and_pore_states() {
     let s = Scratch::new();
     let c = s.input("wet.toml", &config("length_unit = \"um\"\n"));
-    s.ok(&["run", c.to_str().unwrap(), "--out", "wet", "--no-pictures"]);
+    let o = s.ok(&["run", c.to_str().unwrap(), "--out", "wet", "--no-pictures"]);
+    // On screen after the cake: the breakthrough in Pa and the liquid left.
+    let screen = format!("{}{}", o.stdout, o.stderr);
+    assert!(
+        screen.contains("drainage: breakthrough P_c·d32/γ"),
+        "{screen}"
+    );
+    assert!(screen.contains(" Pa), saturation then "), "{screen}");
     let summary = s.summary("wet");
     let d = &summary["drainage"];
     let bt = d["breakthrough"]["reduced"].as_f64().unwrap();

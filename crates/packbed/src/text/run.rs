@@ -410,6 +410,48 @@ fn measures_text_with(a: &Summary, names: &[String], bulk_hint: Option<&str>) ->
     if let Some(why) = &a.pores_note {
         let _ = writeln!(t, "  pores: none ({why})");
     }
+    if let Some(x) = &a.transport {
+        let num = |v: Option<f64>| v.map_or("null".into(), |v| format!("{v:.3}"));
+        let _ = writeln!(
+            t,
+            "  transport: formation factor {}, Archie m {}, tortuosity hydraulic {} / electrical {}",
+            num(x.formation_factor),
+            num(x.archie_exponent),
+            num(x.hydraulic_tortuosity),
+            num(x.electrical_tortuosity)
+        );
+    }
+    if let Some(d) = &a.drainage {
+        let pressure = |p: &crate::analysis::pores::drainage::Pressure| match p.pa {
+            Some(pa) => format!("P_c·d32/γ {:.3} ({pa:.4e} Pa)", p.reduced),
+            None => format!("P_c·d32/γ {:.3}", p.reduced),
+        };
+        let mut line = match &d.breakthrough {
+            Some(b) => format!(
+                "  drainage: breakthrough {}, saturation then {:.3}",
+                pressure(b),
+                d.saturation_at_breakthrough.unwrap_or(0.0)
+            ),
+            None => "  drainage: no breakthrough".to_string(),
+        };
+        if let (Some(s), Some(r)) = (&d.state, d.residual_saturation) {
+            let _ = write!(
+                line,
+                "; at {}: liquid {r:.3} (trapped {:.3}, pendular {:.4}), {} bridges",
+                pressure(s),
+                d.residual_trapped.unwrap_or(0.0),
+                d.residual_pendular.unwrap_or(0.0),
+                d.bridges
+            );
+        }
+        let _ = writeln!(t, "{line}");
+        if let Some(why) = &d.note {
+            let _ = writeln!(t, "    {why}");
+        }
+    }
+    if let Some(why) = &a.drainage_note {
+        let _ = writeln!(t, "  drainage: none ({why})");
+    }
     if let Some(c) = &a.percolation {
         t.push_str(&percolation_text(c));
     }

@@ -406,7 +406,7 @@ fn balls_share_a_point(a: V3, b: V3, c: V3, r: [f64; 3]) -> bool {
 
 /// Dihedral angle at the edge `a → b` between the half-planes through `u`
 /// and through `v`.
-fn dihedral(a: V3, b: V3, u: V3, v: V3) -> f64 {
+pub fn dihedral(a: V3, b: V3, u: V3, v: V3) -> f64 {
     let e = sub3(b, a);
     angle3(cross3(e, sub3(u, a)), cross3(e, sub3(v, a)))
 }

@@ -39,6 +39,12 @@ pub struct Site {
 }
 
 impl Site {
+    /// Where the site is: the particle's centre shifted by whole periods,
+    /// or mirrored in a side wall.
+    pub fn position<const D: usize>(&self, bed: &Bed<D>) -> [Real; D] {
+        image_of(bed, bed.centres[self.particle as usize].0, self.image)
+    }
+
     /// The priority of the site in the perturbation: (particle, image)
     /// lexicographically, which a translation by whole periods keeps.
     pub fn rank(&self) -> u64 {
@@ -161,6 +167,26 @@ pub fn network_timed<const D: usize>(
     )))
 }
 
+/// The point `c` shifted by `image`: whole periods on periodic sides, a
+/// mirror image in the low (−1) or high (+1) side wall otherwise.
+fn image_of<const D: usize>(bed: &Bed<D>, c: [Real; D], image: [i8; 2]) -> [Real; D] {
+    let size = bed.container.size;
+    let mut p = c;
+    for a in 0..D - 1 {
+        let s = image[a];
+        p[a] = if bed.container.periodic {
+            c[a] + Real::from(s) * size[a]
+        } else {
+            match s {
+                -1 => -c[a],
+                1 => 2.0 * size[a] - c[a],
+                _ => c[a],
+            }
+        };
+    }
+    p
+}
+
 /// The particles and their images within `margin` of the sides.
 fn sites_with_images<const D: usize>(
     bed: &Bed<D>,
@@ -204,21 +230,8 @@ fn sites_with_images<const D: usize>(
             if image == [0; 2] {
                 continue;
             }
-            let mut p = c;
-            let mut inside = true;
-            for a in 0..sides {
-                let s = image[a];
-                p[a] = if bed.container.periodic {
-                    c[a] + Real::from(s) * size[a]
-                } else {
-                    match s {
-                        -1 => -c[a],
-                        1 => 2.0 * size[a] - c[a],
-                        _ => c[a],
-                    }
-                };
-                inside &= p[a] >= -margin && p[a] <= size[a] + margin;
-            }
+            let p = image_of(bed, c, image);
+            let inside = (0..sides).all(|a| p[a] >= -margin && p[a] <= size[a] + margin);
             if inside {
                 sites.push(Site {
                     particle: i as u32,

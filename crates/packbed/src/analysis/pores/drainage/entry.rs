@@ -58,7 +58,7 @@ fn facet_circles<const D: usize>(
 ) -> ([[Real; 2]; 3], [Real; 3]) {
     let sites = super::facet_sites(net, t);
     let p: [[Real; 3]; 3] = std::array::from_fn(|k| {
-        let q = super::site_position(bed, sites[k]);
+        let q = sites[k].position(bed);
         std::array::from_fn(|a| q.get(a).copied().unwrap_or(0.0))
     });
     let radii = sites.map(|s| bed.radii[s.particle as usize]);

@@ -402,26 +402,6 @@ pub fn check_options(o: &DrainageOptions) -> Result<(), Refusal> {
     Ok(())
 }
 
-/// Where a site (a particle or one of its images) is.
-pub fn site_position<const D: usize>(bed: &Bed<D>, site: Site) -> [Real; D] {
-    let mut p = bed.centres[site.particle as usize].0;
-    let size = bed.container.size;
-    for a in 0..D - 1 {
-        let s = site.image[a];
-        if s == 0 {
-            continue;
-        }
-        p[a] = if bed.container.periodic {
-            p[a] + Real::from(s) * size[a]
-        } else if s < 0 {
-            -p[a]
-        } else {
-            2.0 * size[a] - p[a]
-        };
-    }
-    p
-}
-
 /// The sites of the facet a throat crosses: those its two pores share (the
 /// second pore's shifted by the throat's periods).
 pub fn facet_sites<const D: usize>(net: &Network<D>, throat: usize) -> [Site; 3] {

@@ -108,33 +108,17 @@ fn key(a: Site, b: Site, periodic: bool) -> Option<(u32, u32, [i8; 2], [i8; 2])>
     }
 }
 
-/// The dihedral angle of the tetrahedron `v` at its edge `(v[i], v[j])`.
-fn dihedral(v: &[[Real; 3]; 4], i: usize, j: usize) -> Real {
-    let others: Vec<usize> = (0..4).filter(|&k| k != i && k != j).collect();
-    let sub = |a: [Real; 3], b: [Real; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    let dot = |a: [Real; 3], b: [Real; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let e = sub(v[j], v[i]);
-    let ee = dot(e, e);
-    if !(ee > 0.0) {
-        return 0.0;
+/// The two vertices of a tetrahedron off its edge `(i, j)`.
+fn others(i: usize, j: usize) -> [usize; 2] {
+    let mut out = [0; 2];
+    let mut n = 0;
+    for k in 0..4 {
+        if k != i && k != j {
+            out[n] = k;
+            n += 1;
+        }
     }
-    let perp = |p: [Real; 3]| {
-        let w = sub(p, v[i]);
-        let t = dot(w, e) / ee;
-        [w[0] - t * e[0], w[1] - t * e[1], w[2] - t * e[2]]
-    };
-    let (u, w) = (perp(v[others[0]]), perp(v[others[1]]));
-    let c = [
-        u[1] * w[2] - u[2] * w[1],
-        u[2] * w[0] - u[0] * w[2],
-        u[0] * w[1] - u[1] * w[0],
-    ];
-    let angle = dot(c, c).sqrt().atan2(dot(u, w));
-    if angle.is_finite() {
-        angle
-    } else {
-        0.0
-    }
+    out
 }
 
 impl Pendular {
@@ -159,10 +143,8 @@ impl Pendular {
             .par_iter()
             .enumerate()
             .flat_map_iter(|(p, pore)| {
-                let pos: Vec<[Real; D]> = pore.sites[..=D]
-                    .iter()
-                    .map(|&s| super::site_position(bed, s))
-                    .collect();
+                let pos: Vec<[Real; D]> =
+                    pore.sites[..=D].iter().map(|&s| s.position(bed)).collect();
                 let mut out: Vec<Entry> = Vec::new();
                 for i in 0..=D {
                     for j in i + 1..=D {
@@ -189,7 +171,13 @@ impl Pendular {
                         let share = if D == 3 {
                             let v: [[Real; 3]; 4] =
                                 std::array::from_fn(|m| std::array::from_fn(|x| pos[m][x]));
-                            dihedral(&v, i, j) / std::f64::consts::TAU
+                            let [u, w] = others(i, j);
+                            let angle = super::super::geometry::dihedral(v[i], v[j], v[u], v[w]);
+                            if angle.is_finite() {
+                                angle / std::f64::consts::TAU
+                            } else {
+                                0.0
+                            }
                         } else {
                             0.5
                         };
