@@ -79,3 +79,80 @@ fn drainage_bad_input() {
         &["no outlet"],
     );
 }
+
+#[test]
+fn ensembles_average_the_drainage_curve_and_compare_draws_each_groups() {
+    let s = Scratch::new();
+    let narrow = s.input("narrow.toml", &config(""));
+    let wide = s.input(
+        "wide.toml",
+        &config("").replace(
+            "radius = 1\n",
+            "size = { dist = \"lognormal\", median = 1.0, gsd = 1.3 }\n",
+        ),
+    );
+    s.ok(&[
+        "ensemble",
+        narrow.to_str().unwrap(),
+        "--runs",
+        "3",
+        "--out",
+        "narrow",
+    ]);
+    s.ok(&[
+        "ensemble",
+        wide.to_str().unwrap(),
+        "--runs",
+        "2",
+        "--out",
+        "wide",
+    ]);
+    // Every replicate's curve sits on the same reduced pressures, so the
+    // ensemble's statistics are per pressure: the mean lies between the
+    // lowest and the highest bed's, and falls with the pressure.
+    let csv = s.read("narrow/ensemble.csv");
+    let row = |name: &str| -> Vec<f64> {
+        let line = csv
+            .lines()
+            .find(|l| l.starts_with(&format!("{name},")))
+            .unwrap_or_else(|| panic!("no {name} in ensemble.csv"));
+        line.split(',')
+            .skip(1)
+            .take(5)
+            .map(|x| x.parse().unwrap())
+            .collect()
+    };
+    let mut last = f64::INFINITY;
+    for k in 0..41 {
+        let p = row(&format!("drainage.curve.pc_reduced[{k}]"));
+        assert_eq!(p[0], 3.0);
+        assert!((p[1] - 10f64.powf(k as f64 / 20.0)).abs() < 1e-9, "{p:?}");
+        let sat = row(&format!("drainage.curve.saturation[{k}]"));
+        let (mean, min, max) = (sat[1], sat[3], sat[4]);
+        assert!(
+            min <= mean && mean <= max && (0.0..=1.0).contains(&min),
+            "{sat:?}"
+        );
+        assert!(mean <= last + 1e-12, "the mean curve rises at point {k}");
+        last = mean;
+    }
+    // Below the first entry (P_c·d32/γ = 1) the beds are full; at 100 the
+    // liquid left is the residual, well below a half.
+    assert_eq!(row("drainage.curve.saturation[0]")[1], 1.0);
+    assert!(row("drainage.curve.saturation[40]")[1] < 0.5);
+    let plot = s.read("narrow/plot_drainage.svg");
+    assert!(plot.contains("<polygon"), "the band is drawn");
+    // compare: both groups' mean curves with their bands, and the
+    // breakthrough among the measures.
+    let o = s.ok(&["compare", "narrow", "wide", "--out", "cmp"]);
+    assert!(
+        o.stdout.contains("drainage.breakthrough.reduced"),
+        "{}",
+        o.stdout
+    );
+    let svg = s.read("cmp/plot_compare_drainage.svg");
+    assert_eq!(svg.matches("<polygon").count(), 2, "{svg}");
+    let texts = crate::common::svg_texts(&svg);
+    assert!(texts.iter().any(|t| t == "narrow (3 beds)"), "{texts:?}");
+    assert!(texts.iter().any(|t| t == "wide (2 beds)"), "{texts:?}");
+}

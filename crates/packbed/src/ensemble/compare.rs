@@ -27,7 +27,7 @@ pub const ALPHA: f64 = 0.05;
 
 /// The measures a filtration study reads first, in this order when present;
 /// the rest follow in the order of `summary.json`.
-pub const HEADLINE: [&str; 16] = [
+pub const HEADLINE: [&str; 19] = [
     "cake.porosity",
     "cake.d32",
     "cake.specific_surface",
@@ -43,6 +43,9 @@ pub const HEADLINE: [&str; 16] = [
     "packing.bulk",
     "coordination.mean_bulk",
     "pores.d_c35",
+    "drainage.breakthrough.reduced",
+    "drainage.breakthrough.pa",
+    "drainage.residual_saturation",
     "psd.placed.d50",
 ];
 
@@ -993,21 +996,24 @@ fn p_value(p: f64) -> String {
 
 /// The measures drawn, when present: one plot each.
 #[cfg(feature = "render")]
-const PLOTTED: [&str; 6] = [
+const PLOTTED: [&str; 8] = [
     "cake.porosity",
     "permeability.k_z",
     "cake.k_kozeny_carman",
     "cake.d32",
     "cake.specific_resistance",
     "pores.d_c35",
+    "drainage.breakthrough.reduced",
+    "drainage.residual_saturation",
 ];
 
 /// Files of a comparison (plots aside).
 pub const COMPARE_FILES: [&str; 3] = ["compare.md", "compare.csv", "compare.json"];
 
 /// Writes `compare.md`, `compare.csv`, `compare.json` and, with `pictures`, a bar plot per
-/// headline measure (`plot_compare_<measure>`) and the groups' size
-/// distributions (`plot_compare_psd`) into `out`, atomically.
+/// headline measure (`plot_compare_<measure>`), the groups' size
+/// distributions (`plot_compare_psd`) and drainage curves
+/// (`plot_compare_drainage`) into `out`, atomically.
 pub fn write_comparison(
     out: &Path,
     groups: &[Group],
@@ -1089,13 +1095,48 @@ fn plots(groups: &[Group], c: &Comparison) -> Vec<(String, crate::render::plot::
             points: curves.placed,
             errors: None,
             markers: false,
+            band: None,
         });
         series.push(Series {
             name: format!("{} requested", g.name),
             points: curves.requested,
             errors: None,
             markers: true,
+            band: None,
         });
+    }
+    let drainage: Vec<Series> = groups
+        .iter()
+        .filter_map(|g| {
+            let c = drainage_curve(&g.summaries)?;
+            let beds = if c.beds == 1 {
+                "1 bed".to_string()
+            } else {
+                format!("{} beds", c.beds)
+            };
+            Some(Series {
+                name: format!("{} ({beds})", g.name),
+                points: c.points,
+                errors: None,
+                markers: false,
+                band: Some(c.band),
+            })
+        })
+        .collect();
+    if !drainage.is_empty() {
+        out.push((
+            "plot_compare_drainage".into(),
+            Plot {
+                title:
+                    "Primary drainage: each group's mean, shaded from its lowest to its highest bed"
+                        .into(),
+                x_label: "capillary pressure P_c·d32/γ".into(),
+                y_label: "wetting saturation".into(),
+                data: PlotData::LogLines { series: drainage },
+                y_range: Some((0.0, 1.0)),
+                x_range: None,
+            },
+        ));
     }
     if !series.is_empty() {
         out.push((
@@ -1153,8 +1194,53 @@ fn axis_name(key: &str, unit: &str) -> String {
         "cake.d32" => format!("d32 ({unit})"),
         "cake.specific_resistance" => "specific cake resistance (m/kg)".into(),
         "pores.d_c35" => format!("constriction d_c35 ({unit})"),
+        "drainage.breakthrough.reduced" => "breakthrough pressure P_c·d32/γ".into(),
+        "drainage.residual_saturation" => "residual wetting saturation".into(),
         other => other.into(),
     }
+}
+
+/// A group's drainage curve at the fixed reduced pressures
+/// (`drainage.curve`) over the beds that have one on the grid of the first
+/// such bed: the mean saturation per pressure, the lowest and highest bed's,
+/// and the number of beds. `None` when no bed has a curve.
+#[cfg(feature = "render")]
+struct DrainageCurve {
+    points: Vec<(f64, f64)>,
+    band: Vec<(f64, f64)>,
+    beds: usize,
+}
+
+#[cfg(feature = "render")]
+fn drainage_curve(summaries: &[Value]) -> Option<DrainageCurve> {
+    let numbers = |s: &Value, key: &str| -> Option<Vec<f64>> {
+        s.pointer(&format!("/drainage/curve/{key}"))?
+            .as_array()?
+            .iter()
+            .map(Value::as_f64)
+            .collect()
+    };
+    let curves: Vec<(Vec<f64>, Vec<f64>)> = summaries
+        .iter()
+        .filter_map(|s| Some((numbers(s, "pc_reduced")?, numbers(s, "saturation")?)))
+        .filter(|(p, s)| p.len() == s.len() && !p.is_empty())
+        .collect();
+    let pc = curves.first()?.0.clone();
+    let same: Vec<&Vec<f64>> = curves.iter().filter(|c| c.0 == pc).map(|c| &c.1).collect();
+    let mut sum = vec![0.0; pc.len()];
+    let mut band = vec![(f64::INFINITY, f64::NEG_INFINITY); pc.len()];
+    for saturation in &same {
+        for ((t, b), &x) in sum.iter_mut().zip(&mut band).zip(saturation.iter()) {
+            *t += x;
+            *b = (b.0.min(x), b.1.max(x));
+        }
+    }
+    let n = same.len() as f64;
+    Some(DrainageCurve {
+        points: pc.iter().zip(&sum).map(|(&p, &t)| (p, t / n)).collect(),
+        band,
+        beds: same.len(),
+    })
 }
 
 /// A group's mass curves: requested (of its first bed) and placed (the mean

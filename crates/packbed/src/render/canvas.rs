@@ -158,6 +158,8 @@ pub trait Canvas {
     fn polyline_class(&mut self, points: &[(f64, f64)], color: Rgb, width: f64, _class: &str) {
         self.polyline(points, color, width);
     }
+    /// A closed polygon (a band between two curves).
+    fn polygon(&mut self, points: &[(f64, f64)], style: Style);
     /// One line of text; `(x, y)` is the anchor on the baseline.
     fn text(&mut self, x: f64, y: f64, text: &str, style: TextStyle);
 
@@ -236,17 +238,22 @@ impl SvgCanvas {
         )
     }
 
-    /// A `<polyline>` with extra attributes `attrs` (empty, or starting with a space).
-    fn write_polyline(&mut self, points: &[(f64, f64)], color: Rgb, width: f64, attrs: &str) {
+    /// The `points` attribute's value of a polyline or polygon.
+    fn points_value(&self, points: &[(f64, f64)]) -> String {
         let wd = self.world.is_some();
         let pts: Vec<String> = points
             .iter()
             .map(|&(x, y)| format!("{},{}", fmt_coord(x, wd), fmt_coord(y, wd)))
             .collect();
+        pts.join(" ")
+    }
+
+    /// A `<polyline>` with extra attributes `attrs` (empty, or starting with a space).
+    fn write_polyline(&mut self, points: &[(f64, f64)], color: Rgb, width: f64, attrs: &str) {
         let _ = writeln!(
             self.body,
             r#"<polyline{attrs} points="{}"{} stroke-linejoin="round"/>"#,
-            pts.join(" "),
+            self.points_value(points),
             self.style_attrs(Style::stroke(color, width))
         );
     }
@@ -333,6 +340,15 @@ impl Canvas for SvgCanvas {
 
     fn polyline(&mut self, points: &[(f64, f64)], color: Rgb, width: f64) {
         self.write_polyline(points, color, width, "");
+    }
+
+    fn polygon(&mut self, points: &[(f64, f64)], style: Style) {
+        let _ = writeln!(
+            self.body,
+            r#"<polygon points="{}"{}/>"#,
+            self.points_value(points),
+            self.style_attrs(style)
+        );
     }
 
     fn polyline_class(&mut self, points: &[(f64, f64)], color: Rgb, width: f64, class: &str) {
@@ -446,6 +462,20 @@ impl PngCanvas {
         }
     }
 
+    /// An open path through `points`, in pixels.
+    fn path_through(&self, points: &[(f64, f64)]) -> PathBuilder {
+        let mut pb = PathBuilder::new();
+        for (k, &(x, y)) in points.iter().enumerate() {
+            let (px, py) = self.to_px(x, y);
+            if k == 0 {
+                pb.move_to(px, py);
+            } else {
+                pb.line_to(px, py);
+            }
+        }
+        pb
+    }
+
     /// Blends `color` with coverage `alpha` into pixel `(x, y)` (white-ish
     /// backgrounds; the pixmap is opaque, so premultiplied equals straight).
     fn blend(&mut self, x: i64, y: i64, color: Rgb, alpha: f32) {
@@ -491,16 +521,7 @@ impl Canvas for PngCanvas {
     }
 
     fn polyline(&mut self, points: &[(f64, f64)], color: Rgb, width: f64) {
-        let mut pb = PathBuilder::new();
-        for (k, &(x, y)) in points.iter().enumerate() {
-            let (px, py) = self.to_px(x, y);
-            if k == 0 {
-                pb.move_to(px, py);
-            } else {
-                pb.line_to(px, py);
-            }
-        }
-        if let Some(path) = pb.finish() {
+        if let Some(path) = self.path_through(points).finish() {
             let stroke = Stroke {
                 width: width as f32,
                 line_join: tiny_skia::LineJoin::Round,
@@ -513,6 +534,14 @@ impl Canvas for PngCanvas {
                 Transform::identity(),
                 None,
             );
+        }
+    }
+
+    fn polygon(&mut self, points: &[(f64, f64)], style: Style) {
+        let mut pb = self.path_through(points);
+        pb.close();
+        if let Some(path) = pb.finish() {
+            self.draw_path(&path, style);
         }
     }
 

@@ -41,7 +41,47 @@ pub fn ensemble_plots(
     if let Some(p) = chain_angles(a, beds, dim, angle_from) {
         out.push(("plot_chain_angles".to_string(), p));
     }
+    if let Some(p) = drainage_curve(a, beds) {
+        out.push(("plot_drainage".to_string(), p));
+    }
     out
+}
+
+/// The drainage curves of the beds at the fixed reduced pressures
+/// (`drainage.curve`): the mean saturation, shaded between the lowest and
+/// the highest bed's (a band, not error bars: 41 points of bars would hide
+/// the curve; the sd per point is in `ensemble.csv`).
+fn drainage_curve(a: &Aggregate, beds: u64) -> Option<Plot> {
+    let pc = series(a, "drainage.curve.pc_reduced")?;
+    let s = series(a, "drainage.curve.saturation")?;
+    let rows: Vec<(&Stats, &Stats)> = pc
+        .entries
+        .iter()
+        .zip(&s.entries)
+        .filter(|(p, s)| p.n > 0 && s.n > 0 && p.mean > 0.0)
+        .collect();
+    if rows.is_empty() {
+        return None;
+    }
+    Some(Plot {
+        title: format!(
+            "Primary drainage: mean over {}, shaded from the lowest to the highest bed",
+            beds_text(beds)
+        ),
+        x_label: "capillary pressure P_c·d32/γ".into(),
+        y_label: "wetting saturation".into(),
+        data: PlotData::LogLines {
+            series: vec![Series {
+                name: "mean".into(),
+                points: rows.iter().map(|(p, s)| (p.mean, s.mean)).collect(),
+                errors: None,
+                markers: false,
+                band: Some(rows.iter().map(|(_, s)| (s.min, s.max)).collect()),
+            }],
+        },
+        y_range: Some((0.0, 1.0)),
+        x_range: None,
+    })
 }
 
 fn measure<'a>(a: &'a Aggregate, name: &str) -> Option<&'a Stats> {
@@ -240,6 +280,7 @@ fn packing_profile(a: &Aggregate, beds: u64, unit: Option<LengthUnit>) -> Option
                 points: points.iter().map(|p| (p.0, p.1)).collect(),
                 errors: Some(points.iter().map(|p| p.2).collect()),
                 markers: false,
+                band: None,
             }],
         },
         y_range: Some((0.0, 1.0)),
@@ -450,6 +491,7 @@ fn against(
                             .collect(),
                         errors: c.errors.map(|e| kept.iter().map(|&i| e[i]).collect()),
                         markers: true,
+                        band: None,
                     }
                 })
                 .collect(),
@@ -505,6 +547,44 @@ mod tests {
                 .collect(),
             ..Aggregate::default()
         }
+    }
+
+    #[test]
+    fn the_drainage_curve_is_the_mean_with_a_band_from_the_lowest_to_the_highest_bed() {
+        let entry = |mean: f64, min: f64, max: f64| Stats {
+            n: 3,
+            mean,
+            sd: 0.1,
+            min,
+            max,
+        };
+        let mut a = aggregate(&[]);
+        a.replicates = 3;
+        a.series = vec![
+            StatSeries {
+                name: "drainage.curve.pc_reduced".into(),
+                entries: vec![entry(1.0, 1.0, 1.0), entry(10.0, 10.0, 10.0)],
+            },
+            StatSeries {
+                name: "drainage.curve.saturation".into(),
+                entries: vec![entry(1.0, 1.0, 1.0), entry(0.3, 0.2, 0.45)],
+            },
+        ];
+        let plots = ensemble_plots(&a, 3, AngleFrom::Horizontal, None);
+        let (_, p) = plots
+            .iter()
+            .find(|(stem, _)| stem == "plot_drainage")
+            .expect("a drainage plot");
+        let PlotData::LogLines { series } = &p.data else {
+            panic!("{:?}", p.data)
+        };
+        assert_eq!(series[0].points, vec![(1.0, 1.0), (10.0, 0.3)]);
+        assert_eq!(series[0].band, Some(vec![(1.0, 1.0), (0.2, 0.45)]));
+        assert!(p.to_svg(800, 500).unwrap().contains("<polygon"));
+        // Without the curve, no plot.
+        a.series.clear();
+        let plots = ensemble_plots(&a, 3, AngleFrom::Horizontal, None);
+        assert!(plots.iter().all(|(stem, _)| stem != "plot_drainage"));
     }
 
     #[test]

@@ -35,6 +35,9 @@ pub struct Series {
     pub errors: Option<Vec<f64>>,
     /// Draw a marker at each point.
     pub markers: bool,
+    /// A shaded band `(low, high)` in y, one per point (an ensemble's
+    /// scatter about its mean curve), drawn under every line.
+    pub band: Option<Vec<(f64, f64)>>,
 }
 
 /// What a plot shows.
@@ -140,6 +143,13 @@ impl Plot {
                     if let Some(e) = &s.errors {
                         if e.len() != s.points.len() || e.iter().any(|v| !v.is_finite()) {
                             return bad("error bars do not match the points");
+                        }
+                    }
+                    if let Some(b) = &s.band {
+                        if b.len() != s.points.len()
+                            || b.iter().any(|v| !v.0.is_finite() || !v.1.is_finite())
+                        {
+                            return bad("a band does not match the points");
                         }
                     }
                 }
@@ -305,6 +315,18 @@ impl Plot {
                     }
                     canvas.text(x, xtick_y, label, TextStyle::new(small, Anchor::Middle));
                 }
+                // Bands first, light, so that no band hides another's line.
+                for (g, s) in series.iter().enumerate() {
+                    if let Some(b) = &s.band {
+                        let upper = s.points.iter().zip(b).map(|(p, b)| (xmap(p.0), ymap(b.1)));
+                        let lower = s.points.iter().zip(b).rev();
+                        let ring: Vec<(f64, f64)> = upper
+                            .chain(lower.map(|(p, b)| (xmap(p.0), ymap(b.0))))
+                            .collect();
+                        let light = colour::categorical(g).mix(Rgb::WHITE, 0.72);
+                        canvas.polygon(&ring, Style::fill(light));
+                    }
+                }
                 for (g, s) in series.iter().enumerate() {
                     let c = colour::categorical(g);
                     let pts: Vec<(f64, f64)> =
@@ -405,11 +427,12 @@ impl Plot {
                 for s in series {
                     for (k, &(x, y)) in s.points.iter().enumerate() {
                         let e = s.errors.as_ref().map_or(0.0, |e| e[k].abs());
+                        let (lo, hi) = s.band.as_ref().map_or((y, y), |b| b[k]);
                         let x = if log { x.log10() } else { x };
                         x0 = x0.min(x);
                         x1 = x1.max(x);
-                        y0 = y0.min(y - e);
-                        y1 = y1.max(y + e);
+                        y0 = y0.min(y - e).min(lo);
+                        y1 = y1.max(y + e).max(hi);
                     }
                 }
             }
@@ -608,6 +631,28 @@ mod tests {
             x_range: None,
         };
         assert!(p.to_svg(600, 400).is_err());
+        // A band must have one (low, high) per point, finite.
+        let banded = |band: Vec<(f64, f64)>| Plot {
+            data: PlotData::LogLines {
+                series: vec![Series {
+                    name: "s".into(),
+                    points: vec![(1.0, 0.5), (10.0, 0.2)],
+                    errors: None,
+                    markers: false,
+                    band: Some(band),
+                }],
+            },
+            ..p.clone()
+        };
+        assert!(banded(vec![(0.4, 0.6)]).to_svg(600, 400).is_err());
+        assert!(banded(vec![(0.4, 0.6), (0.1, f64::NAN)])
+            .to_svg(600, 400)
+            .is_err());
+        let svg = banded(vec![(0.4, 0.6), (0.1, 0.3)])
+            .to_png(600, 400)
+            .and_then(|_| banded(vec![(0.4, 0.6), (0.1, 0.3)]).to_svg(600, 400))
+            .unwrap();
+        assert_eq!(svg.matches("<polygon").count(), 1);
     }
 
     #[test]

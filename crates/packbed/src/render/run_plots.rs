@@ -90,6 +90,7 @@ pub fn packing_profile(
         points,
         errors: None,
         markers: false,
+        band: None,
     }];
     if let (Some(b), Some(lo), Some(hi)) = (bulk, bottom, top) {
         series.push(Series {
@@ -97,6 +98,7 @@ pub fn packing_profile(
             points: vec![(lo, b), (hi, b)],
             errors: None,
             markers: false,
+            band: None,
         });
     }
     Plot {
@@ -138,6 +140,7 @@ pub fn pore_sizes(body: &[Real], constriction: &[Real], unit: Option<LengthUnit>
             points,
             errors: None,
             markers: false,
+            band: None,
         }
     };
     // The axis ends at the 99.5th percentile: a few slivers' tangent spheres
@@ -190,12 +193,14 @@ pub fn drainage_curve(d: &crate::analysis::pores::drainage::Drainage) -> Plot {
             points: points(&|p| p.saturation),
             errors: None,
             markers: false,
+            band: None,
         },
         Series {
             name: "of it joined to the outlet".into(),
             points: points(&|p| p.connected),
             errors: None,
             markers: false,
+            band: None,
         },
     ];
     if let (Some(b), Some(s)) = (
@@ -207,6 +212,7 @@ pub fn drainage_curve(d: &crate::analysis::pores::drainage::Drainage) -> Plot {
             points: vec![(s, b.reduced)],
             errors: None,
             markers: true,
+            band: None,
         });
     }
     Plot {
@@ -228,6 +234,7 @@ pub fn size_distribution(psd: &PsdSummary, unit: Option<&str>) -> Plot {
         points: psd.table.iter().map(|r| (r.diameter, pick(r))).collect(),
         errors: None,
         markers: psd.table.len() <= 30,
+        band: None,
     };
     let d50 = |d: Real| match unit {
         Some(u) => format!("d50 {} {u}", crate::math::display_length(d)),
@@ -365,6 +372,7 @@ pub fn chain_angle_plot(
                     points,
                     errors: None,
                     markers: true,
+                    band: None,
                 },
                 reference,
             ],
@@ -394,6 +402,7 @@ pub fn isotropic_angles(lo: Real, width: Real, bins: usize, dim: usize, from: An
         points,
         errors: None,
         markers: false,
+        band: None,
     }
 }
 

@@ -10,7 +10,7 @@ use std::path::Path;
 
 /// Measures printed on screen, when present, in this order: the cake first;
 /// yes/no measures follow (those of percolation only when it was asked for).
-const ON_SCREEN: [&str; 11] = [
+const ON_SCREEN: [&str; 14] = [
     "cake.porosity",
     "cake.d32",
     "cake.k_kozeny_carman",
@@ -22,7 +22,14 @@ const ON_SCREEN: [&str; 11] = [
     "pores.d_c35",
     "permeability.k_x",
     "permeability.k_z",
+    "drainage.breakthrough.reduced",
+    "drainage.saturation_at_breakthrough",
+    "drainage.residual_saturation",
 ];
+
+/// Yes/no keys that are settings echoed in the summary, not measures: the
+/// same in every bed, they say nothing on screen.
+const SETTINGS: [&str; 1] = ["drainage.trapping"];
 
 /// The note of an ensemble rerun with fewer replicates than `out` holds.
 pub fn reduced_note(out: &Path, runs: u64, earlier: u64) -> String {
@@ -81,6 +88,7 @@ pub fn ensemble_text(o: &Outcome, out: &Path, threads: Option<usize>) -> String 
         let flags = a.measures.iter().filter(|m| {
             m.kind == Kind::Percent
                 && !m.name.ends_with("_empty")
+                && !SETTINGS.contains(&m.name.as_str())
                 && (p.percolation_asked || !m.name.starts_with("percolation."))
         });
         for m in headline.chain(flags) {

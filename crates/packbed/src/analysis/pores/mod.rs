@@ -446,9 +446,14 @@ pub fn pore_space_timed<const D: usize>(
     // are 0.24 GB beside its peak.
     let pores = summary(&net, &in_slab, slab);
     let mut drainage = drain.map(|d| {
-        times.time("pores/drainage", || {
-            drainage::drain(bed, &net, slab, d.d32, d.metres_per_unit, &d.options)
-        })
+        let t = std::time::Instant::now();
+        let out = drainage::drain(bed, &net, slab, d.d32, d.metres_per_unit, &d.options);
+        // Its stages, or the whole when it was refused.
+        match &out {
+            Ok(d) => times.0.extend(d.seconds.iter().copied()),
+            Err(_) => times.0.push(("pores/drainage", t.elapsed().as_secs_f64())),
+        }
+        out
     });
     let shapes = std::mem::take(&mut net.shapes);
     let mut note = None;

@@ -160,7 +160,9 @@ pub struct Bridge2 {
     pub arc_length: f64,
 }
 
-/// Geometry of one meridian circle of radius `rho` meeting both particles at angle `theta`.
+/// Geometry of one meridian circle of radius `rho` meeting both particles at angle `theta`,
+/// with the sines and cosines of the filling angles (the volume, area and validity need
+/// them; they follow from the components without evaluating the angles, see [`Geom::arc`]).
 #[derive(Debug, Clone, Copy)]
 struct Arc {
     xc: f64,
@@ -170,6 +172,10 @@ struct Arc {
     b2: f64,
     x1: f64,
     x2: f64,
+    cb1: f64,
+    sb1: f64,
+    cb2: f64,
+    sb2: f64,
 }
 
 /// `a > b`, false if either is NaN (a named form of the NaN-rejecting guard `!(a > b)`).
@@ -181,66 +187,175 @@ fn finite_all(v: &[f64]) -> bool {
     v.iter().all(|x| x.is_finite())
 }
 
-/// Meridian circle of radius `rho` meeting circle 1 (centre origin) and circle 2 (centre
-/// `(d, 0)`) at contact angle `theta`, centre in the upper half plane. `None` if the two
-/// locus circles do not intersect above the axis.
-fn arc_geometry(r1: f64, r2: f64, d: f64, theta: f64, rho: f64) -> Option<Arc> {
-    if !gt(rho, 0.0) || !gt(d, 0.0) {
-        return None;
-    }
-    let (st, ct) = theta.sin_cos();
-    let dd1 = r1 * r1 + rho * rho + 2.0 * r1 * rho * ct;
-    let dd2 = r2 * r2 + rho * rho + 2.0 * r2 * rho * ct;
-    let xc = (d * d + dd1 - dd2) / (2.0 * d);
-    let yy = dd1 - xc * xc;
-    if !gt(yy, 0.0) {
-        return None;
-    }
-    let yc = yy.sqrt();
-    let phi1 = yc.atan2(xc);
-    let phi2 = yc.atan2(d - xc);
-    let b1 = phi1 - (rho * st).atan2(r1 + rho * ct);
-    let b2 = phi2 - (rho * st).atan2(r2 + rho * ct);
-    let x1 = r1 * b1.cos();
-    let x2 = d - r2 * b2.cos();
-    let a = Arc {
-        xc,
-        yc,
-        rho,
-        b1,
-        b2,
-        x1,
-        x2,
-    };
-    if finite_all(&[xc, yc, b1, b2, x1, x2]) {
-        Some(a)
-    } else {
-        None
-    }
+/// The constants of one pair's arc construction: circle 1 at the origin, circle 2 at
+/// `(d, 0)`, and `sin θ`, `cos θ`, evaluated once per pair (the arc is evaluated tens of
+/// times per pair, and `sin_cos` costs as much as the rest of the centre construction).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Geom {
+    r1: f64,
+    r2: f64,
+    d: f64,
+    theta: f64,
+    st: f64,
+    ct: f64,
 }
 
-/// Pendular validity of an arc: filling angles in (0, π/2], contacts outside the other
-/// particle, arc on the lower half of its circle with x1 < x2, arc above the axis.
-fn arc_valid(a: &Arc, r1: f64, r2: f64, d: f64) -> bool {
-    let half = PI / 2.0 + 1e-12;
-    if !(a.b1 > 0.0 && a.b1 <= half && a.b2 > 0.0 && a.b2 <= half) {
-        return false;
+impl Geom {
+    pub(crate) fn new(r1: f64, r2: f64, d: f64, theta: f64) -> Geom {
+        let (st, ct) = theta.sin_cos();
+        Geom {
+            r1,
+            r2,
+            d,
+            theta,
+            st,
+            ct,
+        }
     }
-    if !gt(a.x2, a.x1) {
-        return false;
+
+    /// Centre `(xc, yc)` of the meridian circle of radius `rho` (upper half plane) and the
+    /// squared distances `dd1`, `dd2` of that centre from the two particle centres. The
+    /// circle meets a particle of radius `r` at θ iff its centre is at
+    /// `sqrt(r² + ρ² + 2 r ρ cos θ)` from the particle's centre (law of cosines), so the
+    /// centre is the intersection of two circles. `None` if they do not intersect above the
+    /// axis.
+    #[inline]
+    fn centre(&self, rho: f64) -> Option<(f64, f64, f64, f64)> {
+        let (r1, r2, d, ct) = (self.r1, self.r2, self.d, self.ct);
+        if !gt(rho, 0.0) || !gt(d, 0.0) {
+            return None;
+        }
+        let dd1 = r1 * r1 + rho * rho + 2.0 * r1 * rho * ct;
+        let dd2 = r2 * r2 + rho * rho + 2.0 * r2 * rho * ct;
+        let xc = (d * d + dd1 - dd2) / (2.0 * d);
+        let yy = dd1 - xc * xc;
+        if !gt(yy, 0.0) {
+            return None;
+        }
+        Some((xc, yy.sqrt(), dd1, dd2))
     }
-    let (p1x, p1y) = (r1 * a.b1.cos(), r1 * a.b1.sin());
-    let (p2x, p2y) = (d - r2 * a.b2.cos(), r2 * a.b2.sin());
-    let tol = 1e-12 * (r1 + r2);
-    if (p1x - d).hypot(p1y) < r2 - tol || p2x.hypot(p2y) < r1 - tol {
-        return false;
+
+    /// The meridian arc of radius `rho`. The filling angle on particle 1 is
+    /// `b1 = φ1 − ψ1`, `φ1` the polar angle of the centre `(xc, yc)` and `ψ1` that of
+    /// `(r1 + ρ cos θ, ρ sin θ)` (the centre seen along the contact normal); both vectors have
+    /// the length `sqrt(dd1)`, so the angle-difference identities give
+    /// `dd1 (cos b1, sin b1) = (xc e1 + yc q, yc e1 − xc q)` with `e1 = r1 + ρ cos θ`,
+    /// `q = ρ sin θ`: one `atan2` per filling angle instead of two, and no `cos`/`sin` of it.
+    #[inline]
+    fn arc(&self, rho: f64) -> Option<Arc> {
+        let (xc, yc, dd1, dd2) = self.centre(rho)?;
+        let (r1, r2, d) = (self.r1, self.r2, self.d);
+        let q = rho * self.st;
+        let e1 = r1 + rho * self.ct;
+        let e2 = r2 + rho * self.ct;
+        let xc2 = d - xc;
+        let (c1, s1) = (xc * e1 + yc * q, yc * e1 - xc * q);
+        let (c2, s2) = (xc2 * e2 + yc * q, yc * e2 - xc2 * q);
+        let b1 = s1.atan2(c1);
+        let b2 = s2.atan2(c2);
+        let (i1, i2) = (1.0 / dd1, 1.0 / dd2);
+        let (cb1, sb1) = (c1 * i1, s1 * i1);
+        let (cb2, sb2) = (c2 * i2, s2 * i2);
+        let x1 = r1 * cb1;
+        let x2 = d - r2 * cb2;
+        let a = Arc {
+            xc,
+            yc,
+            rho,
+            b1,
+            b2,
+            x1,
+            x2,
+            cb1,
+            sb1,
+            cb2,
+            sb2,
+        };
+        if finite_all(&[xc, yc, b1, b2, x1, x2, sb1, sb2]) {
+            Some(a)
+        } else {
+            None
+        }
     }
-    // Contact points on the lower half of the meridian circle.
-    if !(p1y <= a.yc + tol && p2y <= a.yc + tol) {
-        return false;
+
+    /// 3D gorge curvature `1/ρ − 1/(yc − ρ)` of the toroid of meridian radius `rho` (needs
+    /// the centre only: no angle).
+    #[inline]
+    fn kappa(&self, rho: f64) -> Option<f64> {
+        let (_, yc, _, _) = self.centre(rho)?;
+        let neck = yc - rho;
+        if !gt(neck, 0.0) {
+            return None;
+        }
+        let k = 1.0 / rho - 1.0 / neck;
+        if k.is_finite() {
+            Some(k)
+        } else {
+            None
+        }
     }
-    // Lowest point of the arc above the axis.
-    arc_min_height(a) > 0.0
+
+    /// [`Geom::kappa`] and its derivative in `rho`: with `yc² = dd1 − xc²`,
+    /// `dd1' = 2ρ + 2 r1 cos θ`, `xc' = (r1 − r2) cos θ / d`,
+    /// `kappa' = −1/ρ² + (yc' − 1)/(yc − ρ)²`.
+    #[inline]
+    fn kappa_d(&self, rho: f64) -> Option<(f64, f64)> {
+        let (xc, yc, _, _) = self.centre(rho)?;
+        let neck = yc - rho;
+        if !gt(neck, 0.0) {
+            return None;
+        }
+        let k = 1.0 / rho - 1.0 / neck;
+        let dxc = (self.r1 - self.r2) * self.ct / self.d;
+        let dyy = 2.0 * rho + 2.0 * self.r1 * self.ct - 2.0 * xc * dxc;
+        let dyc = dyy / (2.0 * yc);
+        let dk = -1.0 / (rho * rho) + (dyc - 1.0) / (neck * neck);
+        if k.is_finite() && dk.is_finite() {
+            Some((k, dk))
+        } else {
+            None
+        }
+    }
+
+    /// Pendular validity of an arc: filling angles in (0, π/2], contacts outside the other
+    /// particle, arc on the lower half of its circle with x1 < x2, arc above the axis.
+    fn valid(&self, a: &Arc) -> bool {
+        let (r1, r2, d) = (self.r1, self.r2, self.d);
+        let half = PI / 2.0 + 1e-12;
+        if !(a.b1 > 0.0 && a.b1 <= half && a.b2 > 0.0 && a.b2 <= half) {
+            return false;
+        }
+        if !gt(a.x2, a.x1) {
+            return false;
+        }
+        let (p1x, p1y) = (a.x1, r1 * a.sb1);
+        let (p2x, p2y) = (a.x2, r2 * a.sb2);
+        let tol = 1e-12 * (r1 + r2);
+        // Squared distances against squared radii, no `hypot`: these coordinates are of the
+        // order of `r1`, `r2`, `d`, whose squares were formed (finite) for the centre.
+        let outside = |x: f64, y: f64, lim: f64| !(lim > 0.0 && x * x + y * y < lim * lim);
+        if !outside(p1x - d, p1y, r2 - tol) || !outside(p2x, p2y, r1 - tol) {
+            return false;
+        }
+        // Contact points on the lower half of the meridian circle.
+        if !(p1y <= a.yc + tol && p2y <= a.yc + tol) {
+            return false;
+        }
+        // Lowest point of the arc above the axis.
+        arc_min_height(a) > 0.0
+    }
+
+    /// `∫ sqrt(ρ² − u²) du` from `u1 = x1 − xc` to `u2 = x2 − xc`, without `asin` or
+    /// `sqrt`: `u1 = −ρ cos a1`, `u2 = ρ cos a2` with `a_i = b_i + θ` in `(0, π)`, so
+    /// `u sqrt(ρ² − u²)` is `∓ρ² cos a_i sin a_i` and `asin(u2/ρ) − asin(u1/ρ) = π − a1 − a2`
+    /// (the cosines and sines of `a_i` from those of `b_i` and θ).
+    fn sqrt_integral(&self, a: &Arc) -> f64 {
+        let (st, ct) = (self.st, self.ct);
+        let cs = |cb: f64, sb: f64| (cb * ct - sb * st) * (sb * ct + cb * st);
+        0.5 * a.rho
+            * a.rho
+            * (cs(a.cb1, a.sb1) + cs(a.cb2, a.sb2) + (PI - a.b1 - a.b2 - 2.0 * self.theta))
+    }
 }
 
 fn arc_min_height(a: &Arc) -> f64 {
@@ -282,37 +397,36 @@ pub(crate) fn half_lens_area(r1: f64, r2: f64, d: f64) -> f64 {
     seg(r1, xp) + seg(r2, d - xp)
 }
 
-/// Primitive of sqrt(ρ² − u²).
-fn prim_sqrt(rho: f64, u: f64) -> f64 {
-    let uc = u.clamp(-rho, rho);
-    0.5 * (uc * (rho * rho - uc * uc).max(0.0).sqrt() + rho * rho * (uc / rho).asin())
+/// Meridian radius at which the arc touches the line of centres, closed form: the centre is
+/// then at height `ρ`, at `sqrt(r_i² + 2 r_i ρ c)` from centre `i` along the axis, so
+/// `d = sqrt(r1² + 2 r1 ρ c) + sqrt(r2² + 2 r2 ρ c)` (`c = cos θ`). Squaring twice gives a
+/// quadratic in `x = 2 ρ c` whose discriminant factors, leaving (with `S = r1 + r2`,
+/// `Δ = r1 − r2`, `E = sqrt(d² − Δ²)`)
+/// `ρ = (d − S)(d + S) E / (2 c (S E + 2 d sqrt(r1 r2)))`: the root that tends to the
+/// equal-radii value `(d² − 4r²)/(8 r c)` (the other root of the squared equation is
+/// spurious; test `touch_radius_is_the_span_root`). `None` unless `d > S` and the value is
+/// finite and positive.
+pub(crate) fn touch_radius(r1: f64, r2: f64, d: f64, ct: f64) -> Option<f64> {
+    let (s, dl) = (r1 + r2, r1 - r2);
+    if !gt(d, s) || !gt(ct, 0.0) {
+        return None;
+    }
+    let e = ((d - dl) * (d + dl)).sqrt();
+    let rho = (d - s) * (d + s) * e / (2.0 * ct * (s * e + 2.0 * d * (r1 * r2).sqrt()));
+    (rho.is_finite() && rho > 0.0).then_some(rho)
 }
 
 /// Volume of revolution under the lower arc between x1 and x2, minus caps, plus lens.
-fn arc_volume(a: &Arc, r1: f64, r2: f64, d: f64) -> f64 {
+fn arc_volume(g: &Geom, a: &Arc) -> f64 {
+    let (r1, r2, d) = (g.r1, g.r2, g.d);
     let (yc, rho) = (a.yc, a.rho);
-    let prim = |u: f64| (yc * yc + rho * rho) * u - u * u * u / 3.0 - 2.0 * yc * prim_sqrt(rho, u);
+    let poly = |u: f64| (yc * yc + rho * rho) * u - u * u * u / 3.0;
     let u1 = a.x1 - a.xc;
     let u2 = a.x2 - a.xc;
-    let rev = PI * (prim(u2) - prim(u1));
-    let cap1 = cap_volume(r1, r1 * (1.0 - a.b1.cos()));
-    let cap2 = cap_volume(r2, r2 * (1.0 - a.b2.cos()));
+    let rev = PI * (poly(u2) - poly(u1) - 2.0 * yc * g.sqrt_integral(a));
+    let cap1 = cap_volume(r1, r1 * (1.0 - a.cb1));
+    let cap2 = cap_volume(r2, r2 * (1.0 - a.cb2));
     (rev - cap1 - cap2 + lens_volume(r1, r2, d)).max(0.0)
-}
-
-/// 3D gorge curvature `1/ρ − 1/(yc − ρ)` of the toroid of meridian radius `rho`.
-fn kappa_of_rho(r1: f64, r2: f64, d: f64, theta: f64, rho: f64) -> Option<f64> {
-    let a = arc_geometry(r1, r2, d, theta, rho)?;
-    let neck = a.yc - rho;
-    if !gt(neck, 0.0) {
-        return None;
-    }
-    let k = 1.0 / rho - 1.0 / neck;
-    if k.is_finite() {
-        Some(k)
-    } else {
-        None
-    }
 }
 
 fn inputs_ok(r1: f64, r2: f64, gap: f64, theta: f64) -> bool {
@@ -333,16 +447,23 @@ fn rho_grid(rho_a: f64, l: f64) -> impl Iterator<Item = f64> {
     })
 }
 
-/// Smallest meridian radius for which the gorge lies above the axis (0 for gap <= 0).
-fn rho_start(r1: f64, r2: f64, d: f64, theta: f64) -> Option<f64> {
-    let neck = |rho: f64| {
-        arc_geometry(r1, r2, d, theta, rho)
-            .map(|a| a.yc - rho)
-            .unwrap_or(-1.0)
-    };
+/// Smallest meridian radius for which the gorge lies above the axis (0 for gap <= 0): the
+/// arc's touching radius ([`touch_radius`]), nudged up to where the computed neck is
+/// positive; bisection where the closed form does not give it.
+fn rho_start(g: &Geom) -> Option<f64> {
+    let (r1, r2, d) = (g.r1, g.r2, g.d);
+    let neck = |rho: f64| g.centre(rho).map(|(_, yc, _, _)| yc - rho).unwrap_or(-1.0);
     let l = r1.max(r2);
     if d <= r1 + r2 {
         return Some(0.0);
+    }
+    if let Some(mut hi) = touch_radius(r1, r2, d, g.ct) {
+        for _ in 0..8 {
+            if neck(hi) > 0.0 {
+                return Some(hi);
+            }
+            hi *= 1.0 + 1e-15;
+        }
     }
     let mut hi = 1e-6 * l;
     let mut k = 0;
@@ -374,51 +495,64 @@ struct Scan {
     imax: usize,
 }
 
-fn scan(r1: f64, r2: f64, d: f64, theta: f64) -> Option<Scan> {
-    let rho_a = rho_start(r1, r2, d, theta)?;
-    let l = r1.max(r2);
-    let pts: Vec<(f64, f64)> = rho_grid(rho_a, l)
-        .filter_map(|rho| kappa_of_rho(r1, r2, d, theta, rho).map(|k| (rho, k)))
-        .collect();
-    if pts.is_empty() {
-        return None;
-    }
-    let mut imax = 0;
-    for (i, p) in pts.iter().enumerate() {
-        if p.1 > pts[imax].1 {
-            imax = i;
+impl Scan {
+    /// The points `(ρ, kappa)` with their largest curvature's index;
+    /// `None` for no point.
+    fn of(pts: Vec<(f64, f64)>) -> Option<Scan> {
+        if pts.is_empty() {
+            return None;
         }
+        let mut imax = 0;
+        for (i, p) in pts.iter().enumerate() {
+            if p.1 > pts[imax].1 {
+                imax = i;
+            }
+        }
+        Some(Scan { pts, imax })
     }
-    Some(Scan { pts, imax })
 }
 
+fn scan(g: &Geom) -> Option<Scan> {
+    let rho_a = rho_start(g)?;
+    let l = g.r1.max(g.r2);
+    Scan::of(
+        rho_grid(rho_a, l)
+            .filter_map(|rho| g.kappa(rho).map(|k| (rho, k)))
+            .collect(),
+    )
+}
+
+/// Relative width in ρ at which the golden-section search for the fold stops: `kappa` is
+/// quadratic in `ρ` there, so the fold curvature is then exact to far below 1e-12.
+const FOLD_TOL: f64 = 1e-9;
+
 /// Refined maximum of kappa(ρ) (golden section around the scan maximum).
-fn refine_max(r1: f64, r2: f64, d: f64, theta: f64, s: &Scan) -> (f64, f64) {
+fn refine_max(g: &Geom, s: &Scan) -> (f64, f64) {
     let i = s.imax;
     if i == 0 || i + 1 >= s.pts.len() {
         return s.pts[i];
     }
-    let f = |rho: f64| kappa_of_rho(r1, r2, d, theta, rho).unwrap_or(f64::NEG_INFINITY);
+    let f = |rho: f64| g.kappa(rho).unwrap_or(f64::NEG_INFINITY);
     let (mut a, mut b) = (s.pts[i - 1].0, s.pts[i + 1].0);
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let mut c = b - g * (b - a);
-    let mut e = a + g * (b - a);
+    let gr = 0.5 * (5f64.sqrt() - 1.0);
+    let mut c = b - gr * (b - a);
+    let mut e = a + gr * (b - a);
     let (mut fc, mut fe) = (f(c), f(e));
     for _ in 0..100 {
         if fc > fe {
             b = e;
             e = c;
             fe = fc;
-            c = b - g * (b - a);
+            c = b - gr * (b - a);
             fc = f(c);
         } else {
             a = c;
             c = e;
             fc = fe;
-            e = a + g * (b - a);
+            e = a + gr * (b - a);
             fe = f(e);
         }
-        if (b - a) <= 1e-14 * b {
+        if (b - a) <= FOLD_TOL * b {
             break;
         }
     }
@@ -427,14 +561,151 @@ fn refine_max(r1: f64, r2: f64, d: f64, theta: f64, s: &Scan) -> (f64, f64) {
     (rho, k)
 }
 
+/// Brent's method (Brent 1973, *Algorithms for minimization without derivatives*, ch. 4;
+/// the form of Press et al., *Numerical Recipes*, `zbrent`) for the sign change of `f` in
+/// `[a, b]` (`f(a)`, `f(b)` of opposite sides of 0, `< 0` and `>= 0`): inverse quadratic or secant steps, bisection when they do
+/// not shrink the bracket fast enough (so it also converges onto a jump of `f`), until the
+/// bracket is narrower than `rtol` (relative). `None` if `f` is undefined inside it.
+pub(crate) fn brent(
+    f: &dyn Fn(f64) -> Option<f64>,
+    a: f64,
+    fa: f64,
+    b: f64,
+    fb: f64,
+    rtol: f64,
+) -> Option<f64> {
+    let (mut a, mut fa, mut b, mut fb) = (a, fa, b, fb);
+    let (mut c, mut fc) = (b, fb);
+    let (mut d, mut e) = (b - a, b - a);
+    // The sides of the sign change as the scan sees them: `< 0` and `>= 0`.
+    let neg = |v: f64| v < 0.0;
+    for _ in 0..200 {
+        if neg(fb) == neg(fc) {
+            (c, fc) = (a, fa);
+            d = b - a;
+            e = d;
+        }
+        if fc.abs() < fb.abs() {
+            (a, fa) = (b, fb);
+            (b, fb) = (c, fc);
+            (c, fc) = (a, fa);
+        }
+        let tol1 = 2.0 * f64::EPSILON * b.abs() + 0.5 * rtol * b.abs();
+        let xm = 0.5 * (c - b);
+        if xm.abs() <= tol1 || fb == 0.0 {
+            return Some(b);
+        }
+        if e.abs() >= tol1 && fa.abs() > fb.abs() {
+            let s = fb / fa;
+            let (mut p, mut q);
+            if a == c {
+                p = 2.0 * xm * s;
+                q = 1.0 - s;
+            } else {
+                let qq = fa / fc;
+                let r = fb / fc;
+                p = s * (2.0 * xm * qq * (qq - r) - (b - a) * (r - 1.0));
+                q = (qq - 1.0) * (r - 1.0) * (s - 1.0);
+            }
+            if p > 0.0 {
+                q = -q;
+            }
+            p = p.abs();
+            let min1 = 3.0 * xm * q - (tol1 * q).abs();
+            let min2 = (e * q).abs();
+            if 2.0 * p < min1.min(min2) {
+                e = d;
+                d = p / q;
+            } else {
+                d = xm;
+                e = d;
+            }
+        } else {
+            d = xm;
+            e = d;
+        }
+        (a, fa) = (b, fb);
+        b += if d.abs() > tol1 { d } else { tol1.copysign(xm) };
+        fb = f(b)?;
+        if fb.is_nan() {
+            return None;
+        }
+    }
+    Some(b)
+}
+
+/// Grid points of the fold search of [`Pair::new`] (14 decades, a factor 10^0.5 a step).
+const N_FOLD: usize = 29;
+
+/// The fold `(ρ, kappa_max)` of `kappa(ρ)` at a gap: the largest of a coarse scan (the
+/// curvature rises from −∞ at [`rho_start`] to one maximum and then falls, so the scan's
+/// maximum and its neighbours bracket the fold at any resolution), refined by Brent on the
+/// analytic slope `kappa'(ρ) = 0` (a 120-point scan and a golden-section search cost 150
+/// evaluations; this is ~40). Golden section where the slope does not bracket.
+fn fold(g: &Geom) -> Option<(f64, f64)> {
+    let rho_a = rho_start(g)?;
+    let l = g.r1.max(g.r2);
+    let q = 10f64.powf(14.0 / (N_FOLD - 1) as f64);
+    let mut pts = Vec::with_capacity(N_FOLD);
+    let mut t = 1e-12;
+    for _ in 0..N_FOLD {
+        let rho = rho_a + l * t;
+        if let Some(k) = g.kappa(rho) {
+            pts.push((rho, k));
+        }
+        t *= q;
+    }
+    let s = Scan::of(pts)?;
+    let i = s.imax;
+    if i == 0 || i + 1 >= s.pts.len() {
+        // No interior maximum (the curvature still rises where the arc stops existing, at
+        // wide gaps, where it is negative): the value is the fine scan's last point, as
+        // [`kappa_max`] has it.
+        let s = scan(g)?;
+        return Some(refine_max(g, &s));
+    }
+    let (a, b) = (s.pts[i - 1].0, s.pts[i + 1].0);
+    let slope = |rho: f64| g.kappa_d(rho).map(|(_, dk)| dk);
+    let found = match (slope(a), slope(b)) {
+        (Some(sa), Some(sb)) if sa > 0.0 && sb < 0.0 => brent(&slope, a, sa, b, sb, FOLD_TOL)
+            .and_then(|rho| g.kappa(rho).map(|k| (rho, k)))
+            .filter(|&(_, k)| k >= s.pts[i].1),
+        _ => None,
+    };
+    Some(found.unwrap_or_else(|| refine_max(g, &s)))
+}
+
 /// Largest curvature `kappa` a toroidal bridge can have at this gap (`+∞` for gap <= 0).
 fn kappa_max(r1: f64, r2: f64, gap: f64, theta: f64) -> Option<f64> {
     if gap <= 0.0 {
         return Some(f64::INFINITY);
     }
-    let d = r1 + r2 + gap;
-    let s = scan(r1, r2, d, theta)?;
-    Some(refine_max(r1, r2, d, theta, &s).1)
+    let g = Geom::new(r1, r2, r1 + r2 + gap, theta);
+    let s = scan(&g)?;
+    Some(refine_max(&g, &s).1)
+}
+
+/// The bridge of meridian arc `rho`, if pendular and finite.
+fn bridge_of(g: &Geom, rho: f64) -> Option<Bridge> {
+    let a = g.arc(rho)?;
+    if !g.valid(&a) {
+        return None;
+    }
+    let b = Bridge {
+        volume: arc_volume(g, &a),
+        neck_radius: a.yc - a.rho,
+        half_angle_1: a.b1,
+        half_angle_2: a.b2,
+        meridian_radius: a.rho,
+    };
+    finite_all(&[
+        b.volume,
+        b.neck_radius,
+        b.half_angle_1,
+        b.half_angle_2,
+        b.meridian_radius,
+    ])
+    .then_some(b)
 }
 
 /// Pendular liquid bridge between two spheres at capillary suction `kappa = P_c/γ`
@@ -449,11 +720,11 @@ pub fn bridge_3d(r1: f64, r2: f64, gap: f64, theta: f64, kappa: f64) -> Option<B
     if !inputs_ok(r1, r2, gap, theta) || !kappa.is_finite() || !gt(kappa, 0.0) {
         return None;
     }
-    let d = r1 + r2 + gap;
-    let s = scan(r1, r2, d, theta)?;
+    let g = Geom::new(r1, r2, r1 + r2 + gap, theta);
+    let s = scan(&g)?;
     // Left end of the bracket: a point on the falling branch with kappa(ρ) >= target.
     let lo0 = if kappa > s.pts[s.imax].1 {
-        let (rho_m, k_m) = refine_max(r1, r2, d, theta, &s);
+        let (rho_m, k_m) = refine_max(&g, &s);
         if kappa > k_m {
             return None;
         }
@@ -467,7 +738,7 @@ pub fn bridge_3d(r1: f64, r2: f64, gap: f64, theta: f64, kappa: f64) -> Option<B
     // Right end: first grid point beyond with kappa(ρ) < target.
     let hi0 = s.pts.iter().find(|p| p.0 > lo0 && p.1 < kappa)?.0;
     let (mut lo, mut hi) = (lo0, hi0);
-    let f = |rho: f64| kappa_of_rho(r1, r2, d, theta, rho).unwrap_or(f64::NEG_INFINITY);
+    let f = |rho: f64| g.kappa(rho).unwrap_or(f64::NEG_INFINITY);
     for _ in 0..200 {
         let mid = 0.5 * (lo + hi);
         if f(mid) >= kappa {
@@ -479,47 +750,27 @@ pub fn bridge_3d(r1: f64, r2: f64, gap: f64, theta: f64, kappa: f64) -> Option<B
             break;
         }
     }
-    let rho = 0.5 * (lo + hi);
-    let a = arc_geometry(r1, r2, d, theta, rho)?;
-    if !arc_valid(&a, r1, r2, d) {
-        return None;
-    }
-    let volume = arc_volume(&a, r1, r2, d);
-    let b = Bridge {
-        volume,
-        neck_radius: a.yc - a.rho,
-        half_angle_1: a.b1,
-        half_angle_2: a.b2,
-        meridian_radius: a.rho,
-    };
-    if finite_all(&[
-        b.volume,
-        b.neck_radius,
-        b.half_angle_1,
-        b.half_angle_2,
-        b.meridian_radius,
-    ]) {
-        Some(b)
-    } else {
-        None
-    }
+    bridge_of(&g, 0.5 * (lo + hi))
 }
 
 /// A pair of spheres whose bridges are asked for at many curvatures: the fold
 /// of `kappa(ρ)` (the gap's largest curvature) is found once, and each
 /// curvature is then a bracketed root on the stable branch (a scan per call
-/// cost 65 µs; this is about 1 µs).
+/// cost 65 µs; this is about 0.2 µs).
 #[derive(Clone, Copy, Debug)]
 pub struct Pair {
-    r1: f64,
-    r2: f64,
-    d: f64,
-    theta: f64,
-    /// Meridian radius at the fold (0 at contact: no fold).
-    rho_fold: f64,
+    geom: Geom,
+    /// Left end of every bracket (the meridian radius at the fold; a tiny radius at
+    /// contact, where there is no fold) and its curvature.
+    lo: f64,
+    k_lo: Option<f64>,
     /// The largest curvature a bridge can have at this gap.
     pub kappa_max: f64,
 }
+
+/// Relative Newton step below which the meridian radius of [`Pair::bridge`] is taken as
+/// converged (the next step would be of the order of its square).
+const NEWTON_DONE: f64 = 1e-8;
 
 /// Gaps below this fraction of the smaller radius are contacts: the bridge
 /// of a gap of 1e-12 (a deposited bed's touching pair, to rounding) is the
@@ -537,21 +788,30 @@ impl Pair {
         } else {
             gap
         };
-        let d = r1 + r2 + gap;
+        let geom = Geom::new(r1, r2, r1 + r2 + gap, theta);
         let (rho_fold, kappa_max) = if gap <= 0.0 {
             (0.0, f64::INFINITY)
         } else {
-            let s = scan(r1, r2, d, theta)?;
-            refine_max(r1, r2, d, theta, &s)
+            fold(&geom)?
+        };
+        let lo = if rho_fold > 0.0 {
+            rho_fold
+        } else {
+            1e-12 * r1.max(r2)
         };
         Some(Pair {
-            r1,
-            r2,
-            d,
-            theta,
-            rho_fold,
+            geom,
+            lo,
+            k_lo: geom.kappa(lo),
             kappa_max,
         })
+    }
+
+    /// The stable bridges at the curvatures `kappas`, as [`Pair::bridge`] of each. (Starting
+    /// each root from the previous one's was tried: the Newton iteration from `1/kappa`
+    /// already takes about three evaluations, and the warm start saved nothing.)
+    pub fn bridges(&self, kappas: &[f64]) -> Vec<Option<Bridge>> {
+        kappas.iter().map(|&k| self.bridge(k)).collect()
     }
 
     /// The stable bridge at curvature `kappa` (as [`bridge_3d`]).
@@ -559,100 +819,93 @@ impl Pair {
         if !kappa.is_finite() || !gt(kappa, 0.0) || kappa > self.kappa_max {
             return None;
         }
-        let (r1, r2, d, theta) = (self.r1, self.r2, self.d, self.theta);
-        let f = |rho: f64| kappa_of_rho(r1, r2, d, theta, rho).map(|k| k - kappa);
+        let g = &self.geom;
+        let f = |rho: f64| g.kappa(rho).map(|k| k - kappa);
         // On the stable branch kappa(ρ) falls from the fold; kappa < 1/ρ,
         // so the root lies below 1/kappa.
-        let l = r1.max(r2);
-        let mut lo = if self.rho_fold > 0.0 {
-            self.rho_fold
-        } else {
-            1e-12 * l
-        };
-        let mut hi = (1.0 / kappa).max(lo * (1.0 + 1e-12));
-        let mut f_lo = f(lo)?;
-        if f_lo < 0.0 {
+        let mut lo = self.lo;
+        if self.k_lo? - kappa < 0.0 {
             return None;
         }
-        let mut f_hi = match f(hi) {
-            Some(v) if v < 0.0 => v,
+        let mut hi = (1.0 / kappa).max(lo * (1.0 + 1e-12));
+        // The value and slope at `hi` when known (the first Newton step starts there).
+        let mut at_hi = None;
+        match g.kappa_d(hi) {
+            Some((k, dk)) if k - kappa < 0.0 => at_hi = Some((k, dk)),
             _ => {
                 // Past where the arc exists: walk down to a point below.
                 let mut h = hi;
-                let mut found = None;
+                let mut found = false;
                 for _ in 0..200 {
                     h = 0.5 * (h + lo);
                     if let Some(v) = f(h) {
                         if v < 0.0 {
-                            found = Some(v);
+                            found = true;
                             break;
                         }
-                        if v >= 0.0 {
-                            lo = h;
-                            f_lo = v;
-                            h = hi;
-                            continue;
-                        }
+                        lo = h;
+                        h = hi;
+                        continue;
                     }
                     if h - lo <= 1e-15 * h {
                         break;
                     }
                 }
-                let v = found?;
+                if !found {
+                    return None;
+                }
                 hi = h;
-                v
+            }
+        }
+        // Newton on kappa(ρ) − kappa with the analytic derivative, kept inside the bracket
+        // (bisection, geometric while the bracket spans decades, where a step leaves it or
+        // the slope is not the stable branch's), from the upper end of the bracket: about
+        // three evaluations, where regula falsi needs ~30 from a bracket spanning twelve
+        // decades (touching pairs).
+        let mid = |lo: f64, hi: f64| {
+            if hi > 16.0 * lo {
+                (lo * hi).sqrt()
+            } else {
+                0.5 * (lo + hi)
             }
         };
-        // Illinois regula falsi on the bracket, bisection as a guard.
-        let mut side = 0;
+        let mut x = hi;
+        let mut rho = None;
         for _ in 0..200 {
-            if hi - lo <= 1e-13 * hi {
-                break;
-            }
-            let mut x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
-            if !(x > lo && x < hi) {
-                x = 0.5 * (lo + hi);
-            }
-            let Some(v) = f(x) else {
+            let Some((k, dk)) = at_hi.take().or_else(|| g.kappa_d(x)) else {
                 hi = x;
+                x = mid(lo, hi);
                 continue;
             };
+            let v = k - kappa;
             if v >= 0.0 {
                 lo = x;
-                f_lo = v;
-                if side == -1 {
-                    f_hi *= 0.5;
-                }
-                side = -1;
             } else {
                 hi = x;
-                f_hi = v;
-                if side == 1 {
-                    f_lo *= 0.5;
+            }
+            if v == 0.0 {
+                rho = Some(x);
+                break;
+            }
+            if hi - lo <= 1e-13 * hi {
+                rho = Some(0.5 * (lo + hi));
+                break;
+            }
+            // The step in u = 1/ρ, where kappa ≈ u − 1/neck is close to linear (in ρ it
+            // is close to 1/ρ, and Newton from above overshoots by decades).
+            let newton = 1.0 / (1.0 / x + v / (dk * x * x));
+            if dk < 0.0 && newton > lo && newton < hi {
+                // Quadratic convergence: after a step of 1e-8 the error is ~1e-16.
+                if (newton - x).abs() <= NEWTON_DONE * x {
+                    rho = Some(newton);
+                    break;
                 }
-                side = 1;
+                x = newton;
+            } else {
+                x = mid(lo, hi);
             }
         }
-        let rho = 0.5 * (lo + hi);
-        let a = arc_geometry(r1, r2, d, theta, rho)?;
-        if !arc_valid(&a, r1, r2, d) {
-            return None;
-        }
-        let b = Bridge {
-            volume: arc_volume(&a, r1, r2, d),
-            neck_radius: a.yc - a.rho,
-            half_angle_1: a.b1,
-            half_angle_2: a.b2,
-            meridian_radius: a.rho,
-        };
-        finite_all(&[
-            b.volume,
-            b.neck_radius,
-            b.half_angle_1,
-            b.half_angle_2,
-            b.meridian_radius,
-        ])
-        .then_some(b)
+        bridge_of(g, rho.unwrap_or(0.5 * (lo + hi)))
     }
 }
 
@@ -718,22 +971,27 @@ pub(crate) fn meniscus_2d(r1: f64, r2: f64, d: f64, theta: f64, rho: f64) -> Opt
     if !gt(d, (r1 - r2).abs()) {
         return None;
     }
-    let a = arc_geometry(r1, r2, d, theta, rho)?;
-    if !arc_valid(&a, r1, r2, d) {
+    meniscus_geom(&Geom::new(r1, r2, d, theta), half_lens_area(r1, r2, d), rho)
+}
+
+/// [`meniscus_2d`] for a validated pair (finite radii > 0, `d > |r1 − r2|`, finite θ) whose
+/// half-lens area `lens` is known: the form a caller evaluating many radii uses.
+pub(crate) fn meniscus_geom(g: &Geom, lens: f64, rho: f64) -> Option<Meniscus2> {
+    let a = g.arc(rho)?;
+    if !g.valid(&a) {
         return None;
     }
-    let u1 = a.x1 - a.xc;
-    let u2 = a.x2 - a.xc;
-    let under = a.yc * (u2 - u1) - (prim_sqrt(rho, u2) - prim_sqrt(rho, u1));
-    let seg = |r: f64, b: f64| 0.5 * r * r * (b - b.sin() * b.cos());
-    let half_area = (under - seg(r1, a.b1) - seg(r2, a.b2) + half_lens_area(r1, r2, d)).max(0.0);
-    // Angle subtended at the meniscus centre between the contact points (lower half).
-    let (p1x, p1y) = (a.x1 - a.xc, r1 * a.b1.sin() - a.yc);
-    let (p2x, p2y) = (a.x2 - a.xc, r2 * a.b2.sin() - a.yc);
-    let ang = (p1x * p2y - p1y * p2x).atan2(p1x * p2x + p1y * p2y).abs();
+    let (r1, r2) = (g.r1, g.r2);
+    let under = a.yc * ((a.x2 - a.xc) - (a.x1 - a.xc)) - g.sqrt_integral(&a);
+    let seg = |r: f64, b: f64, s: f64, c: f64| 0.5 * r * r * (b - s * c);
+    let half_area =
+        (under - seg(r1, a.b1, a.sb1, a.cb1) - seg(r2, a.b2, a.sb2, a.cb2) + lens).max(0.0);
+    // Angle subtended at the meniscus centre between the contact points (lower half): the
+    // radii to them point along `−(b1 + θ)` and `π + b2 + θ` (see `sqrt_integral`).
+    let ang = (PI - a.b1 - a.b2 - 2.0 * g.theta).abs();
     let m = Meniscus2 {
         half_area,
-        arc_length: rho * ang,
+        arc_length: a.rho * ang,
         b1: a.b1,
         b2: a.b2,
         neck: arc_min_height(&a),
@@ -1185,6 +1443,29 @@ mod tests {
         assert!(bridge_3d(1.0, 1.0, -0.6, 0.0, 1.0).is_none());
         assert!(bridge_2d(1.0, -1.0, 0.0, 0.0, 1.0).is_none());
         assert!(rupture_gap(1.0, 1.0, 0.0, -1.0).is_none());
+    }
+
+    #[test]
+    fn touch_radius_is_the_span_root() {
+        for &(r1, r2) in &[(1.0, 1.0), (1.0, 2.0), (0.3, 1.7), (2.0, 0.5)] {
+            for &gap in &[1e-6, 1e-3, 0.05, 0.4, 3.0] {
+                for &deg in &[0.0f64, 30.0, 60.0, 85.0] {
+                    let c = deg.to_radians().cos();
+                    let d = r1 + r2 + gap;
+                    let span = |x: f64| {
+                        (r1 * r1 + 2.0 * r1 * x * c).sqrt() + (r2 * r2 + 2.0 * r2 * x * c).sqrt()
+                    };
+                    let rho = touch_radius(r1, r2, d, c).unwrap();
+                    assert!(
+                        (span(rho) - d).abs() <= 4.0 * f64::EPSILON * d,
+                        "{r1} {r2} {gap} {deg}"
+                    );
+                    // The span grows with ρ: the root is unique.
+                    assert!(span(rho * (1.0 - 1e-6)) < d && span(rho * (1.0 + 1e-6)) > d);
+                }
+            }
+        }
+        assert!(touch_radius(1.0, 1.0, 2.0, 1.0).is_none());
     }
 
     proptest! {

@@ -199,9 +199,32 @@ pub struct DrainageSummary {
     /// Drained pores whose bridges would hold more than the pore's void
     /// (the rings have merged: funicular); their liquid is the pore's void.
     pub funicular_pores: u64,
+    /// The curve at the reduced pressures of [`table_pressures`], the same
+    /// for every bed: ensembles average it point by point (with bands) and
+    /// `compare` draws the groups' curves side by side.
+    pub curve: FixedCurve,
     /// Why a figure above is null, when one is.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
+}
+
+/// The saturation at fixed reduced pressures (`drainage.curve.*`).
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct FixedCurve {
+    /// `P_c·d32/γ`, [`table_pressures`].
+    pub pc_reduced: Vec<Real>,
+    /// Wetting saturation at each.
+    pub saturation: Vec<Real>,
+    /// Its part in pendular bridges.
+    pub pendular: Vec<Real>,
+}
+
+/// The reduced pressures `P_c·d32/γ` of [`FixedCurve`]: 20 a decade from 1
+/// to 100, which spans the drainage of sphere packs from the first entry
+/// (about 4 for equal spheres) to past its end (a few times the
+/// breakthrough, about 9), and of wider size distributions.
+pub fn table_pressures() -> Vec<Real> {
+    (0..=40).map(|k| 10f64.powf(k as Real / 20.0)).collect()
 }
 
 /// Where a pore's liquid is at the reported pressure.
@@ -267,6 +290,8 @@ pub struct Drainage {
     pub warning: Option<String>,
     /// When each network pore drains (0 above the slab, `+∞` below).
     pub drains_at: Vec<Real>,
+    /// Wall time of each stage (`pores/drainage/…`), for `packbed bench`.
+    pub seconds: Vec<(&'static str, Real)>,
 }
 
 impl Drainage {
@@ -474,6 +499,7 @@ pub fn drain<const D: usize>(
             "drainage: the slab holds no pore (a taller bed or [analysis.flow] slab)".into(),
         );
     }
+    let mut clock = Clock::start();
     let cos = options.contact_angle.cos();
     // Entry curvatures (P_e / γ) of every throat, on every core.
     // Only the throats the gas may pass into or within the slab count.
@@ -493,6 +519,7 @@ pub fn drain<const D: usize>(
             }
         })
         .collect();
+    clock.lap("pores/drainage/entries");
     let mut graph = InvasionGraph {
         pores: members.len(),
         outlet: vec![false; members.len()],
@@ -524,6 +551,7 @@ pub fn drain<const D: usize>(
         );
     }
     let invasion = invasion::invade(&graph, options.trapping);
+    clock.lap("pores/drainage/invasion");
     let voids: Vec<Real> = members
         .iter()
         .map(|&p| net.pores[p as usize].void_volume.max(0.0))
@@ -558,35 +586,7 @@ pub fn drain<const D: usize>(
         options.contact_angle,
         0.8 * first_entry,
     );
-    // The curve's pressures: from below the first entry to past the end of
-    // drainage, with the breakthrough itself.
-    let curve_kappas = curve_pressures(&invasion, &voids, first_entry, options.points);
-    let curve: Vec<CurvePoint> = curve_kappas
-        .par_iter()
-        .map(|&kappa| {
-            let at = state_at(&graph, &invasion, &voids, kappa, options.trapping);
-            let pend = pendular.volumes(&drains_at, kappa, &members, &voids);
-            point(&scale, kappa, &at, &voids, pend.total, pore_volume)
-        })
-        .collect();
-    let mut summary = DrainageSummary {
-        surface_tension: options.surface_tension,
-        contact_angle: options.contact_angle.to_degrees(),
-        trapping: options.trapping,
-        entry: options.entry.name(),
-        d32,
-        pores: members.len() as u64,
-        pore_volume,
-        entry_pressure: first_entry.is_finite().then(|| scale.pressure(first_entry)),
-        breakthrough: breakthrough.map(|k| scale.pressure(k)),
-        ..DrainageSummary::default()
-    };
-    if let Some(k) = breakthrough {
-        let at = state_at(&graph, &invasion, &voids, k, options.trapping);
-        let pend = pendular.volumes(&drains_at, k, &members, &voids);
-        summary.saturation_at_breakthrough =
-            Some(point(&scale, k, &at, &voids, pend.total, pore_volume).saturation);
-    }
+    clock.lap("pores/drainage/bridges");
     let state_kappa =
         match (options.state, breakthrough) {
             (Some(StatePressure::Reduced(r)), _) => Some(r / d32),
@@ -601,6 +601,54 @@ pub fn drain<const D: usize>(
             (None, Some(k)) => Some(2.0 * k),
             (None, None) => None,
         };
+    // The curve's pressures: from below the first entry to past the end of
+    // drainage, with the breakthrough itself.
+    let mut curve_kappas = curve_pressures(&invasion, &voids, first_entry, options.points);
+    // The fixed table's pressures join the curve (below its start nothing has
+    // drained: the saturation there is 1 without computing).
+    let table: Vec<Real> = table_pressures().iter().map(|r| r / d32).collect();
+    let start = curve_kappas.first().copied().unwrap_or(Real::INFINITY);
+    curve_kappas.extend(table.iter().copied().filter(|&k| k >= start));
+    // And the pressure the liquid is reported at: its row is the summary's.
+    curve_kappas.extend(state_kappa.filter(|&k| k >= start && k.is_finite()));
+    curve_kappas.sort_by(Real::total_cmp);
+    curve_kappas.dedup();
+    // The whole curve in two sweeps: the liquid's split in one pass back
+    // through the pressures, the bridges edge by edge.
+    let split = invasion::liquid_split(
+        &graph,
+        &invasion.drains_at,
+        &voids,
+        &curve_kappas,
+        options.trapping,
+    );
+    let bridged = pendular.totals(&drains_at, &curve_kappas, &voids);
+    let curve: Vec<CurvePoint> = curve_kappas
+        .iter()
+        .zip(split.iter().zip(&bridged))
+        .map(|(&kappa, (&(connected, trapped), &pend))| {
+            curve_point(&scale, kappa, [connected, trapped, pend], pore_volume)
+        })
+        .collect();
+    clock.lap("pores/drainage/curve");
+    let mut summary = DrainageSummary {
+        surface_tension: options.surface_tension,
+        contact_angle: options.contact_angle.to_degrees(),
+        trapping: options.trapping,
+        entry: options.entry.name(),
+        d32,
+        pores: members.len() as u64,
+        pore_volume,
+        entry_pressure: first_entry.is_finite().then(|| scale.pressure(first_entry)),
+        breakthrough: breakthrough.map(|k| scale.pressure(k)),
+        curve: fixed_curve(&curve_kappas, &curve, d32),
+        ..DrainageSummary::default()
+    };
+    // The breakthrough is a row of the curve.
+    summary.saturation_at_breakthrough = breakthrough.and_then(|k| {
+        let i = curve_kappas.binary_search_by(|x| x.total_cmp(&k)).ok()?;
+        Some(curve[i].saturation)
+    });
     let mut out = Drainage {
         pores: vec![(PoreState::Outside, -1, 0.0); net.pores.len()],
         per_particle: vec![(0.0, 0); bed.len()],
@@ -669,10 +717,33 @@ pub fn drain<const D: usize>(
              path through few pores), give a taller bed or [analysis.flow] slab"
         ));
     }
+    clock.lap("pores/drainage/state");
     out.summary = summary;
     out.curve = curve;
     out.drains_at = drains_at;
+    out.seconds = clock.laps;
     Ok(out)
+}
+
+/// Wall times of the stages, one lap each.
+struct Clock {
+    last: std::time::Instant,
+    laps: Vec<(&'static str, Real)>,
+}
+
+impl Clock {
+    fn start() -> Clock {
+        Clock {
+            last: std::time::Instant::now(),
+            laps: Vec::new(),
+        }
+    }
+
+    fn lap(&mut self, name: &'static str) {
+        let now = std::time::Instant::now();
+        self.laps.push((name, (now - self.last).as_secs_f64()));
+        self.last = now;
+    }
 }
 
 /// The thinnest slab, in `d32`, whose breakthrough is read as the cake's.
@@ -784,6 +855,7 @@ fn state_at(
     State { liquid, cluster }
 }
 
+/// The row of the curve at `kappa` from the sample's liquid at `at`.
 fn point(
     scale: &Scale,
     kappa: Real,
@@ -800,6 +872,13 @@ fn point(
             _ => {}
         }
     }
+    curve_point(scale, kappa, [connected, trapped, pendular], pore_volume)
+}
+
+/// The row of the curve at `kappa` from the liquid's volumes `[joined to
+/// the outlet, cut off, in bridges]`.
+fn curve_point(scale: &Scale, kappa: Real, liquid: [Real; 3], pore_volume: Real) -> CurvePoint {
+    let [connected, trapped, pendular] = liquid;
     let frac = |v: Real| {
         if pore_volume > 0.0 {
             v / pore_volume
@@ -858,6 +937,24 @@ fn clusters(at: &State, voids: &[Real], pore_volume: Real) -> Clusters {
         median_pores: median,
         pores_histogram: histogram,
     }
+}
+
+/// The curve at the table's reduced pressures: each is a row of `curve`
+/// (at curvatures `kappas`), or lies below its start, where the sample is
+/// full.
+fn fixed_curve(kappas: &[Real], curve: &[CurvePoint], d32: Real) -> FixedCurve {
+    let mut out = FixedCurve::default();
+    for r in table_pressures() {
+        let k = r / d32;
+        let (s, p) = match kappas.binary_search_by(|x| x.total_cmp(&k)) {
+            Ok(i) => (curve[i].saturation, curve[i].pendular),
+            Err(_) => (1.0, 0.0),
+        };
+        out.pc_reduced.push(r);
+        out.saturation.push(s);
+        out.pendular.push(p);
+    }
+    out
 }
 
 /// The curvatures the curve is written at: `points` evenly spaced from

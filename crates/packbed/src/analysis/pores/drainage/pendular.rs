@@ -238,6 +238,11 @@ impl Pendular {
         {
             return None;
         }
+        self.bridge_of(e, kappa)
+    }
+
+    /// The bridge of edge `e` at curvature `kappa`, its pores drained.
+    fn bridge_of(&self, e: &Edge, kappa: Real) -> Option<bridge::Bridge> {
         let [r1, r2] = e.radii;
         if self.dim == 3 {
             e.pair.as_ref()?.bridge(kappa)
@@ -250,6 +255,123 @@ impl Pendular {
                 meridian_radius: b.meridian_radius,
             })
         }
+    }
+
+    /// The first of the ascending curvatures `kappas` at which every pore
+    /// around `e` has drained (`kappas.len()`: none).
+    fn first_drained(e: &Edge, drains_at: &[Real], kappas: &[Real]) -> usize {
+        let t = e
+            .pores
+            .iter()
+            .map(|p| drains_at[p.0 as usize])
+            .fold(Real::NEG_INFINITY, Real::max);
+        kappas.partition_point(|&k| !(t <= k))
+    }
+
+    /// The liquid in bridges of the slab's pores at each of the ascending
+    /// curvatures `kappas`, each pore's capped at its void (`voids`, by slab
+    /// index): [`Pendular::volumes`]' totals, for a whole curve at once.
+    ///
+    /// Edge by edge rather than pressure by pressure: an edge's bridges are
+    /// found from the pressure its pores have drained by on, and no per-pore
+    /// table is built for each pressure. The cap is exact: a pore whose
+    /// bridges at their largest (each at the lowest pressure it exists at
+    /// here) fit its void is never capped; the few others are summed pore by
+    /// pore. Sums in edge-block order: the same bits on any thread count.
+    pub fn totals(&self, drains_at: &[Real], kappas: &[Real], voids: &[Real]) -> Vec<Real> {
+        const BLOCK: usize = 4096;
+        let n = kappas.len();
+        let slab_share = |e: &Edge| -> Real { e.pores.iter().filter(|p| p.2).map(|p| p.1).sum() };
+        let blocks: Vec<(Vec<Real>, Vec<Real>)> = self
+            .edges
+            .par_chunks(BLOCK)
+            .map(|chunk| {
+                let mut sums = vec![0.0; n];
+                let mut largest = vec![0.0; chunk.len()];
+                for (e, most) in chunk.iter().zip(&mut largest) {
+                    let share = slab_share(e);
+                    if !(share > 0.0) {
+                        continue;
+                    }
+                    for k in Self::first_drained(e, drains_at, kappas)..n {
+                        if let Some(b) = self.bridge_of(e, kappas[k]) {
+                            sums[k] += share * b.volume;
+                            *most = Real::max(*most, b.volume);
+                        }
+                    }
+                }
+                (sums, largest)
+            })
+            .collect();
+        let mut totals = vec![0.0; n];
+        for (sums, _) in &blocks {
+            for (t, s) in totals.iter_mut().zip(sums) {
+                *t += s;
+            }
+        }
+        let largest: Vec<Real> = blocks.into_iter().flat_map(|b| b.1).collect();
+        // Pores the cap may bind: their bridges at their largest overflow.
+        let mut upper = vec![0.0; voids.len()];
+        for (e, &most) in self.edges.iter().zip(&largest) {
+            if most > 0.0 {
+                for &(p, share, slab) in &e.pores {
+                    if slab {
+                        upper[self.slab_index[p as usize] as usize] += share * most;
+                    }
+                }
+            }
+        }
+        let mut edges_of: Vec<Vec<(usize, Real)>> = Vec::new();
+        let mut slot = vec![u32::MAX; voids.len()];
+        let mut capped: Vec<usize> = Vec::new();
+        for (i, (&u, &v)) in upper.iter().zip(voids).enumerate() {
+            if u > v {
+                slot[i] = capped.len() as u32;
+                capped.push(i);
+                edges_of.push(Vec::new());
+            }
+        }
+        if capped.is_empty() {
+            return totals;
+        }
+        for (k, (e, &most)) in self.edges.iter().zip(&largest).enumerate() {
+            if most > 0.0 {
+                for &(p, share, slab) in &e.pores {
+                    if slab {
+                        let s = slot[self.slab_index[p as usize] as usize];
+                        if s != u32::MAX {
+                            edges_of[s as usize].push((k, share));
+                        }
+                    }
+                }
+            }
+        }
+        let corrections: Vec<Vec<Real>> = capped
+            .par_iter()
+            .zip(&edges_of)
+            .map(|(&i, edges)| {
+                let mut held = vec![0.0; n];
+                for &(k, share) in edges {
+                    let e = &self.edges[k];
+                    for (j, h) in held
+                        .iter_mut()
+                        .enumerate()
+                        .skip(Self::first_drained(e, drains_at, kappas))
+                    {
+                        if let Some(b) = self.bridge_of(e, kappas[j]) {
+                            *h += share * b.volume;
+                        }
+                    }
+                }
+                held.iter().map(|&h| h.min(voids[i]) - h).collect()
+            })
+            .collect();
+        for c in &corrections {
+            for (t, x) in totals.iter_mut().zip(c) {
+                *t += x;
+            }
+        }
+        totals
     }
 
     /// The liquid in bridges per pore of the slab at curvature `kappa`.
