@@ -21,8 +21,7 @@
 //! against a search of the liquid at each step (`O(N T)`, the brute force of
 //! the tests).
 
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
+use rayon::prelude::*;
 
 /// The graph the gas invades: the pores of the sample and their throats.
 #[derive(Clone, Debug, Default)]
@@ -58,30 +57,67 @@ pub struct Invasion {
     pub breakthrough: Option<f64>,
 }
 
-/// A candidate step: the throat's entry pressure, then its index, so that
-/// ties go the same way on every run.
-#[derive(Clone, Copy, PartialEq)]
-struct Step {
-    entry: f64,
-    throat: u32,
-    pore: u32,
+/// The throats the gas may take next, by rank: throat `t`'s rank is its
+/// place among all finite entry pressures sorted with ties by index, so the
+/// lowest rank is the lowest entry (the same order on every run). A set of
+/// ranks in a bitset with summary levels (64 children a word) takes a step
+/// and finds the lowest in `O(log₆₄ T)` word operations; a binary heap of
+/// 16-byte steps spent most of the invasion's time in cache misses (10 s of
+/// 12 at 10^6 spheres, measured by `perf`).
+struct Frontier {
+    /// `levels[0]` holds one bit per rank; each level above one bit per
+    /// word of the level below (set when that word is not empty).
+    levels: Vec<Vec<u64>>,
 }
 
-impl Eq for Step {}
-
-impl Ord for Step {
-    fn cmp(&self, other: &Self) -> Ordering {
-        // The heap is a max-heap: reversed, the lowest entry comes first.
-        other
-            .entry
-            .total_cmp(&self.entry)
-            .then(other.throat.cmp(&self.throat))
+impl Frontier {
+    fn new(ranks: usize) -> Frontier {
+        let mut levels = Vec::new();
+        let mut bits = ranks.max(1);
+        loop {
+            let words = bits.div_ceil(64);
+            levels.push(vec![0u64; words]);
+            if words == 1 {
+                break;
+            }
+            bits = words;
+        }
+        Frontier { levels }
     }
-}
 
-impl PartialOrd for Step {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
+    fn insert(&mut self, rank: usize) {
+        let mut i = rank;
+        for level in &mut self.levels {
+            let (w, b) = (i / 64, i % 64);
+            let was = level[w];
+            level[w] |= 1 << b;
+            if was != 0 {
+                break; // the levels above already know this word
+            }
+            i = w;
+        }
+    }
+
+    /// Removes and returns the lowest rank.
+    fn pop_min(&mut self) -> Option<usize> {
+        let top = self.levels.len() - 1;
+        if self.levels[top][0] == 0 {
+            return None;
+        }
+        let mut i = 0;
+        for level in self.levels.iter().rev() {
+            i = i * 64 + level[i].trailing_zeros() as usize;
+        }
+        let rank = i;
+        for level in &mut self.levels {
+            let (w, b) = (i / 64, i % 64);
+            level[w] &= !(1 << b);
+            if level[w] != 0 {
+                break;
+            }
+            i = w;
+        }
+        Some(rank)
     }
 }
 
@@ -182,38 +218,57 @@ impl Adjacency {
 pub fn invade(g: &InvasionGraph, trapping: bool) -> Invasion {
     let n = g.pores;
     let adj = Adjacency::new(g);
-    let mut reached_at = vec![f64::INFINITY; n];
-    let mut order: Vec<u32> = Vec::with_capacity(n);
-    let mut heap = BinaryHeap::new();
-    let inlet_base = g.throats.len() as u32;
-    for (k, &(p, entry)) in g.inlets.iter().enumerate() {
-        if entry.is_finite() {
-            heap.push(Step {
-                entry,
-                throat: inlet_base + k as u32,
-                pore: p,
-            });
+    // Steps are numbered throats first, then inlets; only finite entries
+    // are ever taken.
+    let inlet_base = g.throats.len();
+    let entry = |s: usize| {
+        if s < inlet_base {
+            g.throats[s].2
+        } else {
+            g.inlets[s - inlet_base].1
+        }
+    };
+    let mut by_rank: Vec<u32> = (0..(inlet_base + g.inlets.len()) as u32)
+        .filter(|&s| entry(s as usize).is_finite())
+        .collect();
+    by_rank.par_sort_unstable_by(|&a, &b| {
+        entry(a as usize)
+            .total_cmp(&entry(b as usize))
+            .then(a.cmp(&b))
+    });
+    let mut rank = vec![u32::MAX; inlet_base + g.inlets.len()];
+    for (r, &s) in by_rank.iter().enumerate() {
+        rank[s as usize] = r as u32;
+    }
+    // The pore a taken step leads to (each step is offered once: from the
+    // first of its pores the gas reaches).
+    let mut towards = vec![0u32; by_rank.len()];
+    let mut frontier = Frontier::new(by_rank.len());
+    for (k, &(p, _)) in g.inlets.iter().enumerate() {
+        let r = rank[inlet_base + k];
+        if r != u32::MAX {
+            towards[r as usize] = p;
+            frontier.insert(r as usize);
         }
     }
+    let mut reached_at = vec![f64::INFINITY; n];
+    let mut order: Vec<u32> = Vec::with_capacity(n);
     let mut pressure: f64 = 0.0;
     let mut invaded = vec![false; n];
-    while let Some(step) = heap.pop() {
-        let p = step.pore as usize;
+    while let Some(r) = frontier.pop_min() {
+        let p = towards[r] as usize;
         if invaded[p] {
             continue;
         }
         invaded[p] = true;
-        pressure = pressure.max(step.entry);
+        pressure = pressure.max(entry(by_rank[r] as usize));
         reached_at[p] = pressure;
-        order.push(step.pore);
+        order.push(p as u32);
         for &(q, t) in adj.of(p) {
-            let entry = g.throats[t as usize].2;
-            if !invaded[q as usize] && entry.is_finite() {
-                heap.push(Step {
-                    entry,
-                    throat: t,
-                    pore: q,
-                });
+            let r = rank[t as usize];
+            if !invaded[q as usize] && r != u32::MAX {
+                towards[r as usize] = q;
+                frontier.insert(r as usize);
             }
         }
     }
@@ -483,6 +538,37 @@ mod tests {
                     graph(n, throats, inlets, &outs)
                 })
         })
+    }
+
+    proptest! {
+        /// The frontier gives back the lowest rank, as an ordered set does,
+        /// through any mix of insertions and removals (over several words
+        /// and levels).
+        #[test]
+        fn the_frontier_pops_the_lowest_rank(
+            size in 1usize..300_000,
+            ops in proptest::collection::vec((any::<bool>(), 0usize..300_000), 1..400),
+        ) {
+            let mut f = Frontier::new(size);
+            let mut set = std::collections::BTreeSet::new();
+            for (insert, x) in ops {
+                if insert {
+                    f.insert(x % size);
+                    set.insert(x % size);
+                } else {
+                    let lowest = set.iter().next().copied();
+                    if let Some(l) = lowest {
+                        set.remove(&l);
+                    }
+                    prop_assert_eq!(f.pop_min(), lowest);
+                }
+            }
+            while let Some(l) = set.iter().next().copied() {
+                set.remove(&l);
+                prop_assert_eq!(f.pop_min(), Some(l));
+            }
+            prop_assert_eq!(f.pop_min(), None);
+        }
     }
 
     proptest! {
