@@ -414,7 +414,7 @@ fn measures_text_with(a: &Summary, names: &[String], bulk_hint: Option<&str>) ->
         let num = |v: Option<f64>| v.map_or("null".into(), |v| format!("{v:.3}"));
         let _ = writeln!(
             t,
-            "  transport: formation factor {}, Archie m {}, tortuosity hydraulic {} / electrical {}",
+            "  transport: formation factor {} (an upper bound: pore bodies left out), Archie m {}, tortuosity hydraulic {} / electrical {}",
             num(x.formation_factor),
             num(x.archie_exponent),
             num(x.hydraulic_tortuosity),
