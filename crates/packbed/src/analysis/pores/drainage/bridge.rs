@@ -640,8 +640,8 @@ const N_FOLD: usize = 29;
 /// The fold `(ρ, kappa_max)` of `kappa(ρ)` at a gap: the largest of a coarse scan (the
 /// curvature rises from −∞ at [`rho_start`] to one maximum and then falls, so the scan's
 /// maximum and its neighbours bracket the fold at any resolution), refined by Brent on the
-/// analytic slope `kappa'(ρ) = 0` (a 120-point scan and a golden-section search cost 150
-/// evaluations; this is ~40). Golden section where the slope does not bracket.
+/// analytic slope `kappa'(ρ) = 0` (about 40 evaluations). Golden section where the slope
+/// does not bracket.
 fn fold(g: &Geom) -> Option<(f64, f64)> {
     let rho_a = rho_start(g)?;
     let l = g.r1.max(g.r2);
@@ -755,8 +755,8 @@ pub fn bridge_3d(r1: f64, r2: f64, gap: f64, theta: f64, kappa: f64) -> Option<B
 
 /// A pair of spheres whose bridges are asked for at many curvatures: the fold
 /// of `kappa(ρ)` (the gap's largest curvature) is found once, and each
-/// curvature is then a bracketed root on the stable branch (a scan per call
-/// cost 65 µs; this is about 0.2 µs).
+/// curvature is then a bracketed root on the stable branch, a few Newton
+/// steps.
 #[derive(Clone, Copy, Debug)]
 pub struct Pair {
     geom: Geom,
@@ -805,13 +805,6 @@ impl Pair {
             k_lo: geom.kappa(lo),
             kappa_max,
         })
-    }
-
-    /// The stable bridges at the curvatures `kappas`, as [`Pair::bridge`] of each. (Starting
-    /// each root from the previous one's was tried: the Newton iteration from `1/kappa`
-    /// already takes about three evaluations, and the warm start saved nothing.)
-    pub fn bridges(&self, kappas: &[f64]) -> Vec<Option<Bridge>> {
-        kappas.iter().map(|&k| self.bridge(k)).collect()
     }
 
     /// The stable bridge at curvature `kappa` (as [`bridge_3d`]).

@@ -61,9 +61,9 @@ pub struct Invasion {
 /// place among all finite entry pressures sorted with ties by index, so the
 /// lowest rank is the lowest entry (the same order on every run). A set of
 /// ranks in a bitset with summary levels (64 children a word) takes a step
-/// and finds the lowest in `O(log₆₄ T)` word operations; a binary heap of
-/// 16-byte steps spent most of the invasion's time in cache misses (10 s of
-/// 12 at 10^6 spheres, measured by `perf`).
+/// and finds the lowest in `O(log₆₄ T)` word operations on a few megabytes,
+/// where a binary heap of 16-byte steps over millions of throats misses the
+/// cache at every level.
 struct Frontier {
     /// `levels[0]` holds one bit per rank; each level above one bit per
     /// word of the level below (set when that word is not empty).

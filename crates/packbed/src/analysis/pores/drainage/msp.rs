@@ -507,7 +507,8 @@ pub fn msp_entry_radius_near(
             .map(|(a, lnw, lns)| lnw + lns * ct - a / rr)
     };
     // The root lies above half the inscribed radius (module docs); the full scan over ten
-    // decades (200 µs a throat) decides the throats where the search below does not apply.
+    // decades (a hundred evaluations) decides the throats where the search below does not
+    // apply.
     let fast = constriction
         .filter(|&x| x > 0.0)
         .or_else(|| inscribed_radius(c, r))
