@@ -4,6 +4,7 @@
 
 mod common;
 
+mod agglomeration;
 mod bounds;
 mod commands;
 mod compare;

@@ -84,6 +84,17 @@ pub struct Summary {
     /// Why `drainage` is absent although asked for.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub drainage_note: Option<String>,
+    /// The solid bridges and agglomerates the dried cake holds (absent
+    /// when left out).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub agglomeration: Option<pores::drying::AgglomerationSummary>,
+    /// Why `agglomeration` is absent although asked for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub agglomeration_note: Option<String>,
+    /// The solid bridges and agglomerates for the files (not in
+    /// `summary.json`).
+    #[serde(skip)]
+    pub dried: Option<std::sync::Arc<pores::drying::Drying>>,
     /// The drainage's curve, pores and bridges for the files (not in
     /// `summary.json`).
     #[serde(skip)]
@@ -192,6 +203,8 @@ pub struct AnalysisOptions {
     pub flow: pores::FlowOptions,
     /// Gas displacing the liquid from the pore network.
     pub drainage: pores::drainage::DrainageOptions,
+    /// The drying of the drained cake.
+    pub drying: pores::drying::DryingOptions,
 }
 
 pub use crate::config::BULK_MIN_BODIES;
@@ -207,6 +220,7 @@ impl Default for AnalysisOptions {
             cake: CakeOptions::default(),
             flow: pores::FlowOptions::default(),
             drainage: pores::drainage::DrainageOptions::default(),
+            drying: pores::drying::DryingOptions::default(),
         }
     }
 }
@@ -324,8 +338,10 @@ pub fn analyze_timed<const D: usize>(
             profile::profile_of(bed, 0.25 * d_max, &volumes)
         }),
     });
-    let pores_wanted =
-        want(Measure::Pores) || want(Measure::Permeability) || want(Measure::Drainage);
+    let pores_wanted = want(Measure::Pores)
+        || want(Measure::Permeability)
+        || want(Measure::Drainage)
+        || want(Measure::Agglomeration);
     // The permeability's ratios (`k / d32²`, `k / k_KC`) read the cake's d32
     // and Kozeny–Carman k: computed for them even when the packing measure
     // (which reports the cake) is not asked for.
@@ -398,7 +414,20 @@ pub fn analyze_timed<const D: usize>(
                     summary.drainage = Some(d.summary.clone());
                     summary.liquid = Some(std::sync::Arc::new(d));
                 }
-                Some(Err(why)) => summary.drainage_note = Some(why),
+                Some(Err(why)) => {
+                    if want(Measure::Agglomeration) {
+                        summary.agglomeration_note = Some(format!("no drainage to dry: {why}"));
+                    }
+                    summary.drainage_note = Some(why);
+                }
+                None => {}
+            }
+            match space.drying {
+                Some(Ok(d)) => {
+                    summary.agglomeration = Some(d.summary.clone());
+                    summary.dried = Some(std::sync::Arc::new(d));
+                }
+                Some(Err(why)) => summary.agglomeration_note = Some(why),
                 None => {}
             }
         }
@@ -424,6 +453,7 @@ impl crate::config::AnalysisConfig {
             },
             flow: self.flow.options(),
             drainage: self.drainage.options(),
+            drying: self.drying.options(),
             ..AnalysisOptions::new(self.contact_tol, self.large_radius)
         }
     }
@@ -484,13 +514,13 @@ fn pore_measures<const D: usize>(
             .fold((0.0, 0.0), |(a, b), r| (a + r * r * r, b + r * r));
         2.0 * r3 / r2
     });
-    let drain = opts
-        .measures
-        .has(Measure::Drainage)
-        .then_some(pores::DrainageRequest {
+    let agglomeration = opts.measures.has(Measure::Agglomeration);
+    let drain =
+        (opts.measures.has(Measure::Drainage) || agglomeration).then_some(pores::DrainageRequest {
             options: opts.drainage,
             metres_per_unit: opts.cake.metres_per_unit,
             d32: d32_or_bed,
+            drying: agglomeration.then_some(opts.drying),
         });
     let mut space = pores::pore_space_timed(bed, slab, flow, drain.as_ref(), d32, k_kc, times)
         .map_err(|e| e.to_string())?;

@@ -59,6 +59,92 @@ pub struct AnalysisConfig {
     #[serde(default, skip_serializing_if = "DrainageConfig::is_default")]
     #[cfg_attr(feature = "cli", arg(skip))]
     pub drainage: DrainageConfig,
+    /// `[analysis.drying]`: the solid the drying cake leaves and the
+    /// agglomerates it binds.
+    #[serde(default, skip_serializing_if = "DryingConfig::is_default")]
+    #[cfg_attr(feature = "cli", arg(skip))]
+    pub drying: DryingConfig,
+}
+
+/// `[analysis.drying]`: the solid dissolved in the cake's liquid. The
+/// defaults are a mother liquor saturated at 50 kg/m³ of an organic solid
+/// (crystals of 1,500 kg/m³, about 4 MPa in tension).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DryingConfig {
+    /// Dissolved solid, kg per m³ of liquid (default 50).
+    #[serde(default = "default_concentration")]
+    pub concentration: Real,
+    /// Its solubility, kg/m³ (default: the concentration, a saturated
+    /// mother liquor; a washed cake's liquid is below it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solubility: Option<Real>,
+    /// Density of its crystals, kg/m³ (default 1500).
+    #[serde(default = "default_crystal_density")]
+    pub crystal_density: Real,
+    /// A solid bridge is a bond when its neck radius is at least this
+    /// fraction of the pair's harmonic mean radius (default 0.05).
+    #[serde(default = "default_min_neck")]
+    pub min_neck: Real,
+    /// Tensile strength of the solid, Pa (default 3.9e6).
+    #[serde(default = "default_tensile_strength")]
+    pub tensile_strength: Real,
+}
+
+fn default_concentration() -> Real {
+    crate::analysis::pores::drying::DEFAULT_CONCENTRATION
+}
+
+fn default_crystal_density() -> Real {
+    crate::analysis::pores::drying::DEFAULT_CRYSTAL_DENSITY
+}
+
+fn default_min_neck() -> Real {
+    crate::analysis::pores::drying::DEFAULT_MIN_NECK
+}
+
+fn default_tensile_strength() -> Real {
+    crate::analysis::pores::drying::DEFAULT_TENSILE_STRENGTH
+}
+
+impl Default for DryingConfig {
+    fn default() -> Self {
+        DryingConfig {
+            concentration: default_concentration(),
+            solubility: None,
+            crystal_density: default_crystal_density(),
+            min_neck: default_min_neck(),
+            tensile_strength: default_tensile_strength(),
+        }
+    }
+}
+
+impl DryingConfig {
+    /// True when nothing is set.
+    pub fn is_default(&self) -> bool {
+        *self == DryingConfig::default()
+    }
+
+    /// The drying's settings.
+    pub fn options(&self) -> crate::analysis::pores::drying::DryingOptions {
+        crate::analysis::pores::drying::DryingOptions {
+            concentration: self.concentration,
+            // A liquid with nothing dissolved has no solubility to reach.
+            solubility: self.solubility.unwrap_or(if self.concentration > 0.0 {
+                self.concentration
+            } else {
+                Real::INFINITY
+            }),
+            crystal_density: self.crystal_density,
+            min_neck: self.min_neck,
+            tensile_strength: self.tensile_strength,
+        }
+    }
+
+    fn check(&self) -> Result<()> {
+        crate::analysis::pores::drying::check_options(&self.options())
+            .map_err(|why| Error::config(format!("analysis.{why}")))
+    }
 }
 
 /// `[analysis.drainage]`: the liquid, its wetting and the pressure the
@@ -445,11 +531,14 @@ pub enum Measure {
     Permeability,
     /// `drainage.*`: gas displacing the liquid, and where the liquid stays.
     Drainage,
+    /// `agglomeration.*`: the drained cake dried, its solid bridges and
+    /// agglomerates (computes the drainage).
+    Agglomeration,
 }
 
 impl Measure {
     /// Every measure, in the order of `summary.json`.
-    pub const ALL: [Measure; 9] = [
+    pub const ALL: [Measure; 10] = [
         Measure::Packing,
         Measure::Coordination,
         Measure::Percolation,
@@ -459,6 +548,7 @@ impl Measure {
         Measure::Pores,
         Measure::Permeability,
         Measure::Drainage,
+        Measure::Agglomeration,
     ];
 
     /// The measures computed when none are chosen: the first six of [`Measure::ALL`].
@@ -479,6 +569,7 @@ impl Measure {
             Measure::Pores => "pores",
             Measure::Permeability => "permeability",
             Measure::Drainage => "drainage",
+            Measure::Agglomeration => "agglomeration",
         }
     }
 
@@ -536,6 +627,7 @@ impl Default for AnalysisConfig {
             length_unit: None,
             flow: FlowConfig::default(),
             drainage: DrainageConfig::default(),
+            drying: DryingConfig::default(),
         }
     }
 }
@@ -558,12 +650,13 @@ impl AnalysisConfig {
         }
         self.flow.check()?;
         self.drainage.check(self.length_unit)?;
+        self.drying.check()?;
         // The displaced liquid leaves the drainage's slab downwards (the
         // filter medium): a slab from the floor has nothing below it.
         let drains = self
             .measures
             .as_ref()
-            .is_some_and(|m| m.contains(&Measure::Drainage));
+            .is_some_and(|m| m.contains(&Measure::Drainage) || m.contains(&Measure::Agglomeration));
         if let (true, Some([lo, _])) = (drains, self.flow.slab) {
             if lo <= 0.0 {
                 return Err(Error::config(format!(

@@ -11,6 +11,7 @@ pub mod liquid;
 pub mod pores;
 pub mod psd;
 pub mod read;
+pub mod solid_bridges;
 pub mod summary;
 pub mod tables;
 

@@ -137,6 +137,8 @@ pub fn earlier_file(name: &str, beds: bool) -> bool {
         || RUN_FILES[1..].contains(&name)
         || FRAGMENT_FILES.contains(&name)
         || PORE_FILES.contains(&name)
+        || crate::io::liquid::LIQUID_FILES.contains(&name)
+        || crate::io::solid_bridges::DRYING_FILES.contains(&name)
         || name == crate::io::psd::PSD_FILE
 }
 
@@ -362,6 +364,16 @@ fn extra_files<'a, const D: usize>(
             Box::new(move |w| write_bridges(w, d)),
         ];
         for (name, write) in LIQUID_FILES.iter().zip(writers) {
+            out.push((name.to_string(), Content::Stream(write)));
+        }
+    }
+    if let Some(d) = &measures.dried {
+        use crate::io::solid_bridges::{write_agglomerates, write_bridges, DRYING_FILES};
+        let writers: [Stream; 2] = [
+            Box::new(move |w| write_bridges(w, d)),
+            Box::new(move |w| write_agglomerates(w, d)),
+        ];
+        for (name, write) in DRYING_FILES.iter().zip(writers) {
             out.push((name.to_string(), Content::Stream(write)));
         }
     }

@@ -10,7 +10,7 @@ use std::path::Path;
 
 /// Measures printed on screen, when present, in this order: the cake first;
 /// yes/no measures follow (those of percolation only when it was asked for).
-const ON_SCREEN: [&str; 14] = [
+const ON_SCREEN: [&str; 16] = [
     "cake.porosity",
     "cake.d32",
     "cake.k_kozeny_carman",
@@ -25,6 +25,8 @@ const ON_SCREEN: [&str; 14] = [
     "drainage.breakthrough.reduced",
     "drainage.saturation_at_breakthrough",
     "drainage.residual_saturation",
+    "agglomeration.bonds_per_particle",
+    "agglomeration.fraction_in_agglomerates",
 ];
 
 /// Yes/no keys that are settings echoed in the summary, not measures: the

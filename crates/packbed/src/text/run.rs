@@ -452,6 +452,28 @@ fn measures_text_with(a: &Summary, names: &[String], bulk_hint: Option<&str>) ->
     if let Some(why) = &a.drainage_note {
         let _ = writeln!(t, "  drainage: none ({why})");
     }
+    if let Some(g) = &a.agglomeration {
+        let strength = g
+            .mean_bond_strength
+            .map_or(String::new(), |f| format!(", mean bond {f:.3e} N"));
+        let _ = writeln!(
+            t,
+            "  agglomeration: dried at {} kg/m³ (solubility {}): {} solid bridges, {} bonds ({:.2} per particle{strength}); {} agglomerates hold {:.1}% of the slab's particles, largest {} particles; d50 {:.4} against the particles' {:.4}",
+            g.concentration,
+            g.solubility.map_or("none".into(), |s| format!("{s}")),
+            g.solid_bridges,
+            g.bonds,
+            g.bonds_per_particle,
+            g.agglomerates,
+            100.0 * g.fraction_in_agglomerates,
+            g.largest_particles,
+            g.d50_product,
+            g.d50_particles
+        );
+    }
+    if let Some(why) = &a.agglomeration_note {
+        let _ = writeln!(t, "  agglomeration: none ({why})");
+    }
     if let Some(c) = &a.percolation {
         t.push_str(&percolation_text(c));
     }

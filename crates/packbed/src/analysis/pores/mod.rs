@@ -4,6 +4,7 @@
 //! through the network.
 
 pub mod drainage;
+pub mod drying;
 pub mod flow;
 pub mod geometry;
 pub mod network;
@@ -387,6 +388,8 @@ pub struct PoreSpace {
     pub warning: Option<String>,
     /// The drainage, when asked for; `Err` says why there is none.
     pub drainage: Option<Result<drainage::Drainage, String>>,
+    /// The drying after it, when asked for; `Err` says why there is none.
+    pub drying: Option<Result<drying::Drying, String>>,
     /// The formation factor and tortuosities, with the permeability.
     pub transport: Option<transport::TransportSummary>,
 }
@@ -401,6 +404,8 @@ pub struct DrainageRequest {
     pub metres_per_unit: Option<Real>,
     /// The Sauter diameter the pressures are reduced with.
     pub d32: Real,
+    /// `[analysis.drying]`, when the cake is dried after its drainage.
+    pub drying: Option<drying::DryingOptions>,
 }
 
 /// Builds the pore network of `bed`, measures its pores and, when `flow` is
@@ -445,15 +450,30 @@ pub fn pore_space_timed<const D: usize>(
     // The distributions' inputs go before the flow: at 10^6 spheres they
     // are 0.24 GB beside its peak.
     let pores = summary(&net, &in_slab, slab);
+    let mut dried = None;
     let mut drainage = drain.map(|d| {
         let t = std::time::Instant::now();
-        let out = drainage::drain(bed, &net, slab, d.d32, d.metres_per_unit, &d.options);
+        let out = drainage::drain_wet(bed, &net, slab, d.d32, d.metres_per_unit, &d.options);
         // Its stages, or the whole when it was refused.
         match &out {
-            Ok(d) => times.0.extend(d.seconds.iter().copied()),
+            Ok((d, _)) => times.0.extend(d.seconds.iter().copied()),
             Err(_) => times.0.push(("pores/drainage", t.elapsed().as_secs_f64())),
         }
-        out
+        if let (Some(options), Ok((drained, wet))) = (&d.drying, &out) {
+            let t = std::time::Instant::now();
+            dried = Some(drying::dry(
+                bed,
+                &net,
+                slab,
+                drained,
+                wet,
+                &d.options,
+                options,
+                d.metres_per_unit,
+            ));
+            times.0.push(("pores/drying", t.elapsed().as_secs_f64()));
+        }
+        out.map(|(d, _)| d)
     });
     let shapes = std::mem::take(&mut net.shapes);
     let mut note = None;
@@ -509,6 +529,7 @@ pub fn pore_space_timed<const D: usize>(
     Ok(PoreSpace {
         transport: transported,
         drainage,
+        drying: dried,
         pores,
         permeability,
         note,

@@ -470,6 +470,28 @@ pub fn drain<const D: usize>(
     metres_per_unit: Option<Real>,
     options: &DrainageOptions,
 ) -> Result<Drainage, Refusal> {
+    drain_wet(bed, net, slab, d32, metres_per_unit, options).map(|(d, _)| d)
+}
+
+/// What the drying of the drained cake starts from beside [`Drainage`]:
+/// the pairs that may hold bridges and the curvature the liquid is
+/// reported at (`None` when there is none).
+pub struct Wet {
+    /// The candidate bridges.
+    pub pendular: pendular::Pendular,
+    /// `P_c / γ` of the reported state.
+    pub kappa: Option<Real>,
+}
+
+/// [`drain`], with what the drying needs.
+pub fn drain_wet<const D: usize>(
+    bed: &Bed<D>,
+    net: &Network<D>,
+    slab: (Real, Real),
+    d32: Real,
+    metres_per_unit: Option<Real>,
+    options: &DrainageOptions,
+) -> Result<(Drainage, Wet), Refusal> {
     check_options(options)?;
     let z = D - 1;
     let side: Vec<Side> = net
@@ -722,7 +744,13 @@ pub fn drain<const D: usize>(
     out.curve = curve;
     out.drains_at = drains_at;
     out.seconds = clock.laps;
-    Ok(out)
+    Ok((
+        out,
+        Wet {
+            pendular,
+            kappa: state_kappa,
+        },
+    ))
 }
 
 /// Wall times of the stages, one lap each.

@@ -374,6 +374,69 @@ impl Pendular {
         totals
     }
 
+    /// Number of candidate pairs.
+    pub fn edge_count(&self) -> usize {
+        self.edges.len()
+    }
+
+    /// Pair `e`'s particles, the periods the second lies from the first, its
+    /// radii and its surface gap.
+    pub fn pair(&self, e: usize) -> ([u32; 2], [i8; 2], [Real; 2], Real) {
+        let x = &self.edges[e];
+        (x.particles, x.shift, x.radii, x.gap)
+    }
+
+    /// Each network pore's pairs as a compressed table: the pairs of pore `p`
+    /// are `links[start[p]..start[p + 1]]`, each (pair, the share of its
+    /// bridge the pore holds).
+    pub fn pores_pairs(&self, pores: usize) -> (Vec<u32>, Vec<(u32, Real)>) {
+        let mut start = vec![0u32; pores + 1];
+        for e in &self.edges {
+            for &(p, _, _) in &e.pores {
+                start[p as usize + 1] += 1;
+            }
+        }
+        for p in 0..pores {
+            start[p + 1] += start[p];
+        }
+        let mut fill = start.clone();
+        let mut links = vec![(0, 0.0); start[pores] as usize];
+        for (k, e) in self.edges.iter().enumerate() {
+            for &(p, share, _) in &e.pores {
+                links[fill[p as usize] as usize] = (k as u32, share);
+                fill[p as usize] += 1;
+            }
+        }
+        (start, links)
+    }
+
+    /// The volume of pair `e`'s bridge at curvature `kappa` (its pores
+    /// drained or not), if one exists.
+    pub fn bridge_volume(&self, e: usize, kappa: Real) -> Option<Real> {
+        self.bridge_of(&self.edges[e], kappa).map(|b| b.volume)
+    }
+
+    /// The liquid of pair `e`'s bridge at `kappa` in the slab's pores (the
+    /// volume `liquid.csv` gives it), 0 unless every pore around it has
+    /// drained by then.
+    pub fn slab_bridge(&self, e: usize, drains_at: &[Real], kappa: Real) -> Real {
+        let x = &self.edges[e];
+        let share: Real = x.pores.iter().filter(|p| p.2).map(|p| p.1).sum();
+        if !(share > 0.0) {
+            return 0.0;
+        }
+        self.bridge(x, drains_at, kappa)
+            .map_or(0.0, |b| share * b.volume)
+    }
+
+    /// The neck radius of a body of `volume` shaped as pair `e`'s pendular
+    /// bridge ([`neck_for_volume`]).
+    pub fn neck_for_volume(&self, e: usize, volume: Real) -> Option<Real> {
+        let x = &self.edges[e];
+        let bridge = |kappa: Real| self.bridge_of(x, kappa).map(|b| (b.volume, b.neck_radius));
+        neck_for_volume(bridge, x.radii[0].min(x.radii[1]), volume)
+    }
+
     /// The liquid in bridges per pore of the slab at curvature `kappa`.
     /// `members` are the slab's pores (network indices), `voids` their void.
     pub fn volumes(
@@ -438,4 +501,57 @@ impl Pendular {
             })
             .collect()
     }
+}
+
+/// The neck radius of a body of `volume` shaped as a pendular bridge (the
+/// shape a bridge's liquid leaves its solid in), `bridge(κ)` giving the
+/// (volume, neck radius) of the pair's bridge at curvature `κ`, `r` the
+/// smaller radius. The bridge of that volume is found by bisection on
+/// `ln κ` (a bridge's volume falls as its curvature rises). `None` when no
+/// bridge of that volume spans the gap (it is smaller than the bridge at the
+/// gap's largest curvature). A volume above the widest bridge the model
+/// holds (from curvature `10⁻³/r` up) gets that bridge's neck.
+pub fn neck_for_volume(
+    bridge: impl Fn(Real) -> Option<(Real, Real)>,
+    r: Real,
+    volume: Real,
+) -> Option<Real> {
+    if !(volume > 0.0 && r > 0.0) {
+        return None;
+    }
+    let holds = |ln_kappa: Real| {
+        bridge(ln_kappa.exp())
+            .filter(|b| b.0 >= volume)
+            .map(|b| b.1)
+    };
+    let (lo0, mut hi) = ((1e-3 / r).ln(), (1e9 / r).ln());
+    // The model may hold no bridge at the widest curvatures (filling
+    // angles past its range): start from the first that has one.
+    let steps = 48;
+    let mut lo = (0..=steps)
+        .map(|k| lo0 + (hi - lo0) * k as Real / steps as Real)
+        .find(|&x| bridge(x.exp()).is_some())?;
+    if holds(lo).is_none() {
+        return bridge(lo.exp()).map(|b| b.1);
+    }
+    if let Some(neck) = holds(hi) {
+        return Some(neck);
+    }
+    // `holds` is true up to the curvature whose bridge has `volume`: 60
+    // halvings of a range of 27 in `ln κ` leave 2e-17 of it.
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if holds(mid).is_some() {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let (v, neck) = bridge(lo.exp())?;
+    // Where the bridges end (a gap's fold) still above `volume`, the liquid
+    // would have ruptured into two caps before shrinking to it.
+    if bridge(hi.exp()).is_none() && v > volume * (1.0 + 1e-9) {
+        return None;
+    }
+    Some(neck)
 }

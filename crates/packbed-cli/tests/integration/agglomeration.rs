@@ -1,0 +1,99 @@
+//! `--measures agglomeration` through the command: the dried cake's solid
+//! bridges and agglomerates, and its refusals.
+
+use crate::common::{assert_config_refused, Scratch};
+
+fn config(extra: &str) -> String {
+    format!(
+        "dim = 3\nseed = 1\n[box]\nwidth = 10\ndepth = 10\nheight = 60\nperiodic = true\n\
+         [fill]\ncount = 800\n[[species]]\nradius = 1\n\
+         [analysis]\nmeasures = [\"packing\", \"agglomeration\"]\nlength_unit = \"um\"\n{extra}"
+    )
+}
+
+#[test]
+fn agglomeration_writes_its_bridges_and_agglomerates() {
+    let s = Scratch::new();
+    let saturated = s.input("sat.toml", &config(""));
+    let o = s.ok(&[
+        "run",
+        saturated.to_str().unwrap(),
+        "--out",
+        "sat",
+        "--no-pictures",
+    ]);
+    let screen = format!("{}{}", o.stdout, o.stderr);
+    assert!(
+        screen.contains("agglomeration: dried at 50 kg/m³"),
+        "{screen}"
+    );
+    let a = &s.summary("sat")["agglomeration"];
+    // The solid dissolved in the liquid left is all placed.
+    let solid = a["solid_volume"].as_f64().unwrap();
+    let placed = a["solid_at_pairs"].as_f64().unwrap() + a["solid_on_surfaces"].as_f64().unwrap();
+    assert!(solid > 0.0 && (placed - solid).abs() < 1e-9 * solid);
+    let bridges = s.read("sat/bridges.csv");
+    assert!(bridges.starts_with(
+        "particle_a,particle_b,sx,sy,gap,liquid,solid,neck_radius,bond,strength_n,agglomerate\n"
+    ));
+    let bonds = bridges
+        .lines()
+        .skip(1)
+        .filter(|l| l.split(',').nth(8) == Some("1"))
+        .count() as u64;
+    assert_eq!(bonds, a["bonds"].as_u64().unwrap());
+    let groups = s.read("sat/agglomerates.csv");
+    assert_eq!(
+        groups.lines().count() as u64 - 1,
+        a["agglomerates"].as_u64().unwrap()
+    );
+    // A washed cake (its liquid a tenth of the solubility) bonds more
+    // weakly than the saturated mother liquor.
+    let washed = s.input(
+        "washed.toml",
+        &config("[analysis.drying]\nconcentration = 5\nsolubility = 50\n"),
+    );
+    s.ok(&[
+        "run",
+        washed.to_str().unwrap(),
+        "--out",
+        "washed",
+        "--no-pictures",
+    ]);
+    let w = &s.summary("washed")["agglomeration"];
+    let strength = |x: &serde_json::Value| x["mean_bond_strength"].as_f64().unwrap();
+    assert!(strength(w) < strength(a), "{w} against {a}");
+    // Nothing dissolved: nothing bonds.
+    let clean = s.input(
+        "clean.toml",
+        &config("[analysis.drying]\nconcentration = 0\n"),
+    );
+    s.ok(&[
+        "run",
+        clean.to_str().unwrap(),
+        "--out",
+        "clean",
+        "--no-pictures",
+    ]);
+    assert_eq!(s.summary("clean")["agglomeration"]["agglomerates"], 0);
+}
+
+#[test]
+fn agglomeration_bad_input() {
+    let s = Scratch::new();
+    let bad = [
+        (
+            "[analysis.drying]\nconcentration = 60\nsolubility = 50\n",
+            "above the solubility",
+        ),
+        ("[analysis.drying]\nconcentration = -1\n", "concentration"),
+        (
+            "[analysis.drying]\ncrystal_density = 0\n",
+            "crystal_density",
+        ),
+        ("[analysis.drying]\nbinder = 3\n", "binder"),
+    ];
+    for (k, (extra, needle)) in bad.iter().enumerate() {
+        assert_config_refused(&s, &format!("bad{k}.toml"), &config(extra), &[needle]);
+    }
+}
