@@ -6,6 +6,7 @@
 set -euo pipefail
 PACKBED=${1:-target/release/packbed}
 WORK=${2:-$(mktemp -d)}
+mkdir -p "$WORK"
 base() {
     printf 'dim = 3\nseed = 7\n[box]\nwidth = 16\ndepth = 16\nheight = 80\nperiodic = true\n[fill]\ncount = 4000\n[[species]]\nradius = 1\n[analysis]\nmeasures = ["packing", "agglomeration"]\nlength_unit = "um"\n'
 }

@@ -37,8 +37,9 @@
 //!   deposits in every pore as it empties; a washed cake (`c < c_s`)
 //!   deposits late, in the last pores of its clusters.
 //! - **Where.** A pore's deposit crystallises in the liquid rings its
-//!   receding liquid leaves at its contacts (Delenne et al. 2011 saw the
-//!   crystals "at the contact points between grains"): it is shared among
+//!   receding liquid leaves at its contacts (in a drying NaCl-wetted
+//!   packing the solute crystallises "at the contact points between
+//!   grains", Delenne, Soulié et al. 2011): it is shared among
 //!   the pore's particle pairs in proportion to their pendular bridges at
 //!   the reported pressure, each weighted by the pore's share of the bridge
 //!   ([`super::drainage::pendular`]). A pore with no pair close enough for a
