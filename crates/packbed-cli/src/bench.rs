@@ -33,7 +33,8 @@ pub struct BenchArgs {
     #[arg(long)]
     pub pores: bool,
     /// With `--pores`: also the drainage (water on glass, its curve, the
-    /// pendular bridges and the relative permeabilities) and the transport
+    /// pendular bridges and the relative permeabilities), the drying of the
+    /// drained cake (solid bridges, agglomerates) and the transport
     /// (formation factor, tortuosity), each its own stage.
     #[arg(long, requires = "pores")]
     pub drainage: bool,

@@ -248,13 +248,14 @@ pub fn time_analysis(bed: &AnyBed) -> Vec<(String, f64)> {
 
 /// Seconds to triangulate the bed's centres alone (first), then per stage of
 /// the pore measures (triangulation, network, flow; with `drainage` the
-/// drainage and the transport) on `bed`, after the contacts and packing they
+/// drainage, the drying and the transport) on `bed`, after the contacts and packing they
 /// need.
 pub fn time_pores(bed: &AnyBed, drainage: bool) -> Vec<(String, f64)> {
     use crate::config::{Measure, Measures};
     let mut measures = vec![Measure::Packing, Measure::Pores, Measure::Permeability];
     if drainage {
         measures.push(Measure::Drainage);
+        measures.push(Measure::Agglomeration);
     }
     let options = AnalysisOptions {
         measures: Measures::of(&measures),

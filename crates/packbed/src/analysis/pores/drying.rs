@@ -441,7 +441,12 @@ pub fn dry<const D: usize>(
             if !inner && into.is_none() {
                 return None;
             }
-            let e = entry::entry_curvature(bed, net, t, drainage_options.entry, cos);
+            // The drainage's entry, unless it left the throat out (a
+            // throat gas never crosses in the drainage, one below the slab).
+            let e = match wet.entry.get(t) {
+                Some(&e) if e.is_finite() => e,
+                _ => entry::entry_curvature(bed, net, t, drainage_options.entry, cos),
+            };
             Some(if inner {
                 (la, lb, e, true)
             } else {

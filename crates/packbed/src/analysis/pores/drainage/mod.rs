@@ -481,6 +481,9 @@ pub struct Wet {
     pub pendular: pendular::Pendular,
     /// `P_c / γ` of the reported state.
     pub kappa: Option<Real>,
+    /// The entry curvature of every throat the gas may pass into or within
+    /// the slab (`+∞` for the others).
+    pub entry: Vec<Real>,
 }
 
 /// [`drain`], with what the drying needs.
@@ -749,6 +752,7 @@ pub fn drain_wet<const D: usize>(
         Wet {
             pendular,
             kappa: state_kappa,
+            entry,
         },
     ))
 }

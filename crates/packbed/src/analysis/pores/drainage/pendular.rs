@@ -434,7 +434,8 @@ impl Pendular {
     pub fn neck_for_volume(&self, e: usize, volume: Real) -> Option<Real> {
         let x = &self.edges[e];
         let bridge = |kappa: Real| self.bridge_of(x, kappa).map(|b| (b.volume, b.neck_radius));
-        neck_for_volume(bridge, x.radii[0].min(x.radii[1]), volume)
+        let fold = x.pair.map(|p| p.kappa_max).filter(|k| k.is_finite());
+        neck_for_volume(bridge, x.radii[0].min(x.radii[1]), volume, fold)
     }
 
     /// The liquid in bridges per pore of the slab at curvature `kappa`.
@@ -506,52 +507,76 @@ impl Pendular {
 /// The neck radius of a body of `volume` shaped as a pendular bridge (the
 /// shape a bridge's liquid leaves its solid in), `bridge(κ)` giving the
 /// (volume, neck radius) of the pair's bridge at curvature `κ`, `r` the
-/// smaller radius. The bridge of that volume is found by bisection on
-/// `ln κ` (a bridge's volume falls as its curvature rises). `None` when no
-/// bridge of that volume spans the gap (it is smaller than the bridge at the
-/// gap's largest curvature). A volume above the widest bridge the model
-/// holds (from curvature `10⁻³/r` up) gets that bridge's neck.
+/// smaller radius. The bridge of that volume is the root of
+/// `ln V(κ) = ln volume` (a bridge's volume falls as its curvature rises),
+/// found by Brent's method in `ln κ`. `None` when no bridge of that volume
+/// spans the gap (it is smaller than the bridge at the gap's largest
+/// curvature). A volume above the widest bridge the model holds (from
+/// curvature `10⁻³/r` up) gets that bridge's neck. `fold`, when known, is
+/// the highest curvature a bridge of the gap has (found by bisection
+/// otherwise).
 pub fn neck_for_volume(
     bridge: impl Fn(Real) -> Option<(Real, Real)>,
     r: Real,
     volume: Real,
+    fold: Option<Real>,
 ) -> Option<Real> {
     if !(volume > 0.0 && r > 0.0) {
         return None;
     }
-    let holds = |ln_kappa: Real| {
-        bridge(ln_kappa.exp())
-            .filter(|b| b.0 >= volume)
-            .map(|b| b.1)
-    };
-    let (lo0, mut hi) = ((1e-3 / r).ln(), (1e9 / r).ln());
+    // `x = ln(κ r) + 10` stays positive over the range searched, so that a
+    // relative tolerance on it means a relative one on κ.
+    let kappa = |x: Real| (x - 10.0).exp() / r;
+    let at = |x: Real| bridge(kappa(x));
+    let (lo0, top) = ((1e-3f64).ln() + 10.0, (1e9f64).ln() + 10.0);
     // The model may hold no bridge at the widest curvatures (filling
     // angles past its range): start from the first that has one.
     let steps = 48;
-    let mut lo = (0..=steps)
-        .map(|k| lo0 + (hi - lo0) * k as Real / steps as Real)
-        .find(|&x| bridge(x.exp()).is_some())?;
-    if holds(lo).is_none() {
-        return bridge(lo.exp()).map(|b| b.1);
+    let lo = (0..=steps)
+        .map(|k| lo0 + (top - lo0) * k as Real / steps as Real)
+        .find(|&x| at(x).is_some())?;
+    let (v_lo, neck_lo) = at(lo)?;
+    if v_lo <= volume {
+        return Some(neck_lo);
     }
-    if let Some(neck) = holds(hi) {
-        return Some(neck);
-    }
-    // `holds` is true up to the curvature whose bridge has `volume`: 60
-    // halvings of a range of 27 in `ln κ` leave 2e-17 of it.
-    for _ in 0..60 {
-        let mid = 0.5 * (lo + hi);
-        if holds(mid).is_some() {
-            lo = mid;
-        } else {
-            hi = mid;
+    // The highest curvature with a bridge: `top`, or a gap's fold.
+    let hi = if let Some(x) = fold
+        .map(|k| (k * r).ln() + 10.0)
+        .filter(|&x| x > lo && x < top && at(x).is_some())
+    {
+        x
+    } else if at(top).is_some() {
+        top
+    } else {
+        let (mut a, mut b) = (lo, top);
+        for _ in 0..60 {
+            let mid = 0.5 * (a + b);
+            if at(mid).is_some() {
+                a = mid;
+            } else {
+                b = mid;
+            }
         }
+        a
+    };
+    let (v_hi, neck_hi) = at(hi)?;
+    if v_hi >= volume {
+        // Past a gap's fold the liquid would have ruptured into two caps
+        // before shrinking to `volume`; at contact the bridge is that small.
+        return if hi < top && v_hi > volume * (1.0 + 1e-9) {
+            None
+        } else {
+            Some(neck_hi)
+        };
     }
-    let (v, neck) = bridge(lo.exp())?;
-    // Where the bridges end (a gap's fold) still above `volume`, the liquid
-    // would have ruptured into two caps before shrinking to it.
-    if bridge(hi.exp()).is_none() && v > volume * (1.0 + 1e-9) {
-        return None;
-    }
-    Some(neck)
+    let g = |x: Real| at(x).map(|b| volume.ln() - b.0.ln());
+    let root = super::bridge::brent(
+        &g,
+        lo,
+        volume.ln() - v_lo.ln(),
+        hi,
+        volume.ln() - v_hi.ln(),
+        1e-14,
+    )?;
+    at(root).map(|b| b.1)
 }

@@ -168,7 +168,7 @@ fn a_small_solid_bridge_between_touching_spheres_follows_the_ring_law() {
     let pair = Pair::new(1.0, 1.0, 0.0, 0.0).unwrap();
     let bridge = |k: Real| pair.bridge(k).map(|b| (b.volume, b.neck_radius));
     for v in [1e-8, 1e-7, 1e-6] {
-        let a = neck_for_volume(bridge, 1.0, v).unwrap();
+        let a = neck_for_volume(bridge, 1.0, v, None).unwrap();
         let ring = (2.0 / std::f64::consts::PI * v).powf(0.25);
         assert!((a / ring - 1.0).abs() < 0.03, "{v}: {a} against {ring}");
         // The bridge found holds the volume asked for.
@@ -184,8 +184,8 @@ fn a_small_solid_bridge_between_touching_spheres_follows_the_ring_law() {
         assert!(back.volume > 0.5 * v && back.volume < 2.0 * v);
     }
     // The neck grows with the volume.
-    let a1 = neck_for_volume(bridge, 1.0, 1e-4).unwrap();
-    let a2 = neck_for_volume(bridge, 1.0, 1e-3).unwrap();
+    let a1 = neck_for_volume(bridge, 1.0, 1e-4, None).unwrap();
+    let a2 = neck_for_volume(bridge, 1.0, 1e-3, None).unwrap();
     assert!(a2 > a1);
 }
 
@@ -196,15 +196,18 @@ fn spheres_apart_form_no_bridge_from_too_little_solid() {
     let pair = Pair::new(1.0, 1.0, 0.1, 0.0).unwrap();
     let bridge = |k: Real| pair.bridge(k).map(|b| (b.volume, b.neck_radius));
     let smallest = pair.bridge(pair.kappa_max).unwrap().volume;
-    assert!(neck_for_volume(bridge, 1.0, 0.5 * smallest).is_none());
-    assert!(neck_for_volume(bridge, 1.0, 2.0 * smallest).is_some());
+    // With the fold given and found by bisection alike.
+    for fold in [Some(pair.kappa_max), None] {
+        assert!(neck_for_volume(bridge, 1.0, 0.5 * smallest, fold).is_none());
+        assert!(neck_for_volume(bridge, 1.0, 2.0 * smallest, fold).is_some());
+    }
     let far = Pair::new(1.0, 1.0, 5.0, 0.0);
     let none = |k: Real| {
         far.and_then(|p| p.bridge(k))
             .map(|b| (b.volume, b.neck_radius))
     };
     // A small deposit cannot span five radii.
-    assert!(neck_for_volume(none, 1.0, 1e-3).is_none());
+    assert!(neck_for_volume(none, 1.0, 1e-3, None).is_none());
 }
 
 fn deposited(count: u64, seed: u64) -> Bed<3> {
