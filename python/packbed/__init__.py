@@ -346,6 +346,38 @@ class Bed:
             "pores": pd.DataFrame(pores),
         }
 
+    def agglomeration(self, *, progress: ProgressLike = None, **options: Any) -> Dict[str, Any]:
+        """The drained cake dried: its solid bridges and agglomerates (README,
+        "Drying and agglomeration").
+
+        Returns a dict: ``summary`` (``summary.json``'s ``agglomeration``),
+        ``drainage`` (its ``drainage``, the state dried from), and as
+        ``pandas.DataFrame`` ``bridges`` (``bridges.csv``; a missing neck or
+        strength is NaN) and ``agglomerates`` (``agglomerates.csv``), and
+        ``agglomerate_of`` (a numpy array: each particle's agglomerate, 0 for
+        none). ``options`` are keys of ``[analysis]``; ``drying`` for
+        ``[analysis.drying]`` (``concentration``, ``solubility``,
+        ``crystal_density``, ``min_neck``, ``tensile_strength``) and
+        ``drainage`` for ``[analysis.drainage]``. Raises ``ImpossibleError``
+        when the bed has no drying (no bulk slab, no outlet), with the reason.
+        """
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("Bed.agglomeration needs pandas: pip install pandas") from None
+        chosen = dict(options)
+        chosen.setdefault("measures", ["packing", "agglomeration"])
+        with _Progress(progress, "") as p:
+            text, bridges, groups, of = self._bed.agglomeration(_settings(chosen), p)
+        summary = json.loads(text)
+        return {
+            "summary": summary.get("agglomeration"),
+            "drainage": summary.get("drainage"),
+            "bridges": pd.DataFrame(bridges),
+            "agglomerates": pd.DataFrame(groups),
+            "agglomerate_of": of,
+        }
+
     def permeability(self, *, progress: ProgressLike = None, **options: Any) -> Dict[str, Any]:
         """The permeability of the bed's pore network, as ``summary.json``'s ``permeability``.
 

@@ -276,6 +276,32 @@ def test_drainage_matches_the_command(tmp_path, run_cli):
         bed.drainage(drainage={"contact_angle": 90})
 
 
+def test_agglomeration_matches_the_command(tmp_path, run_cli):
+    args = ("--radii", "10", "--box", "160,160,700", "--periodic", "--count", "1200", "--seed", "2")
+    out = tmp_path / "cli"
+    run_cli("run", *args, "--measures", "packing,agglomeration", "--out", str(out), "--quiet", "--no-pictures")
+    bed = packbed.deposit(dim=3, radii=10, box=[160, 160, 700], periodic=True, count=1200, seed=2)
+    pd = optional("pandas")
+    a = bed.agglomeration()
+    summary = json.loads((out / "summary.json").read_text())
+    assert a["summary"] == summary["agglomeration"]
+    assert a["drainage"] == summary["drainage"]
+    bridges = pd.read_csv(out / "bridges.csv")
+    pd.testing.assert_frame_equal(a["bridges"], bridges, check_dtype=False, check_exact=True)
+    groups = pd.read_csv(out / "agglomerates.csv")
+    pd.testing.assert_frame_equal(a["agglomerates"], groups, check_dtype=False, check_exact=True)
+    # Each bond joins two particles of its agglomerate.
+    bonds = a["bridges"][a["bridges"]["bond"] == 1]
+    of = a["agglomerate_of"]
+    assert (of[bonds["particle_a"]] == bonds["agglomerate"]).all()
+    assert (of[bonds["particle_b"]] == bonds["agglomerate"]).all()
+    # Nothing dissolved: nothing bonds.
+    clean = bed.agglomeration(drying={"concentration": 0})
+    assert clean["summary"]["agglomerates"] == 0 and len(clean["bridges"]) == 0
+    with pytest.raises(packbed.ConfigError, match="above the solubility"):
+        bed.agglomeration(drying={"concentration": 60, "solubility": 50})
+
+
 def test_cake_psd_and_compare_match_the_command(tmp_path, run_cli):
     pd = optional("pandas")
     table = tmp_path / "sieve.csv"

@@ -262,6 +262,60 @@ impl Bed {
         ))
     }
 
+    /// The drying with the analysis settings (`measures` given by the
+    /// caller): the measures (JSON text), the columns of `bridges.csv` and
+    /// `agglomerates.csv` as dicts of numpy arrays, and each particle's
+    /// agglomerate (0: none); raises `ImpossibleError` with the reason when
+    /// the bed has no drying.
+    #[pyo3(signature = (settings_json, progress=None))]
+    #[allow(clippy::type_complexity)]
+    fn agglomeration<'py>(
+        &self,
+        py: Python<'py>,
+        settings_json: &str,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<(
+        String,
+        Bound<'py, PyDict>,
+        Bound<'py, PyDict>,
+        Bound<'py, PyArray1<u32>>,
+    )> {
+        let settings = self.settings(settings_json)?;
+        let bed = self.bed();
+        let (_, summary) = detached::run(py, progress, |_| {
+            packbed::analyze_bed(bed, &settings).map_err(to_py)
+        })?;
+        let Some(d) = summary.dried.clone() else {
+            let why = summary
+                .agglomeration_note
+                .clone()
+                .or_else(|| summary.pores_note.clone())
+                .unwrap_or_else(|| "the agglomeration was not asked for".into());
+            return Err(crate::errors::ImpossibleError::new_err(format!(
+                "agglomeration: {why}"
+            )));
+        };
+        let dict = |columns: Vec<(String, packbed::PoreColumn)>| -> PyResult<Bound<'py, PyDict>> {
+            let out = PyDict::new(py);
+            for (name, column) in columns {
+                match column {
+                    packbed::PoreColumn::Int(v) => out.set_item(name, PyArray1::from_vec(py, v))?,
+                    packbed::PoreColumn::Float(v) => {
+                        out.set_item(name, PyArray1::from_vec(py, v))?
+                    }
+                }
+            }
+            Ok(out)
+        };
+        let json = serde_json::to_string(&summary).map_err(|e| config_error(e.to_string()))?;
+        Ok((
+            json,
+            dict(d.bridge_columns())?,
+            dict(d.agglomerate_columns())?,
+            PyArray1::from_vec(py, d.agglomerate_of.clone()),
+        ))
+    }
+
     /// Particle–particle contacts with the analysis settings: arrays i, j, gap.
     #[pyo3(signature = (settings_json))]
     #[allow(clippy::type_complexity)]

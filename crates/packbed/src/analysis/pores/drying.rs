@@ -226,6 +226,46 @@ pub struct Drying {
     pub agglomerate_of: Vec<u32>,
 }
 
+impl Drying {
+    /// The columns of `bridges.csv` (a missing neck or strength is NaN, the
+    /// form pandas gives an empty cell).
+    pub fn bridge_columns(&self) -> Vec<(String, super::Column)> {
+        use super::Column::{Float, Int};
+        let b = &self.bridges;
+        let int = |f: &dyn Fn(&SolidBridge) -> i64| Int(b.iter().map(f).collect());
+        let float = |f: &dyn Fn(&SolidBridge) -> Real| Float(b.iter().map(f).collect());
+        vec![
+            ("particle_a".into(), int(&|r| i64::from(r.particles[0]))),
+            ("particle_b".into(), int(&|r| i64::from(r.particles[1]))),
+            ("sx".into(), int(&|r| i64::from(r.shift[0]))),
+            ("sy".into(), int(&|r| i64::from(r.shift[1]))),
+            ("gap".into(), float(&|r| r.gap)),
+            ("liquid".into(), float(&|r| r.liquid)),
+            ("solid".into(), float(&|r| r.solid)),
+            ("neck_radius".into(), float(&|r| r.neck_radius.unwrap_or(Real::NAN))),
+            ("bond".into(), int(&|r| i64::from(r.bond))),
+            ("strength_n".into(), float(&|r| r.strength.unwrap_or(Real::NAN))),
+            ("agglomerate".into(), int(&|r| i64::from(r.agglomerate))),
+        ]
+    }
+
+    /// The columns of `agglomerates.csv` (a missing strength is NaN).
+    pub fn agglomerate_columns(&self) -> Vec<(String, super::Column)> {
+        use super::Column::{Float, Int};
+        let a = &self.agglomerates;
+        let int = |f: &dyn Fn(&Agglomerate) -> i64| Int(a.iter().map(f).collect());
+        let float = |f: &dyn Fn(&Agglomerate) -> Real| Float(a.iter().map(f).collect());
+        vec![
+            ("agglomerate".into(), int(&|r| i64::from(r.id))),
+            ("particles".into(), int(&|r| r.particles as i64)),
+            ("volume".into(), float(&|r| r.volume)),
+            ("equivalent_diameter".into(), float(&|r| r.equivalent_diameter)),
+            ("bonds".into(), int(&|r| r.bonds as i64)),
+            ("weakest_bond_n".into(), float(&|r| r.weakest_bond.unwrap_or(Real::NAN))),
+        ]
+    }
+}
+
 /// Refuses settings no drying has.
 pub fn check_options(o: &DryingOptions) -> Result<(), Refusal> {
     let nonneg = |x: Real, name: &str| {
