@@ -137,12 +137,14 @@ pub fn liquid_split(
 ) -> Vec<(f64, f64)> {
     let n = g.pores;
     let adj = Adjacency::new(g);
-    let mut order: Vec<u32> = (0..n as u32).collect();
-    order.sort_by(|&a, &b| {
-        drains_at[b as usize]
-            .total_cmp(&drains_at[a as usize])
-            .then(a.cmp(&b))
-    });
+    // Latest drained first, ties by index: packed keys, as in `invade`.
+    let mut keys: Vec<u128> = (0..n)
+        .into_par_iter()
+        .map(|p| (u128::from(!total_key(drains_at[p])) << 64) | p as u128)
+        .collect();
+    keys.par_sort_unstable();
+    let order: Vec<u32> = keys.par_iter().map(|&k| k as u32).collect();
+    drop(keys);
     let mut sets = Sets::new(n + 1);
     let mut volume = vec![0.0; n + 1];
     let mut added = vec![false; n];
@@ -178,6 +180,17 @@ pub fn liquid_split(
         out[k] = (connected, (liquid - connected).max(0.0));
     }
     out
+}
+
+/// An unsigned key whose order is `f64::total_cmp`'s: the sign bit set for
+/// positive values, every bit flipped for negative ones.
+pub(crate) fn total_key(x: f64) -> u64 {
+    let b = x.to_bits();
+    if b >> 63 == 0 {
+        b | 1 << 63
+    } else {
+        !b
+    }
 }
 
 /// Each pore's throats, as (neighbour, throat index) lists in one array.
@@ -228,14 +241,17 @@ pub fn invade(g: &InvasionGraph, trapping: bool) -> Invasion {
             g.inlets[s - inlet_base].1
         }
     };
-    let mut by_rank: Vec<u32> = (0..(inlet_base + g.inlets.len()) as u32)
-        .filter(|&s| entry(s as usize).is_finite())
+    // Sorted as (entry, index) packed in one integer: no indirection to the
+    // entries in the comparisons, and the keys are distinct, so the order is
+    // the same however the sort splits its work.
+    let mut keys: Vec<u128> = (0..inlet_base + g.inlets.len())
+        .into_par_iter()
+        .filter(|&s| entry(s).is_finite())
+        .map(|s| (u128::from(total_key(entry(s))) << 64) | s as u128)
         .collect();
-    by_rank.par_sort_unstable_by(|&a, &b| {
-        entry(a as usize)
-            .total_cmp(&entry(b as usize))
-            .then(a.cmp(&b))
-    });
+    keys.par_sort_unstable();
+    let by_rank: Vec<u32> = keys.par_iter().map(|&k| k as u32).collect();
+    drop(keys);
     let mut rank = vec![u32::MAX; inlet_base + g.inlets.len()];
     for (r, &s) in by_rank.iter().enumerate() {
         rank[s as usize] = r as u32;
@@ -538,6 +554,36 @@ mod tests {
                     graph(n, throats, inlets, &outs)
                 })
         })
+    }
+
+    #[test]
+    fn total_key_orders_as_total_cmp() {
+        let xs = [
+            f64::NEG_INFINITY,
+            -1e300,
+            -1.0,
+            -f64::MIN_POSITIVE,
+            -0.0,
+            0.0,
+            f64::MIN_POSITIVE,
+            1.0,
+            1e300,
+            f64::INFINITY,
+            f64::NAN,
+            -f64::NAN,
+        ];
+        for &a in &xs {
+            for &b in &xs {
+                assert_eq!(total_key(a).cmp(&total_key(b)), a.total_cmp(&b), "{a} {b}");
+            }
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn prop_total_key(a in any::<f64>(), b in any::<f64>()) {
+            prop_assert_eq!(total_key(a).cmp(&total_key(b)), a.total_cmp(&b));
+        }
     }
 
     proptest! {

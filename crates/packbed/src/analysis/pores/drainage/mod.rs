@@ -969,7 +969,9 @@ fn curve_pressures(inv: &Invasion, voids: &[Real], first_entry: Real, points: us
         .filter(|e| e.0.is_finite())
         .map(|(&k, &v)| (k, v))
         .collect();
-    drained.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // Stable: equal curvatures keep pore order, so the running sum below
+    // adds in the same order on any thread count.
+    drained.par_sort_by(|a, b| a.0.total_cmp(&b.0));
     let total: Real = drained.iter().map(|e| e.1).sum();
     let mut acc = 0.0;
     let mut end = first_entry;
