@@ -135,8 +135,20 @@ pub fn liquid_split(
     kappas: &[f64],
     trapping: bool,
 ) -> Vec<(f64, f64)> {
+    liquid_split_on(g, &Adjacency::new(g), drains_at, voids, kappas, trapping)
+}
+
+/// [`liquid_split`] on the graph's [`Adjacency`], built once for the
+/// invasion and the curve.
+pub fn liquid_split_on(
+    g: &InvasionGraph,
+    adj: &Adjacency,
+    drains_at: &[f64],
+    voids: &[f64],
+    kappas: &[f64],
+    trapping: bool,
+) -> Vec<(f64, f64)> {
     let n = g.pores;
-    let adj = Adjacency::new(g);
     // Latest drained first, ties by index: packed keys, as in `invade`.
     let mut keys: Vec<u128> = (0..n)
         .into_par_iter()
@@ -194,13 +206,14 @@ pub(crate) fn total_key(x: f64) -> u64 {
 }
 
 /// Each pore's throats, as (neighbour, throat index) lists in one array.
-struct Adjacency {
+pub struct Adjacency {
     start: Vec<u32>,
     links: Vec<(u32, u32)>,
 }
 
 impl Adjacency {
-    fn new(g: &InvasionGraph) -> Adjacency {
+    /// The adjacency of `g`'s throats.
+    pub fn new(g: &InvasionGraph) -> Adjacency {
         let mut count = vec![0u32; g.pores + 1];
         for &(a, b, _) in &g.throats {
             count[a as usize] += 1;
@@ -222,15 +235,24 @@ impl Adjacency {
     }
 
     fn of(&self, p: usize) -> &[(u32, u32)] {
-        &self.links[self.start[p] as usize..self.start[p + 1] as usize]
+        &self.links[self.range(p)]
+    }
+
+    /// Where pore `p`'s links lie in `links`.
+    fn range(&self, p: usize) -> std::ops::Range<usize> {
+        self.start[p] as usize..self.start[p + 1] as usize
     }
 }
 
 /// Drains `g`: invasion percolation from its inlets, with trapping when
 /// `trapping` is set.
 pub fn invade(g: &InvasionGraph, trapping: bool) -> Invasion {
+    invade_on(g, &Adjacency::new(g), trapping)
+}
+
+/// [`invade`] on the graph's [`Adjacency`].
+pub fn invade_on(g: &InvasionGraph, adj: &Adjacency, trapping: bool) -> Invasion {
     let n = g.pores;
-    let adj = Adjacency::new(g);
     // Steps are numbered throats first, then inlets; only finite entries
     // are ever taken.
     let inlet_base = g.throats.len();
@@ -267,6 +289,16 @@ pub fn invade(g: &InvasionGraph, trapping: bool) -> Invasion {
             frontier.insert(r as usize);
         }
     }
+    // The loop below is serial and reads these at random: each link with
+    // its step's rank, each rank with its entry, one read instead of two.
+    let link_rank: Vec<u32> = adj
+        .links
+        .par_iter()
+        .map(|&(_, t)| rank[t as usize])
+        .collect();
+    drop(rank);
+    let rank_entry: Vec<f64> = by_rank.par_iter().map(|&s| entry(s as usize)).collect();
+    drop(by_rank);
     let mut reached_at = vec![f64::INFINITY; n];
     let mut order: Vec<u32> = Vec::with_capacity(n);
     let mut pressure: f64 = 0.0;
@@ -277,11 +309,11 @@ pub fn invade(g: &InvasionGraph, trapping: bool) -> Invasion {
             continue;
         }
         invaded[p] = true;
-        pressure = pressure.max(entry(by_rank[r] as usize));
+        pressure = pressure.max(rank_entry[r]);
         reached_at[p] = pressure;
         order.push(p as u32);
-        for &(q, t) in adj.of(p) {
-            let r = rank[t as usize];
+        let links = adj.range(p);
+        for (&(q, _), &r) in adj.links[links.clone()].iter().zip(&link_rank[links]) {
             if !invaded[q as usize] && r != u32::MAX {
                 towards[r as usize] = q;
                 frontier.insert(r as usize);
@@ -289,7 +321,7 @@ pub fn invade(g: &InvasionGraph, trapping: bool) -> Invasion {
         }
     }
     let trapped = if trapping {
-        trapped_pores(g, &adj, &order)
+        trapped_pores(g, adj, &order)
     } else {
         vec![false; n]
     };

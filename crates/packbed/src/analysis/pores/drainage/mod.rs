@@ -550,7 +550,8 @@ pub fn drain<const D: usize>(
                 .into(),
         );
     }
-    let invasion = invasion::invade(&graph, options.trapping);
+    let adjacency = invasion::Adjacency::new(&graph);
+    let invasion = invasion::invade_on(&graph, &adjacency, options.trapping);
     clock.lap("pores/drainage/invasion");
     let voids: Vec<Real> = members
         .iter()
@@ -615,8 +616,9 @@ pub fn drain<const D: usize>(
     curve_kappas.dedup();
     // The whole curve in two sweeps: the liquid's split in one pass back
     // through the pressures, the bridges edge by edge.
-    let split = invasion::liquid_split(
+    let split = invasion::liquid_split_on(
         &graph,
+        &adjacency,
         &invasion.drains_at,
         &voids,
         &curve_kappas,

@@ -219,30 +219,35 @@ impl Pendular {
             })
             .collect();
         entries.par_sort_unstable_by_key(|e| e.0);
-        let mut edges: Vec<Edge> = Vec::new();
-        let mut around = Vec::with_capacity(entries.len());
-        let mut last = None;
-        for &(x, share, gap) in &entries {
-            let k = x >> 32;
-            if last != Some(k) {
-                last = Some(k);
+        // An edge starts where the key changes; its pores run to the next.
+        let starts: Vec<usize> = (0..entries.len())
+            .into_par_iter()
+            .filter(|&i| i == 0 || entries[i].0 >> 32 != entries[i - 1].0 >> 32)
+            .collect();
+        let mut edges: Vec<Edge> = starts
+            .par_iter()
+            .enumerate()
+            .map(|(j, &start)| {
+                let end = starts.get(j + 1).copied().unwrap_or(entries.len());
+                let (x, _, gap) = entries[start];
                 let (particles, shift) = unpack(x);
-                let start = around.len();
-                edges.push(Edge {
+                Edge {
                     particles,
                     shift,
                     radii: particles.map(|q| bed.radii[q as usize]),
                     gap,
                     pair: None,
-                    pores: start..start,
-                });
-            }
-            let p = x as u32;
-            around.push((p, share, in_slab[p as usize]));
-            if let Some(e) = edges.last_mut() {
-                e.pores.end = around.len();
-            }
-        }
+                    pores: start..end,
+                }
+            })
+            .collect();
+        let around: Vec<(u32, Real, bool)> = entries
+            .par_iter()
+            .map(|&(x, share, _)| {
+                let p = x as u32;
+                (p, share, in_slab[p as usize])
+            })
+            .collect();
         drop(entries);
         if D == 3 {
             edges.par_iter_mut().for_each(|e| {
