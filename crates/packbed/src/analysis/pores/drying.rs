@@ -242,9 +242,15 @@ impl Drying {
             ("gap".into(), float(&|r| r.gap)),
             ("liquid".into(), float(&|r| r.liquid)),
             ("solid".into(), float(&|r| r.solid)),
-            ("neck_radius".into(), float(&|r| r.neck_radius.unwrap_or(Real::NAN))),
+            (
+                "neck_radius".into(),
+                float(&|r| r.neck_radius.unwrap_or(Real::NAN)),
+            ),
             ("bond".into(), int(&|r| i64::from(r.bond))),
-            ("strength_n".into(), float(&|r| r.strength.unwrap_or(Real::NAN))),
+            (
+                "strength_n".into(),
+                float(&|r| r.strength.unwrap_or(Real::NAN)),
+            ),
             ("agglomerate".into(), int(&|r| i64::from(r.agglomerate))),
         ]
     }
@@ -259,9 +265,15 @@ impl Drying {
             ("agglomerate".into(), int(&|r| i64::from(r.id))),
             ("particles".into(), int(&|r| r.particles as i64)),
             ("volume".into(), float(&|r| r.volume)),
-            ("equivalent_diameter".into(), float(&|r| r.equivalent_diameter)),
+            (
+                "equivalent_diameter".into(),
+                float(&|r| r.equivalent_diameter),
+            ),
             ("bonds".into(), int(&|r| r.bonds as i64)),
-            ("weakest_bond_n".into(), float(&|r| r.weakest_bond.unwrap_or(Real::NAN))),
+            (
+                "weakest_bond_n".into(),
+                float(&|r| r.weakest_bond.unwrap_or(Real::NAN)),
+            ),
         ]
     }
 }

@@ -135,14 +135,28 @@ pub fn liquid_split(
     kappas: &[f64],
     trapping: bool,
 ) -> Vec<(f64, f64)> {
+    liquid_split_on(g, &Adjacency::new(g), drains_at, voids, kappas, trapping)
+}
+
+/// [`liquid_split`] on the graph's [`Adjacency`], built once for the
+/// invasion and the curve.
+pub fn liquid_split_on(
+    g: &InvasionGraph,
+    adj: &Adjacency,
+    drains_at: &[f64],
+    voids: &[f64],
+    kappas: &[f64],
+    trapping: bool,
+) -> Vec<(f64, f64)> {
     let n = g.pores;
-    let adj = Adjacency::new(g);
-    let mut order: Vec<u32> = (0..n as u32).collect();
-    order.sort_by(|&a, &b| {
-        drains_at[b as usize]
-            .total_cmp(&drains_at[a as usize])
-            .then(a.cmp(&b))
-    });
+    // Latest drained first, ties by index: packed keys, as in `invade`.
+    let mut keys: Vec<u128> = (0..n)
+        .into_par_iter()
+        .map(|p| (u128::from(!total_key(drains_at[p])) << 64) | p as u128)
+        .collect();
+    keys.par_sort_unstable();
+    let order: Vec<u32> = keys.par_iter().map(|&k| k as u32).collect();
+    drop(keys);
     let mut sets = Sets::new(n + 1);
     let mut volume = vec![0.0; n + 1];
     let mut added = vec![false; n];
@@ -180,14 +194,26 @@ pub fn liquid_split(
     out
 }
 
+/// An unsigned key whose order is `f64::total_cmp`'s: the sign bit set for
+/// positive values, every bit flipped for negative ones.
+pub(crate) fn total_key(x: f64) -> u64 {
+    let b = x.to_bits();
+    if b >> 63 == 0 {
+        b | 1 << 63
+    } else {
+        !b
+    }
+}
+
 /// Each pore's throats, as (neighbour, throat index) lists in one array.
-struct Adjacency {
+pub struct Adjacency {
     start: Vec<u32>,
     links: Vec<(u32, u32)>,
 }
 
 impl Adjacency {
-    fn new(g: &InvasionGraph) -> Adjacency {
+    /// The adjacency of `g`'s throats.
+    pub fn new(g: &InvasionGraph) -> Adjacency {
         let mut count = vec![0u32; g.pores + 1];
         for &(a, b, _) in &g.throats {
             count[a as usize] += 1;
@@ -209,15 +235,24 @@ impl Adjacency {
     }
 
     fn of(&self, p: usize) -> &[(u32, u32)] {
-        &self.links[self.start[p] as usize..self.start[p + 1] as usize]
+        &self.links[self.range(p)]
+    }
+
+    /// Where pore `p`'s links lie in `links`.
+    fn range(&self, p: usize) -> std::ops::Range<usize> {
+        self.start[p] as usize..self.start[p + 1] as usize
     }
 }
 
 /// Drains `g`: invasion percolation from its inlets, with trapping when
 /// `trapping` is set.
 pub fn invade(g: &InvasionGraph, trapping: bool) -> Invasion {
+    invade_on(g, &Adjacency::new(g), trapping)
+}
+
+/// [`invade`] on the graph's [`Adjacency`].
+pub fn invade_on(g: &InvasionGraph, adj: &Adjacency, trapping: bool) -> Invasion {
     let n = g.pores;
-    let adj = Adjacency::new(g);
     // Steps are numbered throats first, then inlets; only finite entries
     // are ever taken.
     let inlet_base = g.throats.len();
@@ -228,14 +263,17 @@ pub fn invade(g: &InvasionGraph, trapping: bool) -> Invasion {
             g.inlets[s - inlet_base].1
         }
     };
-    let mut by_rank: Vec<u32> = (0..(inlet_base + g.inlets.len()) as u32)
-        .filter(|&s| entry(s as usize).is_finite())
+    // Sorted as (entry, index) packed in one integer: no indirection to the
+    // entries in the comparisons, and the keys are distinct, so the order is
+    // the same however the sort splits its work.
+    let mut keys: Vec<u128> = (0..inlet_base + g.inlets.len())
+        .into_par_iter()
+        .filter(|&s| entry(s).is_finite())
+        .map(|s| (u128::from(total_key(entry(s))) << 64) | s as u128)
         .collect();
-    by_rank.par_sort_unstable_by(|&a, &b| {
-        entry(a as usize)
-            .total_cmp(&entry(b as usize))
-            .then(a.cmp(&b))
-    });
+    keys.par_sort_unstable();
+    let by_rank: Vec<u32> = keys.par_iter().map(|&k| k as u32).collect();
+    drop(keys);
     let mut rank = vec![u32::MAX; inlet_base + g.inlets.len()];
     for (r, &s) in by_rank.iter().enumerate() {
         rank[s as usize] = r as u32;
@@ -251,6 +289,16 @@ pub fn invade(g: &InvasionGraph, trapping: bool) -> Invasion {
             frontier.insert(r as usize);
         }
     }
+    // The loop below is serial and reads these at random: each link with
+    // its step's rank, each rank with its entry, one read instead of two.
+    let link_rank: Vec<u32> = adj
+        .links
+        .par_iter()
+        .map(|&(_, t)| rank[t as usize])
+        .collect();
+    drop(rank);
+    let rank_entry: Vec<f64> = by_rank.par_iter().map(|&s| entry(s as usize)).collect();
+    drop(by_rank);
     let mut reached_at = vec![f64::INFINITY; n];
     let mut order: Vec<u32> = Vec::with_capacity(n);
     let mut pressure: f64 = 0.0;
@@ -261,11 +309,11 @@ pub fn invade(g: &InvasionGraph, trapping: bool) -> Invasion {
             continue;
         }
         invaded[p] = true;
-        pressure = pressure.max(entry(by_rank[r] as usize));
+        pressure = pressure.max(rank_entry[r]);
         reached_at[p] = pressure;
         order.push(p as u32);
-        for &(q, t) in adj.of(p) {
-            let r = rank[t as usize];
+        let links = adj.range(p);
+        for (&(q, _), &r) in adj.links[links.clone()].iter().zip(&link_rank[links]) {
             if !invaded[q as usize] && r != u32::MAX {
                 towards[r as usize] = q;
                 frontier.insert(r as usize);
@@ -273,7 +321,7 @@ pub fn invade(g: &InvasionGraph, trapping: bool) -> Invasion {
         }
     }
     let trapped = if trapping {
-        trapped_pores(g, &adj, &order)
+        trapped_pores(g, adj, &order)
     } else {
         vec![false; n]
     };
@@ -538,6 +586,36 @@ mod tests {
                     graph(n, throats, inlets, &outs)
                 })
         })
+    }
+
+    #[test]
+    fn total_key_orders_as_total_cmp() {
+        let xs = [
+            f64::NEG_INFINITY,
+            -1e300,
+            -1.0,
+            -f64::MIN_POSITIVE,
+            -0.0,
+            0.0,
+            f64::MIN_POSITIVE,
+            1.0,
+            1e300,
+            f64::INFINITY,
+            f64::NAN,
+            -f64::NAN,
+        ];
+        for &a in &xs {
+            for &b in &xs {
+                assert_eq!(total_key(a).cmp(&total_key(b)), a.total_cmp(&b), "{a} {b}");
+            }
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn prop_total_key(a in any::<f64>(), b in any::<f64>()) {
+            prop_assert_eq!(total_key(a).cmp(&total_key(b)), a.total_cmp(&b));
+        }
     }
 
     proptest! {

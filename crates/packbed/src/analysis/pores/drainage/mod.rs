@@ -575,7 +575,8 @@ pub fn drain_wet<const D: usize>(
                 .into(),
         );
     }
-    let invasion = invasion::invade(&graph, options.trapping);
+    let adjacency = invasion::Adjacency::new(&graph);
+    let invasion = invasion::invade_on(&graph, &adjacency, options.trapping);
     clock.lap("pores/drainage/invasion");
     let voids: Vec<Real> = members
         .iter()
@@ -640,8 +641,9 @@ pub fn drain_wet<const D: usize>(
     curve_kappas.dedup();
     // The whole curve in two sweeps: the liquid's split in one pass back
     // through the pressures, the bridges edge by edge.
-    let split = invasion::liquid_split(
+    let split = invasion::liquid_split_on(
         &graph,
+        &adjacency,
         &invasion.drains_at,
         &voids,
         &curve_kappas,
@@ -1001,7 +1003,9 @@ fn curve_pressures(inv: &Invasion, voids: &[Real], first_entry: Real, points: us
         .filter(|e| e.0.is_finite())
         .map(|(&k, &v)| (k, v))
         .collect();
-    drained.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // Stable: equal curvatures keep pore order, so the running sum below
+    // adds in the same order on any thread count.
+    drained.par_sort_by(|a, b| a.0.total_cmp(&b.0));
     let total: Real = drained.iter().map(|e| e.1).sum();
     let mut acc = 0.0;
     let mut end = first_entry;

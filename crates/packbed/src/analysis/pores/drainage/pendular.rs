@@ -41,14 +41,17 @@ struct Edge {
     gap: Real,
     /// The pair's bridges (3D), its fold found once.
     pair: Option<bridge::Pair>,
-    /// The pores around the edge: (network pore, share of the bridge it
-    /// holds, whether it is a pore of the slab).
-    pores: Vec<(u32, Real, bool)>,
+    /// Where its pores lie in [`Pendular::around`].
+    pores: std::ops::Range<usize>,
 }
 
 /// The candidate bridges of a network.
 pub struct Pendular {
     edges: Vec<Edge>,
+    /// The pores around each edge, edge after edge: (network pore, share of
+    /// the bridge it holds, whether it is a pore of the slab). One array for
+    /// all edges rather than a list per edge: millions of edges.
+    around: Vec<(u32, Real, bool)>,
     theta: Real,
     dim: usize,
     /// Slab index of each network pore (`u32::MAX` off the slab).
@@ -108,6 +111,25 @@ fn key(a: Site, b: Site, periodic: bool) -> Option<(u32, u32, [i8; 2], [i8; 2])>
     }
 }
 
+/// An edge key and a pore in one integer ordered as the tuple `(key, pore)`:
+/// particles, shifts (each `i8` offset by 128 to order as unsigned), pore.
+fn pack(k: (u32, u32, [i8; 2], [i8; 2]), p: u32) -> u128 {
+    let b = |x: i8| u128::from(x as u8 ^ 0x80);
+    (u128::from(k.0) << 96)
+        | (u128::from(k.1) << 64)
+        | (b(k.2[0]) << 56)
+        | (b(k.2[1]) << 48)
+        | (b(k.3[0]) << 40)
+        | (b(k.3[1]) << 32)
+        | u128::from(p)
+}
+
+/// The particles and shift of a packed key (the pore is its low 32 bits).
+fn unpack(x: u128) -> ([u32; 2], [i8; 2]) {
+    let b = |s: u32| ((x >> s) as u8 ^ 0x80) as i8;
+    ([(x >> 96) as u32, (x >> 64) as u32], [b(56), b(48)])
+}
+
 /// The two vertices of a tetrahedron off its edge `(i, j)`.
 fn others(i: usize, j: usize) -> [usize; 2] {
     let mut out = [0; 2];
@@ -137,15 +159,23 @@ impl Pendular {
         kappa_lo: Real,
     ) -> Pendular {
         let periodic = bed.container.periodic;
-        type Entry = ((u32, u32, [i8; 2], [i8; 2]), u32, Real, Real);
+        // (packed key and pore, share, gap): sorted by the key, every pore
+        // of an edge follows the edge's first.
+        type Entry = (u128, Real, Real);
         let mut entries: Vec<Entry> = net
             .pores
             .par_iter()
             .enumerate()
             .flat_map_iter(|(p, pore)| {
-                let pos: Vec<[Real; D]> =
-                    pore.sites[..=D].iter().map(|&s| s.position(bed)).collect();
-                let mut out: Vec<Entry> = Vec::new();
+                let pos: [[Real; D]; 4] = std::array::from_fn(|m| {
+                    if m <= D {
+                        pore.sites[m].position(bed)
+                    } else {
+                        [0.0; D]
+                    }
+                });
+                let mut out: [Option<Entry>; 6] = [None; 6];
+                let mut n = 0;
                 for i in 0..=D {
                     for j in i + 1..=D {
                         let (a, b) = (pore.sites[i], pore.sites[j]);
@@ -181,31 +211,44 @@ impl Pendular {
                         } else {
                             0.5
                         };
-                        out.push((k, p as u32, share, gap));
+                        out[n] = Some((pack(k, p as u32), share, gap));
+                        n += 1;
                     }
                 }
-                out
+                out.into_iter().flatten()
             })
             .collect();
-        entries.par_sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(&b.1)));
-        let mut edges: Vec<Edge> = Vec::new();
-        let mut last = None;
-        for (k, p, share, gap) in entries {
-            if last != Some(k) {
-                last = Some(k);
-                edges.push(Edge {
-                    particles: [k.0, k.1],
-                    shift: k.2,
-                    radii: [bed.radii[k.0 as usize], bed.radii[k.1 as usize]],
+        entries.par_sort_unstable_by_key(|e| e.0);
+        // An edge starts where the key changes; its pores run to the next.
+        let starts: Vec<usize> = (0..entries.len())
+            .into_par_iter()
+            .filter(|&i| i == 0 || entries[i].0 >> 32 != entries[i - 1].0 >> 32)
+            .collect();
+        let mut edges: Vec<Edge> = starts
+            .par_iter()
+            .enumerate()
+            .map(|(j, &start)| {
+                let end = starts.get(j + 1).copied().unwrap_or(entries.len());
+                let (x, _, gap) = entries[start];
+                let (particles, shift) = unpack(x);
+                Edge {
+                    particles,
+                    shift,
+                    radii: particles.map(|q| bed.radii[q as usize]),
                     gap,
                     pair: None,
-                    pores: Vec::new(),
-                });
-            }
-            if let Some(e) = edges.last_mut() {
-                e.pores.push((p, share, in_slab[p as usize]));
-            }
-        }
+                    pores: start..end,
+                }
+            })
+            .collect();
+        let around: Vec<(u32, Real, bool)> = entries
+            .par_iter()
+            .map(|&(x, share, _)| {
+                let p = x as u32;
+                (p, share, in_slab[p as usize])
+            })
+            .collect();
+        drop(entries);
         if D == 3 {
             edges.par_iter_mut().for_each(|e| {
                 e.pair = bridge::Pair::new(e.radii[0], e.radii[1], e.gap, theta);
@@ -222,17 +265,23 @@ impl Pendular {
         }
         Pendular {
             edges,
+            around,
             theta,
             dim: D,
             slab_index,
         }
     }
 
+    /// The pores around edge `e`.
+    fn around(&self, e: &Edge) -> &[(u32, Real, bool)] {
+        &self.around[e.pores.clone()]
+    }
+
     /// The bridge of edge `e` at curvature `kappa`, if every pore around it
     /// has drained by then (`drains_at` per network pore).
     fn bridge(&self, e: &Edge, drains_at: &[Real], kappa: Real) -> Option<bridge::Bridge> {
-        if !e
-            .pores
+        if !self
+            .around(e)
             .iter()
             .all(|&(p, _, _)| drains_at[p as usize] <= kappa)
         {
@@ -259,9 +308,9 @@ impl Pendular {
 
     /// The first of the ascending curvatures `kappas` at which every pore
     /// around `e` has drained (`kappas.len()`: none).
-    fn first_drained(e: &Edge, drains_at: &[Real], kappas: &[Real]) -> usize {
-        let t = e
-            .pores
+    fn first_drained(&self, e: &Edge, drains_at: &[Real], kappas: &[Real]) -> usize {
+        let t = self
+            .around(e)
             .iter()
             .map(|p| drains_at[p.0 as usize])
             .fold(Real::NEG_INFINITY, Real::max);
@@ -281,7 +330,8 @@ impl Pendular {
     pub fn totals(&self, drains_at: &[Real], kappas: &[Real], voids: &[Real]) -> Vec<Real> {
         const BLOCK: usize = 4096;
         let n = kappas.len();
-        let slab_share = |e: &Edge| -> Real { e.pores.iter().filter(|p| p.2).map(|p| p.1).sum() };
+        let slab_share =
+            |e: &Edge| -> Real { self.around(e).iter().filter(|p| p.2).map(|p| p.1).sum() };
         let blocks: Vec<(Vec<Real>, Vec<Real>)> = self
             .edges
             .par_chunks(BLOCK)
@@ -293,7 +343,7 @@ impl Pendular {
                     if !(share > 0.0) {
                         continue;
                     }
-                    for k in Self::first_drained(e, drains_at, kappas)..n {
+                    for k in self.first_drained(e, drains_at, kappas)..n {
                         if let Some(b) = self.bridge_of(e, kappas[k]) {
                             sums[k] += share * b.volume;
                             *most = Real::max(*most, b.volume);
@@ -314,7 +364,7 @@ impl Pendular {
         let mut upper = vec![0.0; voids.len()];
         for (e, &most) in self.edges.iter().zip(&largest) {
             if most > 0.0 {
-                for &(p, share, slab) in &e.pores {
+                for &(p, share, slab) in self.around(e) {
                     if slab {
                         upper[self.slab_index[p as usize] as usize] += share * most;
                     }
@@ -336,7 +386,7 @@ impl Pendular {
         }
         for (k, (e, &most)) in self.edges.iter().zip(&largest).enumerate() {
             if most > 0.0 {
-                for &(p, share, slab) in &e.pores {
+                for &(p, share, slab) in self.around(e) {
                     if slab {
                         let s = slot[self.slab_index[p as usize] as usize];
                         if s != u32::MAX {
@@ -356,7 +406,7 @@ impl Pendular {
                     for (j, h) in held
                         .iter_mut()
                         .enumerate()
-                        .skip(Self::first_drained(e, drains_at, kappas))
+                        .skip(self.first_drained(e, drains_at, kappas))
                     {
                         if let Some(b) = self.bridge_of(e, kappas[j]) {
                             *h += share * b.volume;
@@ -392,7 +442,7 @@ impl Pendular {
     pub fn pores_pairs(&self, pores: usize) -> (Vec<u32>, Vec<(u32, Real)>) {
         let mut start = vec![0u32; pores + 1];
         for e in &self.edges {
-            for &(p, _, _) in &e.pores {
+            for &(p, _, _) in self.around(e) {
                 start[p as usize + 1] += 1;
             }
         }
@@ -402,7 +452,7 @@ impl Pendular {
         let mut fill = start.clone();
         let mut links = vec![(0, 0.0); start[pores] as usize];
         for (k, e) in self.edges.iter().enumerate() {
-            for &(p, share, _) in &e.pores {
+            for &(p, share, _) in self.around(e) {
                 links[fill[p as usize] as usize] = (k as u32, share);
                 fill[p as usize] += 1;
             }
@@ -421,7 +471,7 @@ impl Pendular {
     /// drained by then.
     pub fn slab_bridge(&self, e: usize, drains_at: &[Real], kappa: Real) -> Real {
         let x = &self.edges[e];
-        let share: Real = x.pores.iter().filter(|p| p.2).map(|p| p.1).sum();
+        let share: Real = self.around(x).iter().filter(|p| p.2).map(|p| p.1).sum();
         if !(share > 0.0) {
             return 0.0;
         }
@@ -454,7 +504,7 @@ impl Pendular {
             .edges
             .par_iter()
             .map(|e| {
-                if !e.pores.iter().any(|p| p.2) {
+                if !self.around(e).iter().any(|p| p.2) {
                     return 0.0;
                 }
                 self.bridge(e, drains_at, kappa).map_or(0.0, |b| b.volume)
@@ -462,7 +512,7 @@ impl Pendular {
             .collect();
         for (e, &v) in self.edges.iter().zip(&volumes) {
             if v > 0.0 {
-                for &(p, share, slab) in &e.pores {
+                for &(p, share, slab) in self.around(e) {
                     if slab {
                         per_pore[self.slab_index[p as usize] as usize] += share * v;
                     }
@@ -487,10 +537,10 @@ impl Pendular {
     pub fn bridges(&self, drains_at: &[Real], kappa: Real) -> Vec<BridgeRow> {
         self.edges
             .iter()
-            .filter(|e| e.pores.iter().any(|p| p.2))
+            .filter(|e| self.around(e).iter().any(|p| p.2))
             .filter_map(|e| {
                 let b = self.bridge(e, drains_at, kappa)?;
-                let share: Real = e.pores.iter().filter(|p| p.2).map(|p| p.1).sum();
+                let share: Real = self.around(e).iter().filter(|p| p.2).map(|p| p.1).sum();
                 Some(BridgeRow {
                     particles: e.particles,
                     shift: e.shift,
@@ -579,4 +629,38 @@ pub fn neck_for_volume(
         1e-14,
     )?;
     at(root).map(|b| b.1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    type Key = (u32, u32, [i8; 2], [i8; 2]);
+
+    fn key_strategy() -> impl Strategy<Value = (Key, u32)> {
+        (
+            (
+                any::<u32>(),
+                any::<u32>(),
+                any::<[i8; 2]>(),
+                any::<[i8; 2]>(),
+            ),
+            any::<u32>(),
+        )
+    }
+
+    proptest! {
+        /// The packed keys sort as the tuples they pack, and give the
+        /// particles and shift back.
+        #[test]
+        fn prop_pack_orders_as_the_tuple(a in key_strategy(), b in key_strategy()) {
+            let (pa, pb) = (pack(a.0, a.1), pack(b.0, b.1));
+            prop_assert_eq!(pa.cmp(&pb), a.cmp(&b));
+            prop_assert_eq!(unpack(pa), ([a.0 .0, a.0 .1], a.0 .2));
+            prop_assert_eq!(pa as u32, a.1);
+            // Same edge exactly when the high 96 bits agree.
+            prop_assert_eq!(pa >> 32 == pb >> 32, a.0 == b.0);
+        }
+    }
 }
