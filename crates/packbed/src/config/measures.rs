@@ -91,20 +91,69 @@ pub struct DryingConfig {
     pub tensile_strength: Real,
 }
 
+/// The default liquid's solute: a mother liquor saturated at 50 kg/m³.
+pub const DEFAULT_CONCENTRATION: Real = 50.0;
+/// The density of organic crystals (1.2–1.6 g/cm³): 1,500 kg/m³.
+pub const DEFAULT_CRYSTAL_DENSITY: Real = 1500.0;
+/// A bond's smallest neck: 5 % of the pair's harmonic mean radius.
+pub const DEFAULT_MIN_NECK: Real = 0.05;
+/// Rock salt's practical breaking stress, 0.4 kgf/mm² (about 4 MPa).
+pub const DEFAULT_TENSILE_STRENGTH: Real = 3.9e6;
+
 fn default_concentration() -> Real {
-    crate::analysis::pores::drying::DEFAULT_CONCENTRATION
+    DEFAULT_CONCENTRATION
 }
 
 fn default_crystal_density() -> Real {
-    crate::analysis::pores::drying::DEFAULT_CRYSTAL_DENSITY
+    DEFAULT_CRYSTAL_DENSITY
 }
 
 fn default_min_neck() -> Real {
-    crate::analysis::pores::drying::DEFAULT_MIN_NECK
+    DEFAULT_MIN_NECK
 }
 
 fn default_tensile_strength() -> Real {
-    crate::analysis::pores::drying::DEFAULT_TENSILE_STRENGTH
+    DEFAULT_TENSILE_STRENGTH
+}
+
+/// What is wrong with a drying's settings (concentration and solubility in
+/// kg/m³, crystal density in kg/m³, the smallest bond neck, the tensile
+/// strength in Pa), in one line; `None` when nothing is.
+pub fn drying_problem(
+    concentration: Real,
+    solubility: Real,
+    crystal_density: Real,
+    min_neck: Real,
+    tensile_strength: Real,
+) -> Option<String> {
+    let nonneg = |x: Real, name: &str| {
+        (!(x.is_finite() && x >= 0.0))
+            .then(|| format!("drying: {name} must be finite and at least 0, got {x}"))
+    };
+    nonneg(concentration, "concentration (kg/m³)")
+        .or_else(|| {
+            (!(crystal_density.is_finite() && crystal_density > 0.0)).then(|| {
+                format!(
+                    "drying: crystal_density (kg/m³) must be finite and positive, got {crystal_density}"
+                )
+            })
+        })
+        .or_else(|| nonneg(min_neck, "min_neck"))
+        .or_else(|| nonneg(tensile_strength, "tensile_strength (Pa)"))
+        .or_else(|| {
+            // NaN is refused too: `> 0` is false for it.
+            (solubility.is_nan() || solubility <= 0.0)
+                .then(|| format!("drying: solubility (kg/m³) must be positive, got {solubility}"))
+        })
+        .or_else(|| {
+            (concentration > solubility).then(|| {
+                format!(
+                    "drying: the concentration {concentration} kg/m³ is above the solubility \
+                     {solubility} kg/m³ (a liquid cannot hold more than it dissolves): lower the \
+                     concentration or raise the solubility"
+                )
+            })
+        })
 }
 
 impl Default for DryingConfig {
@@ -125,25 +174,28 @@ impl DryingConfig {
         *self == DryingConfig::default()
     }
 
-    /// The drying's settings.
-    pub fn options(&self) -> crate::analysis::pores::drying::DryingOptions {
-        crate::analysis::pores::drying::DryingOptions {
-            concentration: self.concentration,
-            // A liquid with nothing dissolved has no solubility to reach.
-            solubility: self.solubility.unwrap_or(if self.concentration > 0.0 {
-                self.concentration
-            } else {
-                Real::INFINITY
-            }),
-            crystal_density: self.crystal_density,
-            min_neck: self.min_neck,
-            tensile_strength: self.tensile_strength,
-        }
+    /// The solubility the drying uses: the one given, else the
+    /// concentration (a saturated liquid), `+∞` for a liquid with nothing
+    /// dissolved (no solubility to reach).
+    pub fn solubility_or_default(&self) -> Real {
+        self.solubility.unwrap_or(if self.concentration > 0.0 {
+            self.concentration
+        } else {
+            Real::INFINITY
+        })
     }
 
     fn check(&self) -> Result<()> {
-        crate::analysis::pores::drying::check_options(&self.options())
-            .map_err(|why| Error::config(format!("analysis.{why}")))
+        match drying_problem(
+            self.concentration,
+            self.solubility_or_default(),
+            self.crystal_density,
+            self.min_neck,
+            self.tensile_strength,
+        ) {
+            Some(why) => Err(Error::config(format!("analysis.{why}"))),
+            None => Ok(()),
+        }
     }
 }
 

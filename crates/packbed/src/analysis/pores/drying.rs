@@ -92,14 +92,9 @@ pub struct DryingOptions {
     pub tensile_strength: Real,
 }
 
-/// The default liquid's solute: a mother liquor saturated at 50 kg/m³.
-pub const DEFAULT_CONCENTRATION: Real = 50.0;
-/// The density of organic crystals (1.2–1.6 g/cm³): 1,500 kg/m³.
-pub const DEFAULT_CRYSTAL_DENSITY: Real = 1500.0;
-/// A bond's smallest neck: 5 % of the pair's harmonic mean radius.
-pub const DEFAULT_MIN_NECK: Real = 0.05;
-/// Rock salt's practical breaking stress, 0.4 kgf/mm² (about 4 MPa).
-pub const DEFAULT_TENSILE_STRENGTH: Real = 3.9e6;
+pub use crate::config::{
+    DEFAULT_CONCENTRATION, DEFAULT_CRYSTAL_DENSITY, DEFAULT_MIN_NECK, DEFAULT_TENSILE_STRENGTH,
+};
 
 impl Default for DryingOptions {
     fn default() -> Self {
@@ -280,42 +275,29 @@ impl Drying {
 
 /// Refuses settings no drying has.
 pub fn check_options(o: &DryingOptions) -> Result<(), Refusal> {
-    let nonneg = |x: Real, name: &str| {
-        if x.is_finite() && x >= 0.0 {
-            Ok(())
-        } else {
-            Err(format!(
-                "drying: {name} must be finite and at least 0, got {x}"
-            ))
-        }
-    };
-    let positive = |x: Real, name: &str| {
-        if x.is_finite() && x > 0.0 {
-            Ok(())
-        } else {
-            Err(format!(
-                "drying: {name} must be finite and positive, got {x}"
-            ))
-        }
-    };
-    nonneg(o.concentration, "concentration (kg/m³)")?;
-    positive(o.crystal_density, "crystal_density (kg/m³)")?;
-    nonneg(o.min_neck, "min_neck")?;
-    nonneg(o.tensile_strength, "tensile_strength (Pa)")?;
-    if !(o.solubility > 0.0) {
-        return Err(format!(
-            "drying: solubility (kg/m³) must be positive, got {}",
-            o.solubility
-        ));
+    match crate::config::drying_problem(
+        o.concentration,
+        o.solubility,
+        o.crystal_density,
+        o.min_neck,
+        o.tensile_strength,
+    ) {
+        Some(why) => Err(why),
+        None => Ok(()),
     }
-    if o.concentration > o.solubility {
-        return Err(format!(
-            "drying: the concentration {} kg/m³ is above the solubility {} kg/m³ (a liquid \
-             cannot hold more than it dissolves): lower the concentration or raise the solubility",
-            o.concentration, o.solubility
-        ));
+}
+
+impl crate::config::DryingConfig {
+    /// The drying's settings.
+    pub fn options(&self) -> DryingOptions {
+        DryingOptions {
+            concentration: self.concentration,
+            solubility: self.solubility_or_default(),
+            crystal_density: self.crystal_density,
+            min_neck: self.min_neck,
+            tensile_strength: self.tensile_strength,
+        }
     }
-    Ok(())
 }
 
 /// The solid each pore leaves as it empties (crystal volume), for pores
