@@ -67,6 +67,14 @@ class Bed:
         dict[str, npt.NDArray[Any]],
         dict[str, npt.NDArray[Any]],
     ]: ...
+    def agglomeration(
+        self, settings_json: str, progress: _Progress = None
+    ) -> Tuple[
+        str,
+        dict[str, npt.NDArray[Any]],
+        dict[str, npt.NDArray[Any]],
+        npt.NDArray[np.uint32],
+    ]: ...
     def contacts(
         self, settings_json: str
     ) -> Tuple[npt.NDArray[np.uint32], npt.NDArray[np.uint32], npt.NDArray[np.float64]]: ...
