@@ -57,6 +57,22 @@ impl Bed {
 }
 
 /// A read-only numpy view of `data`, kept alive by the bed `owner`.
+/// A table's columns as a dict of numpy arrays (what pandas builds a
+/// DataFrame from).
+fn columns_dict<'py>(
+    py: Python<'py>,
+    columns: Vec<(String, packbed::PoreColumn)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    for (name, column) in columns {
+        match column {
+            packbed::PoreColumn::Int(v) => out.set_item(name, PyArray1::from_vec(py, v))?,
+            packbed::PoreColumn::Float(v) => out.set_item(name, PyArray1::from_vec(py, v))?,
+        }
+    }
+    Ok(out)
+}
+
 fn view<'py, T: numpy::Element>(
     owner: &Bound<'py, Bed>,
     data: &[T],
@@ -188,21 +204,11 @@ impl Bed {
                 "pores: {why}"
             )));
         };
-        let dict = |columns: Vec<(String, packbed::PoreColumn)>| -> PyResult<Bound<'py, PyDict>> {
-            let d = PyDict::new(py);
-            for (name, column) in columns {
-                match column {
-                    packbed::PoreColumn::Int(v) => d.set_item(name, PyArray1::from_vec(py, v))?,
-                    packbed::PoreColumn::Float(v) => d.set_item(name, PyArray1::from_vec(py, v))?,
-                }
-            }
-            Ok(d)
-        };
         let json = serde_json::to_string(&summary).map_err(|e| config_error(e.to_string()))?;
         Ok((
             json,
-            dict(tables.pore_columns())?,
-            dict(tables.throat_columns())?,
+            columns_dict(py, tables.pore_columns())?,
+            columns_dict(py, tables.throat_columns())?,
         ))
     }
 
@@ -240,25 +246,13 @@ impl Bed {
                 "drainage: {why}"
             )));
         };
-        let dict = |columns: Vec<(String, packbed::PoreColumn)>| -> PyResult<Bound<'py, PyDict>> {
-            let out = PyDict::new(py);
-            for (name, column) in columns {
-                match column {
-                    packbed::PoreColumn::Int(v) => out.set_item(name, PyArray1::from_vec(py, v))?,
-                    packbed::PoreColumn::Float(v) => {
-                        out.set_item(name, PyArray1::from_vec(py, v))?
-                    }
-                }
-            }
-            Ok(out)
-        };
         let json = serde_json::to_string(&summary).map_err(|e| config_error(e.to_string()))?;
         Ok((
             json,
-            dict(d.curve_columns())?,
-            dict(d.relative_columns())?,
-            dict(d.bridge_columns())?,
-            dict(tables.pore_columns())?,
+            columns_dict(py, d.curve_columns())?,
+            columns_dict(py, d.relative_columns())?,
+            columns_dict(py, d.bridge_columns())?,
+            columns_dict(py, tables.pore_columns())?,
         ))
     }
 
@@ -295,23 +289,11 @@ impl Bed {
                 "agglomeration: {why}"
             )));
         };
-        let dict = |columns: Vec<(String, packbed::PoreColumn)>| -> PyResult<Bound<'py, PyDict>> {
-            let out = PyDict::new(py);
-            for (name, column) in columns {
-                match column {
-                    packbed::PoreColumn::Int(v) => out.set_item(name, PyArray1::from_vec(py, v))?,
-                    packbed::PoreColumn::Float(v) => {
-                        out.set_item(name, PyArray1::from_vec(py, v))?
-                    }
-                }
-            }
-            Ok(out)
-        };
         let json = serde_json::to_string(&summary).map_err(|e| config_error(e.to_string()))?;
         Ok((
             json,
-            dict(d.bridge_columns())?,
-            dict(d.agglomerate_columns())?,
+            columns_dict(py, d.bridge_columns())?,
+            columns_dict(py, d.agglomerate_columns())?,
             PyArray1::from_vec(py, d.agglomerate_of.clone()),
         ))
     }

@@ -64,7 +64,7 @@
 // NaN-rejecting guards read `!(x > 0.0)`: true for NaN as well.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::drainage::invasion::{invade, InvasionGraph, Sets};
+use super::drainage::invasion::{invade_on, Adjacency, InvasionGraph, Sets};
 use super::drainage::{entry, Drainage, DrainageOptions, PoreState, Wet};
 use super::network::Network;
 use crate::bed::Bed;
@@ -301,7 +301,7 @@ impl crate::config::DryingConfig {
 }
 
 /// The solid each pore leaves as it empties (crystal volume), for pores
-/// emptying in `order` (every pore once), joined by `throats`, holding
+/// emptying in `order` (every pore once), joined as `adj` says, holding
 /// `voids` of liquid with dissolved solid `c` and solubility `s` (crystal
 /// volume per liquid volume; `s = +∞`: nothing crystallises before a
 /// cluster's last pore).
@@ -312,30 +312,8 @@ impl crate::config::DryingConfig {
 /// pore's cluster holds its own volume and its children's, and its solid
 /// goes to them in proportion to their volumes once the pore's deposit is
 /// taken.
-pub fn deposits(
-    pores: usize,
-    throats: &[(u32, u32)],
-    order: &[u32],
-    voids: &[Real],
-    c: Real,
-    s: Real,
-) -> Vec<Real> {
-    let mut adj_start = vec![0u32; pores + 1];
-    for &(a, b) in throats {
-        adj_start[a as usize + 1] += 1;
-        adj_start[b as usize + 1] += 1;
-    }
-    for p in 0..pores {
-        adj_start[p + 1] += adj_start[p];
-    }
-    let mut fill = adj_start.clone();
-    let mut adj = vec![0u32; adj_start[pores] as usize];
-    for &(a, b) in throats {
-        adj[fill[a as usize] as usize] = b;
-        fill[a as usize] += 1;
-        adj[fill[b as usize] as usize] = a;
-        fill[b as usize] += 1;
-    }
+pub fn deposits(adj: &Adjacency, order: &[u32], voids: &[Real], c: Real, s: Real) -> Vec<Real> {
+    let pores = voids.len();
     const NONE: u32 = u32::MAX;
     let mut sets = Sets::new(pores);
     // The pore whose arrival made each set's current cluster.
@@ -347,7 +325,7 @@ pub fn deposits(
         let p = p as usize;
         added[p] = true;
         volume[p] = voids[p];
-        for &q in &adj[adj_start[p] as usize..adj_start[p + 1] as usize] {
+        for &(q, _) in adj.of(p) {
             let q = q as usize;
             if !added[q] {
                 continue;
@@ -397,8 +375,7 @@ pub fn deposits(
 }
 
 /// Agglomerates of `n` particles joined by `bonds`: each particle's
-/// component as the smallest particle index in it, the brute-force-free
-/// union–find form of connected components.
+/// connected component, named by the smallest particle index in it.
 pub fn components(n: usize, bonds: &[(u32, u32)]) -> Vec<u32> {
     let mut sets = Sets::new(n);
     for &(a, b) in bonds {
@@ -500,7 +477,8 @@ pub fn dry<const D: usize>(
             graph.inlets.push((a, e));
         }
     }
-    let invasion = invade(&graph, false);
+    let adj = Adjacency::new(&graph);
+    let invasion = invade_on(&graph, &adj, false);
     let mut order = invasion.order.clone();
     // Liquid the gas cannot reach through any throat (closed throats only)
     // empties last, in index order.
@@ -509,9 +487,9 @@ pub fn dry<const D: usize>(
         reached[p as usize] = true;
     }
     order.extend((0..n as u32).filter(|&p| !reached[p as usize]));
-    let pairs: Vec<(u32, u32)> = graph.throats.iter().map(|t| (t.0, t.1)).collect();
-    let deposit = deposits(n, &pairs, &order, &voids, c, s);
+    let deposit = deposits(&adj, &order, &voids, c, s);
     let clusters = {
+        let pairs: Vec<(u32, u32)> = graph.throats.iter().map(|t| (t.0, t.1)).collect();
         let roots = components(n, &pairs);
         (0..n).filter(|&p| roots[p] == p as u32).count() as u64
     };

@@ -234,7 +234,8 @@ impl Adjacency {
         Adjacency { start, links }
     }
 
-    fn of(&self, p: usize) -> &[(u32, u32)] {
+    /// Pore `p`'s links: (neighbour, throat index).
+    pub fn of(&self, p: usize) -> &[(u32, u32)] {
         &self.links[self.range(p)]
     }
 
