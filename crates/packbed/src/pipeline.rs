@@ -70,7 +70,7 @@ fn analyse<const D: usize>(
     start: Instant,
 ) -> Result<(Contacts, RunSummary)> {
     let t = Instant::now();
-    let (contacts, analysis) = crate::analysis::analyze_with(bed, &config.analysis.options());
+    let (contacts, analysis) = analyze_agitated(bed, &config.analysis)?;
     // Breakage is a late, optional stage: when it cannot be done (a bed with
     // no bonds or no body to load) the bed and its measures are kept and the
     // summary says what is missing, rather than the whole run being lost.
@@ -166,7 +166,7 @@ pub fn analyze_read_bed(
         return Err(Error::Impossible(format!("{source}: {why}")));
     }
     let (contacts, summary) =
-        each_dim!(&bed, b => analyze_read(source, b, read, settings, read_seconds));
+        each_dim!(&bed, b => analyze_read(source, b, read, settings, read_seconds))?;
     Ok(AnalyzedBed {
         bed,
         contacts,
@@ -178,8 +178,37 @@ pub fn analyze_read_bed(
 /// measures `summary.json` holds, without its counts, timing or config.
 pub fn analyze_bed(bed: &AnyBed, settings: &AnalysisConfig) -> Result<(Contacts, Summary)> {
     settings.check()?;
-    let options = settings.options();
-    Ok(each_dim!(bed, b => crate::analysis::analyze_with(b, &options)))
+    each_dim!(bed, b => analyze_agitated(b, settings))
+}
+
+/// The analysis of `bed` with `settings`, then, when they ask for it, the
+/// agitation of its dried cake ([`mechanics::agitation`]: it needs the
+/// mechanics, a floor above the analysis). An agitation that cannot be done
+/// (no body to load) leaves the dried cake unagitated and says why in
+/// `agglomeration.note`, rather than losing the bed.
+fn analyze_agitated<const D: usize>(
+    bed: &Bed<D>,
+    settings: &AnalysisConfig,
+) -> Result<(Contacts, Summary)> {
+    let (contacts, mut summary) = crate::analysis::analyze_with(bed, &settings.options());
+    let (Some(options), Some(dried)) = (&settings.drying.agitation, summary.dried.take()) else {
+        return Ok((contacts, summary));
+    };
+    let mut drying = std::sync::Arc::try_unwrap(dried).unwrap_or_else(|d| (*d).clone());
+    match mechanics::agitation::agitate(bed, &contacts, &mut drying, options) {
+        Ok(()) => {}
+        Err(Error::Interrupted) => return Err(Error::Interrupted),
+        Err(e) => {
+            let note = format!("agitation: {e}");
+            drying.summary.note = Some(match drying.summary.note.take() {
+                Some(n) => format!("{n}; {note}"),
+                None => note,
+            });
+        }
+    }
+    summary.agglomeration = Some(drying.summary.clone());
+    summary.dried = Some(std::sync::Arc::new(drying));
+    Ok((contacts, summary))
 }
 
 /// Reads the bed file at `path` after checking the caller's box `hint`; also
@@ -305,9 +334,9 @@ fn analyze_read<const D: usize>(
     read: &ReadReport,
     settings: &AnalysisConfig,
     read_seconds: f64,
-) -> (Contacts, AnalyzeSummary) {
+) -> Result<(Contacts, AnalyzeSummary)> {
     let t = Instant::now();
-    let (contacts, analysis) = crate::analysis::analyze_with(bed, &settings.options());
+    let (contacts, analysis) = analyze_agitated(bed, settings)?;
     let overlaps = crate::analysis::overlaps(bed, &contacts);
     let timing = AnalyzeTiming {
         read_seconds,
@@ -321,7 +350,7 @@ fn analyze_read<const D: usize>(
         chain_angle_from: settings.chain_angle_from,
     };
     let summary = AnalyzeSummary::new(source, bed, read, &overlaps, recorded, &analysis, timing);
-    (contacts, summary)
+    Ok((contacts, summary))
 }
 
 impl AnalyzedBed {

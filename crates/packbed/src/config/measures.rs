@@ -89,6 +89,75 @@ pub struct DryingConfig {
     /// Tensile strength of the solid, Pa (default 3.9e6).
     #[serde(default = "default_tensile_strength")]
     pub tensile_strength: Real,
+    /// `[analysis.drying.agitation]`: the dried cake loaded until its
+    /// weakest bridges break (none when absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub agitation: Option<AgitationConfig>,
+}
+
+/// `[analysis.drying.agitation]`: the load an agitated dryer puts on the
+/// dried cake, as `packbed fragment` loads a bed, and how hard.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AgitationConfig {
+    /// shear (default), compression or gravity.
+    #[serde(default)]
+    pub load: crate::config::fragmentation::Load,
+    /// The load's total over the bed's cross-section, Pa (default 1e4).
+    #[serde(default = "default_agitation_stress")]
+    pub stress: Real,
+    /// Tangential over normal spring stiffness (default 1).
+    #[serde(default = "default_kt_over_kn")]
+    pub kt_over_kn: Real,
+    /// The most bridges broken (each break re-solves the bed; default 10000).
+    #[serde(default = "default_max_breaks")]
+    pub max_breaks: u64,
+}
+
+/// The default agitation: 10 kPa, the weight of about a metre of dried
+/// cake (bulk density ~1,000 kg/m³) that an agitated dryer's blade turns.
+pub const DEFAULT_AGITATION_STRESS: Real = 1e4;
+
+fn default_agitation_stress() -> Real {
+    DEFAULT_AGITATION_STRESS
+}
+
+fn default_kt_over_kn() -> Real {
+    1.0
+}
+
+fn default_max_breaks() -> u64 {
+    10_000
+}
+
+impl Default for AgitationConfig {
+    fn default() -> Self {
+        AgitationConfig {
+            load: Default::default(),
+            stress: DEFAULT_AGITATION_STRESS,
+            kt_over_kn: 1.0,
+            max_breaks: default_max_breaks(),
+        }
+    }
+}
+
+impl AgitationConfig {
+    /// What is wrong with the agitation's settings, in one line.
+    pub fn problem(&self) -> Option<String> {
+        if !(self.stress.is_finite() && self.stress >= 0.0) {
+            return Some(format!(
+                "drying.agitation.stress (Pa) must be finite and at least 0, got {}",
+                self.stress
+            ));
+        }
+        if !(self.kt_over_kn.is_finite() && self.kt_over_kn >= 0.0) {
+            return Some(format!(
+                "drying.agitation.kt_over_kn must be finite and at least 0, got {}",
+                self.kt_over_kn
+            ));
+        }
+        None
+    }
 }
 
 /// The default liquid's solute: a mother liquor saturated at 50 kg/m³.
@@ -164,6 +233,7 @@ impl Default for DryingConfig {
             crystal_density: default_crystal_density(),
             min_neck: default_min_neck(),
             tensile_strength: default_tensile_strength(),
+            agitation: None,
         }
     }
 }
@@ -192,7 +262,9 @@ impl DryingConfig {
             self.crystal_density,
             self.min_neck,
             self.tensile_strength,
-        ) {
+        )
+        .or_else(|| self.agitation.as_ref().and_then(AgitationConfig::problem))
+        {
             Some(why) => Err(Error::config(format!("analysis.{why}"))),
             None => Ok(()),
         }

@@ -23,9 +23,11 @@ struct BridgeLine {
     bond: u8,
     strength_n: Option<f64>,
     agglomerate: u32,
+    broken_at_pa: Option<f64>,
+    agglomerate_after: u32,
 }
 
-const BRIDGE_COLUMNS: [&str; 11] = [
+const BRIDGE_COLUMNS: [&str; 13] = [
     "particle_a",
     "particle_b",
     "sx",
@@ -37,6 +39,8 @@ const BRIDGE_COLUMNS: [&str; 11] = [
     "bond",
     "strength_n",
     "agglomerate",
+    "broken_at_pa",
+    "agglomerate_after",
 ];
 
 /// Writes `bridges.csv`: per pair holding solid, its two particles, the
@@ -44,7 +48,9 @@ const BRIDGE_COLUMNS: [&str; 11] = [
 /// pendular bridge after the drainage, the solid's volume (area in 2D), the
 /// solid bridge's neck radius (empty: the solid does not span the gap),
 /// whether it is a bond (1), its tensile strength in N (N/m in 2D; empty
-/// without a length unit or a bond) and the agglomerate it binds (0: none).
+/// without a length unit or a bond), the agglomerate it binds (0: none),
+/// the agitation's stress in Pa when it broke (empty: intact or no
+/// agitation) and the agglomerate it binds after the agitation.
 pub fn write_bridges(w: &mut dyn Write, d: &Drying) -> std::io::Result<()> {
     let mut out = csv::Writer::from_writer(w);
     if d.bridges.is_empty() {
@@ -64,6 +70,8 @@ pub fn write_bridges(w: &mut dyn Write, d: &Drying) -> std::io::Result<()> {
             bond: u8::from(b.bond),
             strength_n: b.strength,
             agglomerate: b.agglomerate,
+            broken_at_pa: b.broken_at,
+            agglomerate_after: b.agglomerate_after,
         })
         .map_err(std::io::Error::other)?;
     }

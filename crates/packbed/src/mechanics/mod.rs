@@ -7,6 +7,7 @@
 //! by a sparse Cholesky factorisation ([`solver`]), and bonds are broken one
 //! by one, strongest first, until a count or the failure of the bed.
 
+pub mod agitation;
 pub mod loads;
 pub mod network;
 pub mod solver;

@@ -131,6 +131,12 @@ pub struct SolidBridge {
     pub strength: Option<Real>,
     /// The agglomerate it binds (0: none).
     pub agglomerate: u32,
+    /// The agitation's stress (Pa, load over the bed's cross-section) when
+    /// it broke; `None`: intact, or no agitation.
+    pub broken_at: Option<Real>,
+    /// The agglomerate it binds after the agitation (0: none); without an
+    /// agitation, `agglomerate`.
+    pub agglomerate_after: u32,
 }
 
 /// An agglomerate (`agglomerates.csv`): particles joined by bonds.
@@ -203,6 +209,9 @@ pub struct AgglomerationSummary {
     /// Mean bond strength, N (N/m in 2D), with a length unit.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub mean_bond_strength: Option<Real>,
+    /// The agitated product, when `[analysis.drying.agitation]` asks.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub agitation: Option<AgitationSummary>,
     /// Why a figure is missing, when one is.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
@@ -219,6 +228,43 @@ pub struct Drying {
     pub agglomerates: Vec<Agglomerate>,
     /// Per particle: its agglomerate (0: none).
     pub agglomerate_of: Vec<u32>,
+    /// The slab `[z_lo, z_hi]` whose particles make the product.
+    pub slab: (Real, Real),
+}
+
+/// `agglomeration.agitation.*` of `summary.json`: the dried cake loaded as
+/// `packbed fragment` loads a bed, its solid bridges broken weakest for
+/// their load first up to the agitation's stress (`crate::mechanics::agitation`).
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct AgitationSummary {
+    /// The load: shear, compression or gravity.
+    pub load: String,
+    /// The agitation's stress, Pa: the load's total over the bed's
+    /// cross-section.
+    pub stress: Real,
+    /// Bonds the load reaches (solid bridges between different bodies).
+    pub bonds: u64,
+    /// Of them, broken.
+    pub broken: u64,
+    /// The stress at which the intact cake's first bond breaks, Pa, whether
+    /// or not the agitation reaches it (`null`: the load reaches no bond).
+    pub first_break_stress: Option<Real>,
+    /// False when `max_breaks` stopped the breakage before the stress was
+    /// borne.
+    pub complete: bool,
+    /// Agglomerates after it.
+    pub agglomerates: u64,
+    /// Volume fraction of the slab's particles in agglomerates after it.
+    pub fraction_in_agglomerates: Real,
+    /// Mean particles per agglomerate after it.
+    pub mean_particles: Real,
+    /// Particles in the largest after it.
+    pub largest_particles: u64,
+    /// The product's volume-median size after it.
+    pub d50_product: Real,
+    /// Volume fraction of the product in units of 1, 2, 3–4, … particles
+    /// after it.
+    pub volume_by_particles: Vec<Real>,
 }
 
 impl Drying {
@@ -247,6 +293,14 @@ impl Drying {
                 float(&|r| r.strength.unwrap_or(Real::NAN)),
             ),
             ("agglomerate".into(), int(&|r| i64::from(r.agglomerate))),
+            (
+                "broken_at_pa".into(),
+                float(&|r| r.broken_at.unwrap_or(Real::NAN)),
+            ),
+            (
+                "agglomerate_after".into(),
+                int(&|r| i64::from(r.agglomerate_after)),
+            ),
         ]
     }
 
@@ -581,10 +635,94 @@ pub fn dry<const D: usize>(
             bond,
             strength: neck.filter(|_| bond).and_then(strength_of),
             agglomerate: 0,
+            broken_at: None,
+            agglomerate_after: 0,
         });
     }
 
     // Agglomerates: components of two particles or more, largest first.
+    let product = product(bed, slab, &bonds);
+    let mut agglomerates = product.agglomerates;
+    for b in &mut bridges {
+        if b.bond {
+            let id = product.agglomerate_of[b.particles[0] as usize];
+            b.agglomerate = id;
+            b.agglomerate_after = id;
+            let a = &mut agglomerates[id as usize - 1];
+            a.bonds += 1;
+            if let Some(f) = b.strength {
+                a.weakest_bond = Some(a.weakest_bond.map_or(f, |w: Real| w.min(f)));
+            }
+        }
+    }
+    let strengths: Vec<Real> = bridges.iter().filter_map(|b| b.strength).collect();
+    let summary = AgglomerationSummary {
+        concentration: options.concentration,
+        solubility: options.solubility.is_finite().then_some(options.solubility),
+        crystal_density: options.crystal_density,
+        min_neck: options.min_neck,
+        tensile_strength: options.tensile_strength,
+        liquid_volume,
+        solid_volume: c * liquid_volume,
+        solid_at_pairs,
+        solid_on_surfaces: on_surfaces,
+        solid_in_bonds,
+        clusters,
+        pores_dried: n as u64,
+        solid_bridges: necks.iter().filter(|x| x.is_some()).count() as u64,
+        bonds: bonds.len() as u64,
+        bonds_per_particle: product.bonds_per_particle,
+        agglomerates: agglomerates.len() as u64,
+        fraction_in_agglomerates: product.fraction_in_agglomerates,
+        mean_particles: product.mean_particles,
+        largest_particles: product.largest_particles,
+        d50_product: product.d50_product,
+        d50_particles: product.d50_particles,
+        volume_by_particles: product.volume_by_particles,
+        mean_bond_strength: (!strengths.is_empty())
+            .then(|| strengths.iter().sum::<Real>() / strengths.len() as Real),
+        agitation: None,
+        note: None,
+    };
+    Ok(Drying {
+        summary,
+        bridges,
+        agglomerates,
+        agglomerate_of: product.agglomerate_of,
+        slab,
+    })
+}
+
+/// What a bond graph makes of the bed's particles: its agglomerates and the
+/// size distribution of the product, the slab's particles grouped by
+/// agglomerate.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Product {
+    /// Agglomerates (two particles or more), largest by volume first, their
+    /// `bonds` and `weakest_bond` not counted.
+    pub agglomerates: Vec<Agglomerate>,
+    /// Per particle: its agglomerate (0: none).
+    pub agglomerate_of: Vec<u32>,
+    /// Mean bonds per particle of the slab.
+    pub bonds_per_particle: Real,
+    /// Volume fraction of the slab's particles inside agglomerates.
+    pub fraction_in_agglomerates: Real,
+    /// Mean particles per agglomerate.
+    pub mean_particles: Real,
+    /// Particles in the largest agglomerate.
+    pub largest_particles: u64,
+    /// Volume-median equivalent diameter of the product's units.
+    pub d50_product: Real,
+    /// Volume-median diameter of the slab's particles.
+    pub d50_particles: Real,
+    /// Volume fraction of the product in units of 1, 2, 3–4, 5–8, …
+    /// particles.
+    pub volume_by_particles: Vec<Real>,
+}
+
+/// The agglomerates `bonds` join among `bed`'s particles, and the product
+/// the slab `[z_lo, z_hi]` makes of them.
+pub fn product<const D: usize>(bed: &Bed<D>, slab: (Real, Real), bonds: &[(u32, u32)]) -> Product {
     let z = D - 1;
     let in_slab: Vec<bool> = bed
         .centres
@@ -621,7 +759,7 @@ pub fn dry<const D: usize>(
             (4.0 * v / std::f64::consts::PI).sqrt()
         }
     };
-    let mut agglomerates: Vec<Agglomerate> = big
+    let agglomerates: Vec<Agglomerate> = big
         .iter()
         .enumerate()
         .map(|(k, &r)| Agglomerate {
@@ -633,18 +771,6 @@ pub fn dry<const D: usize>(
             weakest_bond: None,
         })
         .collect();
-    for b in &mut bridges {
-        if b.bond {
-            let id = agglomerate_of[b.particles[0] as usize];
-            b.agglomerate = id;
-            let a = &mut agglomerates[id as usize - 1];
-            a.bonds += 1;
-            if let Some(f) = b.strength {
-                a.weakest_bond = Some(a.weakest_bond.map_or(f, |w: Real| w.min(f)));
-            }
-        }
-    }
-
     // The product: the slab's particles, grouped by agglomerate.
     let mut units: Vec<(u64, Real)> = Vec::new(); // (particles, volume in the slab)
     let mut unit_of_root = vec![u32::MAX; bed.len()];
@@ -681,28 +807,13 @@ pub fn dry<const D: usize>(
     };
     let unit_sizes: Vec<(Real, Real)> = units.iter().map(|&(_, v)| (diameter(v), v)).collect();
     let slab_particles = in_slab.iter().filter(|&&x| x).count();
-    let strengths: Vec<Real> = bridges.iter().filter_map(|b| b.strength).collect();
-    let summary = AgglomerationSummary {
-        concentration: options.concentration,
-        solubility: options.solubility.is_finite().then_some(options.solubility),
-        crystal_density: options.crystal_density,
-        min_neck: options.min_neck,
-        tensile_strength: options.tensile_strength,
-        liquid_volume,
-        solid_volume: c * liquid_volume,
-        solid_at_pairs,
-        solid_on_surfaces: on_surfaces,
-        solid_in_bonds,
-        clusters,
-        pores_dried: n as u64,
-        solid_bridges: necks.iter().filter(|x| x.is_some()).count() as u64,
-        bonds: bonds.len() as u64,
+    Product {
+        agglomerate_of,
         bonds_per_particle: if slab_particles > 0 {
             2.0 * bonds.len() as Real / slab_particles as Real
         } else {
             0.0
         },
-        agglomerates: agglomerates.len() as u64,
         fraction_in_agglomerates: if product > 0.0 {
             in_agglomerates / product
         } else {
@@ -718,16 +829,8 @@ pub fn dry<const D: usize>(
         d50_product: volume_median(&unit_sizes),
         d50_particles: volume_median(&particle_sizes),
         volume_by_particles,
-        mean_bond_strength: (!strengths.is_empty())
-            .then(|| strengths.iter().sum::<Real>() / strengths.len() as Real),
-        note: None,
-    };
-    Ok(Drying {
-        summary,
-        bridges,
         agglomerates,
-        agglomerate_of,
-    })
+    }
 }
 
 /// The volume-weighted median of `(size, volume)` items (0 when empty).
