@@ -27,7 +27,7 @@ pub const ALPHA: f64 = 0.05;
 
 /// The measures a filtration study reads first, in this order when present;
 /// the rest follow in the order of `summary.json`.
-pub const HEADLINE: [&str; 22] = [
+pub const HEADLINE: [&str; 24] = [
     "cake.porosity",
     "cake.d32",
     "cake.specific_surface",
@@ -49,6 +49,8 @@ pub const HEADLINE: [&str; 22] = [
     "agglomeration.bonds_per_particle",
     "agglomeration.fraction_in_agglomerates",
     "agglomeration.d50_product",
+    "agglomeration.agitation.fraction_in_agglomerates",
+    "agglomeration.agitation.d50_product",
     "psd.placed.d50",
 ];
 

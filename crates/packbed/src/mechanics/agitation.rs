@@ -16,11 +16,15 @@
 //! `τ_k = S_k / (A |f_k|)`; the bond of least `τ_k` breaks first, the bed is
 //! solved again, and so on until every bond left bears `τ` (the stress of
 //! each break is the ramp's, the largest `τ_k` so far, since the load never
-//! falls). Breaking only removes bonds, so an agglomerate after the
+//! falls). The breakage stops at `τ`, or where the cake fails: a loaded
+//! piece keeps no path through bonds to the floor or a wall (as `packbed
+//! fragment` defines failure) or a piece turns mechanism, the ground
+//! springs that hold mechanisms bearing more than 1 % of the load; its
+//! stress is the cake's strength under that load. Breaking only removes bonds, so an agglomerate after the
 //! agitation lies inside one before it (tests).
 
 use super::network::{self, Bodies};
-use super::{bond_forces, loads, solver};
+use super::{bond_forces, loads, network_state, solver};
 use crate::analysis::pores::drying::{product, AgitationSummary, Drying};
 use crate::analysis::{Contact, Contacts};
 use crate::bed::Bed;
@@ -28,6 +32,25 @@ use crate::config::AgitationConfig;
 use crate::error::{Error, Result};
 use crate::math::Real;
 use std::collections::HashMap;
+
+/// The share of the load the ground springs carry when the cake has failed:
+/// an intact cake leaves them ~1e-6 of it, a failed one nearly all.
+const FAILED: Real = 1e-2;
+
+/// The force the ground springs carry, summed over bodies, over the load's
+/// total.
+fn ground_share<const D: usize>(u: &[Real], ground: &[Real]) -> Real {
+    let m = super::spring::body_dofs(D);
+    (0..u.len() / m)
+        .map(|b| {
+            (0..D)
+                .map(|c| (ground[b * m + c] * u[b * m + c]).powi(2))
+                .sum::<Real>()
+                .sqrt()
+        })
+        .sum::<Real>()
+        / super::TOTAL
+}
 
 /// Agitates the dried cake `drying` of `bed` (`contacts`: the analysis'
 /// contacts of `bed`) as `options` say: marks each broken bridge with the
@@ -114,8 +137,15 @@ pub fn agitate<const D: usize>(
     let mut first = None;
     let mut broken = 0u64;
     let mut complete = true;
+    let mut failure = None;
     loop {
         let u = system.solve(&loads::load_vector(&loaded, nb))?;
+        // Past a break that leaves the load to the ground springs (a piece
+        // turned mechanism), the cake has failed.
+        if broken > 0 && ground_share::<D>(&u, system.ground()) > FAILED {
+            failure = Some(ramp);
+            break;
+        }
         let f = bond_forces(&bonds, &alive, &u, springs);
         // The bond that breaks at the least stress; the first listed of a tie.
         let weakest = (0..bonds.len())
@@ -143,9 +173,16 @@ pub fn agitate<const D: usize>(
             bond_count[j as usize] -= 1;
         }
         system.remove(k)?;
-        match load_groups.current(&bonded(&bond_count)) {
-            Some(now) => loaded = now,
-            None => break,
+        // The cake fails when a loaded piece loses its last path to the
+        // floor or walls: past it, the quasi-static load has no equilibrium.
+        let now = load_groups.current(&bonded(&bond_count));
+        let (_, _, failed) = network_state(&bonds, &alive, nb, now.as_deref());
+        match now {
+            Some(now) if !failed => loaded = now,
+            _ => {
+                failure = Some(ramp);
+                break;
+            }
         }
     }
 
@@ -170,6 +207,7 @@ pub fn agitate<const D: usize>(
         bonds: strength.iter().filter(|s| s.is_finite()).count() as u64,
         broken,
         first_break_stress: first,
+        failure_stress: failure,
         complete,
         agglomerates: after.agglomerates.len() as u64,
         fraction_in_agglomerates: after.fraction_in_agglomerates,

@@ -10,7 +10,7 @@ use std::path::Path;
 
 /// Measures printed on screen, when present, in this order: the cake first;
 /// yes/no measures follow (those of percolation only when it was asked for).
-const ON_SCREEN: [&str; 16] = [
+const ON_SCREEN: [&str; 17] = [
     "cake.porosity",
     "cake.d32",
     "cake.k_kozeny_carman",
@@ -27,6 +27,7 @@ const ON_SCREEN: [&str; 16] = [
     "drainage.residual_saturation",
     "agglomeration.bonds_per_particle",
     "agglomeration.fraction_in_agglomerates",
+    "agglomeration.agitation.fraction_in_agglomerates",
 ];
 
 /// Yes/no keys that are settings echoed in the summary, not measures: the

@@ -470,6 +470,31 @@ fn measures_text_with(a: &Summary, names: &[String], bulk_hint: Option<&str>) ->
             g.d50_product,
             g.d50_particles
         );
+        if let Some(s) = &g.agitation {
+            let first = s
+                .first_break_stress
+                .map_or("none".into(), |f| format!("{f:.4e} Pa"));
+            let _ = writeln!(
+                t,
+                "    agitated ({}, {:.4e} Pa; first break at {first}): {} of {} bonds broke{}; {} agglomerates hold {:.1}%, largest {} particles; d50 {:.4}",
+                s.load,
+                s.stress,
+                s.broken,
+                s.bonds,
+                match (s.failure_stress, s.complete) {
+                    (Some(f), _) => format!(" and the cake failed at {f:.4e} Pa"),
+                    (None, false) => " (stopped at max_breaks)".into(),
+                    (None, true) => String::new(),
+                },
+                s.agglomerates,
+                100.0 * s.fraction_in_agglomerates,
+                s.largest_particles,
+                s.d50_product
+            );
+        }
+        if let Some(why) = &g.note {
+            let _ = writeln!(t, "    {why}");
+        }
     }
     if let Some(why) = &a.agglomeration_note {
         let _ = writeln!(t, "  agglomeration: none ({why})");

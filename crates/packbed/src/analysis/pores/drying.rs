@@ -249,6 +249,9 @@ pub struct AgitationSummary {
     /// The stress at which the intact cake's first bond breaks, Pa, whether
     /// or not the agitation reaches it (`null`: the load reaches no bond).
     pub first_break_stress: Option<Real>,
+    /// The stress at which the cake failed (a loaded piece lost its last
+    /// path to the floor or walls), Pa; `null`: it bore the agitation.
+    pub failure_stress: Option<Real>,
     /// False when `max_breaks` stopped the breakage before the stress was
     /// borne.
     pub complete: bool,

@@ -157,3 +157,21 @@ fn breakage_never_joins_agglomerates() {
         before = Some(d);
     }
 }
+
+/// Sheared, the stacked pair fails when its one bridge breaks: the top
+/// sphere's load has nowhere to go, and the failure stress is the break's.
+#[test]
+fn a_cake_whose_last_path_breaks_fails_at_that_stress() {
+    let (bed, contacts, mut drying) = stack(0.2, 1e6);
+    let options = AgitationConfig {
+        load: Load::Shear,
+        stress: 1e12,
+        ..AgitationConfig::default()
+    };
+    agitate(&bed, &contacts, &mut drying, &options).unwrap();
+    let s = drying.summary.agitation.unwrap();
+    assert_eq!(s.broken, 1);
+    assert_eq!(s.failure_stress, s.first_break_stress);
+    assert!(s.failure_stress.unwrap() < 1e12);
+    assert_eq!(s.agglomerates, 0);
+}
