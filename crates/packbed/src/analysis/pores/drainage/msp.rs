@@ -38,9 +38,10 @@
 //!   Each corner arc is exactly the one-sided 2D meniscus of [`super::bridge`] (two discs,
 //!   curvature `1/R`, contact angle θ): the arc centre is at `sqrt(r_i² + R² + 2 r_i R cos θ)`
 //!   from `c_i` (closed form). The balance `F(R) = L_nw + L_ns cos θ − A_eff/R` is negative for
-//!   small `R` (pressure more than enough); the root is bracketed upwards from half the
-//!   inscribed radius and refined by Brent's method in `1/R` (a scan and bisection over ten
-//!   decades where that does not apply).
+//!   small `R` (pressure more than enough); the root is bracketed upwards from 0.45 times the
+//!   inscribed radius, or downwards from there where the balance is met there already (one
+//!   throat in 25 of a bed), and refined by Brent's method in `1/R` (a scan and bisection
+//!   over ten decades where neither applies).
 //!
 //! # Cases
 //!
@@ -411,6 +412,100 @@ const ROOT_TOL: f64 = 1e-12;
 /// How far above the model's root a bracketing trial goes (relative).
 const OVERSHOOT: f64 = 1e-3;
 
+/// The root of the model `p − q/R` of the balance through `(a, fa)` and `(x, v)`.
+fn model_root(a: f64, fa: f64, x: f64, v: f64) -> f64 {
+    // p − q/a = fa, p − q/x = v.
+    let q = (v - fa) / (1.0 / a - 1.0 / x);
+    let p = v + q / x;
+    q / p
+}
+
+/// The entry radius in the bracket `[a, b]` of the balance `f` (`f(a) = fa < 0`,
+/// `f(b) = fb >= 0`), `rup` the corners' rupture radii.
+fn settle(
+    f: &dyn Fn(f64) -> Option<f64>,
+    rup: &[f64; 3],
+    mut a: f64,
+    mut fa: f64,
+    b: f64,
+    fb: f64,
+) -> Option<f64> {
+    // A corner filling inside the bracket: if the balance changes sign at that jump, the
+    // entry radius is the corner's rupture radius (the gas passes through the gap), exactly;
+    // a root search would only close in on the jump by halving.
+    let mut jumps = *rup;
+    jumps.sort_by(f64::total_cmp);
+    for rk in jumps {
+        if a < rk && rk <= b {
+            let up = f(rk)?;
+            let below = f(rk * (1.0 - f64::EPSILON))?;
+            if below < 0.0 && up >= 0.0 {
+                return Some(rk);
+            }
+            if up >= 0.0 {
+                let fu = |u: f64| f(1.0 / u);
+                return brent(&fu, 1.0 / rk, up, 1.0 / a, fa, ROOT_TOL).map(|u| 1.0 / u);
+            }
+            // Still negative at the jump: the root lies above it.
+            (a, fa) = (rk, up);
+        }
+    }
+    // Brent in `u = 1/R`, where the balance is nearly linear.
+    let fu = |u: f64| f(1.0 / u);
+    brent(&fu, 1.0 / b, fb, 1.0 / a, fa, ROOT_TOL).map(|u| 1.0 / u)
+}
+
+/// The lowest radius [`downwards`] tries, relative to where it starts.
+const DOWN_LIMIT: f64 = 1e-3;
+
+/// The entry radius of a throat whose balance is met at `lo` already (`f(lo) = below >= 0`):
+/// downwards from `lo`, each trial the root of the model `p − q/R` through the last two
+/// points, just below it (at most halving the radius; 0.7 times it where the model has no
+/// root below), until the balance is negative, then [`settle`] in that bracket. `rup`: the rupture radii for radii down to `lo / 2`, found
+/// again lower down when the search goes there. `None` (the full scan decides) where the
+/// configuration stops being valid on the way down, or below `DOWN_LIMIT · lo`.
+fn downwards(
+    t: &Throat,
+    g: &[Geom; 3],
+    ct: f64,
+    balance: &dyn Fn(&[f64; 3], f64) -> Option<f64>,
+    mut rup: [f64; 3],
+    lo: f64,
+    below: f64,
+) -> Option<f64> {
+    let mut floor = 0.5 * lo;
+    let (mut b, mut fb) = (lo, below);
+    let mut x = 0.9 * lo;
+    for _ in 0..60 {
+        if x < DOWN_LIMIT * lo {
+            break;
+        }
+        if x < floor {
+            floor = 0.5 * x;
+            rup = t.rupture_in(g, ct, floor)?;
+        }
+        let v = balance(&rup, x)?;
+        if v.is_nan() {
+            return None;
+        }
+        if v < 0.0 {
+            let f = |rr: f64| balance(&rup, rr);
+            return settle(&f, &rup, x, v, b, fb);
+        }
+        let model = model_root(x, v, b, fb);
+        (b, fb) = (x, v);
+        // A model whose root is not below (the balance not rising with `R` here): a
+        // fixed step.
+        let next = (1.0 - OVERSHOOT) * model;
+        x = if next > 0.0 && next < x {
+            next.clamp(0.5 * x, 0.999 * x)
+        } else {
+            0.7 * x
+        };
+    }
+    None
+}
+
 /// Radius of the largest circle in the void between three circles (centres `c`, radii `r`),
 /// tangent to all three (Apollonius); the Haines entry pressure is `2 γ cos θ / r_ins`.
 /// Among the tangent circles, the smallest positive one whose centre lies inside the
@@ -506,20 +601,21 @@ pub fn msp_entry_radius_near(
         t.state_in(&g, rup, rr)
             .map(|(a, lnw, lns)| lnw + lns * ct - a / rr)
     };
-    // The root lies above half the inscribed radius (module docs); the full scan over ten
-    // decades (a hundred evaluations) decides the throats where the search below does not
-    // apply.
+    // The root mostly lies above 0.45 times the inscribed radius (module docs), where an
+    // upward search starts; where the balance is met there already, a downward one; the full
+    // scan over ten decades (a hundred evaluations) decides the throats where neither
+    // applies.
     let fast = constriction
         .filter(|&x| x > 0.0)
         .or_else(|| inscribed_radius(c, r))
         .and_then(|ins| {
             let lo = 0.45 * ins;
-            // Every radius evaluated below is at least `lo`.
+            // Every radius evaluated upwards is at least `lo`.
             let rup = t.rupture_in(&g, ct, 0.5 * lo)?;
             let f = |rr: f64| balance(&rup, rr);
             let below = f(lo)?;
             if !(below < 0.0) {
-                return None;
+                return downwards(&t, &g, ct, &balance, rup, lo, below);
             }
             // Upwards from just below the typical `R_e / r_ins` of this θ. The balance is
             // close to `p − q/R` there (`L_nw`, `L_ns`, `A_eff` vary slowly against `1/R`),
@@ -535,10 +631,7 @@ pub fn msp_entry_radius_near(
                         break;
                     }
                     Some(v) => {
-                        // p − q/a = fa, p − q/x = v.
-                        let q = (v - fa) / (1.0 / a - 1.0 / x);
-                        let p = v + q / x;
-                        let model = q / p;
+                        let model = model_root(a, fa, x, v);
                         (a, fa) = (x, v);
                         let next = (1.0 + OVERSHOOT) * model;
                         x = if next > 1.001 * x {
@@ -553,29 +646,7 @@ pub fn msp_entry_radius_near(
                 }
             }
             let (b, fb) = bracket?;
-            // A corner filling inside the bracket: if the balance changes sign at that
-            // jump, the entry radius is the corner's rupture radius (the gas passes through
-            // the gap), exactly; a root search would only close in on the jump by halving.
-            let mut jumps = rup;
-            jumps.sort_by(f64::total_cmp);
-            for rk in jumps {
-                if a < rk && rk <= b {
-                    let up = f(rk)?;
-                    let below = f(rk * (1.0 - f64::EPSILON))?;
-                    if below < 0.0 && up >= 0.0 {
-                        return Some(rk);
-                    }
-                    if up >= 0.0 {
-                        let fu = |u: f64| f(1.0 / u);
-                        return brent(&fu, 1.0 / rk, up, 1.0 / a, fa, ROOT_TOL).map(|u| 1.0 / u);
-                    }
-                    // Still negative at the jump: the root lies above it.
-                    (a, fa) = (rk, up);
-                }
-            }
-            // Brent in `u = 1/R`, where the balance is nearly linear.
-            let fu = |u: f64| f(1.0 / u);
-            brent(&fu, 1.0 / b, fb, 1.0 / a, fa, ROOT_TOL).map(|u| 1.0 / u)
+            settle(&f, &rup, a, fa, b, fb)
         });
     let out = match fast {
         Some(v) => v,
