@@ -732,7 +732,7 @@ pub fn product<const D: usize>(bed: &Bed<D>, slab: (Real, Real), bonds: &[(u32, 
         .iter()
         .map(|c| c.0[z] >= slab.0 && c.0[z] <= slab.1)
         .collect();
-    let root = components(bed.len(), &bonds);
+    let root = components(bed.len(), bonds);
     let body = |p: usize| crate::math::ball_volume::<D>(bed.radii[p]);
     let mut count = vec![0u64; bed.len()];
     let mut volume = vec![0.0; bed.len()];
