@@ -522,7 +522,7 @@ pub fn sweep_csv(rows: &[SweepRow]) -> String {
 }
 
 /// Measures shown side by side in the first table of `sweep.md`, if present.
-const HEADLINE: [&str; 9] = [
+const HEADLINE: [&str; 13] = [
     "cake.porosity",
     "cake.d32",
     "cake.k_kozeny_carman",
@@ -532,6 +532,10 @@ const HEADLINE: [&str; 9] = [
     "packing.bulk",
     "coordination.mean",
     "coordination.mean_bulk",
+    "drainage.residual_saturation",
+    "agglomeration.bonds_per_particle",
+    "agglomeration.agglomerates",
+    "agglomeration.fraction_in_agglomerates",
 ];
 
 /// `sweep.md`: a headline table (one row per value; the cake, packing,
