@@ -496,6 +496,15 @@ struct Curve {
     errors: Option<Vec<f64>>,
 }
 
+/// Lines over a logarithmic axis or a linear one.
+fn lines(log: bool, series: Vec<Series>) -> PlotData {
+    if log {
+        PlotData::LogLines { series }
+    } else {
+        PlotData::Lines { series }
+    }
+}
+
 /// Curves against the sweep values: lines over numeric values, grouped bars
 /// over labels.
 fn against(
@@ -507,9 +516,18 @@ fn against(
     curves: Vec<Curve>,
     y_range: Option<(f64, f64)>,
 ) -> Plot {
+    // Values spanning two decades or more (a washing's dilutions) are
+    // spread on a logarithmic axis.
+    let decades = xs.is_some_and(|xs| {
+        let (lo, hi) = xs
+            .iter()
+            .fold((f64::INFINITY, 0f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+        lo > 0.0 && hi >= 100.0 * lo
+    });
     let data = match xs {
-        Some(xs) => PlotData::Lines {
-            series: curves
+        Some(xs) => lines(
+            decades,
+            curves
                 .into_iter()
                 .map(|c| {
                     let kept: Vec<usize> =
@@ -526,7 +544,7 @@ fn against(
                     }
                 })
                 .collect(),
-        },
+        ),
         None => PlotData::Bars {
             categories: labels.to_vec(),
             groups: curves
@@ -788,5 +806,12 @@ mod tests {
             panic!("lines expected");
         };
         assert_eq!(series[0].points, vec![(50.0, 1.0), (5.0, 0.5)]);
+        // Dilutions over decades: a logarithmic axis.
+        let sw = SweepConfig {
+            values: vec![SweepValue::Number(50.0), SweepValue::Number(0.5)],
+            ..sw
+        };
+        let plots = sweep_plots(&sw, &[("50", &a), ("0.5", &b)]);
+        assert!(matches!(plots[2].1.data, PlotData::LogLines { .. }));
     }
 }
