@@ -14,7 +14,7 @@ mod render;
 mod run;
 mod slurm;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::process::ExitCode;
 
 /// The commented default configuration printed by `packbed example`.
@@ -62,13 +62,18 @@ static ALLOCATOR: packbed::Allocator = packbed::Allocator;
 fn main() -> ExitCode {
     install_panic_hook();
     install_signal_handler();
-    let cli = match Cli::try_parse() {
-        Ok(cli) => cli,
+    // The matches too: `analyze` tells an option given from its default.
+    let matches = match Cli::command().try_get_matches() {
+        Ok(m) => m,
         Err(e) => return clap_exit(e),
+    };
+    let cli = match Cli::from_arg_matches(&matches) {
+        Ok(cli) => cli,
+        Err(e) => return clap_exit(e.format(&mut Cli::command())),
     };
     let result = match cli.command {
         Command::Run(args) => run::run(args),
-        Command::Analyze(args) => analyze::analyze(args),
+        Command::Analyze(args) => analyze::analyze(args, matches.subcommand_matches("analyze")),
         Command::Fragment(args) => fragment::fragment(args),
         Command::Render(args) => render::render(args),
         Command::Ensemble(args) => ensemble::ensemble(args),

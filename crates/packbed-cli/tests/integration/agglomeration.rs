@@ -1,7 +1,7 @@
 //! `--measures agglomeration` through the command: the dried cake's solid
 //! bridges and agglomerates, and its refusals.
 
-use crate::common::{assert_config_refused, Scratch};
+use crate::common::{assert_config_refused, assert_user_error, Scratch};
 
 fn config(extra: &str) -> String {
     format!(
@@ -95,5 +95,93 @@ fn agglomeration_bad_input() {
     ];
     for (k, (extra, needle)) in bad.iter().enumerate() {
         assert_config_refused(&s, &format!("bad{k}.toml"), &config(extra), &[needle]);
+    }
+}
+
+#[test]
+fn analyze_dries_a_given_bed_with_the_settings_of_a_config() {
+    let s = Scratch::new();
+    let washed = s.input(
+        "washed.toml",
+        &config("[analysis.drying]\nconcentration = 5\nsolubility = 50\n"),
+    );
+    let washed = washed.to_str().unwrap();
+    s.ok(&["run", washed, "--out", "r", "--no-pictures", "-q"]);
+    // The bed the run built, analysed with the run's [analysis]: the same
+    // agglomeration, at the washed concentration.
+    s.ok(&[
+        "analyze",
+        "r/particles.csv",
+        "--config",
+        washed,
+        "--out",
+        "a",
+        "-q",
+    ]);
+    let a = &s.summary("a")["agglomeration"];
+    assert_eq!(a["concentration"], 5.0);
+    assert_eq!(a, &s.summary("r")["agglomeration"]);
+    // Without the config, the default liquid (saturated at 50 kg/m³).
+    s.ok(&[
+        "analyze",
+        "r/particles.csv",
+        "--measures",
+        "agglomeration",
+        "--length-unit",
+        "um",
+        "--out",
+        "d",
+        "-q",
+    ]);
+    assert_eq!(s.summary("d")["agglomeration"]["concentration"], 50.0);
+    // An option given wins over the file: no agglomeration asked for.
+    s.ok(&[
+        "analyze",
+        "r/particles.csv",
+        "--config",
+        washed,
+        "--measures",
+        "packing",
+        "--out",
+        "p",
+        "-q",
+    ]);
+    assert!(s.summary("p").get("agglomeration").is_none());
+    // Bad files and settings: one line, exit 2, named where they are.
+    let over = s.input(
+        "over.toml",
+        "[analysis]\nmeasures = [\"agglomeration\"]\n[analysis.drying]\nconcentration = 60\nsolubility = 50\n",
+    );
+    let negative = s.input("negative.toml", "[analysis]\nlarge_radius = -1\n");
+    let unknown = s.input("unknown.toml", "[analysis.drying]\nbinder = 3\n");
+    let bed = "r/particles.csv";
+    for (args, needles) in [
+        (
+            vec!["--config", over.to_str().unwrap()],
+            vec![
+                "over.toml: analysis.drying: the concentration 60",
+                "above the solubility",
+            ],
+        ),
+        (
+            vec!["--config", negative.to_str().unwrap()],
+            vec!["negative.toml: analysis.large_radius must be"],
+        ),
+        (
+            vec!["--config", negative.to_str().unwrap(), "--large", "-2"],
+            vec!["--large"],
+        ),
+        (
+            vec!["--config", unknown.to_str().unwrap()],
+            vec!["unknown.toml", "binder"],
+        ),
+        (
+            vec!["--config", "missing.toml"],
+            vec!["--config", "missing.toml"],
+        ),
+    ] {
+        let mut all = vec!["analyze", bed, "--out", "bad"];
+        all.extend(args);
+        assert_user_error(&s, &all, &needles);
     }
 }

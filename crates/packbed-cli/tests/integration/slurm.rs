@@ -631,3 +631,61 @@ fn printed_submit_lines_and_script_paths_are_quoted_for_the_shell() {
         assert!(!s.path("X").exists(), "{f}: sourcing DIR= ran `touch X`");
     }
 }
+
+/// The drying's settings and a sweep over them reach the array tasks: the
+/// scripts, run by hand here (no Slurm needed), give the local ensemble's
+/// agglomeration, value by value.
+#[test]
+fn a_drying_sweep_through_the_scripts_equals_the_local_ensemble() {
+    let s = Scratch::new();
+    let sweep = s.input(
+        "dry.toml",
+        "dim = 3\nseed = 3\n[box]\nwidth = 8\ndepth = 8\nheight = 40\nperiodic = true\n\
+         [fill]\ncount = 300\n[[species]]\nradius = 1\n\
+         [analysis]\nmeasures = [\"agglomeration\"]\nlength_unit = \"um\"\n\
+         [analysis.drying]\nsolubility = 50\nmin_neck = 0.08\n\
+         [sweep]\nparameter = \"analysis.drying.concentration\"\nvalues = [50, 0.05]\n",
+    );
+    let sweep = sweep.to_str().unwrap();
+    s.ok(&["ensemble", sweep, "--runs", "2", "--out", "local", "-q"]);
+    s.ok(&[
+        "slurm", sweep, "--runs", "2", "--tasks", "2", "--out", "plan",
+    ]);
+    let config = s.read("plan/config.toml");
+    for needle in [
+        "\"agglomeration\"",
+        "[analysis.drying]",
+        "min_neck = 0.08",
+        "parameter = \"analysis.drying.concentration\"",
+    ] {
+        assert!(config.contains(needle), "{needle} not in:\n{config}");
+    }
+    for k in ["0", "1"] {
+        let st = Command::new("bash")
+            .arg(s.path("plan/array.sh"))
+            .env("SLURM_ARRAY_TASK_ID", k)
+            .current_dir(&s.work)
+            .stdin(Stdio::null())
+            .status()
+            .unwrap();
+        assert!(st.success(), "task {k}");
+    }
+    let st = Command::new("bash")
+        .arg(s.path("plan/merge.sh"))
+        .current_dir(&s.work)
+        .stdin(Stdio::null())
+        .status()
+        .unwrap();
+    assert!(st.success(), "merge");
+    let (local, plan) = (s.path("local"), s.path("plan"));
+    assert_same(&local, &plan, &["sweep.csv", "sweep.md"]);
+    let csv = s.read("plan/sweep.csv");
+    assert!(
+        csv.contains(",agglomeration.bonds_per_particle,2,"),
+        "{csv}"
+    );
+    for value in ["00-concentration-50", "01-concentration-0.05"] {
+        let dir = format!("sweep/{value}");
+        assert_same(&local.join(&dir), &plan.join(&dir), &STAT_FILES);
+    }
+}

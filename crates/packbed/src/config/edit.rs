@@ -46,6 +46,26 @@ pub enum Edit {
     SpeciesSize(usize, SizeEdit),
     /// The measures to compute (the others are left out of the summary).
     Measures(Vec<Measure>),
+    /// One setting of `[analysis.drying]`: a sweep over the solute.
+    Drying(DryingEdit),
+    /// The capillary pressure `[analysis.drainage]` reports the liquid at,
+    /// in Pa; it replaces a `reduced_pressure`.
+    DrainagePressure(Real),
+    /// The same as `P_c·d32/γ`; it replaces a `pressure`.
+    DrainageReducedPressure(Real),
+}
+
+/// A change to `[analysis.drying]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DryingEdit {
+    /// The dissolved solid, kg/m³ (a washed cake's liquid is diluted).
+    Concentration(Real),
+    /// Its solubility, kg/m³.
+    Solubility(Real),
+    /// A bond's smallest neck, in the pair's harmonic mean radius.
+    MinNeck(Real),
+    /// The solid's tensile strength, Pa.
+    TensileStrength(Real),
 }
 
 /// A change to a species' size distribution: a sweep over distributions.
@@ -112,7 +132,7 @@ impl FromStr for BoxSpec {
 }
 
 /// The parameters a sweep can vary, with the form of their values.
-pub const SWEEP_PARAMETERS: [(&str, &str); 14] = [
+pub const SWEEP_PARAMETERS: [(&str, &str); 20] = [
     ("ratio", "a list with one number ratio per species, e.g. [1, 2]"),
     (
         "radii",
@@ -132,6 +152,24 @@ pub const SWEEP_PARAMETERS: [(&str, &str); 14] = [
     (
         "species[K].size.table",
         "a PSD table file for species K, e.g. \"batch-a.csv\" (relative to the config)",
+    ),
+    (
+        "analysis.drying.concentration",
+        "the dissolved solid, kg/m³ (a washing sweep dilutes it)",
+    ),
+    ("analysis.drying.solubility", "the solute's solubility, kg/m³"),
+    (
+        "analysis.drying.min_neck",
+        "a bond's smallest neck, in the pair's harmonic mean radius",
+    ),
+    ("analysis.drying.tensile_strength", "the solid's tensile strength, Pa"),
+    (
+        "analysis.drainage.pressure",
+        "the deliquoring capillary pressure, Pa (needs analysis.length_unit)",
+    ),
+    (
+        "analysis.drainage.reduced_pressure",
+        "the deliquoring pressure as P_c·d32/γ",
     ),
 ];
 
@@ -171,6 +209,14 @@ impl Edit {
             "fill.count" => Edit::Count(whole(one()?)?),
             "fill.roof_misses" => Edit::RoofMisses(whole(one()?)?),
             "analysis.large_radius" => Edit::LargeRadius(one()?),
+            "analysis.drying.concentration" => Edit::Drying(DryingEdit::Concentration(one()?)),
+            "analysis.drying.solubility" => Edit::Drying(DryingEdit::Solubility(one()?)),
+            "analysis.drying.min_neck" => Edit::Drying(DryingEdit::MinNeck(one()?)),
+            "analysis.drying.tensile_strength" => {
+                Edit::Drying(DryingEdit::TensileStrength(one()?))
+            }
+            "analysis.drainage.pressure" => Edit::DrainagePressure(one()?),
+            "analysis.drainage.reduced_pressure" => Edit::DrainageReducedPressure(one()?),
             _ => match species_parameter(parameter) {
                 Some((k, "radius")) => Edit::SpeciesRadius(k, one()?),
                 Some((k, "ratio")) => Edit::SpeciesRatio(k, one()?),
@@ -271,6 +317,23 @@ impl Config {
                 }
             }
             Edit::Measures(m) => self.analysis.measures = Some(m.clone()),
+            Edit::Drying(e) => {
+                let d = &mut self.analysis.drying;
+                match *e {
+                    DryingEdit::Concentration(x) => d.concentration = x,
+                    DryingEdit::Solubility(x) => d.solubility = Some(x),
+                    DryingEdit::MinNeck(x) => d.min_neck = x,
+                    DryingEdit::TensileStrength(x) => d.tensile_strength = x,
+                }
+            }
+            Edit::DrainagePressure(p) => {
+                let d = &mut self.analysis.drainage;
+                (d.pressure, d.reduced_pressure) = (Some(*p), None);
+            }
+            Edit::DrainageReducedPressure(p) => {
+                let d = &mut self.analysis.drainage;
+                (d.pressure, d.reduced_pressure) = (None, Some(*p));
+            }
         }
         Ok(())
     }
@@ -637,5 +700,66 @@ mod tests {
         let mut c = Config::default();
         let e = c.apply(&Edit::SpeciesRatio(5, 1.0)).unwrap_err();
         assert!(e.to_string().contains("only 2 species"), "{e}");
+    }
+
+    #[test]
+    fn drying_and_drainage_parameters_map_to_edits() {
+        let n = SweepValue::Number(5.0);
+        let cases = [
+            (
+                "analysis.drying.concentration",
+                Edit::Drying(DryingEdit::Concentration(5.0)),
+            ),
+            (
+                "analysis.drying.solubility",
+                Edit::Drying(DryingEdit::Solubility(5.0)),
+            ),
+            (
+                "analysis.drying.min_neck",
+                Edit::Drying(DryingEdit::MinNeck(5.0)),
+            ),
+            (
+                "analysis.drying.tensile_strength",
+                Edit::Drying(DryingEdit::TensileStrength(5.0)),
+            ),
+            ("analysis.drainage.pressure", Edit::DrainagePressure(5.0)),
+            (
+                "analysis.drainage.reduced_pressure",
+                Edit::DrainageReducedPressure(5.0),
+            ),
+        ];
+        for (p, edit) in cases {
+            assert!(SWEEP_PARAMETERS.iter().any(|(q, _)| *q == p), "{p}");
+            assert_eq!(Edit::from_sweep(p, &n).as_ref(), Ok(&edit), "{p}");
+            let e = Edit::from_sweep(p, &SweepValue::List(vec![1.0, 2.0])).unwrap_err();
+            assert!(e.contains("one number"), "{p}: {e}");
+        }
+        // A pressure replaces a reduced pressure and the other way round:
+        // the drainage takes one of them.
+        let mut c = Config::default();
+        c.apply(&Edit::DrainageReducedPressure(20.0)).unwrap();
+        c.apply(&Edit::DrainagePressure(3e5)).unwrap();
+        let d = &c.analysis.drainage;
+        assert_eq!((d.pressure, d.reduced_pressure), (Some(3e5), None));
+        c.apply(&Edit::DrainageReducedPressure(40.0)).unwrap();
+        let d = &c.analysis.drainage;
+        assert_eq!((d.pressure, d.reduced_pressure), (None, Some(40.0)));
+        c.apply(&Edit::Drying(DryingEdit::Concentration(0.5)))
+            .unwrap();
+        c.apply(&Edit::Drying(DryingEdit::Solubility(50.0)))
+            .unwrap();
+        c.apply(&Edit::Drying(DryingEdit::MinNeck(0.1))).unwrap();
+        c.apply(&Edit::Drying(DryingEdit::TensileStrength(1e6)))
+            .unwrap();
+        let d = &c.analysis.drying;
+        assert_eq!(
+            (
+                d.concentration,
+                d.solubility,
+                d.min_neck,
+                d.tensile_strength
+            ),
+            (0.5, Some(50.0), 0.1, 1e6)
+        );
     }
 }

@@ -27,7 +27,7 @@ pub const ALPHA: f64 = 0.05;
 
 /// The measures a filtration study reads first, in this order when present;
 /// the rest follow in the order of `summary.json`.
-pub const HEADLINE: [&str; 24] = [
+pub const HEADLINE: [&str; 25] = [
     "cake.porosity",
     "cake.d32",
     "cake.specific_surface",
@@ -47,6 +47,7 @@ pub const HEADLINE: [&str; 24] = [
     "drainage.breakthrough.pa",
     "drainage.residual_saturation",
     "agglomeration.bonds_per_particle",
+    "agglomeration.agglomerates",
     "agglomeration.fraction_in_agglomerates",
     "agglomeration.d50_product",
     "agglomeration.agitation.fraction_in_agglomerates",

@@ -212,6 +212,40 @@ mod tests {
     }
 
     #[test]
+    fn the_drying_and_the_drainage_are_swept() {
+        let base = "[analysis]\nlength_unit = \"um\"\nmeasures = [\"agglomeration\"]\n\
+                    [analysis.drying]\nsolubility = 50\n";
+        let swept = |parameter: &str, values: &str| {
+            let c = config(&format!(
+                "{base}[sweep]\nparameter = \"{parameter}\"\nvalues = {values}\n"
+            ));
+            c.sweep.as_ref().unwrap().points(&c).unwrap()
+        };
+        let pts = swept("analysis.drying.concentration", "[50, 6.77, 0.92]");
+        let c: Vec<f64> = pts
+            .iter()
+            .map(|p| p.config.analysis.drying.concentration)
+            .collect();
+        assert_eq!(c, [50.0, 6.77, 0.92]);
+        assert_eq!(pts[1].dir, "01-concentration-6.77");
+        assert!(pts
+            .iter()
+            .all(|p| p.config.analysis.drying.solubility == Some(50.0)));
+        let pts = swept("analysis.drying.solubility", "[50, 100]");
+        assert_eq!(pts[1].config.analysis.drying.solubility, Some(100.0));
+        let pts = swept("analysis.drying.min_neck", "[0.02, 0.1]");
+        assert_eq!(pts[1].config.analysis.drying.min_neck, 0.1);
+        let pts = swept("analysis.drying.tensile_strength", "[1e6, 4e6]");
+        assert_eq!(pts[0].config.analysis.drying.tensile_strength, 1e6);
+        let pts = swept("analysis.drainage.reduced_pressure", "[15, 80]");
+        assert_eq!(pts[1].config.analysis.drainage.reduced_pressure, Some(80.0));
+        assert_eq!(pts[1].dir, "01-reduced-pressure-80");
+        let pts = swept("analysis.drainage.pressure", "[2e5, 4e5]");
+        let d = &pts[1].config.analysis.drainage;
+        assert_eq!((d.pressure, d.reduced_pressure), (Some(4e5), None));
+    }
+
+    #[test]
     fn bad_sweeps_are_explained() {
         let bad = [
             (
@@ -244,6 +278,34 @@ mod tests {
             (
                 "parameter = \"ratio\"\nvalues = [\"a.csv\"]",
                 "expected a number",
+            ),
+            (
+                "parameter = \"analysis.drying.concentration\"\nvalues = [-1]",
+                "values[0]: analysis.drying: concentration (kg/m³) must be finite and at least 0",
+            ),
+            (
+                "parameter = \"analysis.drying.concentration\"\nvalues = [[1, 2]]",
+                "values[0]: expected one number",
+            ),
+            (
+                "parameter = \"analysis.drying.solubility\"\nvalues = [10]",
+                "values[0]: analysis.drying: the concentration 50 kg/m³ is above the solubility 10",
+            ),
+            (
+                "parameter = \"analysis.drying.min_neck\"\nvalues = [5, -0.1]",
+                "values[1]: analysis.drying: min_neck",
+            ),
+            (
+                "parameter = \"analysis.drying.tensile_strength\"\nvalues = [\"strong\"]",
+                "expected a number",
+            ),
+            (
+                "parameter = \"analysis.drainage.reduced_pressure\"\nvalues = [0]",
+                "values[0]: analysis.drainage.reduced_pressure",
+            ),
+            (
+                "parameter = \"analysis.drainage.pressure\"\nvalues = [1e5]",
+                "needs analysis.length_unit",
             ),
         ];
         for (body, needle) in bad {

@@ -521,8 +521,12 @@ pub fn sweep_csv(rows: &[SweepRow]) -> String {
     })
 }
 
+/// Yes/no keys that are settings echoed in the summary, not measures: the
+/// same in every bed, they say nothing on screen or in a headline table.
+pub const SETTINGS: [&str; 1] = ["drainage.trapping"];
+
 /// Measures shown side by side in the first table of `sweep.md`, if present.
-const HEADLINE: [&str; 9] = [
+const HEADLINE: [&str; 13] = [
     "cake.porosity",
     "cake.d32",
     "cake.k_kozeny_carman",
@@ -532,6 +536,10 @@ const HEADLINE: [&str; 9] = [
     "packing.bulk",
     "coordination.mean",
     "coordination.mean_bulk",
+    "drainage.residual_saturation",
+    "agglomeration.bonds_per_particle",
+    "agglomeration.agglomerates",
+    "agglomeration.fraction_in_agglomerates",
 ];
 
 /// `sweep.md`: a headline table (one row per value; the cake, packing,
@@ -559,7 +567,11 @@ pub fn sweep_md(parameter: &str, base: &Config, rows: &[SweepRow]) -> String {
     for m in &first.aggregate.measures {
         // The caps of the chain search are bookkeeping, not results: they
         // stay in the per-measure tables below.
-        if m.kind == Kind::Percent && !m.name.ends_with("_empty") && !m.name.ends_with("cap_hit") {
+        if m.kind == Kind::Percent
+            && !m.name.ends_with("_empty")
+            && !m.name.ends_with("cap_hit")
+            && !SETTINGS.contains(&m.name.as_str())
+        {
             headline.push(&m.name);
         }
     }
@@ -800,6 +812,16 @@ mod tests {
                     Kind::Percent,
                     st(4, 100.0, 0.0, 100.0, 100.0),
                 ),
+                (
+                    "drainage.trapping",
+                    Kind::Percent,
+                    st(4, 100.0, 0.0, 100.0, 100.0),
+                ),
+                (
+                    "agglomeration.agglomerates",
+                    Kind::Value,
+                    st(4, 20.0, 3.0, 17.0, 24.0),
+                ),
             ],
         );
         let rows = [SweepRow {
@@ -813,7 +835,7 @@ mod tests {
             .unwrap();
         assert_eq!(
             head,
-            "| species[0].size.table | beds | cake.porosity | packing.global | percolation.spans (% of beds) |"
+            "| species[0].size.table | beds | cake.porosity | packing.global | agglomeration.agglomerates | percolation.spans (% of beds) |"
         );
         // The cap is still reported, in its own table further down.
         assert!(md.contains("percolation.cap_hit"));

@@ -319,7 +319,7 @@ fn chain_angles(a: &Aggregate, beds: u64, dim: usize, from: AngleFrom) -> Option
 }
 
 /// Measures drawn against the sweep parameter, with their plot file stems.
-const SWEEP_MEASURES: [(&str, &str, &str); 6] = [
+const SWEEP_MEASURES: [(&str, &str, &str); 11] = [
     ("cake.porosity", "plot_sweep_porosity", "porosity (bulk)"),
     (
         "permeability.k_z",
@@ -345,6 +345,31 @@ const SWEEP_MEASURES: [(&str, &str, &str); 6] = [
         "coordination.mean_bulk",
         "plot_sweep_coordination_bulk",
         "mean coordination number (bulk)",
+    ),
+    (
+        "drainage.residual_saturation",
+        "plot_sweep_residual_saturation",
+        "residual saturation after deliquoring",
+    ),
+    (
+        "agglomeration.bonds_per_particle",
+        "plot_sweep_bonds",
+        "solid-bridge bonds per particle",
+    ),
+    (
+        "agglomeration.agglomerates",
+        "plot_sweep_agglomerates",
+        "agglomerates",
+    ),
+    (
+        "agglomeration.fraction_in_agglomerates",
+        "plot_sweep_fraction_agglomerated",
+        "volume fraction of particles in agglomerates",
+    ),
+    (
+        "agglomeration.d50_product",
+        "plot_sweep_d50_product",
+        "median size of the dried product (length units)",
     ),
 ];
 
@@ -451,6 +476,12 @@ fn parameter_label(parameter: &str) -> String {
         "fill.count" => "particles placed",
         "fill.roof_misses" => "overflows allowed at the roof",
         "analysis.large_radius" => "radius of a large particle (length units)",
+        "analysis.drying.concentration" => "dissolved solid (kg/m³)",
+        "analysis.drying.solubility" => "solubility (kg/m³)",
+        "analysis.drying.min_neck" => "smallest bond neck (harmonic mean radius)",
+        "analysis.drying.tensile_strength" => "tensile strength of the solid (Pa)",
+        "analysis.drainage.pressure" => "deliquoring capillary pressure (Pa)",
+        "analysis.drainage.reduced_pressure" => "deliquoring pressure P_c·d32/γ",
         p if p.ends_with(".radius") => "radius (length units)",
         p if p.ends_with(".ratio") => "number ratio",
         _ => return parameter.to_string(),
@@ -465,6 +496,15 @@ struct Curve {
     errors: Option<Vec<f64>>,
 }
 
+/// Lines over a logarithmic axis or a linear one.
+fn lines(log: bool, series: Vec<Series>) -> PlotData {
+    if log {
+        PlotData::LogLines { series }
+    } else {
+        PlotData::Lines { series }
+    }
+}
+
 /// Curves against the sweep values: lines over numeric values, grouped bars
 /// over labels.
 fn against(
@@ -476,9 +516,18 @@ fn against(
     curves: Vec<Curve>,
     y_range: Option<(f64, f64)>,
 ) -> Plot {
+    // Values spanning two decades or more (a washing's dilutions) are
+    // spread on a logarithmic axis.
+    let decades = xs.is_some_and(|xs| {
+        let (lo, hi) = xs
+            .iter()
+            .fold((f64::INFINITY, 0f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+        lo > 0.0 && hi >= 100.0 * lo
+    });
     let data = match xs {
-        Some(xs) => PlotData::Lines {
-            series: curves
+        Some(xs) => lines(
+            decades,
+            curves
                 .into_iter()
                 .map(|c| {
                     let kept: Vec<usize> =
@@ -495,7 +544,7 @@ fn against(
                     }
                 })
                 .collect(),
-        },
+        ),
         None => PlotData::Bars {
             categories: labels.to_vec(),
             groups: curves
@@ -718,5 +767,51 @@ mod tests {
             panic!("bars expected");
         };
         assert_eq!(categories, &["1:1", "1:2"]);
+    }
+
+    #[test]
+    fn a_drying_sweep_plots_the_agglomeration_against_the_concentration() {
+        let keys = [
+            "agglomeration.bonds_per_particle",
+            "agglomeration.agglomerates",
+            "agglomeration.fraction_in_agglomerates",
+            "agglomeration.d50_product",
+            "drainage.residual_saturation",
+        ];
+        let a = aggregate(&keys.map(|k| (k, 1.0, 0.1)));
+        let b = aggregate(&keys.map(|k| (k, 0.5, 0.1)));
+        let sw = SweepConfig {
+            parameter: "analysis.drying.concentration".into(),
+            values: vec![SweepValue::Number(50.0), SweepValue::Number(5.0)],
+            labels: None,
+        };
+        let plots = sweep_plots(&sw, &[("50", &a), ("5", &b)]);
+        let stems: Vec<&str> = plots.iter().map(|p| p.0.as_str()).collect();
+        assert_eq!(
+            stems,
+            [
+                "plot_sweep_residual_saturation",
+                "plot_sweep_bonds",
+                "plot_sweep_agglomerates",
+                "plot_sweep_fraction_agglomerated",
+                "plot_sweep_d50_product",
+            ]
+        );
+        let p = &plots[2].1;
+        assert_eq!(
+            p.x_label,
+            "analysis.drying.concentration: dissolved solid (kg/m³)"
+        );
+        let PlotData::Lines { series } = &p.data else {
+            panic!("lines expected");
+        };
+        assert_eq!(series[0].points, vec![(50.0, 1.0), (5.0, 0.5)]);
+        // Dilutions over decades: a logarithmic axis.
+        let sw = SweepConfig {
+            values: vec![SweepValue::Number(50.0), SweepValue::Number(0.5)],
+            ..sw
+        };
+        let plots = sweep_plots(&sw, &[("50", &a), ("0.5", &b)]);
+        assert!(matches!(plots[2].1.data, PlotData::LogLines { .. }));
     }
 }

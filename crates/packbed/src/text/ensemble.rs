@@ -30,9 +30,7 @@ const ON_SCREEN: [&str; 17] = [
     "agglomeration.agitation.fraction_in_agglomerates",
 ];
 
-/// Yes/no keys that are settings echoed in the summary, not measures: the
-/// same in every bed, they say nothing on screen.
-const SETTINGS: [&str; 1] = ["drainage.trapping"];
+use tables::SETTINGS;
 
 /// The note of an ensemble rerun with fewer replicates than `out` holds.
 pub fn reduced_note(out: &Path, runs: u64, earlier: u64) -> String {

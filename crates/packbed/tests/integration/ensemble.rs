@@ -330,7 +330,7 @@ fn sweep_configs_are_refused_by_run() {
 fn every_example_config_is_valid() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
     let mut seen = 0;
-    for dir in [root.clone(), root.join("thesis")] {
+    for dir in [root.clone(), root.join("thesis"), root.join("drying")] {
         for e in fs::read_dir(&dir).unwrap() {
             let p = e.unwrap().path();
             if p.extension().is_some_and(|x| x == "toml") {
