@@ -66,6 +66,9 @@ pub enum DryingEdit {
     MinNeck(Real),
     /// The solid's tensile strength, Pa.
     TensileStrength(Real),
+    /// The agitation's stress, Pa (an agitation with its other keys at
+    /// their defaults when the config has none).
+    AgitationStress(Real),
 }
 
 /// A change to a species' size distribution: a sweep over distributions.
@@ -132,7 +135,7 @@ impl FromStr for BoxSpec {
 }
 
 /// The parameters a sweep can vary, with the form of their values.
-pub const SWEEP_PARAMETERS: [(&str, &str); 20] = [
+pub const SWEEP_PARAMETERS: [(&str, &str); 21] = [
     ("ratio", "a list with one number ratio per species, e.g. [1, 2]"),
     (
         "radii",
@@ -163,6 +166,10 @@ pub const SWEEP_PARAMETERS: [(&str, &str); 20] = [
         "a bond's smallest neck, in the pair's harmonic mean radius",
     ),
     ("analysis.drying.tensile_strength", "the solid's tensile strength, Pa"),
+    (
+        "analysis.drying.agitation.stress",
+        "the agitation's stress on the dried cake, Pa",
+    ),
     (
         "analysis.drainage.pressure",
         "the deliquoring capillary pressure, Pa (needs analysis.length_unit)",
@@ -212,6 +219,9 @@ impl Edit {
             "analysis.drying.concentration" => Edit::Drying(DryingEdit::Concentration(one()?)),
             "analysis.drying.solubility" => Edit::Drying(DryingEdit::Solubility(one()?)),
             "analysis.drying.min_neck" => Edit::Drying(DryingEdit::MinNeck(one()?)),
+            "analysis.drying.agitation.stress" => {
+                Edit::Drying(DryingEdit::AgitationStress(one()?))
+            }
             "analysis.drying.tensile_strength" => {
                 Edit::Drying(DryingEdit::TensileStrength(one()?))
             }
@@ -324,6 +334,9 @@ impl Config {
                     DryingEdit::Solubility(x) => d.solubility = Some(x),
                     DryingEdit::MinNeck(x) => d.min_neck = x,
                     DryingEdit::TensileStrength(x) => d.tensile_strength = x,
+                    DryingEdit::AgitationStress(x) => {
+                        d.agitation.get_or_insert_with(Default::default).stress = x
+                    }
                 }
             }
             Edit::DrainagePressure(p) => {
@@ -722,6 +735,10 @@ mod tests {
                 "analysis.drying.tensile_strength",
                 Edit::Drying(DryingEdit::TensileStrength(5.0)),
             ),
+            (
+                "analysis.drying.agitation.stress",
+                Edit::Drying(DryingEdit::AgitationStress(5.0)),
+            ),
             ("analysis.drainage.pressure", Edit::DrainagePressure(5.0)),
             (
                 "analysis.drainage.reduced_pressure",
@@ -751,6 +768,13 @@ mod tests {
         c.apply(&Edit::Drying(DryingEdit::MinNeck(0.1))).unwrap();
         c.apply(&Edit::Drying(DryingEdit::TensileStrength(1e6)))
             .unwrap();
+        assert_eq!(c.analysis.drying.agitation, None);
+        c.apply(&Edit::Drying(DryingEdit::AgitationStress(3e4)))
+            .unwrap();
+        assert_eq!(
+            c.analysis.drying.agitation.as_ref().map(|a| a.stress),
+            Some(3e4)
+        );
         let d = &c.analysis.drying;
         assert_eq!(
             (

@@ -122,7 +122,15 @@ pub fn earlier_file(name: &str, beds: bool) -> bool {
         .strip_suffix(".png")
         .or_else(|| name.strip_suffix(".svg"))
         .is_some_and(|stem| {
-            stem.starts_with("plot_") || ["bed", "forces", "breakage"].contains(&stem)
+            stem.starts_with("plot_")
+                || [
+                    "bed",
+                    "forces",
+                    "breakage",
+                    "agglomerates",
+                    "agglomerates_agitated",
+                ]
+                .contains(&stem)
         });
     let bed = name == RUN_FILES[0]
         || [

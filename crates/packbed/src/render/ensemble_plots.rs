@@ -480,6 +480,7 @@ fn parameter_label(parameter: &str) -> String {
         "analysis.drying.solubility" => "solubility (kg/m³)",
         "analysis.drying.min_neck" => "smallest bond neck (harmonic mean radius)",
         "analysis.drying.tensile_strength" => "tensile strength of the solid (Pa)",
+        "analysis.drying.agitation.stress" => "agitation stress (Pa)",
         "analysis.drainage.pressure" => "deliquoring capillary pressure (Pa)",
         "analysis.drainage.reduced_pressure" => "deliquoring pressure P_c·d32/γ",
         p if p.ends_with(".radius") => "radius (length units)",

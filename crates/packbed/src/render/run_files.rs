@@ -24,6 +24,42 @@ fn keep(out: &mut Pictures, name: String, made: Result<Vec<u8>>) {
     }
 }
 
+/// Particle classes of agglomerate ids (`ids[p]`, 0: none; 1 the largest):
+/// the `top` largest agglomerates each a class, the rest one class, single
+/// particles the grey backdrop.
+pub fn agglomerate_classes(ids: &[u32], top: u32) -> super::Classes {
+    let mut count = std::collections::BTreeMap::new();
+    for &g in ids.iter().filter(|&&g| g > 0) {
+        *count.entry(g).or_insert(0u64) += 1;
+    }
+    let shown = (count.len() as u32).min(top);
+    let mut labels: Vec<String> = (1..=shown)
+        .map(|g| format!("agglomerate {g} ({} particles)", count[&g]))
+        .collect();
+    let rest = count.len() as u32 > shown;
+    if rest {
+        labels.push(format!(
+            "{} smaller agglomerates",
+            count.len() as u32 - shown
+        ));
+    }
+    labels.push("single particles".into());
+    let single = labels.len() as u32 - 1;
+    let class = ids
+        .iter()
+        .map(|&g| match g {
+            0 => single,
+            g if g <= shown => g - 1,
+            _ => shown,
+        })
+        .collect();
+    super::Classes {
+        labels,
+        class,
+        backdrop: Some(single),
+    }
+}
+
 /// Size of plot images in pixels.
 pub const PLOT_SIZE: (u32, u32) = (1000, 700);
 
@@ -55,6 +91,39 @@ pub fn pictures<const D: usize>(
                 "bed.svg".to_string(),
                 svg_of(bed, &opts).map(String::into_bytes),
             );
+        }
+        // The agglomerates the dried cake's bonds join, before and after
+        // its agitation.
+        if let Some(d) = &measures.dried {
+            let mut shown = vec![("agglomerates", d.agglomerate_of.clone(), "agglomerates")];
+            if d.summary.agitation.is_some() {
+                let mut after = vec![0u32; bed.len()];
+                for b in d.bridges.iter().filter(|b| b.agglomerate_after > 0) {
+                    for p in b.particles {
+                        after[p as usize] = b.agglomerate_after;
+                    }
+                }
+                shown.push((
+                    "agglomerates_agitated",
+                    after,
+                    "agglomerates after agitation",
+                ));
+            }
+            for (name, ids, title) in shown {
+                let opts = RenderOptions {
+                    color: super::ColorBy::Classes(agglomerate_classes(&ids, 5)),
+                    title: Some(title.to_string()),
+                    ..opts.clone()
+                };
+                keep(&mut out, format!("{name}.png"), png_of(bed, &opts));
+                if D == 2 {
+                    keep(
+                        &mut out,
+                        format!("{name}.svg"),
+                        svg_of(bed, &opts).map(String::into_bytes),
+                    );
+                }
+            }
         }
         let mut plots = vec![(
             "plot_coordination",
@@ -155,4 +224,29 @@ pub fn psd_plot(out: &mut Pictures, psd: &PsdSummary, unit: Option<&str>) {
         plot.to_svg(PLOT_SIZE.0, PLOT_SIZE.1)
             .map(String::into_bytes),
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::agglomerate_classes;
+
+    #[test]
+    fn agglomerate_classes_name_the_largest_and_grey_the_singles() {
+        let ids = [0, 1, 1, 2, 3, 3, 3, 0];
+        let c = agglomerate_classes(&ids, 2);
+        assert_eq!(
+            c.labels,
+            [
+                "agglomerate 1 (2 particles)",
+                "agglomerate 2 (1 particles)",
+                "1 smaller agglomerates",
+                "single particles"
+            ]
+        );
+        assert_eq!(c.class, [3, 0, 0, 1, 2, 2, 2, 3]);
+        assert_eq!(c.backdrop, Some(3));
+        let none = agglomerate_classes(&[0, 0], 6);
+        assert_eq!(none.labels, ["single particles"]);
+        assert_eq!(none.class, [0, 0]);
+    }
 }
