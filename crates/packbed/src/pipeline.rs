@@ -191,7 +191,11 @@ fn analyze_agitated<const D: usize>(
     settings: &AnalysisConfig,
 ) -> Result<(Contacts, Summary)> {
     let (contacts, mut summary) = crate::analysis::analyze_with(bed, &settings.options());
-    let (Some(options), Some(dried)) = (&settings.drying.agitation, summary.dried.take()) else {
+    // The dried cake is taken only when there is an agitation to give it.
+    let Some(options) = &settings.drying.agitation else {
+        return Ok((contacts, summary));
+    };
+    let Some(dried) = summary.dried.take() else {
         return Ok((contacts, summary));
     };
     let mut drying = std::sync::Arc::try_unwrap(dried).unwrap_or_else(|d| (*d).clone());

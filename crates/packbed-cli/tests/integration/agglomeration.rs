@@ -34,7 +34,8 @@ fn agglomeration_writes_its_bridges_and_agglomerates() {
     assert!(solid > 0.0 && (placed - solid).abs() < 1e-9 * solid);
     let bridges = s.read("sat/bridges.csv");
     assert!(bridges.starts_with(
-        "particle_a,particle_b,sx,sy,gap,liquid,solid,neck_radius,bond,strength_n,agglomerate\n"
+        "particle_a,particle_b,sx,sy,gap,liquid,solid,neck_radius,bond,strength_n,agglomerate,\
+         broken_at_pa,agglomerate_after\n"
     ));
     let bonds = bridges
         .lines()
@@ -184,4 +185,55 @@ fn analyze_dries_a_given_bed_with_the_settings_of_a_config() {
         all.extend(args);
         assert_user_error(&s, &all, &needles);
     }
+}
+
+/// `[analysis.drying.agitation]` through the command: the agitated product
+/// in the summary, the broken bridges and the agglomerates after it in
+/// `bridges.csv`, the picture coloured by agglomerate after it, and the
+/// same agitation from `analyze --config` of the run's bed.
+#[test]
+fn agitation_breaks_bridges_and_writes_the_product_after_it() {
+    let s = Scratch::new();
+    let text = config(
+        "[analysis.drying]\nconcentration = 0.5\nsolubility = 50\n\
+         [analysis.drying.agitation]\nstress = 1e4\n",
+    );
+    let path = s.input("agitated.toml", &text);
+    let path = path.to_str().unwrap();
+    s.ok(&["run", path, "--out", "r", "-q"]);
+    let a = &s.summary("r")["agglomeration"];
+    let g = &a["agitation"];
+    let broken = g["broken"].as_u64().unwrap();
+    assert!(broken > 0, "{g}");
+    assert!(g["agglomerates"].is_u64() && g["first_break_stress"].as_f64().unwrap() > 0.0);
+    // After ⊆ before: no more particles in agglomerates than before.
+    assert!(
+        g["fraction_in_agglomerates"].as_f64().unwrap()
+            <= a["fraction_in_agglomerates"].as_f64().unwrap()
+    );
+    let bridges = s.read("r/bridges.csv");
+    let rows: Vec<Vec<&str>> = bridges
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    let marked = rows.iter().filter(|r| !r[11].is_empty()).count() as u64;
+    assert_eq!(marked, broken);
+    for r in rows.iter().filter(|r| !r[11].is_empty()) {
+        let at: f64 = r[11].parse().unwrap();
+        assert!(r[8] == "1" && at > 0.0 && at <= 1e4, "{r:?}");
+        assert_eq!(r[12], "0");
+    }
+    assert!(s.path("r/agglomerates_agitated.png").exists());
+    assert!(s.path("r/agglomerates.png").exists());
+    s.ok(&[
+        "analyze",
+        "r/particles.csv",
+        "--config",
+        path,
+        "--out",
+        "a",
+        "-q",
+    ]);
+    assert_eq!(&s.summary("a")["agglomeration"], a);
 }
