@@ -24,7 +24,7 @@
 //! agitation lies inside one before it (tests).
 
 use super::network::{self, Bodies};
-use super::{bond_forces, loads, network_state, solver};
+use super::{bond_counts, bond_forces, bonded, loads, network_state, solver, unbond};
 use crate::analysis::pores::drying::{product, AgitationSummary, Drying};
 use crate::analysis::{Contact, Contacts};
 use crate::bed::Bed;
@@ -120,14 +120,7 @@ pub fn agitate<const D: usize>(
         kt: options.kt_over_kn,
     };
     let nb = bodies.len();
-    let mut bond_count = vec![0u32; nb];
-    for g in &bonds {
-        bond_count[g.i as usize] += 1;
-        if let Some(j) = g.j {
-            bond_count[j as usize] += 1;
-        }
-    }
-    let bonded = |count: &[u32]| count.iter().map(|&c| c > 0).collect::<Vec<_>>();
+    let mut bond_count = bond_counts(&bonds, nb);
     let mut loaded = load_groups
         .current(&bonded(&bond_count))
         .ok_or_else(|| load_groups.unbonded(&bonded(&bond_count)))?;
@@ -168,10 +161,7 @@ pub fn agitate<const D: usize>(
         }
         broken += 1;
         alive[k] = false;
-        bond_count[bonds[k].i as usize] -= 1;
-        if let Some(j) = bonds[k].j {
-            bond_count[j as usize] -= 1;
-        }
+        unbond(&mut bond_count, &bonds[k]);
         system.remove(k)?;
         // The cake fails when a loaded piece loses its last path to the
         // floor or walls: past it, the quasi-static load has no equilibrium.

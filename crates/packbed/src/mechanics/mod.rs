@@ -158,14 +158,7 @@ fn solve_and_break<const D: usize>(
         kt: options.kt_over_kn,
     };
     let nb = bodies.len();
-    let mut bond_count = vec![0u32; nb];
-    for g in &bonds {
-        bond_count[g.i as usize] += 1;
-        if let Some(j) = g.j {
-            bond_count[j as usize] += 1;
-        }
-    }
-    let bonded = |count: &[u32]| count.iter().map(|&c| c > 0).collect::<Vec<_>>();
+    let mut bond_count = bond_counts(&bonds, nb);
     let loads = load_groups
         .current(&bonded(&bond_count))
         .ok_or_else(|| load_groups.unbonded(&bonded(&bond_count)))?;
@@ -198,10 +191,7 @@ fn solve_and_break<const D: usize>(
         };
         let magnitude = current[k];
         alive[k] = false;
-        bond_count[bonds[k].i as usize] -= 1;
-        if let Some(j) = bonds[k].j {
-            bond_count[j as usize] -= 1;
-        }
+        unbond(&mut bond_count, &bonds[k]);
         system.remove(k)?;
         let loaded = load_groups.current(&bonded(&bond_count));
         let failed;
@@ -258,6 +248,31 @@ fn solve_and_break<const D: usize>(
         steps,
         summary,
     })
+}
+
+/// Bonds per body.
+fn bond_counts<const D: usize>(bonds: &[BondGeometry<D>], bodies: usize) -> Vec<u32> {
+    let mut count = vec![0u32; bodies];
+    for g in bonds {
+        count[g.i as usize] += 1;
+        if let Some(j) = g.j {
+            count[j as usize] += 1;
+        }
+    }
+    count
+}
+
+/// Takes a broken bond `g` off its bodies' counts.
+fn unbond<const D: usize>(count: &mut [u32], g: &BondGeometry<D>) {
+    count[g.i as usize] -= 1;
+    if let Some(j) = g.j {
+        count[j as usize] -= 1;
+    }
+}
+
+/// Which bodies still have a bond (the loads go to those).
+fn bonded(count: &[u32]) -> Vec<bool> {
+    count.iter().map(|&c| c > 0).collect()
 }
 
 /// Relative difference below which two magnitudes tie: the solve's rounding
