@@ -12,6 +12,7 @@
 
 use super::cells::CellList;
 use crate::bed::Bed;
+use crate::config::Settling;
 use crate::math::{Real, Vector};
 use std::fmt;
 
@@ -63,6 +64,22 @@ impl InvariantChecks {
             supports: Supports::Earlier,
             rest: true,
         }
+    }
+
+    /// The rest test of beds settled by `rule`: a body stopped by its contacts
+    /// or by sticking need only touch a support (the residual of a body with
+    /// none is the whole weight, 1); one held by friction may be left with an
+    /// unbalanced share of its weight up to the sine of the friction angle
+    /// (for a sphere, the slope it stopped on).
+    pub fn held_by(self, rule: &Settling) -> Self {
+        let rest_tol = if rule.contacts.is_some() || rule.sticking > 0.0 {
+            1.0 - 1e-9
+        } else if let Some(s) = rule.slope {
+            s + self.rest_tol
+        } else {
+            self.rest_tol
+        };
+        InvariantChecks { rest_tol, ..self }
     }
 }
 

@@ -6,6 +6,7 @@ pub mod fragmentation;
 mod measures;
 mod plan;
 mod schema;
+mod settling;
 
 #[cfg(feature = "cli")]
 pub use edit::named;
@@ -18,6 +19,7 @@ pub use edit::{
 pub use measures::*;
 pub use plan::*;
 pub use schema::*;
+pub use settling::{Settling, SettlingConfig};
 
 use crate::error::{Error, Result};
 use crate::math::Real;

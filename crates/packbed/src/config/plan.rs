@@ -66,6 +66,8 @@ pub struct Plan<const D: usize> {
     pub contact_tol: Real,
     /// Percolation threshold radius.
     pub large_radius: Real,
+    /// How a dropped particle comes to rest.
+    pub settling: Settling,
 }
 
 pub use crate::math::LENGTH_RANGE;
@@ -475,6 +477,12 @@ impl Config {
         }
         let species = name_species(species);
         rsa_places_single_particles(self.mode, &species)?;
+        let settling = self.settling.resolve()?;
+        if self.mode == Mode::Rsa && !settling.is_rolling() {
+            return Err(Error::config(
+                "[settling] rules how dropped particles come to rest; mode = \"rsa\" drops none (remove [settling], or use mode = \"deposit\")",
+            ));
+        }
         let r_max = Self::r_max(&species);
         let container = self.container.resolve::<D>(&species, r_max)?;
         let fill = match (&self.fill.until, self.fill.count) {
@@ -566,6 +574,7 @@ impl Config {
             species,
             contact_tol: tol,
             large_radius,
+            settling,
         })
     }
 }

@@ -3,6 +3,7 @@
 //! a file.
 
 use super::fragmentation::FragmentationConfig;
+use super::settling::SettlingConfig;
 use super::AnalysisConfig;
 use crate::error::{Error, Result};
 use crate::math::Real;
@@ -53,6 +54,9 @@ pub struct Config {
     /// The species, at least one.
     #[serde(default = "default_species")]
     pub species: Vec<SpeciesConfig>,
+    /// How a dropped particle comes to rest (default: it rolls until held).
+    #[serde(default, skip_serializing_if = "SettlingConfig::is_default")]
+    pub settling: SettlingConfig,
     /// Analysis settings.
     #[serde(default)]
     pub analysis: AnalysisConfig,
@@ -273,6 +277,7 @@ impl Default for Config {
             container: BoxConfig::default(),
             fill: FillConfig::default(),
             species: default_species(),
+            settling: SettlingConfig::default(),
             analysis: AnalysisConfig::default(),
             fragmentation: None,
             ensemble: None,

@@ -6,6 +6,7 @@ use super::chain::{self, ChainShape, Pose};
 use super::roll::{self, Terrain};
 use super::RunRng;
 use crate::bed::Bed;
+use crate::config::Settling;
 use crate::container::Container;
 use crate::grid::Grid;
 use crate::math::{Real, Vector};
@@ -27,6 +28,7 @@ pub(crate) trait Dropper<const D: usize> {
         &self,
         terrain: &Terrain<'_, D>,
         start: Self::Pose,
+        rule: &Settling,
         rng: &mut RunRng,
         moves: &mut u64,
     ) -> Option<Self::Pose>;
@@ -59,10 +61,11 @@ impl<const D: usize> Dropper<D> for Sphere {
         &self,
         terrain: &Terrain<'_, D>,
         start: Vector<D>,
+        rule: &Settling,
         rng: &mut RunRng,
         moves: &mut u64,
     ) -> Option<Vector<D>> {
-        roll::settle(terrain, self.0, start, rng, moves)
+        roll::settle(terrain, self.0, start, rule, rng, moves)
     }
 
     fn beads(&self) -> u32 {
@@ -125,10 +128,11 @@ impl<const D: usize> Dropper<D> for Chain {
         &self,
         terrain: &Terrain<'_, D>,
         start: Pose<D>,
+        rule: &Settling,
         rng: &mut RunRng,
         moves: &mut u64,
     ) -> Option<Pose<D>> {
-        chain::settle_chain(terrain, self.shape, start, rng, moves)
+        chain::settle_chain(terrain, self.shape, start, rule, rng, moves)
     }
 
     fn beads(&self) -> u32 {
@@ -231,24 +235,25 @@ pub enum Entry<const D: usize> {
     },
 }
 
-/// Drops one body onto a fixed bed and returns its bead centres at rest
-/// (wrapped into a periodic box), or `None` if it finds no rest. For
-/// hand-checked cases and tools; runs build their beds with
+/// Drops one body onto a fixed bed, settling by `rule`, and returns its bead
+/// centres at rest (wrapped into a periodic box), or `None` if it finds no
+/// rest. For hand-checked cases and tools; runs build their beds with
 /// [`deposit`](super::deposit).
 pub fn drop_onto<const D: usize>(
     bed: &Bed<D>,
     entry: Entry<D>,
+    rule: &Settling,
     seed: u64,
 ) -> Option<Vec<Vector<D>>> {
     match entry {
-        Entry::Sphere { r, start } => drop_alone(bed, &Sphere(r), start, seed),
+        Entry::Sphere { r, start } => drop_alone(bed, &Sphere(r), start, rule, seed),
         Entry::Chain { shape, start } => {
             // The orientation only draws entries, and the entry is given.
             let chain = Chain {
                 shape,
                 orientation: EntryOrientation::Vertical,
             };
-            drop_alone(bed, &chain, start, seed)
+            drop_alone(bed, &chain, start, rule, seed)
         }
     }
 }
@@ -258,12 +263,13 @@ fn drop_alone<const D: usize, B: Dropper<D>>(
     bed: &Bed<D>,
     body: &B,
     start: B::Pose,
+    rule: &Settling,
     seed: u64,
 ) -> Option<Vec<Vector<D>>> {
     let grid = Grid::of_particles(&bed.container, &bed.centres, &bed.radii, body.radius());
     let terrain = Terrain::of(&bed.container, &grid, bed);
     let mut rng = RunRng::seed_from_u64(seed);
-    let pose = body.settle(&terrain, start, &mut rng, &mut 0)?;
+    let pose = body.settle(&terrain, start, rule, &mut rng, &mut 0)?;
     let beads = (0..body.beads()).map(|k| bed.container.wrap(body.bead(&pose, k)));
     Some(beads.collect())
 }

@@ -8,6 +8,7 @@ pub mod chain;
 pub(crate) mod obstacle;
 pub(crate) mod roll;
 pub mod rsa;
+mod rule;
 mod speculate;
 mod trail;
 
@@ -214,7 +215,13 @@ impl<'p, const D: usize> Engine<'p, D> {
     /// Settles `body` from `start` on the bed as it is, with the run's generator.
     fn settle_from<B: Dropper<D>>(&mut self, body: &B, start: B::Pose) -> Option<B::Pose> {
         let terrain = Terrain::of(&self.plan.container, &self.grid, &self.bed);
-        body.settle(&terrain, start, &mut self.rng, &mut self.report.moves)
+        body.settle(
+            &terrain,
+            start,
+            &self.plan.settling,
+            &mut self.rng,
+            &mut self.report.moves,
+        )
     }
 
     /// Adds a body at rest to the bed unless it sticks out above the roof.

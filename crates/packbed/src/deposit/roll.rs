@@ -8,8 +8,10 @@
 
 use super::arc_search::{Batch, Sweep};
 use super::obstacle::{is_floor, particle_key, wall_obstacle, Obstacle};
+use super::rule::{counts, holds, Sticks};
 use super::trail::Leg;
 use crate::bed::Bed;
+use crate::config::Settling;
 use crate::container::Container;
 use crate::geometry::{Arc, Crossing, Surface, Trig};
 use crate::grid::Grid;
@@ -198,10 +200,14 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
     terrain: &Terrain<'_, D>,
     r: Real,
     start: Vector<D>,
+    rule: &Settling,
     rng: &mut R,
     moves: &mut u64,
 ) -> Option<Vector<D>> {
     let tol = GAP_TOL * r;
+    let mut sticks = Sticks::new(rule, &start.0[..D - 1]);
+    // The last move made new contacts (a landing, or a hit while rolling).
+    let mut fresh = false;
     let mut p = start;
     // Just above everything the particle could touch on its way down.
     p[D - 1] = terrain.max_top(&p, &p, r) + r;
@@ -221,7 +227,12 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
             let from = p;
             p[D - 1] -= fall(terrain, &p, r, tol, &mut active);
             terrain.went(Leg::Fall { from, to: p[D - 1] });
+            fresh = (0..active.len).any(|i| holds(&active.get(i), &p));
             continue;
+        }
+        if !rule.is_rolling() && stops_here(rule, &active, std::mem::take(&mut fresh), &mut sticks)
+        {
+            return Some(p);
         }
         let p_before = p;
         let mut drew = false;
@@ -248,6 +259,10 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
                 // wide): a zero-force contact blocks as well as a loaded one.
                 return Some(p);
             }
+            if rule.slope.is_some() {
+                // Balanced, every way on starts level: friction holds it.
+                return Some(p);
+            }
             // Balanced but unstable (on top of a sphere, or of a circle): any
             // push tips it over; the push's direction is drawn at random.
             drew = true;
@@ -255,6 +270,10 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
         } else {
             (-residual).normalized()?
         };
+        if rule.slope.is_some_and(|s| -direction[D - 1] < s) {
+            // Held by friction: the way down is less steep than its angle.
+            return Some(p);
+        }
         let balls = (0..keep.len)
             .filter(|&i| keep.get(i).surface.is_ball())
             .count();
@@ -287,12 +306,30 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
                 }
             }
         }
+        // With friction the arc also ends where its slope falls below the
+        // angle (in a groove, before its lowest point): held there.
+        let mut held = false;
+        if let Some(s) = rule.slope {
+            if let Some(x) = slope_trig(&arc, s).downcrossing(1e-14) {
+                let rank = x.diamond();
+                if rank < end_rank {
+                    end = x;
+                    end_rank = rank;
+                    released = None;
+                    held = true;
+                }
+            }
+        }
         let (hit, hit_rank) = first_contact_on_arc(
             terrain, &arc, &keep, r, &end, end_rank, tol, &mut hits, &mut batch,
         );
         let stop = if hit_rank <= end_rank { hit } else { end };
         p = arc.point_at(&stop);
         terrain.went(Leg::Roll { arc, stop });
+        if held && end_rank < hit_rank {
+            return Some(p);
+        }
+        fresh = hit_rank <= end_rank && (0..hits.len).any(|i| holds(&hits.get(i), &p));
         std::mem::swap(&mut active, &mut keep);
         if hit_rank <= end_rank {
             for i in 0..hits.len {
@@ -324,6 +361,31 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
         }
     }
     None
+}
+
+/// Whether a particle touching `active` stops there before it balances: it
+/// touches the rule's number of `contacts`, or it just made new holding ones
+/// (`fresh`) and sticks.
+fn stops_here<const D: usize>(
+    rule: &Settling,
+    active: &ContactSet<D>,
+    fresh: bool,
+    sticks: &mut Sticks,
+) -> bool {
+    let touching = (0..active.len).filter(|&i| counts(&active.get(i))).count();
+    rule.contacts.is_some_and(|k| touching >= usize::from(k)) || (fresh && sticks.stick())
+}
+
+/// The downhill slope of `arc` (the sine of its tangent's angle below the
+/// horizontal) less `s`, as a function of the arc parameter: along
+/// `p(t) = m + ρ (u cos t + v sin t)` the unit tangent's height is
+/// `−u_z sin t + v_z cos t`.
+fn slope_trig<const D: usize>(arc: &Arc<D>, s: Real) -> Trig {
+    Trig {
+        a: -arc.v.height(),
+        b: arc.u.height(),
+        c: -s,
+    }
 }
 
 /// The same contacts in the same order.
@@ -789,4 +851,52 @@ fn first_contact_on_arc<const D: usize>(
         batch.for_each_crossing(&sweep, &mut met);
     }
     (best, if found { best_rank } else { Real::INFINITY })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The friction event of an arc is where its downhill slope has
+        /// fallen to `s`: the unit tangent there points down by exactly `s`,
+        /// and every point before it is steeper.
+        #[test]
+        fn the_slope_event_is_where_the_arc_is_as_steep_as_the_angle(
+            theta in 0.05 as Real..1.5,
+            phi in 0.0 as Real..6.2,
+            tilt in -1.2 as Real..1.2,
+            s in 0.02 as Real..0.9,
+        ) {
+            // A circle in a tilted plane, started heading down more steeply than s.
+            let n = Vector([tilt.sin() * phi.cos(), tilt.sin() * phi.sin(), tilt.cos()]);
+            let mut e = Vector([1.0, 0.0, 0.0]);
+            e -= n * n.dot(&e);
+            let e1 = e.normalized().unwrap();
+            let e2 = Vector([
+                n[1] * e1[2] - n[2] * e1[1],
+                n[2] * e1[0] - n[0] * e1[2],
+                n[0] * e1[1] - n[1] * e1[0],
+            ]);
+            let (u, v) = (e1 * theta.cos() + e2 * theta.sin(), e2 * theta.cos() - e1 * theta.sin());
+            let (u, v) = if v[2] > 0.0 { (u, -v) } else { (u, v) };
+            prop_assume!(-v[2] > s + 1e-6);
+            let arc = Arc::<3> { m: Vector([0.0, 0.0, 5.0]), rho: 2.0, u, v };
+            let tangent = |t: Real| u * -t.sin() + v * t.cos();
+            match slope_trig(&arc, s).downcrossing(1e-14) {
+                Some(x) => {
+                    let t = x.angle();
+                    prop_assert!((-tangent(t)[2] - s).abs() < 1e-9, "slope {} at {t}", -tangent(t)[2]);
+                    for k in 0..50 {
+                        let tk = t * k as Real / 50.0;
+                        prop_assert!(-tangent(tk)[2] >= s - 1e-12);
+                    }
+                }
+                // Around a whole circle the slope averages zero: it always
+                // falls to s somewhere.
+                None => prop_assert!(false, "no event"),
+            }
+        }
+    }
 }

@@ -203,6 +203,7 @@ impl<const D: usize> Engine<'_, D> {
             return Ok(Ended::Chain);
         }
         let (container, grid, bed) = (&self.plan.container, &self.grid, &self.bed);
+        let rule = &self.plan.settling;
         let first = (*size).min(draws.len());
         if slots.len() < draws.len() {
             slots.resize_with(draws.len(), Default::default);
@@ -226,7 +227,7 @@ impl<const D: usize> Engine<'_, D> {
             let terrain = Terrain::noting(container, grid, bed, &trail);
             let mut rng = d.rng.clone();
             let mut moves = 0;
-            let rest = roll::settle(&terrain, d.r, d.start, &mut rng, &mut moves);
+            let rest = roll::settle(&terrain, d.r, d.start, rule, &mut rng, &mut moves);
             let (lo, hi) = terrain.asked();
             slot.trail = trail.into_inner();
             slot.found = Some(Found {
@@ -324,7 +325,14 @@ impl<const D: usize> Engine<'_, D> {
         let terrain = Terrain::of(&self.plan.container, &self.grid, &self.bed);
         let mut rng = d.rng.clone();
         let mut moves = 0;
-        let rest = roll::settle(&terrain, d.r, d.start, &mut rng, &mut moves);
+        let rest = roll::settle(
+            &terrain,
+            d.r,
+            d.start,
+            &self.plan.settling,
+            &mut rng,
+            &mut moves,
+        );
         assert!(
             rest == f.rest && moves == f.moves && rng == f.rng,
             "a spared sphere settled otherwise: {rest:?} against {:?}",
@@ -623,6 +631,33 @@ mod tests {
              [fill]\ncount = 1500\n[[species]]\nradius = 10\nratio = 3\n\
              [[species]]\nradius = 10\nshape = \"chain\"\nbeads = 3\nratio = 1\n",
         );
+    }
+
+    #[test]
+    fn batches_build_the_one_at_a_time_bed_under_every_settling_rule() {
+        // The sticking draws come from the entry point, not the run's
+        // generator: batches stay as long as under the rolling rule.
+        for rule in [
+            "contacts = 1",
+            "contacts = 2",
+            "contacts = 3",
+            "sticking = 0.4",
+            "friction_angle = 20",
+            "friction_angle = 30\nsticking = 0.2",
+        ] {
+            same::<3>(&format!(
+                "dim = 3\nseed = 4\n[box]\nwidth = 300\ndepth = 300\nheight = 3000\nperiodic = true\n\
+                 [fill]\ncount = 2000\nbase_layer = \"none\"\n\
+                 [[species]]\nsize = {{ dist = \"lognormal\", median = 8.0, gsd = 1.4 }}\n\
+                 [settling]\n{rule}\n"
+            ));
+            same::<2>(&format!(
+                "dim = 2\nseed = 9\n[box]\nwidth = 1000\nheight = 3000\n\
+                 [fill]\ncount = 1500\n[[species]]\nradius = 10\nratio = 3\n\
+                 [[species]]\nradius = 10\nshape = \"chain\"\nbeads = 3\nratio = 1\n\
+                 [settling]\n{rule}\n"
+            ));
+        }
     }
 
     proptest::proptest! {

@@ -14,7 +14,7 @@
 use crate::common::{config, run, TOL};
 use packbed::analysis::validate::{check_bed, Report};
 use packbed::bed::Bed;
-use packbed::config::Config;
+use packbed::config::{Config, Settling};
 use packbed::deposit::chain::{ChainShape, Pose};
 use packbed::deposit::{drop_onto, Entry};
 use packbed::math::{Real, Vector};
@@ -26,7 +26,12 @@ fn drop_chain<const D: usize>(
     start: Pose<D>,
     seed: u64,
 ) -> Option<Vec<Vector<D>>> {
-    drop_onto(bed, Entry::Chain { shape, start }, seed)
+    drop_onto(
+        bed,
+        Entry::Chain { shape, start },
+        &Settling::default(),
+        seed,
+    )
 }
 
 fn empty<const D: usize>(size: [Real; D], periodic: bool) -> Bed<D> {

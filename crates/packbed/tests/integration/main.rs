@@ -15,4 +15,5 @@ mod regressions;
 #[cfg(feature = "render")]
 mod render;
 mod rsa;
+mod settling;
 mod sizes;

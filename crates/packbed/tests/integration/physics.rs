@@ -17,7 +17,7 @@ use crate::common::{assert_checked, run, TOL};
 use packbed::analysis::analyze;
 use packbed::analysis::validate::{check_bed, check_bed_with, InvariantChecks, Report};
 use packbed::bed::{AnyBed, Bed};
-use packbed::config::{BaseLayerKind, Config, Fill};
+use packbed::config::{BaseLayerKind, Config, Fill, Settling};
 use packbed::deposit::{build, deposit, drop_onto, DepositReport, Entry};
 use packbed::math::{Real, Vector};
 
@@ -79,7 +79,7 @@ fn bed<const D: usize>(size: [Real; D], periodic: bool, spheres: &[([Real; D], R
 
 /// Where a sphere of radius `r` dropped at `start` comes to rest.
 fn drop_one<const D: usize>(b: &Bed<D>, r: Real, start: Vector<D>, seed: u64) -> Option<Vector<D>> {
-    drop_onto(b, Entry::Sphere { r, start }, seed).map(|beads| beads[0])
+    drop_onto(b, Entry::Sphere { r, start }, &Settling::default(), seed).map(|beads| beads[0])
 }
 
 fn close<const D: usize>(p: Vector<D>, q: [Real; D], tol: Real) {

@@ -5,8 +5,10 @@ use super::rest::Rare;
 use super::{
     debug_on, Candidate, ChainShape, Pose, Settler, FORCE_TOL, MAX_STEP, MAX_TOUCHING, REST_GAP,
 };
+use crate::config::Settling;
 use crate::deposit::obstacle::Obstacle;
 use crate::deposit::roll::Terrain;
+use crate::deposit::rule::{counts, holds, Sticks};
 use crate::math::{nnls_gen, Gen, Real, Vector};
 use std::collections::VecDeque;
 
@@ -32,6 +34,7 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
     terrain: &Terrain<'_, D>,
     shape: ChainShape,
     start: Pose<D>,
+    rule: &Settling,
     rng: &mut R,
     moves: &mut u64,
 ) -> Option<Pose<D>> {
@@ -42,7 +45,14 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
         chunk: ((4.0 / shape.spacing).floor() as u32).max(1),
     };
     let pose = settler.lift(start);
-    Descent::new(&settler, pose).run(rng, moves)
+    let mut entry = start.com.0[..D - 1].to_vec();
+    entry.extend_from_slice(&start.axis.0);
+    let rule = Rule {
+        settling: rule,
+        sticks: Sticks::new(rule, &entry),
+        met: Vec::new(),
+    };
+    Descent::new(&settler, pose, rule).run(rng, moves)
 }
 
 impl<const D: usize> Settler<'_, '_, D> {
@@ -79,8 +89,19 @@ enum Flow {
     Descend,
 }
 
+/// The settling rule as one chain's descent applies it.
+struct Rule<'r> {
+    settling: &'r Settling,
+    sticks: Sticks,
+    /// Every contact (bead, obstacle) touched so far: a contact is new, and
+    /// may stick, only the first time (a descent's contacts flicker in and
+    /// out of the touching band from one step to the next).
+    met: Vec<(u32, u64)>,
+}
+
 /// One chain's descent: its pose and what one iteration leaves for the next.
-struct Descent<'s, 't, 'a, const D: usize> {
+struct Descent<'s, 't, 'a, 'r, const D: usize> {
+    rule: Rule<'r>,
     settler: &'s Settler<'t, 'a, D>,
     pose: Pose<D>,
     /// Gap below which an obstacle touches.
@@ -109,12 +130,13 @@ struct Descent<'s, 't, 'a, const D: usize> {
     trace: Trace,
 }
 
-impl<'s, 't, 'a, const D: usize> Descent<'s, 't, 'a, D> {
-    fn new(settler: &'s Settler<'t, 'a, D>, pose: Pose<D>) -> Self {
+impl<'s, 't, 'a, 'r, const D: usize> Descent<'s, 't, 'a, 'r, D> {
+    fn new(settler: &'s Settler<'t, 'a, D>, pose: Pose<D>, rule: Rule<'r>) -> Self {
         let r = settler.shape.r;
         let mut target = Gen::zero();
         target[D - 1] = 1.0;
         Descent {
+            rule,
             settler,
             pose,
             contact: CONTACT_TOL * r,
@@ -168,10 +190,25 @@ impl<'s, 't, 'a, const D: usize> Descent<'s, 't, 'a, D> {
             self.pose.com[D - 1] -= self.settler.fall_distance(&self.pose);
             return Flow::Fresh;
         }
+        if !self.rule.settling.is_rolling() && self.stops_here() && self.shut() {
+            return Flow::Rest;
+        }
         for j in 0..m {
             self.touching[j] = self.candidates[self.which[j]].row;
         }
         let residual = nnls_gen(&self.touching[..m], self.target, &mut self.lambda);
+        // The height falls at the rate |u|² along u = −residual, which is |u|
+        // per unit of motion in the kinetic metric: the descent's slope (for
+        // one sphere, the sine of its path's angle below the horizontal).
+        if self
+            .rule
+            .settling
+            .slope
+            .is_some_and(|s| residual.norm() < s)
+            && self.shut()
+        {
+            return Flow::Rest;
+        }
         let total: Real = self.lambda[..m].iter().sum();
         if self.trace.on {
             self.trace_iteration(it, was_tight, &residual);
@@ -190,6 +227,58 @@ impl<'s, 't, 'a, const D: usize> Descent<'s, 't, 'a, D> {
             }
         }
         self.descend(it, &residual, band, rng)
+    }
+
+    /// Whether the chain stops where it touches before it balances: it
+    /// touches the rule's number of contacts (bead–obstacle pairs), or it
+    /// touches a holding contact for the first time and sticks.
+    fn stops_here(&mut self) -> bool {
+        let mut holding = 0;
+        let mut fresh = false;
+        for &i in &self.which[..self.m] {
+            let c = &self.candidates[i];
+            if counts(&c.obstacle) {
+                holding += 1;
+            }
+            if !holds(&c.obstacle, &self.settler.bead(&self.pose, c.bead)) {
+                continue;
+            }
+            let pair = (c.bead, c.obstacle.key);
+            if !self.rule.met.contains(&pair) {
+                self.rule.met.push(pair);
+                fresh = true;
+            }
+        }
+        self.rule
+            .settling
+            .contacts
+            .is_some_and(|k| holding >= usize::from(k))
+            || (fresh && self.rule.sticks.stick())
+    }
+
+    /// Shuts the touching contacts exactly (as a balance's supports are
+    /// shut), so that a chain a rule stops mid-descent touches within
+    /// rounding, not within the descent's band; false, and the chain left
+    /// where it is, if they cannot all be shut by a move within the band.
+    fn shut(&mut self) -> bool {
+        let s = self.settler;
+        let r = s.shape.r;
+        let mut set: Vec<(u32, Obstacle<D>)> = self.which[..self.m]
+            .iter()
+            .map(|&i| (self.candidates[i].bead, self.candidates[i].obstacle))
+            .collect();
+        let mut exact = self.pose;
+        if s.project_all(&mut exact, &mut set, &self.candidates, 0.0)
+            .is_none()
+        {
+            return false;
+        }
+        let moved = (exact.com - self.pose.com).norm() + (exact.axis - self.pose.axis).norm() * r;
+        if moved > 2.0 * self.contact {
+            return false;
+        }
+        self.pose = exact;
+        true
     }
 
     /// Picks the touching candidates: gap within `band`, or, for a contact

@@ -1,0 +1,204 @@
+//! The settling rules (`[settling]`): hand-solved single drops, the beds each
+//! rule builds checked by the independent checker, and the counts a rule
+//! fixes exactly (a particle stopping at its k-th contact adds k contacts, so
+//! the bulk mean coordination is 2k).
+
+use crate::common::{assert_checked, config, run, TOL};
+use packbed::analysis::analyze;
+use packbed::analysis::validate::InvariantChecks;
+use packbed::bed::Bed;
+use packbed::config::{Config, Settling, SettlingConfig};
+use packbed::deposit::{drop_onto, Entry};
+use packbed::math::{Real, Vector};
+
+fn rule(text: &str) -> Settling {
+    toml::from_str::<SettlingConfig>(text)
+        .unwrap()
+        .resolve()
+        .unwrap()
+}
+
+/// Where a sphere of radius `r` dropped at `start` comes to rest under `rule`.
+fn drop_one<const D: usize>(b: &Bed<D>, r: Real, start: [Real; D], rule: &Settling) -> Vector<D> {
+    let start = Vector(start);
+    drop_onto(b, Entry::Sphere { r, start }, rule, 1).expect("a rest")[0]
+}
+
+fn close<const D: usize>(p: Vector<D>, q: [Real; D], tol: Real) {
+    assert!(
+        (p - Vector(q)).norm() <= tol,
+        "{p:?} != {q:?} (off by {:e})",
+        (p - Vector(q)).norm()
+    );
+}
+
+/// One unit sphere on the floor of a walled 10-wide box.
+fn one_sphere_3d() -> Bed<3> {
+    Bed::of_spheres([10.0, 10.0, 50.0], false, [([5.0, 5.0, 1.0], 1.0, 0)])
+}
+
+#[test]
+fn hit_and_stick_stops_where_it_first_touches() {
+    // Dropped 0.6 off the axis of a unit sphere: it meets it at height
+    // 1 + sqrt(2² − 0.6²); rolling, it ends on the floor.
+    let b = one_sphere_3d();
+    let landing = [5.6, 5.0, 1.0 + (4.0 - 0.36 as Real).sqrt()];
+    for text in [
+        "contacts = 1",
+        "sticking = 1",
+        "contacts = 1\nfriction_angle = 5",
+    ] {
+        let p = drop_one(&b, 1.0, [5.6, 5.0, 0.0], &rule(text));
+        close(p, landing, 1e-12);
+    }
+    let rolled = drop_one(&b, 1.0, [5.6, 5.0, 0.0], &Settling::default());
+    assert!((rolled[2] - 1.0).abs() < 1e-12, "{rolled:?}");
+    // Two contacts needed: it rolls off the sphere; the floor holds it
+    // (a particle at rest earlier stays).
+    let p = drop_one(&b, 1.0, [5.6, 5.0, 0.0], &rule("contacts = 2"));
+    close(p, [5.0 + 2.0, 5.0, 1.0], 1e-9);
+    // In 2D the same.
+    let b2 = Bed::of_spheres([10.0, 50.0], false, [([5.0, 1.0], 1.0, 0)]);
+    let p = drop_onto(
+        &b2,
+        Entry::Sphere {
+            r: 1.0,
+            start: Vector([5.6, 0.0]),
+        },
+        &rule("contacts = 1"),
+        1,
+    )
+    .unwrap()[0];
+    close(p, [5.6, 1.0 + (4.0 - 0.36 as Real).sqrt()], 1e-12);
+}
+
+#[test]
+fn friction_holds_a_sphere_on_a_slope_below_its_angle_only() {
+    // Landing 0.6 off the axis, the contact normal is tilted by
+    // asin(0.6 / 2) = 17.46°: an angle of 18° holds it there, 17° does not.
+    let b = one_sphere_3d();
+    let landing = [5.6, 5.0, 1.0 + (4.0 - 0.36 as Real).sqrt()];
+    let tilt = (0.3 as Real).asin().to_degrees();
+    assert!((tilt - 17.4576).abs() < 1e-3);
+    let held = drop_one(&b, 1.0, [5.6, 5.0, 0.0], &rule("friction_angle = 18"));
+    close(held, landing, 1e-12);
+    let rolled = drop_one(&b, 1.0, [5.6, 5.0, 0.0], &rule("friction_angle = 17"));
+    // Rolling over one sphere the path only steepens: it rolls off to the floor.
+    close(rolled, [7.0, 5.0, 1.0], 1e-9);
+    // A sphere balanced on top stays with any friction (every way on is level);
+    // without, it tips off.
+    let top = drop_one(&b, 1.0, [5.0, 5.0, 0.0], &rule("friction_angle = 1"));
+    close(top, [5.0, 5.0, 3.0], 1e-12);
+    let tipped = drop_one(&b, 1.0, [5.0, 5.0, 0.0], &Settling::default());
+    assert!((tipped[2] - 1.0).abs() < 1e-12, "{tipped:?}");
+}
+
+/// A config of equal spheres or discs of radius 1 settled by `settling`.
+fn bed_config(dim: u8, periodic: bool, count: u64, species: &str, settling: &str) -> Config {
+    let depth = if dim == 3 { "depth = 30\n" } else { "" };
+    config(&format!(
+        "dim = {dim}\nseed = 11\n[box]\nwidth = 30\n{depth}height = 2000\nperiodic = {periodic}\n\
+         [fill]\ncount = {count}\nbase_layer = \"none\"\n{species}\n[settling]\n{settling}\n"
+    ))
+}
+
+const RULES: [&str; 6] = [
+    "contacts = 1",
+    "contacts = 2",
+    "contacts = 3",
+    "sticking = 0.3",
+    "friction_angle = 25",
+    "friction_angle = 35\nsticking = 0.1",
+];
+
+const MIXES: [&str; 2] = [
+    "[[species]]\nsize = { dist = \"lognormal\", median = 1.0, gsd = 1.4 }\n",
+    "[[species]]\nradius = 1\nratio = 3\n[[species]]\nradius = 1\nshape = \"chain\"\nbeads = 3\nratio = 1\n",
+];
+
+#[test]
+fn every_rule_builds_beds_the_checker_passes() {
+    for settling in RULES {
+        let held = rule(settling);
+        for mix in MIXES {
+            for periodic in [false, true] {
+                let what = format!("{settling} / {mix} / periodic {periodic}");
+                let c = bed_config(3, periodic, 600, mix, settling);
+                let (b, report) = run::<3>(&c);
+                assert!(b.len() >= 600, "{what}");
+                assert_eq!(report.redrops, 0, "{what}");
+                // Chains held by friction are held in their own metric (the
+                // engine's kinetic one); the checker asks them to touch a support.
+                let chains = mix.contains("chain") && held.slope.is_some();
+                let touching = Settling {
+                    contacts: Some(1),
+                    ..held
+                };
+                let checks =
+                    InvariantChecks::new(TOL).held_by(if chains { &touching } else { &held });
+                assert_checked(&b, &checks, &what);
+                let c2 = bed_config(2, periodic, 300, mix, settling);
+                let (b2, _) = run::<2>(&c2);
+                assert_checked(&b2, &checks, &format!("2D {what}"));
+            }
+        }
+    }
+}
+
+/// Bulk packing fraction and mean coordination of a periodic bed.
+fn bulk<const D: usize>(c: &Config) -> (Real, Real) {
+    let (b, _) = run::<D>(c);
+    let (_, s) = analyze(&b, c.analysis.contact_tol);
+    (
+        s.packing.unwrap().bulk.expect("bulk"),
+        s.coordination.unwrap().mean_bulk.expect("bulk"),
+    )
+}
+
+#[test]
+fn stopping_at_the_kth_contact_gives_a_mean_coordination_of_2k() {
+    let sphere = "[[species]]\nradius = 1\n";
+    for (k, dim) in [(1, 3), (2, 3), (3, 3), (1, 2)] {
+        let c = bed_config(dim, true, 3000, sphere, &format!("contacts = {k}"));
+        let (phi, z) = if dim == 3 {
+            bulk::<3>(&c)
+        } else {
+            bulk::<2>(&c)
+        };
+        eprintln!("{dim}D contacts = {k}: bulk φ {phi:.4}, Z {z:.4}");
+        assert!((z - 2.0 * k as Real).abs() < 0.02, "{dim}D k {k}: Z {z}");
+    }
+}
+
+#[test]
+fn sticking_loosens_the_bed_continuously_from_rolling_to_hit_and_stick() {
+    let sphere = "[[species]]\nradius = 1\n";
+    let mut last = (Real::INFINITY, Real::INFINITY);
+    for p in [0.0, 0.1, 0.3, 0.6, 1.0] {
+        let c = bed_config(3, true, 3000, sphere, &format!("sticking = {p}"));
+        let (phi, z) = bulk::<3>(&c);
+        eprintln!("sticking {p}: bulk φ {phi:.4}, Z {z:.4}");
+        assert!(
+            phi < last.0 && z < last.1,
+            "p {p}: φ {phi}, Z {z} after {last:?}"
+        );
+        last = (phi, z);
+    }
+    // p = 1 is hit-and-stick, bit for bit.
+    let sticky = run::<3>(&bed_config(3, true, 500, sphere, "sticking = 1")).0;
+    let stick = run::<3>(&bed_config(3, true, 500, sphere, "contacts = 1")).0;
+    assert_eq!(sticky.centres, stick.centres);
+}
+
+#[test]
+fn friction_loosens_the_bed_as_its_angle_grows() {
+    let sphere = "[[species]]\nradius = 1\n";
+    let mut last = Real::INFINITY;
+    for a in [0.0, 10.0, 20.0, 30.0, 45.0] {
+        let c = bed_config(3, true, 3000, sphere, &format!("friction_angle = {a}"));
+        let (phi, z) = bulk::<3>(&c);
+        eprintln!("friction {a}°: bulk φ {phi:.4}, Z {z:.4}");
+        assert!(phi < last, "α {a}: φ {phi} after {last}");
+        last = phi;
+    }
+}
