@@ -973,3 +973,46 @@ fn chosen_measures_leave_the_others_out_and_say_so() {
         &["--measures", "porosity", "pores", "permeability"],
     );
 }
+
+#[test]
+fn settling_rules_run_and_bad_ones_are_refused() {
+    let s = Scratch::new();
+    let c = s.input(
+        "loose.toml",
+        "dim = 2\n[box]\nwidth = 200\nheight = 400\n[fill]\ncount = 300\n\
+         [[species]]\nradius = 5\n[settling]\nfriction_angle = 30\nsticking = 0.2\n",
+    );
+    s.ok(&["run", c.to_str().unwrap(), "--out", "loose", "--quiet"]);
+    let v = s.summary("loose");
+    assert_eq!(v["config"]["settling"]["friction_angle"], 30.0);
+    assert_eq!(v["config"]["settling"]["sticking"], 0.2);
+    for (name, text, needles) in [
+        (
+            "k.toml",
+            "[settling]\ncontacts = 4\n",
+            &["settling.contacts", "4"][..],
+        ),
+        (
+            "p.toml",
+            "[settling]\nsticking = 1.5\n",
+            &["settling.sticking", "1.5"][..],
+        ),
+        (
+            "a.toml",
+            "[settling]\nfriction_angle = 90\n",
+            &["settling.friction_angle", "90"][..],
+        ),
+        (
+            "r.toml",
+            "[settling]\nrule = \"glue\"\n",
+            &["r.toml", "rule"][..],
+        ),
+        (
+            "rsa.toml",
+            "mode = \"rsa\"\n[settling]\ncontacts = 1\n",
+            &["[settling]", "rsa"][..],
+        ),
+    ] {
+        assert_config_refused(&s, name, text, needles);
+    }
+}

@@ -53,6 +53,19 @@ pub enum Edit {
     DrainagePressure(Real),
     /// The same as `P_c·d32/γ`; it replaces a `pressure`.
     DrainageReducedPressure(Real),
+    /// One key of `[settling]`: a sweep over how particles come to rest.
+    Settling(SettlingEdit),
+}
+
+/// A change to `[settling]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SettlingEdit {
+    /// Stop at the k-th contact.
+    Contacts(u8),
+    /// The probability of sticking at each new contact.
+    Sticking(Real),
+    /// The friction angle, degrees.
+    FrictionAngle(Real),
 }
 
 /// A change to `[analysis.drying]`.
@@ -135,7 +148,7 @@ impl FromStr for BoxSpec {
 }
 
 /// The parameters a sweep can vary, with the form of their values.
-pub const SWEEP_PARAMETERS: [(&str, &str); 21] = [
+pub const SWEEP_PARAMETERS: [(&str, &str); 24] = [
     ("ratio", "a list with one number ratio per species, e.g. [1, 2]"),
     (
         "radii",
@@ -170,6 +183,9 @@ pub const SWEEP_PARAMETERS: [(&str, &str); 21] = [
         "analysis.drying.agitation.stress",
         "the agitation's stress on the dried cake, Pa",
     ),
+    ("settling.contacts", "stop at the k-th contact: 1, 2 or 3"),
+    ("settling.sticking", "the probability of sticking at each new contact, 0 to 1"),
+    ("settling.friction_angle", "the friction angle in degrees, 0 to 90"),
     (
         "analysis.drainage.pressure",
         "the deliquoring capillary pressure, Pa (needs analysis.length_unit)",
@@ -225,6 +241,12 @@ impl Edit {
             "analysis.drying.tensile_strength" => {
                 Edit::Drying(DryingEdit::TensileStrength(one()?))
             }
+            "settling.contacts" => match whole(one()?)? {
+                k @ 1..=3 => Edit::Settling(SettlingEdit::Contacts(k as u8)),
+                k => return Err(format!("settling.contacts must be 1, 2 or 3, got {k}")),
+            },
+            "settling.sticking" => Edit::Settling(SettlingEdit::Sticking(one()?)),
+            "settling.friction_angle" => Edit::Settling(SettlingEdit::FrictionAngle(one()?)),
             "analysis.drainage.pressure" => Edit::DrainagePressure(one()?),
             "analysis.drainage.reduced_pressure" => Edit::DrainageReducedPressure(one()?),
             _ => match species_parameter(parameter) {
@@ -346,6 +368,14 @@ impl Config {
             Edit::DrainageReducedPressure(p) => {
                 let d = &mut self.analysis.drainage;
                 (d.pressure, d.reduced_pressure) = (None, Some(*p));
+            }
+            Edit::Settling(e) => {
+                let s = &mut self.settling;
+                match *e {
+                    SettlingEdit::Contacts(k) => s.contacts = Some(k),
+                    SettlingEdit::Sticking(p) => s.sticking = Some(p),
+                    SettlingEdit::FrictionAngle(a) => s.friction_angle = Some(a),
+                }
             }
         }
         Ok(())
@@ -744,6 +774,14 @@ mod tests {
                 "analysis.drainage.reduced_pressure",
                 Edit::DrainageReducedPressure(5.0),
             ),
+            (
+                "settling.sticking",
+                Edit::Settling(SettlingEdit::Sticking(5.0)),
+            ),
+            (
+                "settling.friction_angle",
+                Edit::Settling(SettlingEdit::FrictionAngle(5.0)),
+            ),
         ];
         for (p, edit) in cases {
             assert!(SWEEP_PARAMETERS.iter().any(|(q, _)| *q == p), "{p}");
@@ -751,6 +789,12 @@ mod tests {
             let e = Edit::from_sweep(p, &SweepValue::List(vec![1.0, 2.0])).unwrap_err();
             assert!(e.contains("one number"), "{p}: {e}");
         }
+        assert_eq!(
+            Edit::from_sweep("settling.contacts", &SweepValue::Number(2.0)),
+            Ok(Edit::Settling(SettlingEdit::Contacts(2)))
+        );
+        let e = Edit::from_sweep("settling.contacts", &SweepValue::Number(4.0)).unwrap_err();
+        assert!(e.contains("1, 2 or 3"), "{e}");
         // A pressure replaces a reduced pressure and the other way round:
         // the drainage takes one of them.
         let mut c = Config::default();

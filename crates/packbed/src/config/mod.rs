@@ -12,8 +12,8 @@ mod settling;
 pub use edit::named;
 pub(crate) use edit::species_parameter;
 pub use edit::{
-    parse_numbers, BoxSpec, DryingEdit, Edit, MeasureList, Numbers, Overrides, SizeEdit,
-    SWEEP_PARAMETERS,
+    parse_numbers, BoxSpec, DryingEdit, Edit, MeasureList, Numbers, Overrides, SettlingEdit,
+    SizeEdit, SWEEP_PARAMETERS,
 };
 
 pub use measures::*;
