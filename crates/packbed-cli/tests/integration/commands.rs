@@ -1012,6 +1012,16 @@ fn settling_rules_run_and_bad_ones_are_refused() {
             "mode = \"rsa\"\n[settling]\ncontacts = 1\n",
             &["[settling]", "rsa"][..],
         ),
+        (
+            "f.toml",
+            "[feed]\npattern = \"spiral\"\n",
+            &["f.toml", "spiral"][..],
+        ),
+        (
+            "at.toml",
+            "[box]\nwidth = 100\ndepth = 100\nheight = 100\n[feed]\npattern = \"point\"\nat = [150, 50]\n",
+            &["feed.at[0]", "150"][..],
+        ),
     ] {
         assert_config_refused(&s, name, text, needles);
     }

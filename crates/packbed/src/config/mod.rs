@@ -2,6 +2,7 @@
 //! keys are errors) and its validation into a [`Plan`] the engine can run.
 
 mod edit;
+mod feed;
 pub mod fragmentation;
 mod measures;
 mod plan;
@@ -16,6 +17,7 @@ pub use edit::{
     SizeEdit, SWEEP_PARAMETERS,
 };
 
+pub use feed::{Feed, FeedConfig, Pattern};
 pub use measures::*;
 pub use plan::*;
 pub use schema::*;

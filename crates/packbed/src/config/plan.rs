@@ -68,6 +68,8 @@ pub struct Plan<const D: usize> {
     pub large_radius: Real,
     /// How a dropped particle comes to rest.
     pub settling: Settling,
+    /// Where particles enter.
+    pub feed: Feed,
 }
 
 pub use crate::math::LENGTH_RANGE;
@@ -485,6 +487,12 @@ impl Config {
         }
         let r_max = Self::r_max(&species);
         let container = self.container.resolve::<D>(&species, r_max)?;
+        let feed = self.feed.resolve(&container, r_max)?;
+        if self.mode == Mode::Rsa && !self.feed.is_default() {
+            return Err(Error::config(
+                "[feed] says where dropped particles enter; mode = \"rsa\" drops none (remove [feed], or use mode = \"deposit\")",
+            ));
+        }
         let fill = match (&self.fill.until, self.fill.count) {
             (Some(_), Some(_)) => {
                 return Err(Error::config(
@@ -575,6 +583,7 @@ impl Config {
             contact_tol: tol,
             large_radius,
             settling,
+            feed,
         })
     }
 }

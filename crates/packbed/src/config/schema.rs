@@ -2,6 +2,7 @@
 //! file may hold (strict: unknown keys are errors), their defaults, and reading
 //! a file.
 
+use super::feed::FeedConfig;
 use super::fragmentation::FragmentationConfig;
 use super::settling::SettlingConfig;
 use super::AnalysisConfig;
@@ -57,6 +58,9 @@ pub struct Config {
     /// How a dropped particle comes to rest (default: it rolls until held).
     #[serde(default, skip_serializing_if = "SettlingConfig::is_default")]
     pub settling: SettlingConfig,
+    /// Where particles enter (default: uniformly over the box).
+    #[serde(default, skip_serializing_if = "FeedConfig::is_default")]
+    pub feed: FeedConfig,
     /// Analysis settings.
     #[serde(default)]
     pub analysis: AnalysisConfig,
@@ -278,6 +282,7 @@ impl Default for Config {
             fill: FillConfig::default(),
             species: default_species(),
             settling: SettlingConfig::default(),
+            feed: FeedConfig::default(),
             analysis: AnalysisConfig::default(),
             fragmentation: None,
             ensemble: None,

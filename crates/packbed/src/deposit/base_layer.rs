@@ -5,7 +5,7 @@
 use super::body::{Chain, Dropper, Sphere};
 use super::roll::Terrain;
 use super::{Engine, RunRng};
-use crate::config::Fill;
+use crate::config::{Feed, Fill};
 use crate::container::Wall;
 use crate::geometry::{intersection_points, Surface};
 use crate::math::{Real, Vector};
@@ -63,7 +63,7 @@ impl<const D: usize> Engine<'_, D> {
                     shape,
                     orientation: EntryOrientation::Horizontal,
                 };
-                let mut pose = chain.enter(&c, &mut self.rng);
+                let mut pose = chain.enter(&c, &Feed::default(), &mut self.rng);
                 pose.com[D - 1] = r;
                 let terrain = self.terrain();
                 // The entry falls back to upright when no azimuth tried fits
@@ -79,7 +79,7 @@ impl<const D: usize> Engine<'_, D> {
                 }
                 continue;
             }
-            let mut p = Sphere(r).enter(&c, &mut self.rng);
+            let mut p = Sphere(r).enter(&c, &Feed::default(), &mut self.rng);
             p[D - 1] = r;
             if fits(&self.terrain(), &p, r, 0.0) {
                 self.place_body(&Sphere(r), &p, s);
@@ -110,7 +110,7 @@ impl<const D: usize> Engine<'_, D> {
                 self.rng = before;
                 break;
             }
-            let mut p = Sphere(r).enter(&c, &mut self.rng);
+            let mut p = Sphere(r).enter(&c, &Feed::default(), &mut self.rng);
             p[D - 1] = r;
             ahead.tries.push(Try {
                 species,

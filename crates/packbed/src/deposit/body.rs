@@ -6,7 +6,7 @@ use super::chain::{self, ChainShape, Pose};
 use super::roll::{self, Terrain};
 use super::RunRng;
 use crate::bed::Bed;
-use crate::config::Settling;
+use crate::config::{Feed, Settling};
 use crate::container::Container;
 use crate::grid::Grid;
 use crate::math::{Real, Vector};
@@ -20,7 +20,7 @@ pub(crate) trait Dropper<const D: usize> {
 
     /// A random entry position above the bed (the height is the settling's
     /// business).
-    fn enter(&self, container: &Container<D>, rng: &mut RunRng) -> Self::Pose;
+    fn enter(&self, container: &Container<D>, feed: &Feed, rng: &mut RunRng) -> Self::Pose;
 
     /// Settles the body from `start` onto the fixed terrain; `None` when it
     /// found no rest.
@@ -53,8 +53,8 @@ pub(crate) struct Sphere(pub Real);
 impl<const D: usize> Dropper<D> for Sphere {
     type Pose = Vector<D>;
 
-    fn enter(&self, container: &Container<D>, rng: &mut RunRng) -> Vector<D> {
-        entry_position(container, rng, |_| self.0, 0.0).0
+    fn enter(&self, container: &Container<D>, feed: &Feed, rng: &mut RunRng) -> Vector<D> {
+        entry_position(container, feed, rng, |_| self.0, 0.0).0
     }
 
     fn settle(
@@ -102,7 +102,7 @@ impl<const D: usize> Dropper<D> for Chain {
     /// footprint fits between the walls (anywhere in the period when periodic).
     /// An orientation that cannot fit (a horizontal chain longer than a walled
     /// box) is redrawn, and after 64 tries the chain enters upright.
-    fn enter(&self, container: &Container<D>, rng: &mut RunRng) -> Pose<D> {
+    fn enter(&self, container: &Container<D>, feed: &Feed, rng: &mut RunRng) -> Pose<D> {
         let shape = self.shape;
         for attempt in 0..=64 {
             let orientation = if attempt == 64 {
@@ -116,7 +116,7 @@ impl<const D: usize> Dropper<D> for Chain {
                 EntryOrientation::Horizontal => random_axis::<D>(rng, true),
             };
             let extent = |k: usize| axis[k].abs() * shape.half_length() + shape.r;
-            let (com, fits) = entry_position(container, rng, extent, 1e-12 * shape.r);
+            let (com, fits) = entry_position(container, feed, rng, extent, 1e-12 * shape.r);
             if fits {
                 return Pose { com, axis };
             }
@@ -155,12 +155,16 @@ impl<const D: usize> Dropper<D> for Chain {
     }
 }
 
-/// A uniformly random horizontal position for a body reaching `extent(k)` from
-/// its centre along horizontal axis `k`: where it fits between the walls, or
-/// anywhere in the period when periodic. Where it cannot fit, the middle of the
-/// box, and `false` unless the misfit is within `tol`.
+/// A random horizontal position for a body reaching `extent(k)` from its
+/// centre along horizontal axis `k`: uniformly where it fits between the
+/// walls, or anywhere in the period when periodic; along the axes a point or
+/// line feed centres, a Gaussian about the feed's position, drawn again
+/// while it falls outside where the body fits (after 64 draws, the nearest
+/// place that fits), wrapped into the period when periodic. Where it cannot
+/// fit, the middle of the box, and `false` unless the misfit is within `tol`.
 fn entry_position<const D: usize>(
     container: &Container<D>,
+    feed: &Feed,
     rng: &mut RunRng,
     extent: impl Fn(usize) -> Real,
     tol: Real,
@@ -169,7 +173,27 @@ fn entry_position<const D: usize>(
     let mut fits = true;
     for k in 0..D - 1 {
         let (w, e) = (container.size[k], extent(k));
-        p[k] = if container.periodic {
+        p[k] = if feed.centred(k) {
+            let (lo, hi) = if container.periodic {
+                (Real::NEG_INFINITY, Real::INFINITY)
+            } else {
+                fits &= w - e >= e - tol;
+                (e.min(0.5 * w), (w - e).max(0.5 * w))
+            };
+            let mut x = feed.at[k];
+            for _ in 0..64 {
+                x = feed.at[k] + feed.spread * gaussian(rng);
+                if (lo..=hi).contains(&x) {
+                    break;
+                }
+            }
+            let x = x.clamp(lo, hi);
+            if container.periodic {
+                x.rem_euclid(w)
+            } else {
+                x
+            }
+        } else if container.periodic {
             rng.random_range(0.0..w)
         } else if w - e > e {
             rng.random_range(e..w - e)
@@ -179,6 +203,13 @@ fn entry_position<const D: usize>(
         };
     }
     (p, fits)
+}
+
+/// A standard normal draw (Box–Muller, two uniform draws).
+fn gaussian(rng: &mut RunRng) -> Real {
+    let u: Real = 1.0 - rng.random::<Real>();
+    let v: Real = rng.random();
+    (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
 }
 
 /// A random unit axis: uniform over directions with a non-negative vertical

@@ -197,7 +197,7 @@ impl<'p, const D: usize> Engine<'p, D> {
             let settled = match first.take() {
                 Some(settled) => settled,
                 None => {
-                    let start = body.enter(&self.plan.container, &mut self.rng);
+                    let start = body.enter(&self.plan.container, &self.plan.feed, &mut self.rng);
                     self.settle_from(body, start)
                 }
             };

@@ -191,7 +191,8 @@ impl<const D: usize> Engine<'_, D> {
             if self.chain_of(species, r).is_some() {
                 break;
             }
-            let start = Dropper::<D>::enter(&Sphere(r), &self.plan.container, &mut rng);
+            let start =
+                Dropper::<D>::enter(&Sphere(r), &self.plan.container, &self.plan.feed, &mut rng);
             draws.push(Draw {
                 species,
                 r,
@@ -650,6 +651,12 @@ mod tests {
                  [fill]\ncount = 2000\nbase_layer = \"none\"\n\
                  [[species]]\nsize = {{ dist = \"lognormal\", median = 8.0, gsd = 1.4 }}\n\
                  [settling]\n{rule}\n"
+            ));
+            // A heap from a point feed: most batches meet themselves.
+            same::<3>(&format!(
+                "dim = 3\nseed = 5\n[box]\nwidth = 300\ndepth = 300\nheight = 3000\n\
+                 [fill]\ncount = 1000\nbase_layer = \"none\"\n[[species]]\nradius = 8\n\
+                 [feed]\npattern = \"point\"\nspread = 40\n[settling]\n{rule}\n"
             ));
             same::<2>(&format!(
                 "dim = 2\nseed = 9\n[box]\nwidth = 1000\nheight = 3000\n\

@@ -202,3 +202,69 @@ fn friction_loosens_the_bed_as_its_angle_grows() {
         last = phi;
     }
 }
+
+/// Mean and standard deviation.
+fn mean_sd(v: &[Real]) -> (Real, Real) {
+    let n = v.len() as Real;
+    let m = v.iter().sum::<Real>() / n;
+    let var = v.iter().map(|x| (x - m) * (x - m)).sum::<Real>() / (n - 1.0);
+    (m, var.sqrt())
+}
+
+#[test]
+fn a_point_or_line_feed_drops_about_its_place_with_its_spread() {
+    // Hit-and-stick keeps every particle on the vertical it entered on, so
+    // the bed's horizontal coordinates are the feed's draws.
+    let base = "[box]\nwidth = 200\ndepth = 200\nheight = 5000\n[fill]\ncount = 3000\n\
+                base_layer = \"none\"\n[[species]]\nradius = 1\n[settling]\ncontacts = 1\n";
+    let n = 3000.0 as Real;
+    let (b, _) = run::<3>(&config(&format!(
+        "dim = 3\n{base}[feed]\npattern = \"point\"\nat = [60, 120]\nspread = 8\n"
+    )));
+    for (k, at) in [(0, 60.0), (1, 120.0)] {
+        let v: Vec<Real> = b.centres.iter().map(|c| c[k]).collect();
+        let (m, sd) = mean_sd(&v);
+        assert!((m - at).abs() < 4.0 * 8.0 / n.sqrt(), "axis {k}: mean {m}");
+        assert!((sd / 8.0 - 1.0).abs() < 0.1, "axis {k}: sd {sd}");
+    }
+    // A line along y at x = 60: y uniform where a sphere fits (1 to 199).
+    let (b, _) = run::<3>(&config(&format!(
+        "dim = 3\n{base}[feed]\npattern = \"line\"\nat = [60, 0]\nspread = 8\n"
+    )));
+    let (mx, sx) = mean_sd(&b.centres.iter().map(|c| c[0]).collect::<Vec<_>>());
+    let (my, sy) = mean_sd(&b.centres.iter().map(|c| c[1]).collect::<Vec<_>>());
+    assert!(
+        (mx - 60.0).abs() < 0.6 && (sx / 8.0 - 1.0).abs() < 0.1,
+        "{mx} {sx}"
+    );
+    let uniform = 198.0 / (12.0 as Real).sqrt();
+    assert!((my - 100.0).abs() < 4.0 * uniform / n.sqrt(), "{my}");
+    assert!((sy / uniform - 1.0).abs() < 0.1, "{sy}");
+    // A point feed in a periodic box wraps: a point at the side spreads
+    // over both sides, every particle inside the period.
+    let (b, _) = run::<2>(&config(
+        "dim = 2\n[box]\nwidth = 100\nheight = 5000\nperiodic = true\n[fill]\ncount = 500\n\
+         base_layer = \"none\"\n[[species]]\nradius = 1\n[settling]\ncontacts = 1\n\
+         [feed]\npattern = \"point\"\nat = [0]\nspread = 5\n",
+    ));
+    assert!(b.centres.iter().all(|c| (0.0..100.0).contains(&c[0])));
+    let near_high = b.centres.iter().filter(|c| c[0] > 80.0).count();
+    let near_low = b.centres.iter().filter(|c| c[0] < 20.0).count();
+    assert!(near_high > 150 && near_low > 150, "{near_low} {near_high}");
+}
+
+#[test]
+fn heaps_poured_from_a_point_pass_the_checker() {
+    // A point feed pours a heap against nothing: the rules hold particles on
+    // its flanks as on a flat bed.
+    for settling in ["", "friction_angle = 25", "sticking = 0.2"] {
+        let c = config(&format!(
+            "dim = 3\nseed = 2\n[box]\nwidth = 60\ndepth = 60\nheight = 5000\n[fill]\ncount = 2000\n\
+             base_layer = \"none\"\n[[species]]\nsize = {{ dist = \"lognormal\", median = 1.0, gsd = 1.3 }}\n\
+             [feed]\npattern = \"point\"\nspread = 6\n[settling]\n{settling}\n"
+        ));
+        let (b, _) = run::<3>(&c);
+        let checks = InvariantChecks::new(TOL).held_by(&rule(settling));
+        assert_checked(&b, &checks, settling);
+    }
+}
