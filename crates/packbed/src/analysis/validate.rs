@@ -72,7 +72,7 @@ impl InvariantChecks {
     /// unbalanced share of its weight up to the sine of the friction angle
     /// (for a sphere, the slope it stopped on).
     pub fn held_by(self, rule: &Settling) -> Self {
-        let rest_tol = if rule.contacts.is_some() || rule.sticking > 0.0 {
+        let rest_tol = if rule.contacts.is_some() || rule.sticks() {
             1.0 - 1e-9
         } else if let Some(s) = rule.slope {
             s + self.rest_tol

@@ -66,6 +66,8 @@ pub enum SettlingEdit {
     Sticking(Real),
     /// The friction angle, degrees.
     FrictionAngle(Real),
+    /// The diameter at which half the contacts stick.
+    CohesionDiameter(Real),
 }
 
 /// A change to `[analysis.drying]`.
@@ -148,7 +150,7 @@ impl FromStr for BoxSpec {
 }
 
 /// The parameters a sweep can vary, with the form of their values.
-pub const SWEEP_PARAMETERS: [(&str, &str); 24] = [
+pub const SWEEP_PARAMETERS: [(&str, &str); 25] = [
     ("ratio", "a list with one number ratio per species, e.g. [1, 2]"),
     (
         "radii",
@@ -186,6 +188,10 @@ pub const SWEEP_PARAMETERS: [(&str, &str); 24] = [
     ("settling.contacts", "stop at the k-th contact: 1, 2 or 3"),
     ("settling.sticking", "the probability of sticking at each new contact, 0 to 1"),
     ("settling.friction_angle", "the friction angle in degrees, 0 to 90"),
+    (
+        "settling.cohesion_diameter",
+        "the diameter at which half the contacts stick, a length",
+    ),
     (
         "analysis.drainage.pressure",
         "the deliquoring capillary pressure, Pa (needs analysis.length_unit)",
@@ -247,6 +253,9 @@ impl Edit {
             },
             "settling.sticking" => Edit::Settling(SettlingEdit::Sticking(one()?)),
             "settling.friction_angle" => Edit::Settling(SettlingEdit::FrictionAngle(one()?)),
+            "settling.cohesion_diameter" => {
+                Edit::Settling(SettlingEdit::CohesionDiameter(one()?))
+            }
             "analysis.drainage.pressure" => Edit::DrainagePressure(one()?),
             "analysis.drainage.reduced_pressure" => Edit::DrainageReducedPressure(one()?),
             _ => match species_parameter(parameter) {
@@ -374,6 +383,7 @@ impl Config {
                 match *e {
                     SettlingEdit::Contacts(k) => s.contacts = Some(k),
                     SettlingEdit::Sticking(p) => s.sticking = Some(p),
+                    SettlingEdit::CohesionDiameter(d) => s.cohesion_diameter = Some(d),
                     SettlingEdit::FrictionAngle(a) => s.friction_angle = Some(a),
                 }
             }
@@ -781,6 +791,10 @@ mod tests {
             (
                 "settling.friction_angle",
                 Edit::Settling(SettlingEdit::FrictionAngle(5.0)),
+            ),
+            (
+                "settling.cohesion_diameter",
+                Edit::Settling(SettlingEdit::CohesionDiameter(5.0)),
             ),
         ];
         for (p, edit) in cases {

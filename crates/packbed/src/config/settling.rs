@@ -9,6 +9,13 @@
 //!   where it would roll off them). A particle at rest earlier stays.
 //! - `sticking = p` in [0, 1]: at each new contact it sticks there with
 //!   probability p, else rolls on (p = 1 is hit-and-stick, p = 0 today's rule).
+//! - `cohesion_diameter = d_c` (a length): the sticking probability of a
+//!   particle of diameter d is `p = 1 / (1 + (d / d_c)²)`, so fines stick
+//!   and coarse particles roll. The law is the Bond number's: van der Waals
+//!   adhesion between spheres grows as d, their weight as d³, so
+//!   `Bo = F / (m g) ∝ d⁻²`, and `p = Bo / (Bo + Bo_c)` with `Bo_c` the Bond
+//!   number at which half the contacts stick, at diameter d_c. Instead of
+//!   `sticking`, not with it.
 //! - `friction_angle = α` in degrees, [0, 90): it stops where the downhill
 //!   slope of its path falls below α (on one support the tilt of the contact
 //!   normal from the vertical, in a groove the groove's slope), so that a
@@ -34,6 +41,10 @@ pub struct SettlingConfig {
     /// Friction angle in degrees.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction_angle: Option<Real>,
+    /// The diameter at which half the contacts stick (size-dependent
+    /// cohesion), in the config's length units.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cohesion_diameter: Option<Real>,
 }
 
 impl SettlingConfig {
@@ -74,10 +85,25 @@ impl SettlingConfig {
                 )))
             }
         };
+        let cohesion = match self.cohesion_diameter {
+            None => None,
+            Some(_) if self.sticking.is_some() => {
+                return Err(Error::config(
+                    "settling: give either `sticking` (one probability) or `cohesion_diameter` (a probability by size), not both",
+                ))
+            }
+            Some(d) if d.is_finite() && d > 0.0 => Some(d),
+            Some(d) => {
+                return Err(Error::config(format!(
+                    "settling.cohesion_diameter must be a positive length, got {d}"
+                )))
+            }
+        };
         Ok(Settling {
             contacts,
             sticking,
             slope,
+            cohesion,
         })
     }
 }
@@ -91,6 +117,9 @@ pub struct Settling {
     pub sticking: Real,
     /// Sine of the friction angle: a path less steep than this stops.
     pub slope: Option<Real>,
+    /// The diameter at which half the contacts stick, when the sticking
+    /// probability depends on size (then `sticking` is 0).
+    pub cohesion: Option<Real>,
 }
 
 impl Settling {
@@ -98,6 +127,20 @@ impl Settling {
     /// as before the rules existed.
     pub fn is_rolling(&self) -> bool {
         *self == Settling::default()
+    }
+
+    /// The probability that a particle of radius `r` sticks at a new
+    /// contact: `sticking`, or by the cohesion law `1 / (1 + (2r / d_c)²)`.
+    pub fn sticking_at(&self, r: Real) -> Real {
+        match self.cohesion {
+            Some(dc) => 1.0 / (1.0 + (2.0 * r / dc).powi(2)),
+            None => self.sticking,
+        }
+    }
+
+    /// True if particles may stick at a new contact.
+    pub fn sticks(&self) -> bool {
+        self.sticking > 0.0 || self.cohesion.is_some()
     }
 
     /// The friction angle in degrees, if any.
@@ -137,11 +180,25 @@ mod tests {
             ("friction_angle = 90", "settling.friction_angle"),
             ("friction_angle = -1", "settling.friction_angle"),
             ("friction_angle = inf", "settling.friction_angle"),
+            ("cohesion_diameter = 0", "settling.cohesion_diameter"),
+            ("cohesion_diameter = -2", "settling.cohesion_diameter"),
+            ("cohesion_diameter = 2\nsticking = 0.1", "not both"),
         ] {
             let e = resolve(text).unwrap_err().to_string();
             assert!(e.contains(key), "{text}: {e}");
             assert!(!e.contains('\n'), "{text}: {e}");
         }
+    }
+
+    #[test]
+    fn fines_stick_and_coarse_particles_roll_by_the_bond_number_law() {
+        let s = resolve("cohesion_diameter = 20").unwrap();
+        assert!(s.sticks() && !s.is_rolling());
+        // Half at d = d_c; Bo ∝ d⁻²: a tenth of d_c sticks at 100/101.
+        assert!((s.sticking_at(10.0) - 0.5).abs() < 1e-15);
+        assert!((s.sticking_at(1.0) - 100.0 / 101.0).abs() < 1e-15);
+        assert!((s.sticking_at(100.0) - 1.0 / 101.0).abs() < 1e-15);
+        assert_eq!(resolve("sticking = 0.3").unwrap().sticking_at(5.0), 0.3);
     }
 
     #[test]

@@ -205,7 +205,7 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
     moves: &mut u64,
 ) -> Option<Vector<D>> {
     let tol = GAP_TOL * r;
-    let mut sticks = Sticks::new(rule, &start.0[..D - 1]);
+    let mut sticks = Sticks::new(rule, r, &start.0[..D - 1]);
     // The last move made new contacts (a landing, or a hit while rolling).
     let mut fresh = false;
     let mut p = start;

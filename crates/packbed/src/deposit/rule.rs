@@ -37,18 +37,17 @@ pub(crate) struct Sticks {
 }
 
 impl Sticks {
-    /// The draws of a body entering at the horizontal coordinates `entry`.
-    pub(crate) fn new(rule: &Settling, entry: &[Real]) -> Self {
-        let draws = (rule.sticking > 0.0 && rule.sticking < 1.0).then(|| {
+    /// The draws of a body of bead radius `r` entering at the horizontal
+    /// coordinates `entry`.
+    pub(crate) fn new(rule: &Settling, r: Real, entry: &[Real]) -> Self {
+        let p = rule.sticking_at(r);
+        let draws = (p > 0.0 && p < 1.0).then(|| {
             let seed = entry.iter().fold(0x5ee1_57c4_u64, |h, x| {
                 (h ^ x.to_bits()).wrapping_mul(0x9e37_79b9_7f4a_7c15)
             });
             SplitMix64::seed_from_u64(seed)
         });
-        Sticks {
-            p: rule.sticking,
-            draws,
-        }
+        Sticks { p, draws }
     }
 
     /// Whether the particle sticks at the contacts it just made.

@@ -49,7 +49,7 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
     entry.extend_from_slice(&start.axis.0);
     let rule = Rule {
         settling: rule,
-        sticks: Sticks::new(rule, &entry),
+        sticks: Sticks::new(rule, shape.r, &entry),
         met: Vec::new(),
     };
     Descent::new(&settler, pose, rule).run(rng, moves)
