@@ -55,6 +55,9 @@ fn deposition(cr: &mut Criterion) {
             periodic: true,
             sizes: BenchSizes::Lognormal(gsd),
             base_layer: false,
+            contacts: None,
+            sticking: None,
+            friction_angle: None,
         }
         .config();
         group.throughput(Throughput::Elements(n));

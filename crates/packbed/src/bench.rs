@@ -11,7 +11,7 @@
 
 use crate::analysis::{analyze_timed, AnalysisOptions, StageTimes};
 use crate::bed::{AnyBed, Bed};
-use crate::config::{BaseLayerKind, Config, SizeConfig};
+use crate::config::{BaseLayerKind, Config, SettlingConfig, SizeConfig};
 use crate::error::Result;
 use serde::Serialize;
 use std::ops::ControlFlow;
@@ -84,6 +84,16 @@ pub struct BenchBed {
     /// Seed the floor with the random base layer first (timed with the rest).
     #[cfg_attr(feature = "cli", arg(long))]
     pub base_layer: bool,
+    /// Settle by a rule of `[settling]` (docs/settling.md): stop at the K-th
+    /// contact.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "K"))]
+    pub contacts: Option<u8>,
+    /// Settle by a rule: stick at each new contact with probability P.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "P"))]
+    pub sticking: Option<f64>,
+    /// Settle by a rule: stop where the path is less steep than this angle.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "DEGREES"))]
+    pub friction_angle: Option<f64>,
 }
 
 impl BenchBed {
@@ -119,6 +129,12 @@ impl BenchBed {
             BaseLayerKind::Random
         } else {
             BaseLayerKind::None
+        };
+        c.settling = SettlingConfig {
+            contacts: self.contacts,
+            sticking: self.sticking,
+            friction_angle: self.friction_angle,
+            cohesion_diameter: None,
         };
         c.species.truncate(1);
         c.species[0].radius = Some(RADIUS);
@@ -359,6 +375,21 @@ pub fn text(r: &BenchResult, spec: Option<&BenchBed>) -> String {
                     format!(" (radii {}, equal numbers)", list.join(", "))
                 }
                 BenchSizes::Equal => String::new(),
+            };
+            let mut rule = Vec::new();
+            if let Some(k) = b.contacts {
+                rule.push(format!("contacts {k}"));
+            }
+            if let Some(p) = b.sticking {
+                rule.push(format!("sticking {p}"));
+            }
+            if let Some(a) = b.friction_angle {
+                rule.push(format!("friction angle {a}°"));
+            }
+            let sizes = if rule.is_empty() {
+                sizes
+            } else {
+                format!("{sizes}, settling by {}", rule.join(", "))
             };
             let _ = writeln!(
                 s,
