@@ -206,6 +206,8 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
 ) -> Option<Vector<D>> {
     let tol = GAP_TOL * r;
     let mut sticks = Sticks::new(rule, r, &start.0[..D - 1]);
+    // Asked once, not per move: whether a rule may stop the particle early.
+    let ruled = !rule.is_rolling();
     // The last move made new contacts (a landing, or a hit while rolling).
     let mut fresh = false;
     let mut p = start;
@@ -230,8 +232,7 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
             fresh = (0..active.len).any(|i| holds(&active.get(i), &p));
             continue;
         }
-        if !rule.is_rolling() && stops_here(rule, &active, std::mem::take(&mut fresh), &mut sticks)
-        {
+        if ruled && stops_here(rule, &active, std::mem::take(&mut fresh), &mut sticks) {
             return Some(p);
         }
         let p_before = p;

@@ -45,11 +45,15 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
         chunk: ((4.0 / shape.spacing).floor() as u32).max(1),
     };
     let pose = settler.lift(start);
-    let mut entry = start.com.0[..D - 1].to_vec();
-    entry.extend_from_slice(&start.axis.0);
+    // The sticking draws' seed: the entry's horizontal position and axis
+    // (no allocation: at most 2 + 3 numbers).
+    let mut entry = [0.0; 5];
+    entry[..D - 1].copy_from_slice(&start.com.0[..D - 1]);
+    entry[D - 1..2 * D - 1].copy_from_slice(&start.axis.0);
     let rule = Rule {
         settling: rule,
-        sticks: Sticks::new(rule, shape.r, &entry),
+        ruled: !rule.is_rolling(),
+        sticks: Sticks::new(rule, shape.r, &entry[..2 * D - 1]),
         met: Vec::new(),
     };
     Descent::new(&settler, pose, rule).run(rng, moves)
@@ -92,6 +96,8 @@ enum Flow {
 /// The settling rule as one chain's descent applies it.
 struct Rule<'r> {
     settling: &'r Settling,
+    /// Whether a rule may stop the chain before it balances.
+    ruled: bool,
     sticks: Sticks,
     /// Every contact (bead, obstacle) touched so far: a contact is new, and
     /// may stick, only the first time (a descent's contacts flicker in and
@@ -190,7 +196,7 @@ impl<'s, 't, 'a, 'r, const D: usize> Descent<'s, 't, 'a, 'r, D> {
             self.pose.com[D - 1] -= self.settler.fall_distance(&self.pose);
             return Flow::Fresh;
         }
-        if !self.rule.settling.is_rolling() && self.stops_here() && self.shut() {
+        if self.rule.ruled && self.stops_here() && self.shut() {
             return Flow::Rest;
         }
         for j in 0..m {
@@ -231,7 +237,9 @@ impl<'s, 't, 'a, 'r, const D: usize> Descent<'s, 't, 'a, 'r, D> {
 
     /// Whether the chain stops where it touches before it balances: it
     /// touches the rule's number of contacts (bead–obstacle pairs), or it
-    /// touches a holding contact for the first time and sticks.
+    /// touches a holding contact for the first time and sticks. The contacts
+    /// count as met even if the stop's contacts then cannot be shut (rare):
+    /// the chain descends on and does not draw for them again.
     fn stops_here(&mut self) -> bool {
         let mut holding = 0;
         let mut fresh = false;
