@@ -358,6 +358,14 @@ impl Geom {
     }
 }
 
+/// Whether the meridian arc of radius `rho` exists (as [`meniscus_geom`] has it) with its
+/// circle's lowest point between its contact points (that point, not a contact, is then
+/// the arc's lowest): one arc construction for both.
+pub(crate) fn spans_from_its_lowest_point(g: &Geom, rho: f64) -> bool {
+    g.arc(rho)
+        .is_some_and(|a| a.x1 <= a.xc && a.xc <= a.x2 && g.valid(&a))
+}
+
 fn arc_min_height(a: &Arc) -> f64 {
     let u1 = a.x1 - a.xc;
     let u2 = a.x2 - a.xc;
@@ -809,6 +817,14 @@ impl Pair {
 
     /// The stable bridge at curvature `kappa` (as [`bridge_3d`]).
     pub fn bridge(&self, kappa: f64) -> Option<Bridge> {
+        self.bridge_below(kappa, None)
+    }
+
+    /// [`Pair::bridge`], with the meridian radius of this pair's bridge at a lower
+    /// curvature when the caller has it: on the stable branch the curvature falls as the
+    /// radius grows, so the root lies below that radius, a closer start than `1/kappa` for a
+    /// curve's pressures taken in turn.
+    pub fn bridge_below(&self, kappa: f64, above: Option<f64>) -> Option<Bridge> {
         if !kappa.is_finite() || !gt(kappa, 0.0) || kappa > self.kappa_max {
             return None;
         }
@@ -820,7 +836,11 @@ impl Pair {
         if self.k_lo? - kappa < 0.0 {
             return None;
         }
-        let mut hi = (1.0 / kappa).max(lo * (1.0 + 1e-12));
+        let top = match above {
+            Some(r) if r > lo && r < 1.0 / kappa => r,
+            _ => 1.0 / kappa,
+        };
+        let mut hi = top.max(lo * (1.0 + 1e-12));
         // The value and slope at `hi` when known (the first Newton step starts there).
         let mut at_hi = None;
         match g.kappa_d(hi) {

@@ -51,7 +51,7 @@ pub fn entry_curvature<const D: usize>(
 /// The facet of throat `t` as three circles in its own plane: the centres
 /// in an orthonormal frame of the plane, and the radii (the facet passes
 /// through the three centres, so each sphere cuts it in a great circle).
-fn facet_circles<const D: usize>(
+pub(super) fn facet_circles<const D: usize>(
     bed: &Bed<D>,
     net: &Network<D>,
     t: usize,

@@ -292,9 +292,15 @@ impl Pendular {
 
     /// The bridge of edge `e` at curvature `kappa`, its pores drained.
     fn bridge_of(&self, e: &Edge, kappa: Real) -> Option<bridge::Bridge> {
+        self.bridge_after(e, kappa, None)
+    }
+
+    /// [`Pendular::bridge_of`], with the meridian radius of its bridge at a
+    /// lower curvature when known ([`bridge::Pair::bridge_below`]).
+    fn bridge_after(&self, e: &Edge, kappa: Real, above: Option<Real>) -> Option<bridge::Bridge> {
         let [r1, r2] = e.radii;
         if self.dim == 3 {
-            e.pair.as_ref()?.bridge(kappa)
+            e.pair.as_ref()?.bridge_below(kappa, above)
         } else {
             bridge::bridge_2d(r1, r2, e.gap, self.theta, kappa).map(|b| bridge::Bridge {
                 volume: b.area,
@@ -343,8 +349,11 @@ impl Pendular {
                     if !(share > 0.0) {
                         continue;
                     }
+                    // The pressures in turn: each bridge's radius starts the next's search.
+                    let mut above = None;
                     for k in self.first_drained(e, drains_at, kappas)..n {
-                        if let Some(b) = self.bridge_of(e, kappas[k]) {
+                        if let Some(b) = self.bridge_after(e, kappas[k], above) {
+                            above = Some(b.meridian_radius);
                             sums[k] += share * b.volume;
                             *most = Real::max(*most, b.volume);
                         }

@@ -294,3 +294,62 @@ fn the_bridges_totals_edge_by_edge_equal_the_pore_by_pore_sums() {
     }
     assert!(capped > 0, "no pore was capped: the cap is not exercised");
 }
+
+/// Newton's search for the MS-P entry radius finds the bracketed search's
+/// root on every throat of deposited beds (equal and lognormal sizes, several
+/// contact angles).
+#[test]
+fn newton_entry_radii_equal_the_bracketed_ones_on_a_bed() {
+    let lognormal = |count: u64| {
+        let text = format!(
+            "dim = 3\nseed = 7\n[box]\nwidth = 12\ndepth = 12\nheight = 400\nperiodic = true\n\
+             [fill]\ncount = {count}\n[[species]]\nsize = {{ dist = \"lognormal\", median = 1.0, \
+             gsd = 1.5 }}\n"
+        );
+        let config = Config::from_toml(&text, "test").unwrap();
+        match run_bed(&config, &mut |_| {}).unwrap().bed {
+            crate::bed::AnyBed::D3(b) => b,
+            crate::bed::AnyBed::D2(_) => unreachable!(),
+        }
+    };
+    for (radius, bed) in [
+        ("equal", deposited(1500, 7, "1.0")),
+        ("lognormal", lognormal(1500)),
+    ] {
+        let top = bed.centres.iter().map(|p| p[2]).fold(0.0, Real::max);
+        let net = network(&bed, (0.2 * top, 0.8 * top)).unwrap();
+        for deg in [0.0f64, 30.0, 60.0] {
+            let theta = deg.to_radians();
+            let (mut worst, mut n, mut mismatched) = (0.0f64, 0, Vec::new());
+            for t in 0..net.throats.len() {
+                let r_c = net.throats[t].constriction_radius;
+                if !(r_c > 0.0) {
+                    continue;
+                }
+                let (c, radii) = entry::facet_circles(&bed, &net, t);
+                let fast = msp::entry_radius(&c, &radii, theta, Some(r_c), true);
+                let slow = msp::entry_radius(&c, &radii, theta, Some(r_c), false);
+                n += 1;
+                match (fast, slow) {
+                    (Some(a), Some(b)) => {
+                        let d = (a - b).abs() / b;
+                        worst = worst.max(d);
+                        if d > 1e-9 {
+                            mismatched.push((t, a, b, c, radii));
+                        }
+                    }
+                    (None, None) => {}
+                    _ => mismatched.push((t, fast.unwrap_or(-1.0), slow.unwrap_or(-1.0), c, radii)),
+                }
+            }
+            println!(
+                "{radius} θ={deg}: {n} throats, worst {worst:.2e}, {} mismatched",
+                mismatched.len()
+            );
+            for m in mismatched.iter().take(5) {
+                println!("  {m:?}");
+            }
+            assert!(mismatched.is_empty());
+        }
+    }
+}
