@@ -76,7 +76,7 @@ fn deposition(cr: &mut Criterion) {
 
 /// Five-bead chains of radius 10 in a periodic box, entering at random: 20,000
 /// in 2D (width 3000), 10,000 in 3D (400 × 400), the chains/s rows of
-/// BENCHMARKS.md.
+/// docs/history/benchmarks.md ("Chains").
 fn chains(cr: &mut Criterion) {
     let mut group = cr.benchmark_group("deposition-chains");
     group.sample_size(10);

@@ -43,7 +43,7 @@ static HUGE_WANTED: AtomicUsize = AtomicUsize::new(0);
 /// The flow's sweeps read the couplings of a row at scattered columns of
 /// vectors of hundreds of megabytes: with 4 KiB pages nearly every such read
 /// misses the TLB. On huge pages the 10^6-sphere flow ran 19.1 and 18.8 s
-/// against 19.9 and 19.4 s (in turn, BENCHMARKS.md). The triangulation and the network ran slower on them
+/// against 19.9 and 19.4 s (in turn, docs/history/benchmarks.md). The triangulation and the network ran slower on them
 /// (they reserve room they touch only in part, and a huge page is zeroed
 /// whole), so the advice is scoped, not global. Where the kernel has no
 /// transparent huge pages the advice fails and nothing changes.

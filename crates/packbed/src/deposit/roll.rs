@@ -814,7 +814,7 @@ fn first_contact_on_arc<const D: usize>(
     };
     if D == 2 {
         // Discs: a handful of candidates per arc, too few for a batch to pay
-        // (5–10 % slower at 10^6 discs, BENCHMARKS.md): each is asked alone.
+        // (5–10 % slower at 10^6 discs, docs/history/benchmarks.md): each is asked alone.
         terrain.for_each_in_box(&arc_lo, &arc_hi, r, |id, shift, image| {
             let (centre, big_r) = ball(id, shift);
             let outside =

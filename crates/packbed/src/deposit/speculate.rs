@@ -69,8 +69,8 @@ struct Slot<const D: usize> {
 /// larger than 24 lost on two cores (10^6 spheres: 8 to 32 took 1.54-1.60 s,
 /// 48 took 2.4 s): the helper thread falls asleep while a batch is taken.
 /// Since a sphere near a settling's box but not near its legs is spared, 16
-/// beat 24 (BENCHMARKS.md, 10^6 radii 10:50: 6.36-6.49 s against 6.57-6.79
-/// s; 8, 12 and 32 no better than 16).
+/// beat 24 (docs/history/benchmarks.md, "Fourth session", 10^6 radii 10:50:
+/// 6.36-6.49 s against 6.57-6.79 s; 8, 12 and 32 no better than 16).
 const FIRST_BATCH: usize = 8;
 const LARGEST_BATCH: usize = 16;
 /// Spheres drawn for a batch, as a multiple of its size (see `drop_batch`).

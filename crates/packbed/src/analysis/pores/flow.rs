@@ -370,7 +370,7 @@ type AxisSolution = (AxisFlow, Vec<Real>, Vec<Real>);
 /// right-hand side summing to zero over the component, its pressure is
 /// exactly 0, as if it were removed). So one multigrid hierarchy serves all
 /// three axes and one sweep carries them together (10^6 spheres: two
-/// hierarchies and two solves cost 43.7 s before, BENCHMARKS.md).
+/// hierarchies and two solves cost 43.7 s before, docs/history/benchmarks.md).
 fn solve_axes<const D: usize>(
     nodes: &Nodes<D>,
     relink: &dyn Fn() -> Vec<Link>,

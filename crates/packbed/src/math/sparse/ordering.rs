@@ -11,9 +11,10 @@
 //! optimum for planar and spatial meshes (George 1973; Lipton, Rose & Tarjan
 //! 1979). Measured on periodic beds of equal spheres it roughly halves the
 //! factor of the approximate minimum degree order of the whole matrix and
-//! orders 10⁵ bodies in a fraction of the time (BENCHMARKS.md). The order is
-//! on bodies; each body's unknowns stay together, which the supernodal
-//! factorisation turns into dense blocks.
+//! orders 10⁵ bodies in a fraction of the time (docs/history/benchmarks.md,
+//! "Contact forces and breakage"). The order is on bodies; each body's
+//! unknowns stay together, which the supernodal factorisation turns into
+//! dense blocks.
 //!
 //! In 3D the factor's work grows as the square of the bodies and its top
 //! separators are dense blocks thousands of unknowns wide, so a few percent
