@@ -836,6 +836,7 @@ mod tests {
     fn balance_slope_is_the_gas_area() {
         // dF/dR = A_eff / R² (stationarity of the corner arcs; see `newton`), against a
         // central difference, over touching, gapped, overlapping and unequal throats.
+        let mut checked = 0;
         for (r, g) in configs() {
             for deg in [0.0f64, 30.0, 60.0] {
                 let th = deg.to_radians();
@@ -864,9 +865,41 @@ mod tests {
                         (numeric - exact).abs() <= 1e-5 * exact,
                         "{r:?} {g:?} {deg}° at {k} R_e: {numeric} vs {exact}"
                     );
+                    checked += 1;
                 }
             }
         }
+        // 7 throats × 3 angles × 3 radii; a few lie at a range end or a jump.
+        assert!(checked >= 50, "only {checked} points checked");
+    }
+
+    #[test]
+    fn newton_decides_the_typical_throats() {
+        // The Newton search itself (not the bracketed one behind it) settles these throats,
+        // on the root the bracketed search finds.
+        let mut decided = 0;
+        let mut total = 0;
+        for (r, g) in configs() {
+            for deg in [0.0f64, 30.0, 60.0] {
+                let th = deg.to_radians();
+                let c = tri(r, g);
+                let t = Throat::new(&c, &r).unwrap();
+                let ins = inscribed_radius(&c, &r).unwrap();
+                let lo = 0.45 * ins;
+                let rup = t.rupture_in(&t.corners(th), th.cos(), 0.5 * lo).unwrap();
+                let bracketed = entry_radius(&c, &r, th, None, false).unwrap();
+                total += 1;
+                let start = typical_ratio(th) * ins;
+                if let Some(v) = newton(&t, &t.corners(th), th.cos(), &rup, start, 0.5 * lo) {
+                    decided += 1;
+                    assert!(
+                        (v - bracketed).abs() <= 1e-12 * bracketed,
+                        "{r:?} {g:?} {deg}°"
+                    );
+                }
+            }
+        }
+        assert_eq!(decided, total, "Newton decided {decided} of {total}");
     }
 
     #[test]
