@@ -163,19 +163,37 @@ pub struct Bridge2 {
 /// Geometry of one meridian circle of radius `rho` meeting both particles at angle `theta`,
 /// with the sines and cosines of the filling angles (the volume, area and validity need
 /// them; they follow from the components without evaluating the angles, see [`Geom::arc`]).
+/// The angles themselves cost an `atan2` each and are evaluated only where asked for
+/// ([`Arc::b1`], [`Arc::b2`]): the existence of an arc needs none, and the MS-P balance
+/// needs only their sums per circle (`msp`).
 #[derive(Debug, Clone, Copy)]
-struct Arc {
-    xc: f64,
-    yc: f64,
-    rho: f64,
-    b1: f64,
-    b2: f64,
-    x1: f64,
-    x2: f64,
-    cb1: f64,
-    sb1: f64,
-    cb2: f64,
-    sb2: f64,
+pub(crate) struct Arc {
+    pub(crate) xc: f64,
+    pub(crate) yc: f64,
+    pub(crate) rho: f64,
+    /// `dd1 (cos b1, sin b1)` and `dd2 (cos b2, sin b2)`, as constructed.
+    c1: f64,
+    s1: f64,
+    c2: f64,
+    s2: f64,
+    pub(crate) x1: f64,
+    pub(crate) x2: f64,
+    pub(crate) cb1: f64,
+    pub(crate) sb1: f64,
+    pub(crate) cb2: f64,
+    pub(crate) sb2: f64,
+}
+
+impl Arc {
+    /// The filling angle on particle 1.
+    pub(crate) fn b1(&self) -> f64 {
+        self.s1.atan2(self.c1)
+    }
+
+    /// The filling angle on particle 2.
+    pub(crate) fn b2(&self) -> f64 {
+        self.s2.atan2(self.c2)
+    }
 }
 
 /// `a > b`, false if either is NaN (a named form of the NaN-rejecting guard `!(a > b)`).
@@ -242,7 +260,7 @@ impl Geom {
     /// `dd1 (cos b1, sin b1) = (xc e1 + yc q, yc e1 − xc q)` with `e1 = r1 + ρ cos θ`,
     /// `q = ρ sin θ`: one `atan2` per filling angle instead of two, and no `cos`/`sin` of it.
     #[inline]
-    fn arc(&self, rho: f64) -> Option<Arc> {
+    pub(crate) fn arc(&self, rho: f64) -> Option<Arc> {
         let (xc, yc, dd1, dd2) = self.centre(rho)?;
         let (r1, r2, d) = (self.r1, self.r2, self.d);
         let q = rho * self.st;
@@ -251,8 +269,6 @@ impl Geom {
         let xc2 = d - xc;
         let (c1, s1) = (xc * e1 + yc * q, yc * e1 - xc * q);
         let (c2, s2) = (xc2 * e2 + yc * q, yc * e2 - xc2 * q);
-        let b1 = s1.atan2(c1);
-        let b2 = s2.atan2(c2);
         let (i1, i2) = (1.0 / dd1, 1.0 / dd2);
         let (cb1, sb1) = (c1 * i1, s1 * i1);
         let (cb2, sb2) = (c2 * i2, s2 * i2);
@@ -262,8 +278,10 @@ impl Geom {
             xc,
             yc,
             rho,
-            b1,
-            b2,
+            c1,
+            s1,
+            c2,
+            s2,
             x1,
             x2,
             cb1,
@@ -271,7 +289,7 @@ impl Geom {
             cb2,
             sb2,
         };
-        if finite_all(&[xc, yc, b1, b2, x1, x2, sb1, sb2]) {
+        if finite_all(&[xc, yc, c1, s1, c2, s2, x1, x2, sb1, sb2]) {
             Some(a)
         } else {
             None
@@ -319,10 +337,13 @@ impl Geom {
 
     /// Pendular validity of an arc: filling angles in (0, π/2], contacts outside the other
     /// particle, arc on the lower half of its circle with x1 < x2, arc above the axis.
-    fn valid(&self, a: &Arc) -> bool {
+    pub(crate) fn valid(&self, a: &Arc) -> bool {
         let (r1, r2, d) = (self.r1, self.r2, self.d);
+        // `b` in (0, π/2 + 1e-12]: a positive sine, and a cosine not negative (no angle
+        // needed) or the angle itself within the tolerance past π/2.
         let half = PI / 2.0 + 1e-12;
-        if !(a.b1 > 0.0 && a.b1 <= half && a.b2 > 0.0 && a.b2 <= half) {
+        let filling = |c: f64, s: f64| s > 0.0 && (c >= 0.0 || s.atan2(c) <= half);
+        if !(filling(a.c1, a.s1) && filling(a.c2, a.s2)) {
             return false;
         }
         if !gt(a.x2, a.x1) {
@@ -349,12 +370,21 @@ impl Geom {
     /// `sqrt`: `u1 = −ρ cos a1`, `u2 = ρ cos a2` with `a_i = b_i + θ` in `(0, π)`, so
     /// `u sqrt(ρ² − u²)` is `∓ρ² cos a_i sin a_i` and `asin(u2/ρ) − asin(u1/ρ) = π − a1 − a2`
     /// (the cosines and sines of `a_i` from those of `b_i` and θ).
-    fn sqrt_integral(&self, a: &Arc) -> f64 {
+    /// `b_sum` is `b1 + b2`.
+    pub(crate) fn sqrt_integral(&self, a: &Arc, b_sum: f64) -> f64 {
+        0.5 * a.rho * a.rho * (self.sqrt_integral_cs(a) + (PI - b_sum - 2.0 * self.theta))
+    }
+
+    /// The part of [`Geom::sqrt_integral`] over `ρ²/2` that needs no angle.
+    pub(crate) fn sqrt_integral_cs(&self, a: &Arc) -> f64 {
         let (st, ct) = (self.st, self.ct);
         let cs = |cb: f64, sb: f64| (cb * ct - sb * st) * (sb * ct + cb * st);
-        0.5 * a.rho
-            * a.rho
-            * (cs(a.cb1, a.sb1) + cs(a.cb2, a.sb2) + (PI - a.b1 - a.b2 - 2.0 * self.theta))
+        cs(a.cb1, a.sb1) + cs(a.cb2, a.sb2)
+    }
+
+    /// The contact angle.
+    pub(crate) fn theta(&self) -> f64 {
+        self.theta
     }
 }
 
@@ -425,13 +455,13 @@ pub(crate) fn touch_radius(r1: f64, r2: f64, d: f64, ct: f64) -> Option<f64> {
 }
 
 /// Volume of revolution under the lower arc between x1 and x2, minus caps, plus lens.
-fn arc_volume(g: &Geom, a: &Arc) -> f64 {
+fn arc_volume(g: &Geom, a: &Arc, b_sum: f64) -> f64 {
     let (r1, r2, d) = (g.r1, g.r2, g.d);
     let (yc, rho) = (a.yc, a.rho);
     let poly = |u: f64| (yc * yc + rho * rho) * u - u * u * u / 3.0;
     let u1 = a.x1 - a.xc;
     let u2 = a.x2 - a.xc;
-    let rev = PI * (poly(u2) - poly(u1) - 2.0 * yc * g.sqrt_integral(a));
+    let rev = PI * (poly(u2) - poly(u1) - 2.0 * yc * g.sqrt_integral(a, b_sum));
     let cap1 = cap_volume(r1, r1 * (1.0 - a.cb1));
     let cap2 = cap_volume(r2, r2 * (1.0 - a.cb2));
     (rev - cap1 - cap2 + lens_volume(r1, r2, d)).max(0.0)
@@ -699,11 +729,12 @@ fn bridge_of(g: &Geom, rho: f64) -> Option<Bridge> {
     if !g.valid(&a) {
         return None;
     }
+    let (b1, b2) = (a.b1(), a.b2());
     let b = Bridge {
-        volume: arc_volume(g, &a),
+        volume: arc_volume(g, &a, b1 + b2),
         neck_radius: a.yc - a.rho,
-        half_angle_1: a.b1,
-        half_angle_2: a.b2,
+        half_angle_1: b1,
+        half_angle_2: b2,
         meridian_radius: a.rho,
     };
     finite_all(&[
@@ -813,6 +844,12 @@ impl Pair {
             k_lo: geom.kappa(lo),
             kappa_max,
         })
+    }
+
+    /// Whether the pair touches (its gap, snapped to 0 below [`CONTACT_GAP`], is 0): its
+    /// bridges then depend on its radii and contact angle alone.
+    pub fn touching(&self) -> bool {
+        self.geom.d == self.geom.r1 + self.geom.r2
     }
 
     /// The stable bridge at curvature `kappa` (as [`bridge_3d`]).
@@ -995,18 +1032,18 @@ pub(crate) fn meniscus_geom(g: &Geom, lens: f64, rho: f64) -> Option<Meniscus2> 
         return None;
     }
     let (r1, r2) = (g.r1, g.r2);
-    let under = a.yc * ((a.x2 - a.xc) - (a.x1 - a.xc)) - g.sqrt_integral(&a);
+    let (b1, b2) = (a.b1(), a.b2());
+    let under = a.yc * ((a.x2 - a.xc) - (a.x1 - a.xc)) - g.sqrt_integral(&a, b1 + b2);
     let seg = |r: f64, b: f64, s: f64, c: f64| 0.5 * r * r * (b - s * c);
-    let half_area =
-        (under - seg(r1, a.b1, a.sb1, a.cb1) - seg(r2, a.b2, a.sb2, a.cb2) + lens).max(0.0);
+    let half_area = (under - seg(r1, b1, a.sb1, a.cb1) - seg(r2, b2, a.sb2, a.cb2) + lens).max(0.0);
     // Angle subtended at the meniscus centre between the contact points (lower half): the
     // radii to them point along `−(b1 + θ)` and `π + b2 + θ` (see `sqrt_integral`).
-    let ang = (PI - a.b1 - a.b2 - 2.0 * g.theta).abs();
+    let ang = (PI - b1 - b2 - 2.0 * g.theta).abs();
     let m = Meniscus2 {
         half_area,
         arc_length: a.rho * ang,
-        b1: a.b1,
-        b2: a.b2,
+        b1,
+        b2,
         neck: arc_min_height(&a),
     };
     if finite_all(&[m.half_area, m.arc_length, m.b1, m.b2, m.neck]) {

@@ -545,39 +545,38 @@ pub fn drain_wet<const D: usize>(
         })
         .collect();
     clock.lap("pores/drainage/entries");
-    let mut graph = InvasionGraph {
-        pores: members.len(),
-        outlet: vec![false; members.len()],
-        ..InvasionGraph::default()
-    };
-    for (t, th) in net.throats.iter().enumerate() {
-        let (a, b) = (th.pores[0] as usize, th.pores[1] as usize);
-        match (side[a], side[b]) {
-            (Side::In, Side::In) => graph.throats.push((index[a], index[b], entry[t])),
-            (Side::In, Side::Above) => graph.inlets.push((index[a], entry[t])),
-            (Side::Above, Side::In) => graph.inlets.push((index[b], entry[t])),
-            (Side::In, Side::Below) => graph.outlet[index[a] as usize] = true,
-            (Side::Below, Side::In) => graph.outlet[index[b] as usize] = true,
-            _ => {}
-        }
-    }
-    if graph.inlets.is_empty() {
-        return Err(
-            "drainage: no pore of the slab opens to the gas above it (the slab reaches the top of \
-             the bed): lower [analysis.flow] slab's top"
-                .into(),
-        );
-    }
-    if !graph.outlet.iter().any(|&o| o) {
-        return Err(
-            "drainage: no pore of the slab opens to the liquid below it, the bed has no outlet \
-             (the slab reaches the floor): raise [analysis.flow] slab's bottom"
-                .into(),
-        );
-    }
-    let adjacency = invasion::Adjacency::new(&graph);
-    let invasion = invasion::invade_on(&graph, &adjacency, options.trapping);
-    clock.lap("pores/drainage/invasion");
+    // The lowest entry into the slab: where the curve starts, and the
+    // lowest curvature a bridge is asked for at.
+    let first_entry = net
+        .throats
+        .par_iter()
+        .zip(&entry)
+        .filter(|(th, _)| {
+            let (a, b) = (side[th.pores[0] as usize], side[th.pores[1] as usize]);
+            matches!((a, b), (Side::In, Side::Above) | (Side::Above, Side::In))
+        })
+        .map(|(_, &e)| e)
+        .min_by(Real::total_cmp)
+        .ok_or_else(|| {
+            "drainage: no pore of the slab opens to the gas above it (the slab reaches the top \
+             of the bed): lower [analysis.flow] slab's top"
+                .to_string()
+        })?;
+    // The invasion is serial (each step depends on the last) and the
+    // candidate bridges are not (pair by pair): the bridges are built on
+    // the cores the invasion leaves idle. Both are deterministic, so the
+    // result does not depend on how the work interleaves.
+    let in_slab = side_in(&side);
+    let (graphed, pendular) = rayon::join(
+        || -> Result<_, Refusal> {
+            let graph = invasion_graph(net, &side, &index, &entry, members.len())?;
+            let adjacency = invasion::Adjacency::new(&graph);
+            let invasion = invasion::invade_on(&graph, &adjacency, options.trapping);
+            Ok((graph, adjacency, invasion))
+        },
+        || pendular::Pendular::new(bed, net, &in_slab, options.contact_angle, 0.8 * first_entry),
+    );
+    let (graph, adjacency, invasion) = graphed?;
     let voids: Vec<Real> = members
         .iter()
         .map(|&p| net.pores[p as usize].void_volume.max(0.0))
@@ -600,19 +599,7 @@ pub fn drain_wet<const D: usize>(
         })
         .collect();
     let breakthrough = invasion.breakthrough;
-    let first_entry = graph
-        .inlets
-        .iter()
-        .map(|e| e.1)
-        .fold(Real::INFINITY, Real::min);
-    let pendular = pendular::Pendular::new(
-        bed,
-        net,
-        &side_in(&side),
-        options.contact_angle,
-        0.8 * first_entry,
-    );
-    clock.lap("pores/drainage/bridges");
+    clock.lap("pores/drainage/invasion+bridges");
     let state_kappa =
         match (options.state, breakthrough) {
             (Some(StatePressure::Reduced(r)), _) => Some(r / d32),
@@ -641,15 +628,21 @@ pub fn drain_wet<const D: usize>(
     curve_kappas.dedup();
     // The whole curve in two sweeps: the liquid's split in one pass back
     // through the pressures, the bridges edge by edge.
-    let split = invasion::liquid_split_on(
-        &graph,
-        &adjacency,
-        &invasion.drains_at,
-        &voids,
-        &curve_kappas,
-        options.trapping,
+    // (The split is a serial union–find; the bridges' totals take the other
+    // cores meanwhile.)
+    let (split, bridged) = rayon::join(
+        || {
+            invasion::liquid_split_on(
+                &graph,
+                &adjacency,
+                &invasion.drains_at,
+                &voids,
+                &curve_kappas,
+                options.trapping,
+            )
+        },
+        || pendular.totals(&drains_at, &curve_kappas, &voids),
     );
-    let bridged = pendular.totals(&drains_at, &curve_kappas, &voids);
     let curve: Vec<CurvePoint> = curve_kappas
         .iter()
         .zip(split.iter().zip(&bridged))
@@ -689,8 +682,16 @@ pub fn drain_wet<const D: usize>(
         );
     }
     if let Some(kappa) = state_kappa {
-        let at = state_at(&graph, &invasion, &voids, kappa, options.trapping);
-        let pend = pendular.volumes(&drains_at, kappa, &members, &voids);
+        // The clusters' union–find is serial; the bridges take the other cores.
+        let (at, (pend, bridges)) = rayon::join(
+            || state_at(&graph, &invasion, &voids, kappa, options.trapping),
+            || {
+                (
+                    pendular.volumes(&drains_at, kappa, &members, &voids),
+                    pendular.bridges(&drains_at, kappa),
+                )
+            },
+        );
         let p = point(&scale, kappa, &at, &voids, pend.total, pore_volume);
         summary.state = Some(scale.pressure(kappa));
         summary.residual_saturation = Some(p.saturation);
@@ -714,7 +715,6 @@ pub fn drain_wet<const D: usize>(
             };
             out.pores[p as usize] = (state, at.cluster[i], liquid);
         }
-        let bridges = pendular.bridges(&drains_at, kappa);
         for b in &bridges {
             for &particle in &b.particles {
                 let e = &mut out.per_particle[particle as usize];
@@ -757,6 +757,43 @@ pub fn drain_wet<const D: usize>(
             entry,
         },
     ))
+}
+
+/// The slab's pores and throats as the gas sees them: `index` numbers the
+/// slab's pores (`members` of them), `entry` is every throat's entry
+/// curvature. A throat into the slab from above is an inlet; a pore with a
+/// throat to the pores below is at the outlet.
+fn invasion_graph<const D: usize>(
+    net: &Network<D>,
+    side: &[Side],
+    index: &[u32],
+    entry: &[Real],
+    members: usize,
+) -> Result<InvasionGraph, Refusal> {
+    let mut graph = InvasionGraph {
+        pores: members,
+        outlet: vec![false; members],
+        ..InvasionGraph::default()
+    };
+    for (t, th) in net.throats.iter().enumerate() {
+        let (a, b) = (th.pores[0] as usize, th.pores[1] as usize);
+        match (side[a], side[b]) {
+            (Side::In, Side::In) => graph.throats.push((index[a], index[b], entry[t])),
+            (Side::In, Side::Above) => graph.inlets.push((index[a], entry[t])),
+            (Side::Above, Side::In) => graph.inlets.push((index[b], entry[t])),
+            (Side::In, Side::Below) => graph.outlet[index[a] as usize] = true,
+            (Side::Below, Side::In) => graph.outlet[index[b] as usize] = true,
+            _ => {}
+        }
+    }
+    if !graph.outlet.iter().any(|&o| o) {
+        return Err(
+            "drainage: no pore of the slab opens to the liquid below it, the bed has no outlet \
+             (the slab reaches the floor): raise [analysis.flow] slab's bottom"
+                .into(),
+        );
+    }
+    Ok(graph)
 }
 
 /// Wall times of the stages, one lap each.

@@ -114,9 +114,7 @@
 // NaN-rejecting guards read `!(x > 0.0)`: true for NaN as well.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::bridge::{
-    brent, half_lens_area, meniscus_geom, spans_from_its_lowest_point, touch_radius, Geom,
-};
+use super::bridge::{brent, half_lens_area, spans_from_its_lowest_point, touch_radius, Geom};
 use std::f64::consts::PI;
 
 const PAIRS: [(usize, usize); 3] = [(1, 2), (2, 0), (0, 1)];
@@ -222,26 +220,69 @@ impl Throat {
     }
 
     /// [`Throat::state`] with the corners of [`Throat::corners`].
+    ///
+    /// Every filling angle `b` enters the balance linearly, with a weight that depends only
+    /// on the circle it lies on: in a corner's area (`bridge::meniscus_geom`) as
+    /// `(ρ² − r²) b / 2`, in its arc `−ρ b`, in the solid perimeter `−r b`. So only each
+    /// circle's sum of filling angles is needed: the argument of the product of its wet
+    /// corners' `(cos b, sin b)`, one `atan2` a circle where the corners' own angles took
+    /// one each (six an evaluation; the `atan2`s were a third of the entry pressures' time).
+    /// Each `b` lies in `(0, π/2]` (the arc is valid), so a sum of two lies in `(0, π]` and
+    /// an argument `≤ 0` is that sum wrapped past `π`. The arc subtends `π − b1 − b2 − 2θ`
+    /// at its centre, positive for a valid arc (its contacts on the lower half of its circle
+    /// with `x1 < x2`), and the corner areas are summed without clamping each at 0
+    /// (rounding below 0 is of the order of the machine epsilon times `ρ²`).
     #[inline]
     fn state_in(&self, g: &[Geom; 3], rup: &[f64; 3], rr: f64) -> Option<(f64, f64, f64)> {
-        let mut wet = [0.0; 3];
+        // Per circle: the product of its wet corners' unit vectors, and how many.
+        let mut turn = [(1.0, 0.0); 3];
+        let mut wet = [0u8; 3];
         let (mut area, mut lnw) = (0.0, 0.0);
+        let rr2 = rr * rr;
         for (k, &(i, j)) in PAIRS.iter().enumerate() {
             if rr < rup[k] {
                 continue;
             }
-            let m = meniscus_geom(&g[k], self.lens[k], rr)?;
-            area += m.half_area;
-            lnw += m.arc_length;
-            wet[i] += m.b1;
-            wet[j] += m.b2;
-        }
-        let mut lns = 0.0;
-        for ((&a, &w), &ri) in self.alpha.iter().zip(&wet).zip(&self.r) {
-            if !gt(a, w) {
+            let gk = &g[k];
+            let a = gk.arc(rr)?;
+            if !gk.valid(&a) {
                 return None;
             }
-            lns += ri * (a - w);
+            let open = PI - 2.0 * gk.theta();
+            let under = a.yc * ((a.x2 - a.xc) - (a.x1 - a.xc))
+                - 0.5 * rr2 * (gk.sqrt_integral_cs(&a) + open);
+            let (ri, rj) = (self.r[i], self.r[j]);
+            let segments = 0.5 * (ri * ri * a.sb1 * a.cb1 + rj * rj * a.sb2 * a.cb2);
+            area += under + segments + self.lens[k];
+            lnw += rr * open;
+            let times = |(x, y): (f64, f64), (c, s): (f64, f64)| (x * c - y * s, x * s + y * c);
+            turn[i] = times(turn[i], (a.cb1, a.sb1));
+            turn[j] = times(turn[j], (a.cb2, a.sb2));
+            wet[i] += 1;
+            wet[j] += 1;
+        }
+        let mut lns = 0.0;
+        for i in 0..3 {
+            let w = if wet[i] == 0 {
+                0.0
+            } else {
+                let b = turn[i].1.atan2(turn[i].0);
+                if b <= 0.0 {
+                    b + std::f64::consts::TAU
+                } else {
+                    b
+                }
+            };
+            let ri = self.r[i];
+            area += 0.5 * (rr2 - ri * ri) * w;
+            lnw -= rr * w;
+            if !gt(self.alpha[i], w) {
+                return None;
+            }
+            lns += ri * (self.alpha[i] - w);
+        }
+        if !finite_all(&[area, lnw, lns]) {
+            return None;
         }
         let a_eff = self.void_area - area;
         if !gt(a_eff, 0.0) {
@@ -268,7 +309,7 @@ impl Throat {
             if self.d[k] <= self.r[i] + self.r[j] {
                 continue;
             }
-            let ok = |rr: f64| meniscus_geom(&g[k], self.lens[k], rr).is_some();
+            let ok = |rr: f64| g[k].arc(rr).is_some_and(|a| g[k].valid(&a));
             // The arc first spans the gap where it touches the line of centres (closed form
             // in the radius, `bridge::touch_radius`, as `bridge::rupture_gap_2d` inverted):
             // taken when the arc exists just above it with its circle's lowest point between

@@ -45,6 +45,37 @@ struct Edge {
     pores: std::ops::Range<usize>,
 }
 
+/// The most kinds of contact (pairs of radii) whose bridges are shared
+/// ([`Pendular::totals`]); a search among them is a short linear scan.
+const SHARED_KINDS: usize = 16;
+
+/// A contact's kind: its two radii as bits (`None` for a pair with a gap, or
+/// in 2D, where a bridge is a closed form).
+fn contact_kind(e: &Edge) -> Option<(u64, u64)> {
+    let p = e.pair.as_ref()?;
+    p.touching()
+        .then(|| (e.radii[0].to_bits(), e.radii[1].to_bits()))
+}
+
+/// The bridges of the recurring kinds of contact at a curve's pressures.
+struct SharedContacts {
+    kinds: Vec<(u64, u64)>,
+    /// Per kind, the bridge volume at each pressure (`None`: no bridge).
+    volumes: Vec<Vec<Option<Real>>>,
+}
+
+impl SharedContacts {
+    /// Edge `e`'s volumes, if it is a contact of a shared kind.
+    fn volumes(&self, e: &Edge) -> Option<&[Option<Real>]> {
+        if self.kinds.is_empty() {
+            return None;
+        }
+        let k = contact_kind(e)?;
+        let i = self.kinds.iter().position(|&x| x == k)?;
+        Some(&self.volumes[i])
+    }
+}
+
 /// The candidate bridges of a network.
 pub struct Pendular {
     edges: Vec<Edge>,
@@ -68,9 +99,12 @@ pub struct Volumes {
     pub funicular: u64,
 }
 
+/// An edge's key: its two particles, the second's image shift, the image.
+type Key = (u32, u32, [i8; 2], [i8; 2]);
+
 /// The key of an edge: its two sites, the first with no image shift on
 /// periodic beds (all translates of a pair are one pair), lower site first.
-fn key(a: Site, b: Site, periodic: bool) -> Option<(u32, u32, [i8; 2], [i8; 2])> {
+fn key(a: Site, b: Site, periodic: bool) -> Option<Key> {
     if periodic {
         let rel = |x: Site, y: Site| {
             [
@@ -113,7 +147,7 @@ fn key(a: Site, b: Site, periodic: bool) -> Option<(u32, u32, [i8; 2], [i8; 2])>
 
 /// An edge key and a pore in one integer ordered as the tuple `(key, pore)`:
 /// particles, shifts (each `i8` offset by 128 to order as unsigned), pore.
-fn pack(k: (u32, u32, [i8; 2], [i8; 2]), p: u32) -> u128 {
+fn pack(k: Key, p: u32) -> u128 {
     let b = |x: i8| u128::from(x as u8 ^ 0x80);
     (u128::from(k.0) << 96)
         | (u128::from(k.1) << 64)
@@ -160,7 +194,10 @@ impl Pendular {
     ) -> Pendular {
         let periodic = bed.container.periodic;
         // (packed key and pore, share, gap): sorted by the key, every pore
-        // of an edge follows the edge's first.
+        // of an edge follows the edge's first. (Gathering them particle by
+        // particle from each particle's cells instead, which needs no global
+        // sort, was slower at 10^6 spheres: each cell is read four times, out
+        // of order.)
         type Entry = (u128, Real, Real);
         let mut entries: Vec<Entry> = net
             .pores
@@ -191,12 +228,16 @@ impl Pendular {
                             .sum::<Real>()
                             .sqrt();
                         let gap = dist - ra - rb;
-                        let harmonic = 2.0 * ra * rb / (ra + rb);
-                        let reach = bridge::rupture_gap_2d(ra, rb, theta, kappa_lo)
-                            .unwrap_or(Real::INFINITY)
-                            .min(MAX_GAP * harmonic);
-                        if !(gap <= reach) {
-                            continue;
+                        // Contacts and overlaps always hold a bridge; a gap only
+                        // up to the reach of the lowest curvature's.
+                        if !(gap <= 0.0) {
+                            let harmonic = 2.0 * ra * rb / (ra + rb);
+                            let reach = bridge::rupture_gap_2d(ra, rb, theta, kappa_lo)
+                                .unwrap_or(Real::INFINITY)
+                                .min(MAX_GAP * harmonic);
+                            if !(gap <= reach) {
+                                continue;
+                            }
                         }
                         let share = if D == 3 {
                             let v: [[Real; 3]; 4] =
@@ -338,6 +379,7 @@ impl Pendular {
         let n = kappas.len();
         let slab_share =
             |e: &Edge| -> Real { self.around(e).iter().filter(|p| p.2).map(|p| p.1).sum() };
+        let shared = self.shared_contacts(kappas);
         let blocks: Vec<(Vec<Real>, Vec<Real>)> = self
             .edges
             .par_chunks(BLOCK)
@@ -347,6 +389,16 @@ impl Pendular {
                 for (e, most) in chunk.iter().zip(&mut largest) {
                     let share = slab_share(e);
                     if !(share > 0.0) {
+                        continue;
+                    }
+                    if let Some(volumes) = shared.volumes(e) {
+                        let first = self.first_drained(e, drains_at, kappas);
+                        for (sum, v) in sums[first..].iter_mut().zip(&volumes[first..]) {
+                            if let Some(v) = *v {
+                                *sum += share * v;
+                                *most = Real::max(*most, v);
+                            }
+                        }
                         continue;
                     }
                     // The pressures in turn: each bridge's radius starts the next's search.
@@ -431,6 +483,53 @@ impl Pendular {
             }
         }
         totals
+    }
+
+    /// The bridge volumes at each of `kappas` of the kinds of contact that
+    /// recur: a touching pair's bridge depends on its two radii alone (a
+    /// gap below [`bridge::CONTACT_GAP`] is a contact), so the contacts of a
+    /// bed of few sizes (equal spheres, a few species: most of its pairs)
+    /// share one bridge per pressure, found once instead of once a contact.
+    /// A bed of many sizes (more than [`SHARED_KINDS`] radii among its
+    /// contacts) shares none.
+    fn shared_contacts(&self, kappas: &[Real]) -> SharedContacts {
+        let mut kinds: Vec<(u64, u64)> = Vec::new();
+        if self.dim == 3 {
+            for e in &self.edges {
+                if let Some(k) = contact_kind(e) {
+                    if !kinds.contains(&k) {
+                        if kinds.len() == SHARED_KINDS {
+                            kinds.clear();
+                            break;
+                        }
+                        kinds.push(k);
+                    }
+                }
+            }
+        }
+        let volumes = kinds
+            .par_iter()
+            .map(|&(r1, r2)| {
+                let pair =
+                    bridge::Pair::new(Real::from_bits(r1), Real::from_bits(r2), 0.0, self.theta);
+                let mut above = None;
+                kappas
+                    .iter()
+                    .map(|&kappa| {
+                        let b = pair.as_ref()?.bridge_below(kappa, above)?;
+                        above = Some(b.meridian_radius);
+                        Some(b.volume)
+                    })
+                    .collect()
+            })
+            .collect();
+        SharedContacts { kinds, volumes }
+    }
+
+    /// How many kinds of contact share their bridges.
+    #[cfg(test)]
+    pub(crate) fn shared_kinds(&self) -> usize {
+        self.shared_contacts(&[1.0]).kinds.len()
     }
 
     /// Number of candidate pairs.

@@ -21,6 +21,28 @@ fn deposited(count: u64, seed: u64, radius: &str) -> Bed<3> {
     }
 }
 
+/// The network's pores in the slab (flags), their indices, and their void
+/// volumes times `scale`.
+fn slab_pores(
+    net: &crate::analysis::pores::network::Network<3>,
+    slab: (Real, Real),
+    scale: Real,
+) -> (Vec<bool>, Vec<u32>, Vec<Real>) {
+    let in_slab: Vec<bool> = net
+        .pores
+        .iter()
+        .map(|p| p.centre[2] >= slab.0 && p.centre[2] <= slab.1)
+        .collect();
+    let members: Vec<u32> = (0..net.pores.len() as u32)
+        .filter(|&p| in_slab[p as usize])
+        .collect();
+    let voids: Vec<Real> = members
+        .iter()
+        .map(|&p| scale * net.pores[p as usize].void_volume.max(0.0))
+        .collect();
+    (in_slab, members, voids)
+}
+
 fn drain_bed(bed: &Bed<3>, slab: (Real, Real), o: &DrainageOptions) -> Drainage {
     let net = network(bed, slab).unwrap();
     drain(bed, &net, slab, 2.0, None, o).unwrap()
@@ -256,18 +278,7 @@ fn the_bridges_totals_edge_by_edge_equal_the_pore_by_pore_sums() {
     let bed = deposited(1500, 5, "1.0");
     let slab = (4.0, 16.0);
     let net = network(&bed, slab).unwrap();
-    let in_slab: Vec<bool> = net
-        .pores
-        .iter()
-        .map(|p| p.centre[2] >= slab.0 && p.centre[2] <= slab.1)
-        .collect();
-    let members: Vec<u32> = (0..net.pores.len() as u32)
-        .filter(|&p| in_slab[p as usize])
-        .collect();
-    let voids: Vec<Real> = members
-        .iter()
-        .map(|&p| 0.02 * net.pores[p as usize].void_volume.max(0.0))
-        .collect();
+    let (in_slab, members, voids) = slab_pores(&net, slab, 0.02);
     let kappas = [0.6, 1.0, 1.5, 2.0, 3.0, 5.0];
     let pendular = pendular::Pendular::new(&bed, &net, &in_slab, 0.3, kappas[0]);
     // Pores drain one after another: some edges only from the middle on.
@@ -350,6 +361,65 @@ fn newton_entry_radii_equal_the_bracketed_ones_on_a_bed() {
                 println!("  {m:?}");
             }
             assert!(mismatched.is_empty());
+        }
+    }
+}
+
+/// The contacts of a bed of few sizes share one bridge per pressure and pair
+/// of radii: the curve's bridge totals (the shared path) equal the pore by
+/// pore sums (each edge's own bridge) on equal spheres (one kind of
+/// contact) and two sizes (several kinds); a lognormal bed shares none.
+#[test]
+fn recurring_contacts_share_their_bridges_and_the_totals_stand() {
+    let bed_of = |species: &str| {
+        let text = format!(
+            "dim = 3\nseed = 11\n[box]\nwidth = 12\ndepth = 12\nheight = 400\nperiodic = true\n\
+             [fill]\ncount = 1200\n{species}"
+        );
+        let config = Config::from_toml(&text, "test").unwrap();
+        match run_bed(&config, &mut |_| {}).unwrap().bed {
+            crate::bed::AnyBed::D3(b) => b,
+            crate::bed::AnyBed::D2(_) => unreachable!(),
+        }
+    };
+    for (name, species, kinds) in [
+        ("equal", "[[species]]\nradius = 1.0\n", 1..=1),
+        (
+            "two sizes",
+            "[[species]]\nradius = 1.0\n[[species]]\nradius = 0.7\n",
+            3..=4,
+        ),
+        (
+            "lognormal",
+            "[[species]]\nsize = { dist = \"lognormal\", median = 1.0, gsd = 1.5 }\n",
+            0..=0,
+        ),
+    ] {
+        let bed = bed_of(species);
+        let top = bed.centres.iter().map(|p| p[2]).fold(0.0, Real::max);
+        let slab = (0.2 * top, 0.8 * top);
+        let net = network(&bed, slab).unwrap();
+        let (in_slab, members, voids) = slab_pores(&net, slab, 1.0);
+        let kappas = [0.8, 1.2, 2.0, 3.5, 6.0, 20.0];
+        let pendular = pendular::Pendular::new(&bed, &net, &in_slab, 0.4, kappas[0]);
+        assert!(
+            kinds.contains(&pendular.shared_kinds()),
+            "{name}: {} kinds of contact shared",
+            pendular.shared_kinds()
+        );
+        // Half the pores drained from the start, the rest at 1.5.
+        let drains_at: Vec<Real> = (0..net.pores.len())
+            .map(|p| if p % 2 == 0 { 0.0 } else { 1.5 })
+            .collect();
+        let totals = pendular.totals(&drains_at, &kappas, &voids);
+        for (&kappa, &total) in kappas.iter().zip(&totals) {
+            let v = pendular.volumes(&drains_at, kappa, &members, &voids);
+            assert!(v.total > 0.0, "{name} at {kappa}: no bridge");
+            assert!(
+                (total - v.total).abs() <= 1e-12 * v.total,
+                "{name} at {kappa}: {total} against {}",
+                v.total
+            );
         }
     }
 }
