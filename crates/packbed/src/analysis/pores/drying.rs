@@ -724,7 +724,10 @@ pub struct Product {
 }
 
 /// The agglomerates `bonds` join among `bed`'s particles, and the product
-/// the slab `[z_lo, z_hi]` makes of them.
+/// the slab `[z_lo, z_hi]` makes of them. A particle is a body: the beads of
+/// a rigid chain are one, joined without a bond and counted once (its
+/// volume, the slab's membership and `bonds_per_particle`,
+/// `d50_particles` stay per bead).
 pub fn product<const D: usize>(bed: &Bed<D>, slab: (Real, Real), bonds: &[(u32, u32)]) -> Product {
     let z = D - 1;
     let in_slab: Vec<bool> = bed
@@ -732,12 +735,31 @@ pub fn product<const D: usize>(bed: &Bed<D>, slab: (Real, Real), bonds: &[(u32, 
         .iter()
         .map(|c| c.0[z] >= slab.0 && c.0[z] <= slab.1)
         .collect();
-    let root = components(bed.len(), bonds);
+    // A chain's beads are one rigid body: joined as a bond joins particles,
+    // and counted once among an agglomerate's particles (its first bead
+    // counts it).
+    let mut links: Vec<(u32, u32)> = bonds.to_vec();
+    let mut counts_its_body = vec![true; bed.len()];
+    if bed.bodies.len() == bed.len() {
+        let mut first_of: std::collections::HashMap<u32, u32> = std::collections::HashMap::new();
+        for (p, &b) in bed.bodies.iter().enumerate() {
+            match first_of.entry(b) {
+                std::collections::hash_map::Entry::Occupied(e) => {
+                    links.push((*e.get(), p as u32));
+                    counts_its_body[p] = false;
+                }
+                std::collections::hash_map::Entry::Vacant(e) => {
+                    e.insert(p as u32);
+                }
+            }
+        }
+    }
+    let root = components(bed.len(), &links);
     let body = |p: usize| crate::math::ball_volume::<D>(bed.radii[p]);
     let mut count = vec![0u64; bed.len()];
     let mut volume = vec![0.0; bed.len()];
     for p in 0..bed.len() {
-        count[root[p] as usize] += 1;
+        count[root[p] as usize] += u64::from(counts_its_body[p]);
         volume[root[p] as usize] += body(p);
     }
     let mut big: Vec<u32> = (0..bed.len() as u32)

@@ -393,3 +393,38 @@ fn bad_settings_are_refused() {
         assert!(why.starts_with("drying: ") && !why.contains('\n'), "{why}");
     }
 }
+
+/// A rigid chain is one particle: two chains of three beads bridged at one
+/// contact are one agglomerate of two particles holding all six beads; a
+/// third chain with no bridge is a single particle, not three.
+#[test]
+fn a_chain_is_one_particle_of_an_agglomerate() {
+    let mut bed = Bed::<3>::of_spheres(
+        [20.0, 20.0, 20.0],
+        false,
+        (0..9).map(|i| {
+            let (chain, bead) = (i / 3, i % 3);
+            let y = 2.0 + 2.0 * chain as Real + if chain == 2 { 3.0 } else { 0.0 };
+            ([2.0 + 2.0 * bead as Real, y, 5.0], 1.0, 0)
+        }),
+    );
+    bed.bodies = (0..9).map(|i| i / 3).collect();
+    let bead = crate::math::ball_volume::<3>(1.0);
+    // Bead 2 of chain 0 touches bead 5 of chain 1 (both at x = 6).
+    let p = product(&bed, (0.0, 20.0), &[(2, 5)]);
+    assert_eq!(p.agglomerates.len(), 1);
+    assert_eq!(p.agglomerates[0].particles, 2);
+    assert!((p.agglomerates[0].volume - 6.0 * bead).abs() <= 1e-12 * bead);
+    assert!((p.fraction_in_agglomerates - 6.0 / 9.0).abs() <= 1e-12);
+    assert_eq!(p.agglomerate_of, vec![1, 1, 1, 1, 1, 1, 0, 0, 0]);
+    assert_eq!(p.largest_particles, 2);
+    // Units of 1 particle (the lone chain, 3 beads) and of 2 (6 beads).
+    assert_eq!(p.volume_by_particles.len(), 2);
+    assert!((p.volume_by_particles[0] - 1.0 / 3.0).abs() <= 1e-12);
+    assert!((p.volume_by_particles[1] - 2.0 / 3.0).abs() <= 1e-12);
+    // No bridges: no agglomerate, three single particles.
+    let none = product(&bed, (0.0, 20.0), &[]);
+    assert!(none.agglomerates.is_empty());
+    assert_eq!(none.volume_by_particles, vec![1.0]);
+    assert_eq!(none.fraction_in_agglomerates, 0.0);
+}
