@@ -375,8 +375,18 @@ impl Geom {
         0.5 * a.rho * a.rho * (self.sqrt_integral_cs(a) + (PI - b_sum - 2.0 * self.theta))
     }
 
+    /// The half area of meniscus `a` ([`meniscus_geom`]'s `half_area`) less its half-lens and
+    /// its terms in the filling angles, which add `(ρ² (b1 + b2) − r1² b1 − r2² b2) / 2`: the
+    /// MS-P balance sums those per circle, the angles of a circle in one `atan2` (`msp`).
+    pub(crate) fn half_area_without_angles(&self, a: &Arc) -> f64 {
+        let (r1, r2) = (self.r1, self.r2);
+        a.yc * ((a.x2 - a.xc) - (a.x1 - a.xc))
+            - 0.5 * a.rho * a.rho * (self.sqrt_integral_cs(a) + PI - 2.0 * self.theta)
+            + 0.5 * (r1 * r1 * a.sb1 * a.cb1 + r2 * r2 * a.sb2 * a.cb2)
+    }
+
     /// The part of [`Geom::sqrt_integral`] over `ρ²/2` that needs no angle.
-    pub(crate) fn sqrt_integral_cs(&self, a: &Arc) -> f64 {
+    fn sqrt_integral_cs(&self, a: &Arc) -> f64 {
         let (st, ct) = (self.st, self.ct);
         let cs = |cb: f64, sb: f64| (cb * ct - sb * st) * (sb * ct + cb * st);
         cs(a.cb1, a.sb1) + cs(a.cb2, a.sb2)
@@ -1033,9 +1043,8 @@ pub(crate) fn meniscus_geom(g: &Geom, lens: f64, rho: f64) -> Option<Meniscus2> 
     }
     let (r1, r2) = (g.r1, g.r2);
     let (b1, b2) = (a.b1(), a.b2());
-    let under = a.yc * ((a.x2 - a.xc) - (a.x1 - a.xc)) - g.sqrt_integral(&a, b1 + b2);
-    let seg = |r: f64, b: f64, s: f64, c: f64| 0.5 * r * r * (b - s * c);
-    let half_area = (under - seg(r1, b1, a.sb1, a.cb1) - seg(r2, b2, a.sb2, a.cb2) + lens).max(0.0);
+    let angles = 0.5 * (a.rho * a.rho * (b1 + b2) - r1 * r1 * b1 - r2 * r2 * b2);
+    let half_area = (g.half_area_without_angles(&a) + angles + lens).max(0.0);
     // Angle subtended at the meniscus centre between the contact points (lower half): the
     // radii to them point along `−(b1 + θ)` and `π + b2 + θ` (see `sqrt_integral`).
     let ang = (PI - b1 - b2 - 2.0 * g.theta).abs();

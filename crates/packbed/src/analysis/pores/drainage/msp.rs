@@ -222,7 +222,7 @@ impl Throat {
     /// [`Throat::state`] with the corners of [`Throat::corners`].
     ///
     /// Every filling angle `b` enters the balance linearly, with a weight that depends only
-    /// on the circle it lies on: in a corner's area (`bridge::meniscus_geom`) as
+    /// on the circle it lies on: in a corner's area ([`Geom::half_area_without_angles`]) as
     /// `(ρ² − r²) b / 2`, in its arc `−ρ b`, in the solid perimeter `−r b`. So only each
     /// circle's sum of filling angles is needed: the argument of the product of its wet
     /// corners' `(cos b, sin b)`, one `atan2` a circle where the corners' own angles took
@@ -248,13 +248,8 @@ impl Throat {
             if !gk.valid(&a) {
                 return None;
             }
-            let open = PI - 2.0 * gk.theta();
-            let under = a.yc * ((a.x2 - a.xc) - (a.x1 - a.xc))
-                - 0.5 * rr2 * (gk.sqrt_integral_cs(&a) + open);
-            let (ri, rj) = (self.r[i], self.r[j]);
-            let segments = 0.5 * (ri * ri * a.sb1 * a.cb1 + rj * rj * a.sb2 * a.cb2);
-            area += under + segments + self.lens[k];
-            lnw += rr * open;
+            area += gk.half_area_without_angles(&a) + self.lens[k];
+            lnw += rr * (PI - 2.0 * gk.theta());
             let times = |(x, y): (f64, f64), (c, s): (f64, f64)| (x * c - y * s, x * s + y * c);
             turn[i] = times(turn[i], (a.cb1, a.sb1));
             turn[j] = times(turn[j], (a.cb2, a.sb2));

@@ -194,10 +194,9 @@ impl Pendular {
     ) -> Pendular {
         let periodic = bed.container.periodic;
         // (packed key and pore, share, gap): sorted by the key, every pore
-        // of an edge follows the edge's first. (Gathering them particle by
-        // particle from each particle's cells instead, which needs no global
-        // sort, was slower at 10^6 spheres: each cell is read four times, out
-        // of order.)
+        // of an edge follows the edge's first. One pass over the cells in
+        // order and one sort: gathering them particle by particle from each
+        // particle's cells would read every cell four times, out of order.
         type Entry = (u128, Real, Real);
         let mut entries: Vec<Entry> = net
             .pores
