@@ -58,6 +58,9 @@ fn deposition(cr: &mut Criterion) {
             contacts: None,
             sticking: None,
             friction_angle: None,
+            restitution: None,
+            drop_height: None,
+            sliding_friction: None,
         }
         .config();
         group.throughput(Throughput::Elements(n));

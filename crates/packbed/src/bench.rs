@@ -94,6 +94,16 @@ pub struct BenchBed {
     /// Settle by a rule: stop where the path is less steep than this angle.
     #[cfg_attr(feature = "cli", arg(long, value_name = "DEGREES"))]
     pub friction_angle: Option<f64>,
+    /// Settle by a rule: momentum, with this restitution at each impact.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "E"))]
+    pub restitution: Option<f64>,
+    /// With `--restitution`: the fall before the first impact, in the
+    /// bench's length units (its spheres' radius is 10).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "H"))]
+    pub drop_height: Option<f64>,
+    /// With `--restitution`: the sliding friction coefficient.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "MU"))]
+    pub sliding_friction: Option<f64>,
 }
 
 impl BenchBed {
@@ -135,6 +145,9 @@ impl BenchBed {
             sticking: self.sticking,
             friction_angle: self.friction_angle,
             cohesion_diameter: None,
+            restitution: self.restitution,
+            drop_height: self.drop_height,
+            sliding_friction: self.sliding_friction,
         };
         c.species.truncate(1);
         c.species[0].radius = Some(RADIUS);
@@ -385,6 +398,15 @@ pub fn text(r: &BenchResult, spec: Option<&BenchBed>) -> String {
             }
             if let Some(a) = b.friction_angle {
                 rule.push(format!("friction angle {a}°"));
+            }
+            if let Some(e) = b.restitution {
+                rule.push(format!("momentum (restitution {e})"));
+            }
+            if let Some(h) = b.drop_height {
+                rule.push(format!("drop height {h}"));
+            }
+            if let Some(mu) = b.sliding_friction {
+                rule.push(format!("sliding friction {mu}"));
             }
             let sizes = if rule.is_empty() {
                 sizes

@@ -1003,6 +1003,16 @@ fn settling_rules_run_and_bad_ones_are_refused() {
             &["settling.friction_angle", "90"][..],
         ),
         (
+            "e.toml",
+            "[settling]\nrestitution = 1\n",
+            &["settling.restitution", "1"][..],
+        ),
+        (
+            "chain-e.toml",
+            "[[species]]\nradius = 5\nshape = \"chain\"\nbeads = 3\n[settling]\nrestitution = 0.5\n",
+            &["settling.restitution", "chain"][..],
+        ),
+        (
             "r.toml",
             "[settling]\nrule = \"glue\"\n",
             &["r.toml", "rule"][..],

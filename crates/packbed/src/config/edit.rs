@@ -68,6 +68,12 @@ pub enum SettlingEdit {
     FrictionAngle(Real),
     /// The diameter at which half the contacts stick.
     CohesionDiameter(Real),
+    /// The restitution of an impact (momentum).
+    Restitution(Real),
+    /// The fall before the first impact (momentum).
+    DropHeight(Real),
+    /// The sliding friction coefficient (momentum).
+    SlidingFriction(Real),
 }
 
 /// A change to `[analysis.drying]`.
@@ -150,7 +156,7 @@ impl FromStr for BoxSpec {
 }
 
 /// The parameters a sweep can vary, with the form of their values.
-pub const SWEEP_PARAMETERS: [(&str, &str); 25] = [
+pub const SWEEP_PARAMETERS: [(&str, &str); 28] = [
     ("ratio", "a list with one number ratio per species, e.g. [1, 2]"),
     (
         "radii",
@@ -191,6 +197,18 @@ pub const SWEEP_PARAMETERS: [(&str, &str); 25] = [
     (
         "settling.cohesion_diameter",
         "the diameter at which half the contacts stick, a length",
+    ),
+    (
+        "settling.restitution",
+        "the restitution of an impact (momentum), 0 to 1",
+    ),
+    (
+        "settling.drop_height",
+        "the fall before the first impact (momentum), a length",
+    ),
+    (
+        "settling.sliding_friction",
+        "the sliding friction coefficient of the momentum rule, >= 0",
     ),
     (
         "analysis.drainage.pressure",
@@ -255,6 +273,11 @@ impl Edit {
             "settling.friction_angle" => Edit::Settling(SettlingEdit::FrictionAngle(one()?)),
             "settling.cohesion_diameter" => {
                 Edit::Settling(SettlingEdit::CohesionDiameter(one()?))
+            }
+            "settling.restitution" => Edit::Settling(SettlingEdit::Restitution(one()?)),
+            "settling.drop_height" => Edit::Settling(SettlingEdit::DropHeight(one()?)),
+            "settling.sliding_friction" => {
+                Edit::Settling(SettlingEdit::SlidingFriction(one()?))
             }
             "analysis.drainage.pressure" => Edit::DrainagePressure(one()?),
             "analysis.drainage.reduced_pressure" => Edit::DrainageReducedPressure(one()?),
@@ -385,6 +408,9 @@ impl Config {
                     SettlingEdit::Sticking(p) => s.sticking = Some(p),
                     SettlingEdit::CohesionDiameter(d) => s.cohesion_diameter = Some(d),
                     SettlingEdit::FrictionAngle(a) => s.friction_angle = Some(a),
+                    SettlingEdit::Restitution(e) => s.restitution = Some(e),
+                    SettlingEdit::DropHeight(h) => s.drop_height = Some(h),
+                    SettlingEdit::SlidingFriction(mu) => s.sliding_friction = Some(mu),
                 }
             }
         }
@@ -795,6 +821,18 @@ mod tests {
             (
                 "settling.cohesion_diameter",
                 Edit::Settling(SettlingEdit::CohesionDiameter(5.0)),
+            ),
+            (
+                "settling.restitution",
+                Edit::Settling(SettlingEdit::Restitution(5.0)),
+            ),
+            (
+                "settling.drop_height",
+                Edit::Settling(SettlingEdit::DropHeight(5.0)),
+            ),
+            (
+                "settling.sliding_friction",
+                Edit::Settling(SettlingEdit::SlidingFriction(5.0)),
             ),
         ];
         for (p, edit) in cases {

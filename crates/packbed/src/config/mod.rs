@@ -21,7 +21,7 @@ pub use feed::{Feed, FeedConfig, Pattern};
 pub use measures::*;
 pub use plan::*;
 pub use schema::*;
-pub use settling::{Settling, SettlingConfig};
+pub use settling::{Momentum, Settling, SettlingConfig};
 
 use crate::error::{Error, Result};
 use crate::math::Real;

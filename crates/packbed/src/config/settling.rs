@@ -20,6 +20,14 @@
 //!   slope of its path falls below α (on one support the tilt of the contact
 //!   normal from the vertical, in a groove the groove's slope), so that a
 //!   slope steeper than α never holds a particle and a heap stands near it.
+//! - `restitution = e` in [0, 1), with `drop_height = h` (a length; default
+//!   the particle's diameter): momentum. The particle lands with the kinetic
+//!   energy of a fall from h, gains what it descends, keeps at each impact the
+//!   tangential part of its energy and e² of the normal part, and leaves a
+//!   pocket over its lowest open rim when its energy is above the rim. This
+//!   moves the rule toward denser beds. `sliding_friction = µ` (default 0)
+//!   takes µ times each move's horizontal travel from the energy. Spheres
+//!   and discs only.
 //!
 //! Side walls are no contacts for `contacts` and `sticking`: they guide a
 //! particle, the floor and the particles hold it.
@@ -45,6 +53,16 @@ pub struct SettlingConfig {
     /// cohesion), in the config's length units.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cohesion_diameter: Option<Real>,
+    /// The restitution coefficient of an impact (turns momentum on).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub restitution: Option<Real>,
+    /// The height of the free fall before the first impact, in the config's
+    /// length units (needs `restitution`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub drop_height: Option<Real>,
+    /// The momentum rule's sliding friction coefficient (needs `restitution`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sliding_friction: Option<Real>,
 }
 
 impl SettlingConfig {
@@ -99,12 +117,61 @@ impl SettlingConfig {
                 )))
             }
         };
+        let momentum = self.momentum()?;
+        if momentum.is_some() && (contacts.is_some() || slope.is_some()) {
+            return Err(Error::config(
+                "settling: `restitution` (momentum) acts at rest and on the way down; it does not combine with `contacts` or `friction_angle`",
+            ));
+        }
         Ok(Settling {
             contacts,
             sticking,
             slope,
             cohesion,
+            momentum,
         })
+    }
+
+    /// `restitution` and `drop_height`, checked.
+    fn momentum(&self) -> Result<Option<Momentum>> {
+        let drop_height =
+            match self.drop_height {
+                None => None,
+                Some(_) if self.restitution.is_none() => return Err(Error::config(
+                    "settling.drop_height is the fall of the momentum rule: give `restitution` too",
+                )),
+                Some(h) if h.is_finite() && h >= 0.0 => Some(h),
+                Some(h) => {
+                    return Err(Error::config(format!(
+                        "settling.drop_height must be a length >= 0, got {h}"
+                    )))
+                }
+            };
+        let sliding_friction = match self.sliding_friction {
+            None => 0.0,
+            Some(_) if self.restitution.is_none() => {
+                return Err(Error::config(
+                    "settling.sliding_friction is the momentum rule's: give `restitution` too",
+                ))
+            }
+            Some(mu) if mu.is_finite() && mu >= 0.0 => mu,
+            Some(mu) => {
+                return Err(Error::config(format!(
+                    "settling.sliding_friction must be a coefficient >= 0, got {mu}"
+                )))
+            }
+        };
+        match self.restitution {
+            None => Ok(None),
+            Some(e) if (0.0..1.0).contains(&e) => Ok(Some(Momentum {
+                restitution: e,
+                drop_height,
+                sliding_friction,
+            })),
+            Some(e) => Err(Error::config(format!(
+                "settling.restitution must be in [0, 1), got {e}"
+            ))),
+        }
     }
 }
 
@@ -120,6 +187,22 @@ pub struct Settling {
     /// The diameter at which half the contacts stick, when the sticking
     /// probability depends on size (then `sticking` is 0).
     pub cohesion: Option<Real>,
+    /// Momentum: the energy a particle carries (`None`: quasi-static).
+    pub momentum: Option<Momentum>,
+}
+
+/// The momentum rule's parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Momentum {
+    /// Restitution coefficient of an impact, in [0, 1): the share of the
+    /// normal velocity kept.
+    pub restitution: Real,
+    /// The free fall before the first impact (`None`: the particle's diameter).
+    pub drop_height: Option<Real>,
+    /// Coulomb's coefficient µ of the sliding on supports: a move loses µ
+    /// times its horizontal travel (a block sliding down a plane loses
+    /// `µ N ds = µ m g dx`).
+    pub sliding_friction: Real,
 }
 
 impl Settling {
@@ -183,6 +266,25 @@ mod tests {
             ("cohesion_diameter = 0", "settling.cohesion_diameter"),
             ("cohesion_diameter = -2", "settling.cohesion_diameter"),
             ("cohesion_diameter = 2\nsticking = 0.1", "not both"),
+            ("restitution = 1", "settling.restitution"),
+            ("restitution = -0.1", "settling.restitution"),
+            ("restitution = nan", "settling.restitution"),
+            ("drop_height = 3", "settling.drop_height"),
+            (
+                "restitution = 0.5\ndrop_height = -1",
+                "settling.drop_height",
+            ),
+            (
+                "restitution = 0.5\ndrop_height = inf",
+                "settling.drop_height",
+            ),
+            ("restitution = 0.5\ncontacts = 3", "does not combine"),
+            ("sliding_friction = 0.3", "settling.sliding_friction"),
+            (
+                "restitution = 0\nsliding_friction = -1",
+                "settling.sliding_friction",
+            ),
+            ("restitution = 0.5\nfriction_angle = 20", "does not combine"),
         ] {
             let e = resolve(text).unwrap_err().to_string();
             assert!(e.contains(key), "{text}: {e}");
@@ -199,6 +301,22 @@ mod tests {
         assert!((s.sticking_at(1.0) - 100.0 / 101.0).abs() < 1e-15);
         assert!((s.sticking_at(100.0) - 1.0 / 101.0).abs() < 1e-15);
         assert_eq!(resolve("sticking = 0.3").unwrap().sticking_at(5.0), 0.3);
+    }
+
+    #[test]
+    fn restitution_turns_momentum_on_and_combines_with_sticking() {
+        let s = resolve("restitution = 0\nsticking = 0.2").unwrap();
+        assert!(!s.is_rolling());
+        assert_eq!(
+            s.momentum,
+            Some(Momentum {
+                restitution: 0.0,
+                drop_height: None,
+                sliding_friction: 0.0,
+            })
+        );
+        let s = resolve("restitution = 0.4\ndrop_height = 7").unwrap();
+        assert_eq!(s.momentum.unwrap().drop_height, Some(7.0));
     }
 
     #[test]

@@ -19,6 +19,8 @@ use crate::math::{nnls, Real, Vector};
 use rand::RngExt;
 use std::cell::{Cell, RefCell};
 
+mod momentum;
+
 /// Most contacts tracked at once (more happen only in degenerate ties).
 const MAX_ACTIVE: usize = 6;
 /// Moves after which a particle counts as stuck and is dropped again elsewhere.
@@ -223,13 +225,23 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
     // Zero-length moves in a row, and the contacts after the last of them.
     let mut still = 0;
     let mut still_contacts: Option<ContactSet<D>> = None;
+    // The momentum rule's energy, and the way on over a rim just climbed.
+    let mut motion = rule.momentum.map(|m| momentum::Motion::new(&m, r));
+    let mut onward: Option<Vector<D>> = None;
     for _ in 0..MAX_MOVES {
         *moves += 1;
         if active.len == 0 {
             let from = p;
-            p[D - 1] -= fall(terrain, &p, r, tol, &mut active);
+            let dz = fall(terrain, &p, r, tol, &mut active);
+            p[D - 1] -= dz;
             terrain.went(Leg::Fall { from, to: p[D - 1] });
             fresh = (0..active.len).any(|i| holds(&active.get(i), &p));
+            if let Some(m) = motion.as_mut() {
+                m.fell(dz);
+                let mut down = Vector::<D>::zero();
+                down[D - 1] = -1.0;
+                m.impact(momentum::head_on(&active, &p, &down));
+            }
             continue;
         }
         if ruled && stops_here(rule, &active, std::mem::take(&mut fresh), &mut sticks) {
@@ -237,44 +249,70 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
         }
         let p_before = p;
         let mut drew = false;
-        for i in 0..active.len {
-            normals[i] = active.get(i).surface.normal_at(&p);
-        }
-        let residual = nnls(&normals[..active.len], Vector::up(), &mut lambda);
-        keep.clear();
         let mut keep_lambda = [0.0; MAX_ACTIVE];
-        for i in 0..active.len {
-            if lambda[i] > FORCE_TOL {
-                keep_lambda[keep.len] = lambda[i];
-                keep.push(active.get(i));
-            }
-        }
-        let total_force: Real = lambda[..active.len].iter().sum();
-        let direction = if residual.norm() <= REST_TOL * (1.0 + total_force) {
-            if is_stable(&keep, &p) {
-                return Some(snap(terrain, &keep, p, r, tol));
-            }
-            if held_in_place(terrain, &keep, &p, r, tol) {
-                // Balanced on a crest, with touching walls or particles closing
-                // every way it could tip (a disc on a disc in a box one diameter
-                // wide): a zero-force contact blocks as well as a loaded one.
-                return Some(p);
-            }
-            if rule.slope.is_some() {
-                // Balanced, every way on starts level: friction holds it.
-                return Some(p);
-            }
-            // Balanced but unstable (on top of a sphere, or of a circle): any
-            // push tips it over; the push's direction is drawn at random.
-            drew = true;
-            random_tangent(&keep, &p, rng)?
+        let direction = if let Some(direction) = onward.take() {
+            // Over a rim: on along the circle it climbed, down the far side.
+            keep = active;
+            direction
         } else {
-            (-residual).normalized()?
+            for i in 0..active.len {
+                normals[i] = active.get(i).surface.normal_at(&p);
+            }
+            let residual = nnls(&normals[..active.len], Vector::up(), &mut lambda);
+            keep.clear();
+            for i in 0..active.len {
+                if lambda[i] > FORCE_TOL {
+                    keep_lambda[keep.len] = lambda[i];
+                    keep.push(active.get(i));
+                }
+            }
+            let total_force: Real = lambda[..active.len].iter().sum();
+            let direction = if residual.norm() <= REST_TOL * (1.0 + total_force) {
+                if is_stable(&keep, &p) {
+                    if let Some(m) = motion.as_mut() {
+                        if let Some(exit) = momentum::way_out(
+                            terrain,
+                            &keep,
+                            &p,
+                            r,
+                            tol,
+                            m.energy(),
+                            m.mu(),
+                            &mut hits,
+                            &mut batch,
+                        ) {
+                            m.descended(-exit.barrier);
+                            p = exit.top;
+                            active = exit.kept;
+                            onward = Some(exit.onward);
+                            continue;
+                        }
+                    }
+                    return Some(snap(terrain, &keep, p, r, tol));
+                }
+                if held_in_place(terrain, &keep, &p, r, tol) {
+                    // Balanced on a crest, with touching walls or particles closing
+                    // every way it could tip (a disc on a disc in a box one diameter
+                    // wide): a zero-force contact blocks as well as a loaded one.
+                    return Some(p);
+                }
+                if rule.slope.is_some() {
+                    // Balanced, every way on starts level: friction holds it.
+                    return Some(p);
+                }
+                // Balanced but unstable (on top of a sphere, or of a circle): any
+                // push tips it over; the push's direction is drawn at random.
+                drew = true;
+                random_tangent(&keep, &p, rng)?
+            } else {
+                (-residual).normalized()?
+            };
+            if rule.slope.is_some_and(|s| -direction[D - 1] < s) {
+                // Held by friction: the way down is less steep than its angle.
+                return Some(p);
+            }
+            direction
         };
-        if rule.slope.is_some_and(|s| -direction[D - 1] < s) {
-            // Held by friction: the way down is less steep than its angle.
-            return Some(p);
-        }
         let balls = (0..keep.len)
             .filter(|&i| keep.get(i).surface.is_ball())
             .count();
@@ -327,6 +365,16 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
         let stop = if hit_rank <= end_rank { hit } else { end };
         p = arc.point_at(&stop);
         terrain.went(Leg::Roll { arc, stop });
+        if let Some(m) = motion.as_mut() {
+            m.slid(&p_before, &p);
+            if hit_rank <= end_rank {
+                m.impact(momentum::head_on(
+                    &hits,
+                    &p,
+                    &momentum::tangent_at(&arc, &stop),
+                ));
+            }
+        }
         if held && end_rank < hit_rank {
             return Some(p);
         }

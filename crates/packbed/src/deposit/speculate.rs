@@ -665,6 +665,28 @@ mod tests {
                  [settling]\n{rule}\n"
             ));
         }
+        // Momentum (spheres and discs only): its climbs over rims are legs
+        // of the trail too.
+        for rule in [
+            "restitution = 0.5\ndrop_height = 30",
+            "restitution = 0\nsliding_friction = 0.3\nsticking = 0.1",
+        ] {
+            same::<3>(&format!(
+                "dim = 3\nseed = 4\n[box]\nwidth = 300\ndepth = 300\nheight = 3000\nperiodic = true\n\
+                 [fill]\ncount = 2000\nbase_layer = \"none\"\n\
+                 [[species]]\nsize = {{ dist = \"lognormal\", median = 8.0, gsd = 1.4 }}\n\
+                 [settling]\n{rule}\n"
+            ));
+            same::<3>(&format!(
+                "dim = 3\nseed = 5\n[box]\nwidth = 300\ndepth = 300\nheight = 3000\n\
+                 [fill]\ncount = 1000\nbase_layer = \"none\"\n[[species]]\nradius = 8\n\
+                 [feed]\npattern = \"point\"\nspread = 40\n[settling]\n{rule}\n"
+            ));
+            same::<2>(&format!(
+                "dim = 2\nseed = 9\n[box]\nwidth = 1000\nheight = 3000\n\
+                 [fill]\ncount = 1500\n[[species]]\nradius = 10\n[settling]\n{rule}\n"
+            ));
+        }
     }
 
     proptest::proptest! {

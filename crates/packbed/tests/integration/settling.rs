@@ -294,3 +294,115 @@ fn with_size_dependent_cohesion_fine_powders_pack_looser() {
         last = phi;
     }
 }
+
+#[test]
+fn momentum_leaves_a_pocket_only_over_a_rim_its_energy_clears() {
+    // Two touching discs of radius 1 on the floor, at x = 4 and 6; a disc
+    // dropped at x = 5 lands on both at once, at height 1 + √3, its normals
+    // 30° off the vertical. With restitution e it keeps the energy
+    // h (1 − (1 − e²) cos² 30°) of its fall h. The rims are the discs' tops,
+    // 3 high: 2 − √3 above the pocket. Over a rim it rolls down the far side
+    // to the floor, at x = 2 or 8.
+    let b = Bed::of_spheres(
+        [10.0, 50.0],
+        false,
+        [([4.0, 1.0], 1.0, 0), ([6.0, 1.0], 1.0, 0)],
+    );
+    let barrier = 2.0 - (3.0 as Real).sqrt();
+    let pocket = [5.0, 1.0 + (3.0 as Real).sqrt()];
+    for e in [0.0, 0.5] {
+        let kept = 1.0 - (1.0 - e * e) * 0.75;
+        let needed = barrier / kept;
+        for (h, leaves) in [(0.97 * needed, false), (1.03 * needed, true)] {
+            let p = drop_onto(
+                &b,
+                Entry::Sphere {
+                    r: 1.0,
+                    start: Vector([5.0, 0.0]),
+                },
+                &rule(&format!("restitution = {e}\ndrop_height = {h}")),
+                1,
+            )
+            .unwrap()[0];
+            if leaves {
+                assert!((p[1] - 1.0).abs() < 1e-9, "e {e}, h {h}: {p:?}");
+                assert!(
+                    (p[0] - 2.0).abs() < 1e-9 || (p[0] - 8.0).abs() < 1e-9,
+                    "{p:?}"
+                );
+            } else {
+                close(p, pocket, 1e-12);
+            }
+        }
+    }
+}
+
+#[test]
+fn momentum_climbs_the_groove_of_two_supports_out_of_a_three_sphere_pocket() {
+    // Three touching unit spheres on the floor; a unit sphere dropped over
+    // their centroid lands on all three, at height 1 + √(8/3), each normal
+    // with cos² = 2/3 to the vertical. A rim is the top of the circle that
+    // keeps two supports, 1 + √3 high. Restitution 0: it keeps a third of
+    // its fall's energy.
+    let s3 = (3.0 as Real).sqrt();
+    let b = Bed::of_spheres(
+        [20.0, 20.0, 50.0],
+        false,
+        [
+            ([9.0, 9.0, 1.0], 1.0, 0),
+            ([11.0, 9.0, 1.0], 1.0, 0),
+            ([10.0, 9.0 + s3, 1.0], 1.0, 0),
+        ],
+    );
+    let centroid = [10.0, 9.0 + s3 / 3.0];
+    let rest = 1.0 + (8.0 as Real / 3.0).sqrt();
+    let needed = 3.0 * (1.0 + s3 - rest);
+    for (h, leaves) in [(0.97 * needed, false), (1.03 * needed, true)] {
+        let p = drop_one(
+            &b,
+            1.0,
+            [centroid[0], centroid[1], 0.0],
+            &rule(&format!("restitution = 0\ndrop_height = {h}")),
+        );
+        if leaves {
+            assert!((p[2] - 1.0).abs() < 1e-9, "h {h}: {p:?}");
+        } else {
+            close(p, [centroid[0], centroid[1], rest], 1e-9);
+        }
+    }
+}
+
+#[test]
+fn momentum_packs_denser_friction_takes_it_back_and_the_checker_passes() {
+    // Momentum lets a sphere leave shallow pockets: denser than rolling
+    // (φ 0.58); sliding friction spends the energy and brings it back.
+    let sphere = "[[species]]\nradius = 1\n";
+    let (phi0, z0) = bulk::<3>(&bed_config(3, true, 3000, sphere, ""));
+    let mut last = Real::INFINITY;
+    for mu in [0.0, 0.3, 1.0, 10.0] {
+        let settling = format!("restitution = 0.5\ndrop_height = 10\nsliding_friction = {mu}");
+        let c = bed_config(3, true, 3000, sphere, &settling);
+        let (phi, z) = bulk::<3>(&c);
+        eprintln!("momentum, µ {mu}: bulk φ {phi:.4}, Z {z:.4} (rolling {phi0:.4}, {z0:.4})");
+        assert!(phi < last, "µ {mu}: φ {phi} after {last}");
+        assert!(phi > phi0 - 0.003, "µ {mu}: φ {phi} against rolling {phi0}");
+        if mu == 0.0 {
+            assert!(phi > phi0 + 0.01, "φ {phi} against rolling {phi0}");
+        }
+        // Every rest is still on D supports (or the floor).
+        assert!((z - 6.0).abs() < 0.05, "µ {mu}: Z {z}");
+        last = phi;
+    }
+    for mix in [sphere, MIXES[0]] {
+        for periodic in [false, true] {
+            let settling = "restitution = 0.5\ndrop_height = 4\nsticking = 0.1";
+            let held = rule(settling);
+            let what = format!("{mix} / periodic {periodic}");
+            let (b, report) = run::<3>(&bed_config(3, periodic, 600, mix, settling));
+            assert_eq!(report.redrops, 0, "{what}");
+            assert_checked(&b, &InvariantChecks::new(TOL).held_by(&held), &what);
+            let (b2, _) = run::<2>(&bed_config(2, periodic, 300, mix, settling));
+            assert_checked(&b2, &InvariantChecks::new(TOL).held_by(&held), &what);
+        }
+    }
+}

@@ -1,0 +1,238 @@
+//! The momentum rule (`[settling] restitution`): a settling sphere carries
+//! kinetic energy along its quasi-static path and spends it at impacts and on
+//! the rims of the pockets it could otherwise not leave.
+//!
+//! Energies are heights: `E = v² / 2g`, the kinetic energy over the weight,
+//! so mass and gravity drop out. The sphere lands with the energy of a free
+//! fall from `drop_height`; along its path it gains what it descends (the
+//! path is frictionless and it slides: no rotational energy); at each impact
+//! (a new contact) it keeps the tangential part of its energy and `e²` of the
+//! normal part, `E' = E (1 − (1 − e²) cos² θ)`, with θ between its direction
+//! of travel and the contact normal; sliding on its supports it loses µ times
+//! its horizontal travel (Coulomb friction on a plane: `µ N ds = µ m g dx`). Where the quasi-static rule would hold it
+//! (`D` supports), it leaves over the lowest rim of the pocket that its energy
+//! clears: it rolls on all supports but one, up the circle that keeps them,
+//! to the circle's highest point, and on down the other side with the energy
+//! it has left. A rim whose way up meets another particle or a wall is no way
+//! out. What the energy does not clear, the pocket absorbs: it stays.
+//!
+//! The path stays the quasi-static one (a fast particle would fly off a
+//! convex support; here it follows it), so the rule changes only where
+//! particles come to rest, not how they get there, and the geometry stays
+//! exact: every rest is still a contact of `D` supports, or the floor.
+
+use super::{build_arc, first_contact_on_arc, ContactSet, Terrain};
+use crate::config::Momentum;
+use crate::deposit::arc_search::Batch;
+use crate::deposit::obstacle::is_floor;
+use crate::deposit::trail::Leg;
+use crate::geometry::{Arc, Crossing};
+use crate::math::{Real, Vector};
+
+/// The kinetic energy of one settling sphere, as a height.
+pub(super) struct Motion {
+    /// `1 − e²`: the share of the normal energy an impact takes.
+    lost: Real,
+    /// The free fall before the first impact.
+    drop: Real,
+    /// Sliding friction: the energy lost per unit of horizontal travel.
+    mu: Real,
+    /// Zero until the first impact.
+    energy: Real,
+    landed: bool,
+}
+
+impl Motion {
+    /// The motion of a sphere of radius `r`.
+    pub(super) fn new(m: &Momentum, r: Real) -> Self {
+        Motion {
+            lost: 1.0 - m.restitution * m.restitution,
+            drop: m.drop_height.unwrap_or(2.0 * r),
+            mu: m.sliding_friction,
+            energy: 0.0,
+            landed: false,
+        }
+    }
+
+    /// The energy left.
+    pub(super) fn energy(&self) -> Real {
+        self.energy
+    }
+
+    /// The sliding friction coefficient.
+    pub(super) fn mu(&self) -> Real {
+        self.mu
+    }
+
+    /// A free fall of `dz`: the first lands with the energy of `drop_height`
+    /// (the particle fell from the feed, not from just above the bed, where
+    /// the engine starts it); later ones add their height.
+    pub(super) fn fell(&mut self, dz: Real) {
+        if self.landed {
+            self.descended(dz);
+        } else {
+            self.energy = self.drop;
+            self.landed = true;
+        }
+    }
+
+    /// A move that lost `dz` of height (negative: climbed).
+    pub(super) fn descended(&mut self, dz: Real) {
+        self.energy = (self.energy + dz).max(0.0);
+    }
+
+    /// A move on supports from `a` to `b`: it gains its descent and loses
+    /// to friction µ times its horizontal travel (the chord's: exact on a
+    /// plane, and on a circle short against its radius).
+    pub(super) fn slid<const D: usize>(&mut self, a: &Vector<D>, b: &Vector<D>) {
+        let travel = (*b - *a).horizontal().norm();
+        self.energy = (self.energy + a.height() - b.height() - self.mu * travel).max(0.0);
+    }
+
+    /// An impact where `cos2` is the largest `cos² θ` between the direction
+    /// of travel and a new contact's normal.
+    pub(super) fn impact(&mut self, cos2: Real) {
+        self.energy *= 1.0 - self.lost * cos2.clamp(0.0, 1.0);
+    }
+}
+
+/// The largest `cos²` between the unit direction `t` and the normals of the
+/// contacts `hits` at `p`.
+pub(super) fn head_on<const D: usize>(hits: &ContactSet<D>, p: &Vector<D>, t: &Vector<D>) -> Real {
+    (0..hits.len)
+        .map(|i| {
+            let c = hits.get(i).surface.normal_at(p).dot(t);
+            c * c
+        })
+        .fold(0.0, Real::max)
+}
+
+/// The unit tangent of `arc` at `x`: `−u sin t + v cos t`.
+pub(super) fn tangent_at<const D: usize>(arc: &Arc<D>, x: &Crossing) -> Vector<D> {
+    arc.v * x.cos - arc.u * x.sin
+}
+
+/// A way out of a pocket.
+pub(super) struct Exit<const D: usize> {
+    /// The rim: the highest point of the circle the sphere climbs.
+    pub top: Vector<D>,
+    /// The supports it keeps on the way.
+    pub kept: ContactSet<D>,
+    /// The direction of travel at the rim (horizontal).
+    pub onward: Vector<D>,
+    /// The rim's height above the pocket.
+    pub barrier: Real,
+}
+
+/// A rim within reach: the support let go, the circle climbed, its top.
+#[derive(Clone, Copy)]
+struct Rim<const D: usize> {
+    barrier: Real,
+    gone: usize,
+    arc: Arc<D>,
+    top: Crossing,
+}
+
+impl<const D: usize> Rim<D> {
+    fn none() -> Self {
+        Rim {
+            barrier: Real::INFINITY,
+            gone: 0,
+            arc: Arc {
+                m: Vector::zero(),
+                rho: 0.0,
+                u: Vector::zero(),
+                v: Vector::zero(),
+            },
+            top: Crossing { cos: 1.0, sin: 0.0 },
+        }
+    }
+}
+
+/// The lowest open rim of the pocket `held` (the supports at `p`) below the
+/// energy `energy`, if any. A sphere on the floor has no way out.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn way_out<const D: usize>(
+    terrain: &Terrain<'_, D>,
+    held: &ContactSet<D>,
+    p: &Vector<D>,
+    r: Real,
+    tol: Real,
+    energy: Real,
+    mu: Real,
+    hits: &mut ContactSet<D>,
+    batch: &mut Batch<D>,
+) -> Option<Exit<D>> {
+    if energy <= 0.0 || (0..held.len).any(|i| is_floor(held.get(i).key)) {
+        return None;
+    }
+    // Each rim: let one support go and climb on the others, away from it.
+    let mut rims = [Rim::<D>::none(); super::MAX_ACTIVE];
+    let mut n = 0;
+    for gone in 0..held.len {
+        let mut kept = *held;
+        kept.remove_key(held.get(gone).key);
+        let away = held.get(gone).surface.normal_at(p);
+        let Some((arc, _)) = build_arc(&kept, p, &away) else {
+            continue;
+        };
+        let (uz, vz) = (arc.u.height(), arc.v.height());
+        let h = uz.hypot(vz);
+        if vz <= 0.0 || h == 0.0 {
+            // Not a climb (a support that carried no load).
+            continue;
+        }
+        let top = Crossing {
+            cos: uz / h,
+            sin: vz / h,
+        };
+        // The climb to the rim, and the friction on the way (its chord).
+        let barrier = arc.m.height() + arc.rho * h - p.height()
+            + mu * (arc.point_at(&top) - *p).horizontal().norm();
+        if barrier < energy {
+            rims[n] = Rim {
+                barrier,
+                gone,
+                arc,
+                top,
+            };
+            n += 1;
+        }
+    }
+    rims[..n].sort_by(|a, b| a.barrier.total_cmp(&b.barrier).then(a.gone.cmp(&b.gone)));
+    for &Rim {
+        barrier,
+        gone,
+        arc,
+        top,
+    } in &rims[..n]
+    {
+        let mut kept = *held;
+        kept.remove_key(held.get(gone).key);
+        let (_, met) = first_contact_on_arc(
+            terrain,
+            &arc,
+            &kept,
+            r,
+            &top,
+            top.diamond(),
+            tol,
+            hits,
+            batch,
+        );
+        // What the search asked depends on the arc up to the rim: noted
+        // whether the way is open or not (a speculative settling is judged by
+        // every arc it looked along).
+        terrain.went(Leg::Roll { arc, stop: top });
+        if met.is_finite() {
+            continue;
+        }
+        return Some(Exit {
+            top: arc.point_at(&top),
+            kept,
+            onward: tangent_at(&arc, &top),
+            barrier,
+        });
+    }
+    None
+}
