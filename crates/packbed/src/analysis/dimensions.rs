@@ -25,6 +25,17 @@ pub fn length_power(key: &str, dim: u8) -> Option<i32> {
         "orientation.",
         "species.*.",
     ];
+    // Lengths among the packing's numbers: the profile's slabs and heights,
+    // the pair correlation's distances.
+    if matches!(
+        k,
+        "packing.profile.slab"
+            | "packing.profile.z[]"
+            | "packing.pair_correlation.bin"
+            | "packing.pair_correlation.r[]"
+    ) {
+        return Some(1);
+    }
     if NUMBERS.iter().any(|p| k.starts_with(p)) {
         return Some(0);
     }
@@ -131,6 +142,10 @@ mod tests {
     #[test]
     fn lengths_areas_and_numbers() {
         assert_eq!(length_power("cake.d32", 3), Some(1));
+        assert_eq!(length_power("packing.profile.z[4]", 3), Some(1));
+        assert_eq!(length_power("packing.pair_correlation.r[0]", 2), Some(1));
+        assert_eq!(length_power("packing.pair_correlation.g[0]", 2), Some(0));
+        assert_eq!(length_power("packing.profile.fraction[4]", 3), Some(0));
         assert_eq!(length_power("cake.specific_surface", 3), Some(-1));
         assert_eq!(length_power("permeability.k_z", 3), Some(2));
         assert_eq!(length_power("permeability.axes[2].k", 3), Some(2));

@@ -10,6 +10,7 @@ pub mod histogram;
 mod maxflow;
 pub mod orientation;
 pub mod packing;
+pub mod pair_correlation;
 pub mod percolation;
 pub mod pores;
 pub mod profile;
@@ -139,6 +140,8 @@ pub struct PackingSummary {
     pub regions: RegionalPacking,
     /// Solid fraction in slabs of `d_max / 4`, bottom to top.
     pub profile: Profile,
+    /// g(r) of the bulk's centres (null without a bulk region).
+    pub pair_correlation: Option<pair_correlation::PairCorrelation>,
 }
 
 /// `coordination.*` keys of `summary.json`.
@@ -336,6 +339,12 @@ pub fn analyze_timed<const D: usize>(
         }),
         profile: times.time("packing/profile", || {
             profile::profile_of(bed, 0.25 * d_max, &volumes)
+        }),
+        pair_correlation: times.time("packing/pair_correlation", || {
+            region
+                .as_ref()
+                .filter(|_| bulk_ok)
+                .and_then(|reg| pair_correlation::pair_correlation(bed, reg))
         }),
     });
     let pores_wanted = want(Measure::Pores)
