@@ -33,6 +33,7 @@ pub fn length_power(key: &str, dim: u8) -> Option<i32> {
             | "packing.profile.z[]"
             | "packing.pair_correlation.bin"
             | "packing.pair_correlation.r[]"
+            | "packing.heap.apex_height"
     ) {
         return Some(1);
     }

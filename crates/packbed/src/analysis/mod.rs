@@ -6,6 +6,7 @@ mod cells;
 pub mod contacts;
 pub mod dimensions;
 mod disjoint_paths;
+pub mod heap;
 pub mod histogram;
 mod maxflow;
 pub mod orientation;
@@ -142,6 +143,9 @@ pub struct PackingSummary {
     pub profile: Profile,
     /// g(r) of the bulk's centres (null without a bulk region).
     pub pair_correlation: Option<pair_correlation::PairCorrelation>,
+    /// The slope of a heap poured from a point (null for a surface with
+    /// less relief than three largest diameters).
+    pub heap: Option<heap::Heap>,
 }
 
 /// `coordination.*` keys of `summary.json`.
@@ -346,6 +350,7 @@ pub fn analyze_timed<const D: usize>(
                 .filter(|_| bulk_ok)
                 .and_then(|reg| pair_correlation::pair_correlation(bed, reg))
         }),
+        heap: times.time("packing/heap", || heap::heap(bed)),
     });
     let pores_wanted = want(Measure::Pores)
         || want(Measure::Permeability)
