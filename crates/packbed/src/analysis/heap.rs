@@ -70,7 +70,7 @@ pub fn heap<const D: usize>(bed: &Bed<D>) -> Option<Heap> {
         .filter(|h| h.is_finite())
         .fold(Real::INFINITY, Real::min);
     let relief = apex_height - foot;
-    if !(relief >= 3.0 * d_max) {
+    if relief.is_nan() || relief < 3.0 * d_max {
         return None;
     }
     let (lo, hi) = (foot + FLANK_LOW * relief, foot + FLANK_HIGH * relief);
