@@ -1,0 +1,34 @@
+#!/bin/bash
+# Re-run the whole DEM-vs-packbed peer measurement from scratch (about 75 min
+# of one core for the DEM part, 45 without the extras: EXTRAS=0).
+#   needs: Debian (apt-get), python3 with venv; PB=path/to/packbed (default: the release build, ../../target/release/packbed)
+# Every LAMMPS run is serial (one core, OMP_NUM_THREADS=1), niced, one at a time.
+set -euo pipefail
+cd "$(dirname "$0")"
+command -v lmp >/dev/null || { apt-get update && apt-get install -y lammps; }
+lmp -h 2>&1 | grep -c "granular" >/dev/null || { echo "LAMMPS without the GRANULAR package" >&2; exit 1; }
+[ -x venv/bin/python ] || { python3 -m venv venv && venv/bin/pip install -q numpy scipy; }
+N=${N:-2000}   # the DEM beds of RESULTS.md are N = 2000 (see there why)
+measure() { venv/bin/python measure.py "runs/$1/bed.dump" --json "runs/$1/measure.json"; }
+# DEM pours: 3 size distributions x mu = 0, 0.3, 0.6
+for dist in equal bidisperse lognormal; do
+  for mu in 0 0.3 0.6; do
+    ./run_lmp.sh "$dist" "$mu" "$N"
+    measure "${dist}_mu${mu}"
+  done
+done
+# extras: the frictionless beds settled longer, and equal mu = 0.3 at N = 4000
+if [ "${EXTRAS:-1}" = 1 ]; then
+  ./run_lmp.sh equal 0 2000 _settle200 --settle 200;      measure equal_mu0_settle200
+  ./run_lmp.sh equal 0.3 4000 _n4000;                     measure equal_mu0.3_n4000
+  ./run_lmp.sh bidisperse 0 2000 _settle200 --settle 200; measure bidisperse_mu0_settle200
+  ./run_lmp.sh lognormal 0 2000 _settle120 --settle 120;  measure lognormal_mu0_settle120
+fi
+# packbed beds (3 rules x 3 seeds per distribution), measured the same way
+N=2000 ./packbed_runs.sh
+mv packbed packbed_n2000.tmp
+N=4000 ./packbed_runs.sh
+rm -rf packbed_n4000 && mv packbed packbed_n4000 && mv packbed_n2000.tmp packbed
+# the momentum rule (restitution 0.5; sliding friction 0, 0.3, 0.6), N = 2000
+N=2000 ./packbed_momentum.sh
+venv/bin/python fill_results.py   # the tables in RESULTS.md
