@@ -65,12 +65,10 @@ struct Slot<const D: usize> {
 }
 
 /// Batch sizes: halved while more than a quarter of a batch meets spheres
-/// placed before it in the batch (a narrow box), doubled otherwise. Batches
-/// larger than 24 lost on two cores (10^6 spheres: 8 to 32 took 1.54-1.60 s,
-/// 48 took 2.4 s): the helper thread falls asleep while a batch is taken.
-/// Since a sphere near a settling's box but not near its legs is spared, 16
-/// beat 24 (docs/history/benchmarks.md, "Fourth session", 10^6 radii 10:50:
-/// 6.36-6.49 s against 6.57-6.79 s; 8, 12 and 32 no better than 16).
+/// placed before it in the batch (a narrow box), doubled otherwise. At most
+/// 16 on two cores: a larger batch keeps the helper thread asleep while it
+/// is taken, and meets more of its own spheres (of 8, 12, 16, 24, 32 and 48,
+/// 16 settled 10^6 spheres of radii 10 and 50 fastest).
 const FIRST_BATCH: usize = 8;
 const LARGEST_BATCH: usize = 16;
 /// Spheres drawn for a batch, as a multiple of its size (see `drop_batch`).

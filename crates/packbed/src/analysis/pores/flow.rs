@@ -369,8 +369,8 @@ type AxisSolution = (AxisFlow, Vec<Real>, Vec<Real>);
 /// tied to `p̃ = 0` (a ground of the node's own conductance: with the
 /// right-hand side summing to zero over the component, its pressure is
 /// exactly 0, as if it were removed). So one multigrid hierarchy serves all
-/// three axes and one sweep carries them together (10^6 spheres: two
-/// hierarchies and two solves cost 43.7 s before, docs/history/benchmarks.md).
+/// three axes and one sweep carries them together: building the hierarchy
+/// and sweeping the network are the solve's costs, and each is paid once.
 fn solve_axes<const D: usize>(
     nodes: &Nodes<D>,
     relink: &dyn Fn() -> Vec<Link>,

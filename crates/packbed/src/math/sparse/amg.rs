@@ -446,8 +446,8 @@ impl Csr {
     }
 
     /// `y = A x`, and `x · y` summed chunk by chunk and the chunks in order:
-    /// the conjugate gradients' `p · A p` taken while both are at hand (its
-    /// own pass over them was 0.25 s of a 10^6-sphere solve's 10 s).
+    /// the conjugate gradients' `p · A p` taken while both are at hand, which
+    /// saves a pass over two vectors of the whole network per step.
     fn apply<const K: usize>(&self, x: &[[Real; K]], y: &mut [[Real; K]]) -> [Real; K] {
         let partial: Vec<[Real; K]> = y
             .par_chunks_mut(CHUNK)
@@ -506,8 +506,7 @@ impl Prolongator {
     /// `Pᵀ fine`. Each thread takes a range of aggregates and scans all the
     /// fine rows for their members: every aggregate sums its rows in
     /// ascending order, as one thread would, and no list of members is kept
-    /// (0.04 GB at 10^6 spheres); alone, this was 0.84 s of a 10^6-sphere
-    /// solve.
+    /// (it would be 0.04 GB at 10^6 spheres).
     fn restrict<X: Lane, const K: usize>(&self, fine: &[[X; K]], c: &mut [[X; K]]) {
         let per = self
             .coarse
