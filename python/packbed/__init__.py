@@ -63,6 +63,14 @@ __all__ = [
     "resolve_config",
 ]
 
+
+def __dir__() -> List[str]:
+    """The package's API only (as numpy does): the modules it imports for
+    its own use (`json`, `np`, `os`, the typing names) stay reachable but are
+    not listed, so `dir(packbed)` and tab completion show what is meant for
+    users."""
+    return sorted(__all__)
+
 PathLike = Union[str, "os.PathLike[str]"]
 ConfigLike = Union[None, PathLike, Mapping[str, Any]]
 #: ``None`` (a bar from ``tqdm`` if it is installed and the call lasts more

@@ -25,6 +25,16 @@ def test_every_public_name_has_a_docstring():
     assert packbed.__doc__ and "import packbed" in packbed.__doc__
 
 
+def test_the_namespace_lists_the_api_only():
+    listed = dir(packbed)
+    assert sorted(listed) == sorted(packbed.__all__)
+    for private in ("json", "np", "os", "tempfile", "Any", "Dict", "Union"):
+        assert private not in listed
+    # Every listed name is there.
+    for name in listed:
+        getattr(packbed, name)
+
+
 def test_type_information_is_installed():
     here = Path(packbed.__file__).parent
     assert (here / "py.typed").exists()
