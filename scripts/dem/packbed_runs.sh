@@ -1,27 +1,35 @@
 #!/bin/bash
 # packbed beds beside the DEM pours: 3 size distributions x 3 rules x 3 seeds,
 # periodic 10 x 10 d box, N = 4000 (or $N), bare floor; measured with measure.py.
+# RULES picks the rules (default: default fa10 fa20; the momentum rule's rows
+# are m0 m0.3 m0.6: restitution 0.5, sliding friction 0, 0.3, 0.6); OUT the folder.
 # One thread (RAYON_NUM_THREADS=1), niced: the machine is shared.
 set -euo pipefail
 cd "$(dirname "$0")"
 PB=${PB:-../../target/release/packbed}
 PY=${PY:-./venv/bin/python}
 N=${N:-4000}
-mkdir -p packbed
+RULES=${RULES:-default fa10 fa20}
+OUT=${OUT:-packbed}
+mkdir -p "$OUT"
 for dist in equal bidisperse lognormal; do
   case $dist in
     equal)      species=$'[[species]]\nradius = 0.5\n' ;;
     bidisperse) species=$'[[species]]\nradius = 0.5\nratio = 1\n\n[[species]]\nradius = 0.7\nratio = 1\n' ;;
     lognormal)  species=$'[[species]]\nsize = { dist = "lognormal", median = 0.5, gsd = 1.3 }\n' ;;
   esac
-  for rule in default fa10 fa20; do
+  for rule in $RULES; do
     case $rule in
       default) settling="" ;;
       fa10)    settling=$'[settling]\nfriction_angle = 10\n' ;;
       fa20)    settling=$'[settling]\nfriction_angle = 20\n' ;;
+      m0)      settling=$'[settling]\nrestitution = 0.5\n' ;;
+      m0.3)    settling=$'[settling]\nrestitution = 0.5\nsliding_friction = 0.3\n' ;;
+      m0.6)    settling=$'[settling]\nrestitution = 0.5\nsliding_friction = 0.6\n' ;;
+      *)       echo "unknown rule $rule" >&2; exit 2 ;;
     esac
     for seed in 1 2 3; do
-      d=packbed/${dist}_${rule}_s${seed}
+      d=$OUT/${dist}_${rule}_s${seed}
       mkdir -p "$d"
       cat > "$d/cfg.toml" <<TOML
 dim = 3

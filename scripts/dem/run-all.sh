@@ -30,5 +30,5 @@ mv packbed packbed_n2000.tmp
 N=4000 ./packbed_runs.sh
 rm -rf packbed_n4000 && mv packbed packbed_n4000 && mv packbed_n2000.tmp packbed
 # the momentum rule (restitution 0.5; sliding friction 0, 0.3, 0.6), N = 2000
-N=2000 ./packbed_momentum.sh
+RULES="m0 m0.3 m0.6" OUT=packbed_momentum N=2000 ./packbed_runs.sh
 venv/bin/python fill_results.py   # the tables in RESULTS.md

@@ -114,6 +114,12 @@ impl<const D: usize> Arc<D> {
         self.m + (self.u * x.cos + self.v * x.sin) * self.rho
     }
 
+    /// The unit tangent (direction of travel) at `x`: `−u sin t + v cos t`.
+    #[inline]
+    pub fn tangent_at(&self, x: &Crossing) -> Vector<D> {
+        self.v * x.cos - self.u * x.sin
+    }
+
     /// The lowest point of the circle ahead (at most half a turn away), as a point
     /// of the unit circle: no trigonometric function needed.
     #[inline]

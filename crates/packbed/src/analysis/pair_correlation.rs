@@ -109,7 +109,11 @@ pub fn pair_correlation<const D: usize>(
 }
 
 /// Centres sorted into cubes of side at least `reach`: the centres within
-/// `reach` of a point lie in its cube and the neighbouring ones.
+/// `reach` of a point lie in its cube and the neighbouring ones. Not the
+/// contacts' [`super::cells::CellList`]: that one finds pairs within a
+/// multiple of their radii and gathers them all (at a reach of three
+/// diameters, about 60 pairs per particle), where g(r) needs a fixed reach
+/// and only counts them.
 struct Cells<const D: usize> {
     lo: Vector<D>,
     side: [Real; D],

@@ -238,9 +238,7 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
             fresh = (0..active.len).any(|i| holds(&active.get(i), &p));
             if let Some(m) = motion.as_mut() {
                 m.fell(dz);
-                let mut down = Vector::<D>::zero();
-                down[D - 1] = -1.0;
-                m.impact(momentum::head_on(&active, &p, &down));
+                m.impact(momentum::head_on(&active, &p, &-Vector::<D>::up()));
             }
             continue;
         }
@@ -368,11 +366,7 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
         if let Some(m) = motion.as_mut() {
             m.slid(&p_before, &p);
             if hit_rank <= end_rank {
-                m.impact(momentum::head_on(
-                    &hits,
-                    &p,
-                    &momentum::tangent_at(&arc, &stop),
-                ));
+                m.impact(momentum::head_on(&hits, &p, &arc.tangent_at(&stop)));
             }
         }
         if held && end_rank < hit_rank {

@@ -107,11 +107,6 @@ pub(super) fn head_on<const D: usize>(hits: &ContactSet<D>, p: &Vector<D>, t: &V
         .fold(0.0, Real::max)
 }
 
-/// The unit tangent of `arc` at `x`: `−u sin t + v cos t`.
-pub(super) fn tangent_at<const D: usize>(arc: &Arc<D>, x: &Crossing) -> Vector<D> {
-    arc.v * x.cos - arc.u * x.sin
-}
-
 /// A way out of a pocket.
 pub(super) struct Exit<const D: usize> {
     /// The rim: the highest point of the circle the sphere climbs.
@@ -129,6 +124,7 @@ pub(super) struct Exit<const D: usize> {
 struct Rim<const D: usize> {
     barrier: Real,
     gone: usize,
+    kept: ContactSet<D>,
     arc: Arc<D>,
     top: Crossing,
 }
@@ -138,6 +134,7 @@ impl<const D: usize> Rim<D> {
         Rim {
             barrier: Real::INFINITY,
             gone: 0,
+            kept: ContactSet::new(),
             arc: Arc {
                 m: Vector::zero(),
                 rho: 0.0,
@@ -193,6 +190,7 @@ pub(super) fn way_out<const D: usize>(
             rims[n] = Rim {
                 barrier,
                 gone,
+                kept,
                 arc,
                 top,
             };
@@ -202,13 +200,12 @@ pub(super) fn way_out<const D: usize>(
     rims[..n].sort_by(|a, b| a.barrier.total_cmp(&b.barrier).then(a.gone.cmp(&b.gone)));
     for &Rim {
         barrier,
-        gone,
+        kept,
         arc,
         top,
+        ..
     } in &rims[..n]
     {
-        let mut kept = *held;
-        kept.remove_key(held.get(gone).key);
         let (_, met) = first_contact_on_arc(
             terrain,
             &arc,
@@ -230,7 +227,7 @@ pub(super) fn way_out<const D: usize>(
         return Some(Exit {
             top: arc.point_at(&top),
             kept,
-            onward: tangent_at(&arc, &top),
+            onward: arc.tangent_at(&top),
             barrier,
         });
     }
