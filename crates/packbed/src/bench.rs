@@ -145,6 +145,7 @@ impl BenchBed {
             sticking: self.sticking,
             friction_angle: self.friction_angle,
             cohesion_diameter: None,
+            cohesion_exponent: None,
             restitution: self.restitution,
             drop_height: self.drop_height,
             sliding_friction: self.sliding_friction,

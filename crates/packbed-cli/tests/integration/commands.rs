@@ -1014,6 +1014,11 @@ fn settling_rules_run_and_bad_ones_are_refused() {
             &["settling.restitution", "1"][..],
         ),
         (
+            "n.toml",
+            "[settling]\ncohesion_diameter = 5\ncohesion_exponent = -1\n",
+            &["settling.cohesion_exponent", "-1"][..],
+        ),
+        (
             "chain-e.toml",
             "[[species]]\nradius = 5\nshape = \"chain\"\nbeads = 3\n[settling]\nrestitution = 0.5\n",
             &["settling.restitution", "chain"][..],

@@ -68,6 +68,8 @@ pub enum SettlingEdit {
     FrictionAngle(Real),
     /// The diameter at which half the contacts stick.
     CohesionDiameter(Real),
+    /// The cohesion law's exponent.
+    CohesionExponent(Real),
     /// The restitution of an impact (momentum).
     Restitution(Real),
     /// The fall before the first impact (momentum).
@@ -156,7 +158,7 @@ impl FromStr for BoxSpec {
 }
 
 /// The parameters a sweep can vary, with the form of their values.
-pub const SWEEP_PARAMETERS: [(&str, &str); 28] = [
+pub const SWEEP_PARAMETERS: [(&str, &str); 29] = [
     ("ratio", "a list with one number ratio per species, e.g. [1, 2]"),
     (
         "radii",
@@ -197,6 +199,10 @@ pub const SWEEP_PARAMETERS: [(&str, &str); 28] = [
     (
         "settling.cohesion_diameter",
         "the diameter at which half the contacts stick, a length",
+    ),
+    (
+        "settling.cohesion_exponent",
+        "the cohesion law's exponent n, > 0 (needs cohesion_diameter)",
     ),
     (
         "settling.restitution",
@@ -273,6 +279,9 @@ impl Edit {
             "settling.friction_angle" => Edit::Settling(SettlingEdit::FrictionAngle(one()?)),
             "settling.cohesion_diameter" => {
                 Edit::Settling(SettlingEdit::CohesionDiameter(one()?))
+            }
+            "settling.cohesion_exponent" => {
+                Edit::Settling(SettlingEdit::CohesionExponent(one()?))
             }
             "settling.restitution" => Edit::Settling(SettlingEdit::Restitution(one()?)),
             "settling.drop_height" => Edit::Settling(SettlingEdit::DropHeight(one()?)),
@@ -407,6 +416,7 @@ impl Config {
                     SettlingEdit::Contacts(k) => s.contacts = Some(k),
                     SettlingEdit::Sticking(p) => s.sticking = Some(p),
                     SettlingEdit::CohesionDiameter(d) => s.cohesion_diameter = Some(d),
+                    SettlingEdit::CohesionExponent(n) => s.cohesion_exponent = Some(n),
                     SettlingEdit::FrictionAngle(a) => s.friction_angle = Some(a),
                     SettlingEdit::Restitution(e) => s.restitution = Some(e),
                     SettlingEdit::DropHeight(h) => s.drop_height = Some(h),
@@ -821,6 +831,10 @@ mod tests {
             (
                 "settling.cohesion_diameter",
                 Edit::Settling(SettlingEdit::CohesionDiameter(5.0)),
+            ),
+            (
+                "settling.cohesion_exponent",
+                Edit::Settling(SettlingEdit::CohesionExponent(5.0)),
             ),
             (
                 "settling.restitution",

@@ -9,13 +9,18 @@
 //!   where it would roll off them). A particle at rest earlier stays.
 //! - `sticking = p` in [0, 1]: at each new contact it sticks there with
 //!   probability p, else rolls on (p = 1 is hit-and-stick, p = 0 today's rule).
-//! - `cohesion_diameter = d_c` (a length): the sticking probability of a
-//!   particle of diameter d is `p = 1 / (1 + (d / d_c)²)`, so fines stick
-//!   and coarse particles roll. The law is the Bond number's: van der Waals
-//!   adhesion between spheres grows as d, their weight as d³, so
-//!   `Bo = F / (m g) ∝ d⁻²`, and `p = Bo / (Bo + Bo_c)` with `Bo_c` the Bond
-//!   number at which half the contacts stick, at diameter d_c. Instead of
-//!   `sticking`, not with it.
+//! - `cohesion_diameter = d_c` (a length), with `cohesion_exponent = n`
+//!   (default 2): the sticking probability of a particle of diameter d is
+//!   `p = 1 / (1 + (d / d_c)ⁿ)`, so fines stick and coarse particles roll.
+//!   The law is the Bond number's: van der Waals adhesion between spheres
+//!   grows as d, their weight as d³, so `Bo = F / (m g) ∝ d⁻²`. With one
+//!   adhesion force for every contact, `p = Bo / (Bo + Bo_c)` (n = 2), `Bo_c`
+//!   the Bond number at which half the contacts stick, at diameter d_c. Rough
+//!   contacts spread the adhesion force: if it is log-logistic about its
+//!   mean, with shape β, `p` keeps this form with n = 2β, so a smaller n is
+//!   a wider spread. Fitted to the porosity of deposited sediments against
+//!   size (Wu & Wang 2006): d_c = 5.2 µm, n = 0.70 (docs/settling.md).
+//!   Instead of `sticking`, not with it.
 //! - `friction_angle = α` in degrees, [0, 90): it stops where the downhill
 //!   slope of its path falls below α (on one support the tilt of the contact
 //!   normal from the vertical, in a groove the groove's slope), so that a
@@ -53,6 +58,10 @@ pub struct SettlingConfig {
     /// cohesion), in the config's length units.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cohesion_diameter: Option<Real>,
+    /// The exponent n of the cohesion law `1 / (1 + (d / d_c)ⁿ)` (default 2;
+    /// needs `cohesion_diameter`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cohesion_exponent: Option<Real>,
     /// The restitution coefficient of an impact (turns momentum on).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub restitution: Option<Real>,
@@ -110,13 +119,21 @@ impl SettlingConfig {
                     "settling: give either `sticking` (one probability) or `cohesion_diameter` (a probability by size), not both",
                 ))
             }
-            Some(d) if d.is_finite() && d > 0.0 => Some(d),
+            Some(d) if d.is_finite() && d > 0.0 => Some(Cohesion {
+                diameter: d,
+                exponent: self.cohesion_exponent()?,
+            }),
             Some(d) => {
                 return Err(Error::config(format!(
                     "settling.cohesion_diameter must be a positive length, got {d}"
                 )))
             }
         };
+        if cohesion.is_none() && self.cohesion_exponent.is_some() {
+            return Err(Error::config(
+                "settling.cohesion_exponent shapes the cohesion law: give `cohesion_diameter` too",
+            ));
+        }
         let momentum = self.momentum()?;
         if momentum.is_some() && (contacts.is_some() || slope.is_some()) {
             return Err(Error::config(
@@ -130,6 +147,18 @@ impl SettlingConfig {
             cohesion,
             momentum,
         })
+    }
+
+    /// `cohesion_exponent`, checked.
+    fn cohesion_exponent(&self) -> Result<Real> {
+        match self.cohesion_exponent {
+            None => Ok(2.0),
+            // Beyond 50 the law is a step at d_c to double precision.
+            Some(n) if n.is_finite() && n > 0.0 && n <= 50.0 => Ok(n),
+            Some(n) => Err(Error::config(format!(
+                "settling.cohesion_exponent must be in (0, 50], got {n}"
+            ))),
+        }
     }
 
     /// `restitution` and `drop_height`, checked.
@@ -184,11 +213,20 @@ pub struct Settling {
     pub sticking: Real,
     /// Sine of the friction angle: a path less steep than this stops.
     pub slope: Option<Real>,
-    /// The diameter at which half the contacts stick, when the sticking
-    /// probability depends on size (then `sticking` is 0).
-    pub cohesion: Option<Real>,
+    /// The cohesion law, when the sticking probability depends on size
+    /// (then `sticking` is 0).
+    pub cohesion: Option<Cohesion>,
     /// Momentum: the energy a particle carries (`None`: quasi-static).
     pub momentum: Option<Momentum>,
+}
+
+/// The size-dependent cohesion law `p = 1 / (1 + (d / d_c)ⁿ)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cohesion {
+    /// d_c: the diameter at which half the contacts stick.
+    pub diameter: Real,
+    /// n: how sharply sticking gives way to rolling as d passes d_c.
+    pub exponent: Real,
 }
 
 /// The momentum rule's parameters.
@@ -213,10 +251,12 @@ impl Settling {
     }
 
     /// The probability that a particle of radius `r` sticks at a new
-    /// contact: `sticking`, or by the cohesion law `1 / (1 + (2r / d_c)²)`.
+    /// contact: `sticking`, or by the cohesion law `1 / (1 + (2r / d_c)ⁿ)`.
     pub fn sticking_at(&self, r: Real) -> Real {
         match self.cohesion {
-            Some(dc) => 1.0 / (1.0 + (2.0 * r / dc).powi(2)),
+            // n = 2 squares exactly, as the law did before it had an exponent.
+            Some(c) if c.exponent == 2.0 => 1.0 / (1.0 + (2.0 * r / c.diameter).powi(2)),
+            Some(c) => 1.0 / (1.0 + (2.0 * r / c.diameter).powf(c.exponent)),
             None => self.sticking,
         }
     }
@@ -266,6 +306,19 @@ mod tests {
             ("cohesion_diameter = 0", "settling.cohesion_diameter"),
             ("cohesion_diameter = -2", "settling.cohesion_diameter"),
             ("cohesion_diameter = 2\nsticking = 0.1", "not both"),
+            ("cohesion_exponent = 1", "settling.cohesion_exponent"),
+            (
+                "cohesion_diameter = 2\ncohesion_exponent = 0",
+                "settling.cohesion_exponent",
+            ),
+            (
+                "cohesion_diameter = 2\ncohesion_exponent = nan",
+                "settling.cohesion_exponent",
+            ),
+            (
+                "cohesion_diameter = 2\ncohesion_exponent = 51",
+                "settling.cohesion_exponent",
+            ),
             ("restitution = 1", "settling.restitution"),
             ("restitution = -0.1", "settling.restitution"),
             ("restitution = nan", "settling.restitution"),
@@ -301,6 +354,13 @@ mod tests {
         assert!((s.sticking_at(1.0) - 100.0 / 101.0).abs() < 1e-15);
         assert!((s.sticking_at(100.0) - 1.0 / 101.0).abs() < 1e-15);
         assert_eq!(resolve("sticking = 0.3").unwrap().sticking_at(5.0), 0.3);
+        // The exponent: half at d_c whatever n; d = 4 d_c sticks at 1/(1 + 4ⁿ).
+        let s = resolve("cohesion_diameter = 20\ncohesion_exponent = 0.5").unwrap();
+        assert!((s.sticking_at(10.0) - 0.5).abs() < 1e-15);
+        assert!((s.sticking_at(40.0) - 1.0 / 3.0).abs() < 1e-15);
+        assert!((s.sticking_at(2.5) - 2.0 / 3.0).abs() < 1e-15);
+        let two = resolve("cohesion_diameter = 20\ncohesion_exponent = 2").unwrap();
+        assert_eq!(two, resolve("cohesion_diameter = 20").unwrap());
     }
 
     #[test]

@@ -271,27 +271,41 @@ fn heaps_poured_from_a_point_pass_the_checker() {
 
 #[test]
 fn with_size_dependent_cohesion_fine_powders_pack_looser() {
-    // p = 1 / (1 + (d / d_c)²) with d_c = 4: radius 0.5 sticks at 0.94,
-    // radius 2 at 0.5, radius 8 at 0.06; the same geometry scaled, so only
-    // the sticking differs. Each bed matches the constant-p bed of its p.
-    let mut last = 0.0;
-    for r in [0.5 as Real, 2.0, 8.0] {
-        let w = 30.0 * r;
-        let text = |settling: &str| {
-            format!(
-                "dim = 3\nseed = 3\n[box]\nwidth = {w}\ndepth = {w}\nheight = {}\nperiodic = true\n\
-                 [fill]\ncount = 3000\nbase_layer = \"none\"\n[[species]]\nradius = {r}\n\
-                 [settling]\n{settling}\n",
-                2000.0 * r
-            )
-        };
-        let (phi, z) = bulk::<3>(&config(&text("cohesion_diameter = 4")));
-        let p = 1.0 / (1.0 + (2.0 * r / 4.0).powi(2));
-        let (phi_p, _) = bulk::<3>(&config(&text(&format!("sticking = {p}"))));
-        eprintln!("r {r}: p {p:.3}, bulk φ {phi:.4} (constant p: {phi_p:.4}), Z {z:.3}");
-        assert!((phi - phi_p).abs() < 1e-12, "r {r}: {phi} vs {phi_p}");
-        assert!(phi > last, "r {r}: φ {phi} after {last}");
-        last = phi;
+    // p = 1 / (1 + (d / d_c)ⁿ) with d_c = 4: at n = 2 (the default) radius
+    // 0.5 sticks at 0.94, radius 2 at 0.5, radius 8 at 0.06; at the fitted
+    // n = 0.73 at 0.73, 0.5 and 0.27. The same geometry scaled, so only the
+    // sticking differs. Each bed matches the constant-p bed of its p.
+    for exponent in [None, Some(0.73 as Real)] {
+        let mut last = 0.0;
+        for r in [0.5 as Real, 2.0, 8.0] {
+            let w = 30.0 * r;
+            let text = |settling: &str| {
+                format!(
+                    "dim = 3\nseed = 3\n[box]\nwidth = {w}\ndepth = {w}\nheight = {}\nperiodic = true\n\
+                     [fill]\ncount = 3000\nbase_layer = \"none\"\n[[species]]\nradius = {r}\n\
+                     [settling]\n{settling}\n",
+                    2000.0 * r
+                )
+            };
+            let (law, p) = match exponent {
+                None => (
+                    "cohesion_diameter = 4".to_string(),
+                    1.0 / (1.0 + (2.0 * r / 4.0).powi(2)),
+                ),
+                Some(n) => (
+                    format!("cohesion_diameter = 4\ncohesion_exponent = {n}"),
+                    1.0 / (1.0 + (2.0 * r / 4.0).powf(n)),
+                ),
+            };
+            let (phi, z) = bulk::<3>(&config(&text(&law)));
+            let (phi_p, _) = bulk::<3>(&config(&text(&format!("sticking = {p}"))));
+            eprintln!(
+                "n {exponent:?}, r {r}: p {p:.3}, bulk φ {phi:.4} (constant p: {phi_p:.4}), Z {z:.3}"
+            );
+            assert!((phi - phi_p).abs() < 1e-12, "r {r}: {phi} vs {phi_p}");
+            assert!(phi > last, "r {r}: φ {phi} after {last}");
+            last = phi;
+        }
     }
 }
 
