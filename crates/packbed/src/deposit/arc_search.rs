@@ -184,6 +184,34 @@ impl<const D: usize, const N: usize> Candidates<D, N> {
     }
 }
 
+impl<const D: usize, const N: usize> Candidates<D, N> {
+    /// True if `f` holds for one of the crossings
+    /// [`Candidates::for_each_crossing`] would pass it; stops at the first.
+    #[inline]
+    pub(crate) fn any_crossing(
+        &self,
+        sweep: &Sweep<D>,
+        mut f: impl FnMut(Crossing, Vector<D>, Real, u32, u16) -> bool,
+    ) -> bool {
+        let mut kept = self.sift(sweep);
+        let Sweep { arc, tol, .. } = sweep;
+        while kept != 0 {
+            let i = kept.trailing_zeros() as usize;
+            kept &= kept - 1;
+            let (centre, big_r, id, image) = self.get(i);
+            if let Some(x) = arc
+                .ball_trig(&centre, big_r)
+                .downcrossing(2.0 * big_r * tol)
+            {
+                if f(x, centre, big_r, id, image) {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -132,6 +132,19 @@ impl<'a, const D: usize> Terrain<'a, D> {
         self.grid.for_each_in_box(lo, hi, margin, f)
     }
 
+    /// [`Grid::any_in_box`], noted.
+    #[inline]
+    fn any_in_box(
+        &self,
+        lo: &Vector<D>,
+        hi: &Vector<D>,
+        margin: Real,
+        f: impl FnMut(u32, Vector<D>, u16) -> bool,
+    ) -> bool {
+        self.ask(lo, hi);
+        self.grid.any_in_box(lo, hi, margin, f)
+    }
+
     /// [`Grid::scan_down`], noted.
     #[inline]
     fn scan_down(
@@ -276,7 +289,6 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
                             tol,
                             m.energy(),
                             m.mu(),
-                            &mut hits,
                             &mut batch,
                         ) {
                             m.descended(-exit.barrier);
@@ -690,6 +702,26 @@ fn build_arc<const D: usize>(
     p: &Vector<D>,
     direction: &Vector<D>,
 ) -> Option<(Arc<D>, [Trig; MAX_ACTIVE])> {
+    arc_of::<D, true>(keep, p, direction)
+}
+
+/// [`build_arc`]'s circle alone, the same bits: the momentum rule's rims
+/// need no release functions, and are built at every rest.
+fn circle<const D: usize>(
+    keep: &ContactSet<D>,
+    p: &Vector<D>,
+    direction: &Vector<D>,
+) -> Option<Arc<D>> {
+    arc_of::<D, false>(keep, p, direction).map(|(arc, _)| arc)
+}
+
+/// [`build_arc`], with the release functions only if `RELEASES`.
+#[inline(always)]
+fn arc_of<const D: usize, const RELEASES: bool>(
+    keep: &ContactSet<D>,
+    p: &Vector<D>,
+    direction: &Vector<D>,
+) -> Option<(Arc<D>, [Trig; MAX_ACTIVE])> {
     let mut balls = [(Vector::<D>::zero(), 0.0); 2];
     let mut nb = 0;
     let mut planes = [(Vector::<D>::zero(), 0.0); MAX_ACTIVE];
@@ -742,6 +774,9 @@ fn build_arc<const D: usize>(
                 u,
                 v,
             };
+            if !RELEASES {
+                return Some((arc, releases));
+            }
             // Every force here is proportional to the height above the circle's
             // centre: all are released at its equator.
             for rel in releases.iter_mut().take(keep.len) {
@@ -769,6 +804,9 @@ fn build_arc<const D: usize>(
             let u = q.normalized()?;
             let v = (*direction - u * direction.dot(&u) - a * direction.dot(&a)).normalized()?;
             let arc = Arc { m, rho, u, v };
+            if !RELEASES {
+                return Some((arc, releases));
+            }
             // Force balance in the plane of (radial, axis): λ1 ∝ a_z ρ − s2 q_z and
             // λ2 ∝ s1 q_z − a_z ρ, with q_z the height of the radial unit vector.
             let s2 = s1 - dist;
@@ -894,6 +932,85 @@ fn first_contact_on_arc<const D: usize>(
         batch.for_each_crossing(&sweep, &mut met);
     }
     (best, if found { best_rank } else { Real::INFINITY })
+}
+
+/// Whether [`first_contact_on_arc`] would meet anything (its rank finite),
+/// asking the grid the same box: the first obstacle entered up to `end` (or
+/// within the tie window beyond it) that `keep` does not hold answers it, so
+/// the walk stops there.
+#[allow(clippy::too_many_arguments)]
+fn blocked_on_arc<const D: usize>(
+    terrain: &Terrain<'_, D>,
+    arc: &Arc<D>,
+    keep: &ContactSet<D>,
+    r: Real,
+    end: &Crossing,
+    end_rank: Real,
+    tol: Real,
+    batch: &mut Batch<D>,
+) -> bool {
+    // `first_contact_on_arc` keeps an obstacle unless its rank exceeds the
+    // end's by more than the tie (so a NaN rank meets, as there).
+    let limit = end_rank + 1e-12;
+    let meets = |x: Crossing, key: u64| {
+        x.diamond().partial_cmp(&limit) != Some(std::cmp::Ordering::Greater) && !keep.contains(key)
+    };
+    let c = terrain.container;
+    let (walls, n_walls) = c.wall_array();
+    for &wall in &walls[..n_walls] {
+        let o = wall_obstacle(c, wall, r);
+        if let Surface::Plane { normal, offset } = o.surface {
+            if let Some(x) = arc.plane_trig(&normal, offset).downcrossing(tol) {
+                if meets(x, o.key) {
+                    return true;
+                }
+            }
+        }
+    }
+    let (arc_lo, arc_hi) = arc.bounds_to(end);
+    let ball = |id: u32, shift: Vector<D>| {
+        (
+            terrain.centres[id as usize] + shift,
+            r + terrain.radii[id as usize],
+        )
+    };
+    if D == 2 {
+        terrain.any_in_box(&arc_lo, &arc_hi, r, |id, shift, image| {
+            let (centre, big_r) = ball(id, shift);
+            let outside =
+                (0..D).any(|k| centre[k] < arc_lo[k] - big_r || centre[k] > arc_hi[k] + big_r);
+            if outside {
+                return false;
+            }
+            let f = arc.ball_trig(&centre, big_r);
+            if f.clear_until(end) {
+                return false;
+            }
+            f.downcrossing(2.0 * big_r * tol)
+                .is_some_and(|x| meets(x, particle_key(id, image)))
+        })
+    } else {
+        let sweep = Sweep {
+            arc: *arc,
+            lo: arc_lo,
+            hi: arc_hi,
+            end: *end,
+            tol,
+        };
+        let mut met = |x: Crossing, _: Vector<D>, _: Real, id: u32, image: u16| {
+            meets(x, particle_key(id, image))
+        };
+        batch.len = 0;
+        terrain.any_in_box(&arc_lo, &arc_hi, r, |id, shift, image| {
+            let (centre, big_r) = ball(id, shift);
+            if batch.push(&centre, big_r, id, image) {
+                let blocked = batch.any_crossing(&sweep, &mut met);
+                batch.len = 0;
+                return blocked;
+            }
+            false
+        }) || batch.any_crossing(&sweep, &mut met)
+    }
 }
 
 #[cfg(test)]

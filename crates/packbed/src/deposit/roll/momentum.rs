@@ -21,7 +21,7 @@
 //! particles come to rest, not how they get there, and the geometry stays
 //! exact: every rest is still a contact of `D` supports, or the floor.
 
-use super::{build_arc, first_contact_on_arc, ContactSet, Terrain};
+use super::{blocked_on_arc, circle, ContactSet, Terrain};
 use crate::config::Momentum;
 use crate::deposit::arc_search::Batch;
 use crate::deposit::obstacle::is_floor;
@@ -124,7 +124,6 @@ pub(super) struct Exit<const D: usize> {
 struct Rim<const D: usize> {
     barrier: Real,
     gone: usize,
-    kept: ContactSet<D>,
     arc: Arc<D>,
     top: Crossing,
 }
@@ -134,7 +133,6 @@ impl<const D: usize> Rim<D> {
         Rim {
             barrier: Real::INFINITY,
             gone: 0,
-            kept: ContactSet::new(),
             arc: Arc {
                 m: Vector::zero(),
                 rho: 0.0,
@@ -144,6 +142,14 @@ impl<const D: usize> Rim<D> {
             top: Crossing { cos: 1.0, sin: 0.0 },
         }
     }
+}
+
+/// The supports of `held` but its `gone`-th, in the order the pocket's
+/// circle is built from (its bits depend on it).
+fn kept<const D: usize>(held: &ContactSet<D>, gone: usize) -> ContactSet<D> {
+    let mut kept = *held;
+    kept.remove_key(held.get(gone).key);
+    kept
 }
 
 /// The lowest open rim of the pocket `held` (the supports at `p`) below the
@@ -157,7 +163,6 @@ pub(super) fn way_out<const D: usize>(
     tol: Real,
     energy: Real,
     mu: Real,
-    hits: &mut ContactSet<D>,
     batch: &mut Batch<D>,
 ) -> Option<Exit<D>> {
     if energy <= 0.0 || (0..held.len).any(|i| is_floor(held.get(i).key)) {
@@ -167,16 +172,25 @@ pub(super) fn way_out<const D: usize>(
     let mut rims = [Rim::<D>::none(); super::MAX_ACTIVE];
     let mut n = 0;
     for gone in 0..held.len {
-        let mut kept = *held;
-        kept.remove_key(held.get(gone).key);
         let away = held.get(gone).surface.normal_at(p);
-        let Some((arc, _)) = build_arc(&kept, p, &away) else {
+        let Some(arc) = circle(&kept(held, gone), p, &away) else {
             continue;
         };
         let (uz, vz) = (arc.u.height(), arc.v.height());
-        let h = uz.hypot(vz);
-        if vz <= 0.0 || h == 0.0 {
+        if vz <= 0.0 {
             // Not a climb (a support that carried no load).
+            continue;
+        }
+        // Most rims are out of reach: a bound from below on the climb, with
+        // no `hypot` (a few ulps under it, scaled down by far more) and no
+        // friction (never negative), rules them out. Rounding is monotonic,
+        // so the bound never exceeds the barrier below, bit for bit.
+        let h_below = (uz * uz + vz * vz).sqrt() * (1.0 - 1e-12);
+        if arc.m.height() + arc.rho * h_below - p.height() >= energy {
+            continue;
+        }
+        let h = uz.hypot(vz);
+        if h == 0.0 {
             continue;
         }
         let top = Crossing {
@@ -190,7 +204,6 @@ pub(super) fn way_out<const D: usize>(
             rims[n] = Rim {
                 barrier,
                 gone,
-                kept,
                 arc,
                 top,
             };
@@ -200,28 +213,18 @@ pub(super) fn way_out<const D: usize>(
     rims[..n].sort_by(|a, b| a.barrier.total_cmp(&b.barrier).then(a.gone.cmp(&b.gone)));
     for &Rim {
         barrier,
-        kept,
+        gone,
         arc,
         top,
-        ..
     } in &rims[..n]
     {
-        let (_, met) = first_contact_on_arc(
-            terrain,
-            &arc,
-            &kept,
-            r,
-            &top,
-            top.diamond(),
-            tol,
-            hits,
-            batch,
-        );
+        let kept = kept(held, gone);
+        let blocked = blocked_on_arc(terrain, &arc, &kept, r, &top, top.diamond(), tol, batch);
         // What the search asked depends on the arc up to the rim: noted
         // whether the way is open or not (a speculative settling is judged by
         // every arc it looked along).
         terrain.went(Leg::Roll { arc, stop: top });
-        if met.is_finite() {
+        if blocked {
             continue;
         }
         return Some(Exit {
