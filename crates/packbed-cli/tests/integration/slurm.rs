@@ -207,6 +207,35 @@ fn slurm_ensembles_equal_local_ones() {
         assert_same(&v, &work.join("sw-cl/sweep").join(name), &STAT_FILES);
     }
 
+    // 2b. A sweep over a settling rule's parameter (the momentum rule's
+    // restitution, with sliding friction; the fitted cohesion law) gives the
+    // same statistics on the cluster as locally.
+    let settle = s.input(
+        "settle.toml",
+        "dim = 3\n[box]\nwidth = 12\ndepth = 12\nheight = 400\nperiodic = true\n[fill]\ncount = 300\n\
+         [[species]]\nradius = 1\n[settling]\nrestitution = 0.2\nsliding_friction = 0.3\n\
+         cohesion_diameter = 1\ncohesion_exponent = 0.7\n\
+         [sweep]\nparameter = \"settling.restitution\"\nvalues = [0.2, 0.6]\n",
+    );
+    let settle = settle.to_str().unwrap();
+    run_ok(
+        &conf,
+        &work,
+        &["ensemble", settle, "--runs", "2", "--out", "st-local", "-q"],
+    );
+    run_ok(
+        &conf,
+        &work,
+        &[
+            "slurm", settle, "--runs", "2", "--tasks", "2", "--out", "st-cl", "--submit", "--wait",
+        ],
+    );
+    assert_same(
+        &work.join("st-local"),
+        &work.join("st-cl"),
+        &["sweep.csv", "sweep.md"],
+    );
+
     // 3. A task cancelled mid-run: `--wait` names it and its log, exits 1,
     // and cancels the merge that can no longer run; the same command again
     // resumes, and the result equals the local one.
