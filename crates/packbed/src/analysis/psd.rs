@@ -388,6 +388,7 @@ mod tests {
             shape: Shape::Sphere,
             size,
             ratio: 1.0,
+            feed: None,
         }
     }
 

@@ -3,6 +3,7 @@
 
 mod edit;
 mod feed;
+mod feeds;
 pub mod fragmentation;
 mod measures;
 mod plan;
@@ -18,6 +19,7 @@ pub use edit::{
 };
 
 pub use feed::{Feed, FeedConfig, Pattern};
+pub use feeds::{FeedStage, FeedStageConfig};
 pub use measures::*;
 pub use plan::*;
 pub use schema::*;

@@ -70,6 +70,9 @@ pub struct Plan<const D: usize> {
     pub settling: Settling,
     /// Where particles enter.
     pub feed: Feed,
+    /// The feeds one after another (`[[feeds]]`); empty: one feed of every
+    /// species, filled as `fill` says, settled by `settling`.
+    pub feeds: Vec<FeedStage>,
 }
 
 pub use crate::math::LENGTH_RANGE;
@@ -196,6 +199,7 @@ impl SpeciesConfig {
             shape,
             size,
             ratio: self.ratio,
+            feed: None,
         })
     }
 }
@@ -477,15 +481,17 @@ impl Config {
         if total <= 0.0 {
             return Err(Error::config("the species ratios sum to zero"));
         }
-        let species = name_species(species);
+        let mut species = name_species(species);
         rsa_places_single_particles(self.mode, &species)?;
         let settling = self.settling.resolve()?;
+        let feeds = self.feeds(&mut species)?;
         if self.mode == Mode::Rsa && !settling.is_rolling() {
             return Err(Error::config(
                 "[settling] rules how dropped particles come to rest; mode = \"rsa\" drops none (remove [settling], or use mode = \"deposit\")",
             ));
         }
         if settling.momentum.is_some()
+            && feeds.is_empty()
             && species
                 .iter()
                 .any(|s| matches!(s.shape, Shape::Chain { .. }))
@@ -503,6 +509,7 @@ impl Config {
             ));
         }
         let fill = match (&self.fill.until, self.fill.count) {
+            _ if !feeds.is_empty() => Fill::Count(feeds.iter().map(|f| f.count).sum()),
             (Some(_), Some(_)) => {
                 return Err(Error::config(
                     "fill: give either `until = \"roof\"` or `count`, not both",
@@ -593,7 +600,27 @@ impl Config {
             large_radius,
             settling,
             feed,
+            feeds,
         })
+    }
+
+    /// The `[[feeds]]`, checked, each species marked with its feed; none
+    /// without the table.
+    fn feeds(&self, species: &mut [Species]) -> Result<Vec<FeedStage>> {
+        if self.feeds.is_empty() {
+            return Ok(Vec::new());
+        }
+        if self.mode == Mode::Rsa {
+            return Err(Error::config(
+                "[[feeds]] settle particles one feed after another; mode = \"rsa\" drops none (remove [[feeds]], or use mode = \"deposit\")",
+            ));
+        }
+        if self.fill.count.is_some() || self.fill.until.is_some() {
+            return Err(Error::config(
+                "[[feeds]] give each feed its count: remove fill.count and fill.until",
+            ));
+        }
+        super::feeds::resolve_feeds(&self.feeds, species, &self.settling)
     }
 }
 

@@ -61,6 +61,9 @@ pub struct Config {
     /// Where particles enter (default: uniformly over the box).
     #[serde(default, skip_serializing_if = "FeedConfig::is_default")]
     pub feed: FeedConfig,
+    /// Several feeds, one after another (`[[feeds]]`); empty: one feed.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub feeds: Vec<super::FeedStageConfig>,
     /// Analysis settings.
     #[serde(default)]
     pub analysis: AnalysisConfig,
@@ -283,6 +286,7 @@ impl Default for Config {
             species: default_species(),
             settling: SettlingConfig::default(),
             feed: FeedConfig::default(),
+            feeds: Vec::new(),
             analysis: AnalysisConfig::default(),
             fragmentation: None,
             ensemble: None,

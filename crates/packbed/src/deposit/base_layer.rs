@@ -418,6 +418,7 @@ mod tests {
             shape: Shape::Sphere,
             size: SizeDist::Fixed(radius),
             ratio,
+            feed: None,
         }
     }
 

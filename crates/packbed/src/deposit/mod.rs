@@ -13,7 +13,7 @@ mod speculate;
 mod trail;
 
 use crate::bed::{AnyBed, Bed};
-use crate::config::{AnyPlan, BaseLayerKind, Config, Fill, Mode, Plan};
+use crate::config::{AnyPlan, BaseLayerKind, Config, Fill, Mode, Plan, Settling};
 use crate::error::{Error, Result};
 use crate::grid::{Grid, Levels};
 use crate::math::{Real, Vector};
@@ -65,7 +65,12 @@ struct Engine<'p, const D: usize> {
     plan: &'p Plan<D>,
     bed: Bed<D>,
     grid: Grid<D>,
+    /// The feed being placed: its species (a draw's index into `picks`),
+    /// how they settle, and the bed's size when it is done.
     picker: SpeciesPicker,
+    picks: Vec<u32>,
+    settling: Settling,
+    feed_end: u64,
     rng: RunRng,
     report: DepositReport,
 }
@@ -77,14 +82,40 @@ impl<'p, const D: usize> Engine<'p, D> {
             &grid_levels::<D>(&plan.species),
             plan.estimated_particles() as usize,
         );
-        Ok(Engine {
+        let mut engine = Engine {
             plan,
             bed: Bed::new(plan.container, plan.species.clone()),
             grid,
             picker: SpeciesPicker::new(&plan.species),
+            picks: (0..plan.species.len() as u32).collect(),
+            settling: plan.settling,
+            feed_end: match plan.fill {
+                Fill::Count(n) => n,
+                Fill::Roof { .. } => u64::MAX,
+            },
             rng: RunRng::seed_from_u64(plan.seed),
             report: DepositReport::default(),
-        })
+        };
+        engine.start_feed(0);
+        Ok(engine)
+    }
+
+    /// Makes feed `k` of `[[feeds]]` the one being placed (nothing without
+    /// the table: one feed of every species, as `new` set it).
+    fn start_feed(&mut self, k: usize) {
+        let Some(feed) = self.plan.feeds.get(k) else {
+            return;
+        };
+        let species: Vec<Species> = feed
+            .species
+            .iter()
+            .map(|&s| self.plan.species[s as usize].clone())
+            .collect();
+        self.picker = SpeciesPicker::new(&species);
+        self.picks = feed.species.clone();
+        self.settling = feed.settling;
+        let before: u64 = self.plan.feeds[..k].iter().map(|f| f.count).sum();
+        self.feed_end = before + feed.count;
     }
 
     fn terrain(&self) -> Terrain<'_, D> {
@@ -93,7 +124,7 @@ impl<'p, const D: usize> Engine<'p, D> {
 
     /// Draws the species and radius of the next particle.
     fn draw_particle(&mut self) -> (u32, Real) {
-        draw(&self.picker, &self.plan.species, &mut self.rng)
+        draw(&self.picker, &self.picks, &self.plan.species, &mut self.rng)
     }
 
     /// Adds all beads of a body at `pose` as one new body.
@@ -124,11 +155,9 @@ impl<'p, const D: usize> Engine<'p, D> {
         self.bed.push_bead(p, r, species, body);
     }
 
+    /// The bed's size when the feed being placed is done.
     fn target(&self) -> u64 {
-        match self.plan.fill {
-            Fill::Count(n) => n,
-            Fill::Roof { .. } => u64::MAX,
-        }
+        self.feed_end
     }
 
     /// Deposits the bed; spheres in speculative batches when `speculate`
@@ -146,13 +175,31 @@ impl<'p, const D: usize> Engine<'p, D> {
         if self.plan.base_layer == BaseLayerKind::Random {
             self.base_layer(speculate);
         }
-        let target = self.target();
         let mut batches = speculate.then(speculate::Batches::new);
+        for k in 0..self.plan.feeds.len().max(1) {
+            self.start_feed(k);
+            if !self.place_feed(&mut batches, progress)? {
+                break;
+            }
+        }
+        let _ = progress(self.bed.len() as u64);
+        self.report.deposit_seconds = started.elapsed().as_secs_f64();
+        Ok((self.bed, self.report))
+    }
+
+    /// Places the feed being placed, up to [`Engine::target`]; false if the
+    /// bed filled up first (its roof overflowed).
+    fn place_feed(
+        &mut self,
+        batches: &mut Option<speculate::Batches<D>>,
+        progress: &mut Progress,
+    ) -> Result<bool> {
+        let target = self.target();
         while (self.bed.len() as u64) < target {
             if let Some(batches) = batches.as_mut() {
                 match self.drop_batch(batches, progress)? {
                     speculate::Ended::Placed { more: true } => continue,
-                    speculate::Ended::Placed { more: false } => break,
+                    speculate::Ended::Placed { more: false } => return Ok(false),
                     speculate::Ended::Chain => {}
                 }
             }
@@ -164,12 +211,10 @@ impl<'p, const D: usize> Engine<'p, D> {
                 None => self.drop_body(&Sphere(r), s, progress)?,
             };
             if !more {
-                break;
+                return Ok(false);
             }
         }
-        let _ = progress(self.bed.len() as u64);
-        self.report.deposit_seconds = started.elapsed().as_secs_f64();
-        Ok((self.bed, self.report))
+        Ok(true)
     }
 
     /// Drops one body of species `s` until it rests, and adds it to the bed
@@ -218,7 +263,7 @@ impl<'p, const D: usize> Engine<'p, D> {
         body.settle(
             &terrain,
             start,
-            &self.plan.settling,
+            &self.settling,
             &mut self.rng,
             &mut self.report.moves,
         )
@@ -254,11 +299,17 @@ impl<'p, const D: usize> Engine<'p, D> {
     }
 }
 
-/// Draws the species and radius of a particle from `rng`.
-fn draw(picker: &SpeciesPicker, species: &[Species], rng: &mut RunRng) -> (u32, Real) {
-    let s = picker.pick(rng);
-    let r = species[s].size.sample(rng);
-    (s as u32, r)
+/// Draws the species (one of `picks`, by `picker`) and radius of a particle
+/// from `rng`.
+fn draw(
+    picker: &SpeciesPicker,
+    picks: &[u32],
+    species: &[Species],
+    rng: &mut RunRng,
+) -> (u32, Real) {
+    let s = picks[picker.pick(rng)];
+    let r = species[s as usize].size.sample(rng);
+    (s, r)
 }
 
 /// The levels of the neighbour grid for the particles `species` produce: fitted

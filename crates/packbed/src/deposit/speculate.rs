@@ -185,7 +185,7 @@ impl<const D: usize> Engine<'_, D> {
         // its share while another still settles a slow sphere of the batch
         // (a fine percolating deep) settles the next ones meanwhile.
         while (draws.len() as u64) < left.min((EXTRA * *size) as u64) {
-            let (species, r) = super::draw(&self.picker, &self.plan.species, &mut rng);
+            let (species, r) = super::draw(&self.picker, &self.picks, &self.plan.species, &mut rng);
             if self.chain_of(species, r).is_some() {
                 break;
             }
@@ -202,7 +202,7 @@ impl<const D: usize> Engine<'_, D> {
             return Ok(Ended::Chain);
         }
         let (container, grid, bed) = (&self.plan.container, &self.grid, &self.bed);
-        let rule = &self.plan.settling;
+        let rule = &self.settling;
         let first = (*size).min(draws.len());
         if slots.len() < draws.len() {
             slots.resize_with(draws.len(), Default::default);
@@ -324,14 +324,7 @@ impl<const D: usize> Engine<'_, D> {
         let terrain = Terrain::of(&self.plan.container, &self.grid, &self.bed);
         let mut rng = d.rng.clone();
         let mut moves = 0;
-        let rest = roll::settle(
-            &terrain,
-            d.r,
-            d.start,
-            &self.plan.settling,
-            &mut rng,
-            &mut moves,
-        );
+        let rest = roll::settle(&terrain, d.r, d.start, &self.settling, &mut rng, &mut moves);
         assert!(
             rest == f.rest && moves == f.moves && rng == f.rng,
             "a spared sphere settled otherwise: {rest:?} against {:?}",

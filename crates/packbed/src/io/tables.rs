@@ -222,9 +222,21 @@ pub fn particles_header<const D: usize>() -> &'static str {
 }
 
 /// Writes `particles.csv`: one row per sphere or bead, in deposition order.
+/// A bed built from `[[feeds]]` has a last column `feed`: the index of the
+/// feed that placed the particle (its species').
 pub fn write_particles<const D: usize>(w: &mut dyn Write, bed: &Bed<D>) -> std::io::Result<()> {
     const AXES: [&str; 3] = ["x", "y", "z"];
-    writeln!(w, "{}", particles_header::<D>())?;
+    let feeds: Option<Vec<u32>> = bed
+        .species_info
+        .iter()
+        .map(|s| s.feed)
+        .collect::<Option<Vec<u32>>>()
+        .filter(|f| !f.is_empty());
+    let header = particles_header::<D>();
+    match feeds {
+        Some(_) => writeln!(w, "{header},feed")?,
+        None => writeln!(w, "{header}")?,
+    }
     write_rows(w, bed.len(), |w, id| {
         push_int(w, id);
         w.push(b',');
@@ -237,6 +249,10 @@ pub fn write_particles<const D: usize>(w: &mut dyn Write, bed: &Bed<D>) -> std::
         }
         w.push(b',');
         Num(finite(bed.radii[id], "r", id)?).push_to(w);
+        if let Some(feeds) = &feeds {
+            w.push(b',');
+            push_int(w, feeds[bed.species[id] as usize]);
+        }
         w.push(b'\n');
         Ok(())
     })

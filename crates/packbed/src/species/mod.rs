@@ -293,6 +293,8 @@ pub struct Species {
     pub size: SizeDist,
     /// Number ratio (relative probability of being drawn).
     pub ratio: Real,
+    /// The `[[feeds]]` entry that feeds it (`None`: the bed has one feed).
+    pub feed: Option<u32>,
 }
 
 /// Draws species indices with probability proportional to their ratios.

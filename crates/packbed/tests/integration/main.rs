@@ -8,6 +8,7 @@ mod analysis;
 mod chain_orientation;
 mod chains;
 mod ensemble;
+mod feeds;
 mod fragmentation;
 mod length_scale;
 mod physics;

@@ -156,6 +156,7 @@ pub(super) fn densify_species(raw: &mut Raw) {
                     shape: crate::species::Shape::Sphere,
                     size: crate::species::SizeDist::Fixed(mean_radius(raw, id)),
                     ratio: 1.0,
+                    feed: None,
                 });
             if s.name.is_empty() {
                 s.name = (u64::from(id) + u64::from(raw.first_species_id)).to_string();

@@ -194,6 +194,7 @@ impl Reader<'_> {
                     shape,
                     size: SizeDist::Fixed(r),
                     ratio: s.get("ratio").and_then(|x| x.as_f64()).unwrap_or(1.0),
+                    feed: None,
                 });
             }
         }

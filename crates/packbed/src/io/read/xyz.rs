@@ -121,6 +121,7 @@ impl Reader<'_> {
                 shape: Shape::Sphere,
                 size: SizeDist::Fixed(1.0),
                 ratio: 1.0,
+                feed: None,
             });
         }
         if let Some(lat) = get("Lattice") {

@@ -1,0 +1,122 @@
+//! `[[feeds]]`: one bed built from several feeds, one after another, as a
+//! filter is fed a precoat and then the slurry, or alternating slurries.
+//! Each feed draws from its own species (by their ratios), places its own
+//! number of bodies and settles them by its own rule:
+//!
+//! ```toml
+//! [[feeds]]
+//! species = ["sand"]        # names of [[species]] entries
+//! count = 2000
+//! settling = { restitution = 0.5 }   # default: the config's [settling]
+//!
+//! [[feeds]]
+//! species = ["flour"]
+//! count = 20000
+//! ```
+//!
+//! A species belongs to one feed, so a particle's feed is its species'
+//! (`particles.csv` gains a `feed` column); to feed one slurry twice, give
+//! it two species entries. Without `[[feeds]]` a bed is one feed of every
+//! species, filled as `[fill]` says, bit for bit as before.
+
+use super::settling::{Settling, SettlingConfig};
+use crate::error::{Error, Result};
+use crate::math::Real;
+use crate::species::{Shape, Species};
+use serde::{Deserialize, Serialize};
+
+/// One `[[feeds]]` entry as written.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FeedStageConfig {
+    /// The names of the species this feed draws from.
+    pub species: Vec<String>,
+    /// How many bodies it places.
+    pub count: u64,
+    /// Its settling rule (default: the config's `[settling]`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub settling: Option<SettlingConfig>,
+}
+
+/// One feed of a bed, checked: what it draws, how many, how they settle.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FeedStage {
+    /// Indices of its species (into the plan's species), in config order.
+    pub species: Vec<u32>,
+    /// Bodies it places.
+    pub count: u64,
+    /// How its particles come to rest.
+    pub settling: Settling,
+}
+
+/// The feeds of `stages`, checked against the named `species` (each of which
+/// the caller marks with its feed); `settling` is the config's rule.
+pub(crate) fn resolve_feeds(
+    stages: &[FeedStageConfig],
+    species: &mut [Species],
+    settling: &SettlingConfig,
+) -> Result<Vec<FeedStage>> {
+    let mut out = Vec::with_capacity(stages.len());
+    for (k, stage) in stages.iter().enumerate() {
+        let what = format!("feeds[{k}]");
+        if stage.count == 0 {
+            return Err(Error::config(format!("{what}.count must be at least 1")));
+        }
+        if stage.species.is_empty() {
+            return Err(Error::config(format!(
+                "{what}.species is empty: name the [[species]] this feed draws from"
+            )));
+        }
+        let mut picked = Vec::with_capacity(stage.species.len());
+        for name in &stage.species {
+            let Some(i) = species.iter().position(|s| &s.name == name) else {
+                let known: Vec<&str> = species.iter().map(|s| s.name.as_str()).collect();
+                return Err(Error::config(format!(
+                    "{what}.species: no species is named `{name}` (the species are {})",
+                    known.join(", ")
+                )));
+            };
+            if let Some(other) = species[i].feed {
+                return Err(Error::config(format!(
+                    "{what}.species: `{name}` is fed by feeds[{other}] already; a species belongs to one feed (give the second feed its own [[species]] entry)"
+                )));
+            }
+            species[i].feed = Some(k as u32);
+            picked.push(i as u32);
+        }
+        let sum: Real = picked.iter().map(|&i| species[i as usize].ratio).sum();
+        if sum <= 0.0 {
+            return Err(Error::config(format!(
+                "{what}: the ratios of its species sum to zero"
+            )));
+        }
+        // A feed draws by its own species' ratios; the bed holds each species
+        // in the share its feed's count gives it, which the ratios then say
+        // (the requested size distribution, the summary's species).
+        for &i in &picked {
+            species[i as usize].ratio *= stage.count as Real / sum;
+        }
+        let rule = stage.settling.as_ref().unwrap_or(settling).resolve()?;
+        if rule.momentum.is_some()
+            && picked
+                .iter()
+                .any(|&i| matches!(species[i as usize].shape, Shape::Chain { .. }))
+        {
+            return Err(Error::config(format!(
+                "{what}.settling.restitution: the momentum rule settles spheres and discs; a rigid chain's momentum is not modelled"
+            )));
+        }
+        out.push(FeedStage {
+            species: picked,
+            count: stage.count,
+            settling: rule,
+        });
+    }
+    if let Some(s) = species.iter().find(|s| s.feed.is_none()) {
+        return Err(Error::config(format!(
+            "species `{}` is in no [[feeds]] entry: name it in one feed's `species`, or remove it",
+            s.name
+        )));
+    }
+    Ok(out)
+}
