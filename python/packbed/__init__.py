@@ -323,7 +323,7 @@ class Bed:
         return pd.DataFrame(pores), pd.DataFrame(throats)
 
     def drainage(self, *, progress: ProgressLike = None, **options: Any) -> Dict[str, Any]:
-        """Primary drainage of the bed's pore network (README, "Deliquoring").
+        """Primary drainage of the bed's pore network (docs/guide/drainage-and-drying.md).
 
         Returns a dict: ``summary`` (``summary.json``'s ``drainage``), and as
         ``pandas.DataFrame`` ``curve`` (the capillary pressure–saturation
@@ -355,7 +355,7 @@ class Bed:
         }
 
     def agglomeration(self, *, progress: ProgressLike = None, **options: Any) -> Dict[str, Any]:
-        """The drained cake dried: its solid bridges and agglomerates (README,
+        """The drained cake dried: its solid bridges and agglomerates (docs/guide/drainage-and-drying.md,
         "Drying and agglomeration").
 
         Returns a dict: ``summary`` (``summary.json``'s ``agglomeration``),

@@ -8,6 +8,7 @@ mod agglomeration;
 mod bounds;
 mod commands;
 mod compare;
+mod docs_examples;
 mod drainage;
 mod ensemble;
 mod escapes;

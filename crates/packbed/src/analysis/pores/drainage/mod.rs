@@ -13,7 +13,7 @@
 //! compares with). In the drained pores the liquid stays as pendular bridges
 //! at the contacts ([`pendular`]), at the curvature the gas pressure sets.
 //!
-//! Assumptions, stated where a user reads the figures (README, Deliquoring):
+//! Assumptions, stated where a user reads the figures (docs/guide/drainage-and-drying.md):
 //! quasi-static (capillary forces dominate: low capillary number, no
 //! viscous pressure drop), a rigid bed, one contact angle, no evaporation,
 //! gravity neglected across the slab (Bond number of the pores ≪ 1).
