@@ -10,7 +10,10 @@ gravity g = 1.  So the reference mass is m = pi/6 and time is in sqrt(d/g).
 Model (pair_style granular, same model on the floor wall):
   normal      hertz/material  E, e (restitution, via `damping tsuji`), nu
   tangential  mindlin, k_t from E and nu (NULL), tangential damping 1.0, mu
-  no rolling resistance, no twisting, no cohesion.
+  no rolling resistance, no twisting, no cohesion
+  (--cohesion jkr|dmt --bond BO: the normal model becomes LAMMPS's jkr or dmt,
+  with the surface energy that gives a pull-off force of BO m_ref g between two
+  d = 1 spheres; the floor gets the same model and surface energy).
 
 Insertion: the diameters are drawn up front with a fixed seed (lognormal
 included: fix pour cannot draw a lognormal), split into batches, and each batch
@@ -25,6 +28,7 @@ to bed.dump and a FINAL line with the KE per particle to the log.
 
 Usage:
   pour.py --dist equal|bidisperse|lognormal --mu 0.3 --n 4000 --out DIR [--settle 40]
+          [--cohesion jkr|dmt --bond BO]
 writes DIR/in.pour and DIR/batch_*.data; run with
   cd DIR && lmp -in in.pour
 """
@@ -48,6 +52,12 @@ KE_TOL = 1e-8       # stop when KE per particle < KE_TOL * m_ref g d
 DT_FRACTION = 1.0 / 20.0   # timestep = DT_FRACTION * Hertz collision time
 MAX_SETTLE = 40.0   # cap on the final settling time (in sqrt(d/g)); the final KE is reported
 M_REF = RHO * math.pi / 6.0  # mass of the reference sphere d = 1
+# Pull-off force of LAMMPS's cohesive normal models (29 Sep 2021 build) per unit of
+# its surface-energy coefficient gamma and of R* = R_i R_j / (R_i + R_j):
+# F = 3 pi gamma R* (jkr), 4 pi gamma R* (dmt), i.e. 1.5 pi w R* and 2 pi w R* for
+# the work of adhesion w = 2 gamma.  Measured with a two-sphere pull test
+# (RESULTS.md, "g(r) and cohesion"), not only read from the documentation.
+PULLOFF_PER_GAMMA_R = {"jkr": 3.0 * math.pi, "dmt": 4.0 * math.pi}
 
 
 def diameters(dist, n, seed):
@@ -133,7 +143,13 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("--settle", type=float, default=MAX_SETTLE,
                     help=f"cap on the final settling time in sqrt(d/g) (default {MAX_SETTLE:g})")
+    ap.add_argument("--cohesion", choices=sorted(PULLOFF_PER_GAMMA_R),
+                    help="cohesive normal model instead of hertz/material (needs --bond)")
+    ap.add_argument("--bond", type=float,
+                    help="Bond number F_pulloff / (m_ref g) of two d = 1 spheres (R* = 1/4)")
     a = ap.parse_args()
+    if (a.cohesion is None) != (a.bond is None):
+        ap.error("--cohesion and --bond go together")
     os.makedirs(a.out, exist_ok=True)
 
     ds = diameters(a.dist, a.n, a.seed)
@@ -160,11 +176,19 @@ def main():
     zhi = vol / (L * L * 0.5) + hmax + 5 * dmax      # bed at phi >= 0.5 + one cloud + margin
     settle_steps = int(a.settle / dt)
     skin = 0.3 * dmax
+    normal = f"hertz/material {E:g} {E_REST} {NU}"
+    cohesion_note = ""
+    if a.cohesion:
+        # gamma such that F_pulloff(d = 1 pair, R* = 1/4) = bond * m_ref * g
+        gamma = a.bond * M_REF * G / (PULLOFF_PER_GAMMA_R[a.cohesion] * 0.25)
+        normal = f"{a.cohesion} {E:g} {E_REST} {NU} {gamma:.10g}"
+        cohesion_note = (f"# cohesion: {a.cohesion}, gamma = {gamma:.10g}: pull-off of a d = 1 pair "
+                         f"= {a.bond:g} m_ref g (Bond number); floor: same gamma\n")
 
     lines = f"""# DEM pour written by pour.py: {a.dist}, mu = {a.mu}, N = {a.n}, seed {a.seed}
 # units lj: d = 1, rho = {RHO}, g = {G}; m_ref = pi/6
 # E = {E:g}, nu = {NU}, e = {E_REST} (tsuji), x_gamma_t = {XGAMMA_T}, mu = {a.mu}
-# Hertz collision time (d_min = {dmin:.4f}, v = {vmax:.3f}) = {tc:.4e}; dt = {dt:.4e}
+{cohesion_note}# Hertz collision time (d_min = {dmin:.4f}, v = {vmax:.3f}) = {tc:.4e}; dt = {dt:.4e}
 # {len(batches)} batches of <= {BATCH}; cloud phi {PHI_CLOUD}; batch run {t_batch:.3f} ({steps_batch} steps)
 units           lj
 atom_style      sphere
@@ -175,13 +199,13 @@ comm_modify     vel yes
 region          box block 0 {L} 0 {L} 0 {zhi:.6g}
 create_box      1 box
 pair_style      granular
-pair_coeff      * * hertz/material {E:g} {E_REST} {NU} tangential mindlin NULL {XGAMMA_T} {a.mu} damping tsuji
+pair_coeff      * * {normal} tangential mindlin NULL {XGAMMA_T} {a.mu} damping tsuji
 neighbor        {skin:.4g} bin
 neigh_modify    delay 0 every 1 check yes
 timestep        {dt:.6e}
 fix             integ all nve/sphere
 fix             grav all gravity {G} vector 0 0 -1
-fix             floor all wall/gran granular hertz/material {E:g} {E_REST} {NU} tangential mindlin NULL {XGAMMA_T} {a.mu} damping tsuji zplane 0.0 NULL
+fix             floor all wall/gran granular {normal} tangential mindlin NULL {XGAMMA_T} {a.mu} damping tsuji zplane 0.0 NULL
 compute         prop all property/atom omegax omegay omegaz radius mass
 variable        erot atom 0.2*c_prop[5]*c_prop[4]^2*(c_prop[1]^2+c_prop[2]^2+c_prop[3]^2)
 compute         rke all reduce sum v_erot
