@@ -1043,6 +1043,11 @@ fn settling_rules_run_and_bad_ones_are_refused() {
             "[box]\nwidth = 100\ndepth = 100\nheight = 100\n[feed]\npattern = \"point\"\nat = [150, 50]\n",
             &["feed.at[0]", "150"][..],
         ),
+        (
+            "feeds.toml",
+            "[[species]]\nname = \"a\"\nradius = 10\n[[feeds]]\nspecies = [\"sand\"]\ncount = 3\n",
+            &["feeds[0].species", "sand"][..],
+        ),
     ] {
         assert_config_refused(&s, name, text, needles);
     }
