@@ -276,6 +276,12 @@ class Bed:
         return self._bed.body
 
     @property
+    def feed(self) -> Optional[np.ndarray]:
+        """The feed of each particle (``[[feeds]]``: the ``feed`` column of
+        ``particles.csv``), uint32 (N,); None for a bed of one feed."""
+        return self._bed.feed
+
+    @property
     def box(self) -> Dict[str, Any]:
         """The box: ``width``, ``depth`` (3D), ``height``, ``periodic``."""
         return self._bed.box
@@ -463,6 +469,9 @@ class Bed:
         for k, axis in enumerate(columns[3 : 3 + self.dim]):
             data[axis] = pos[:, k]
         data["r"] = np.array(self.radii)
+        feed = self._bed.feed
+        if feed is not None:
+            data["feed"] = np.asarray(feed, dtype=np.int64)
         return pd.DataFrame(data, columns=columns)
 
     def write(self, out: PathLike, *, pictures: bool = True, **analysis: Any) -> List[Path]:

@@ -379,5 +379,35 @@ def test_settling_rules_and_feeds_from_a_dict_equal_the_command(tmp_path, run_cl
         expected = np.array([[float(r["x"]), float(r["y"]), float(r["z"])] for r in rows])
         bed = packbed.deposit({**config, "settling": rule, "feed": {}})
         assert np.array_equal(bed.positions, expected), rule
+    # [[feeds]]: the feed of each particle, as the command's feed column.
+    feeds = {
+        **config,
+        "species": [{"name": "a", "radius": 1.5}, {"name": "b", "radius": 1}],
+        "fill": {"base_layer": "none"},
+        "settling": {},
+        "feed": {},
+        "feeds": [
+            {"species": ["a"], "count": 200, "settling": {"restitution": 0.5}},
+            {"species": ["b"], "count": 300, "settling": {"sticking": 0.2}},
+        ],
+    }
+    fed = packbed.deposit(feeds)
+    assert fed.feed.tolist() == [0] * 200 + [1] * 300
+    assert fed.to_pandas()["feed"].tolist() == fed.feed.tolist()
+    assert list(fed.to_pandas().columns)[-1] == "feed"
+    assert stick.feed is None
+    (tmp_path / "feeds.toml").write_text(
+        text.split("[settling]")[0].replace("[[species]]\nradius = 1\n", "")
+        .replace("count = 2000\n", "")
+        + "[[species]]\nname = \"a\"\nradius = 1.5\n[[species]]\nname = \"b\"\nradius = 1\n"
+        + "[[feeds]]\nspecies = [\"a\"]\ncount = 200\nsettling = { restitution = 0.5 }\n"
+        + "[[feeds]]\nspecies = [\"b\"]\ncount = 300\nsettling = { sticking = 0.2 }\n"
+    )
+    run_cli("run", str(tmp_path / "feeds.toml"), "--out", str(tmp_path / "fd"), "--quiet", "--no-pictures")
+    rows = read_particles(tmp_path / "fd" / "particles.csv")
+    assert [int(r["feed"]) for r in rows] == fed.feed.tolist()
+    assert np.array_equal(
+        fed.positions, np.array([[float(r["x"]), float(r["y"]), float(r["z"])] for r in rows])
+    )
     with pytest.raises(packbed.ConfigError, match="settling.cohesion_exponent"):
         packbed.deposit({**config, "settling": {"cohesion_diameter": 2, "cohesion_exponent": 0}})

@@ -120,6 +120,13 @@ impl Bed {
         view(slf, slf.get().bed().species())
     }
 
+    /// The feed of each particle (the `feed` column of `particles.csv`),
+    /// uint32, for a bed built from `[[feeds]]`; None otherwise.
+    #[getter]
+    fn feed<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<u32>>> {
+        self.bed().feeds().map(|f| PyArray1::from_vec(py, f))
+    }
+
     /// Body index of each particle (the beads of a chain share it), uint32, read-only.
     #[getter]
     fn body<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyArray1<u32>>> {
@@ -144,10 +151,14 @@ impl Bed {
 
     /// Column names of `particles.csv`, in order.
     #[getter]
-    fn columns(&self) -> &'static str {
-        match self.bed() {
+    fn columns(&self) -> String {
+        let header = match self.bed() {
             AnyBed::D2(_) => particles_header::<2>(),
             AnyBed::D3(_) => particles_header::<3>(),
+        };
+        match self.bed().feeds() {
+            Some(_) => format!("{header},feed"),
+            None => header.to_string(),
         }
     }
 

@@ -248,6 +248,18 @@ impl AnyBed {
         each_dim!(self, b => &b.bodies)
     }
 
+    /// The feed of each particle, for a bed built from `[[feeds]]` (the
+    /// `feed` column of `particles.csv`); `None` for a bed of one feed.
+    pub fn feeds(&self) -> Option<Vec<u32>> {
+        let of_species = feed_of_species(self.species_info())?;
+        Some(
+            self.species()
+                .iter()
+                .map(|&s| of_species[s as usize])
+                .collect(),
+        )
+    }
+
     /// The species of the bed (names and sizes).
     pub fn species_info(&self) -> &[Species] {
         each_dim!(self, b => &b.species_info)
@@ -272,4 +284,14 @@ mod tests {
         two.bodies = vec![0, 0];
         assert_eq!(two.describe(), "2D bed, 2 discs in 1 body, periodic sides");
     }
+}
+
+/// The feed of each species, if the bed was built from `[[feeds]]` (every
+/// species then has one).
+pub(crate) fn feed_of_species(species: &[Species]) -> Option<Vec<u32>> {
+    species
+        .iter()
+        .map(|s| s.feed)
+        .collect::<Option<Vec<u32>>>()
+        .filter(|f| !f.is_empty())
 }

@@ -226,12 +226,7 @@ pub fn particles_header<const D: usize>() -> &'static str {
 /// feed that placed the particle (its species').
 pub fn write_particles<const D: usize>(w: &mut dyn Write, bed: &Bed<D>) -> std::io::Result<()> {
     const AXES: [&str; 3] = ["x", "y", "z"];
-    let feeds: Option<Vec<u32>> = bed
-        .species_info
-        .iter()
-        .map(|s| s.feed)
-        .collect::<Option<Vec<u32>>>()
-        .filter(|f| !f.is_empty());
+    let feeds = crate::bed::feed_of_species(&bed.species_info);
     let header = particles_header::<D>();
     match feeds {
         Some(_) => writeln!(w, "{header},feed")?,
