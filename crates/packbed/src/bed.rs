@@ -271,6 +271,16 @@ impl AnyBed {
     }
 }
 
+/// The feed of each species, if the bed was built from `[[feeds]]` (every
+/// species then has one).
+pub(crate) fn feed_of_species(species: &[Species]) -> Option<Vec<u32>> {
+    species
+        .iter()
+        .map(|s| s.feed)
+        .collect::<Option<Vec<u32>>>()
+        .filter(|f| !f.is_empty())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -284,14 +294,4 @@ mod tests {
         two.bodies = vec![0, 0];
         assert_eq!(two.describe(), "2D bed, 2 discs in 1 body, periodic sides");
     }
-}
-
-/// The feed of each species, if the bed was built from `[[feeds]]` (every
-/// species then has one).
-pub(crate) fn feed_of_species(species: &[Species]) -> Option<Vec<u32>> {
-    species
-        .iter()
-        .map(|s| s.feed)
-        .collect::<Option<Vec<u32>>>()
-        .filter(|f| !f.is_empty())
 }
