@@ -1,5 +1,5 @@
-//! Contact forces and breakage (`spec/fragmentation.md`) checked against
-//! computations written from the spec alone, not from `packbed::mechanics`:
+//! Contact forces and breakage (`docs/reference/fragmentation.md`) checked
+//! against computations written from that model alone, not from `packbed::mechanics`:
 //!
 //! 1. a dense reference: the network, loads, stiffness matrix with ground
 //!    springs, a dense Cholesky solve, the bond forces and the breakage loop,
