@@ -1,5 +1,5 @@
 //! `packbed fragment BED`: contact forces of a bed under load and the order
-//! its bonds break (`spec/fragmentation.md`).
+//! its bonds break (`docs/reference/fragmentation.md`).
 
 use crate::bed_file::BedFileArgs;
 use crate::parsers::parsed;

@@ -221,8 +221,9 @@ pub struct BenchResult {
     pub analysis: Vec<(String, f64)>,
 }
 
-/// The stages the analysis speed target counts (`spec/performance.md`):
-/// contacts, packing and percolation without the capped chain enumeration.
+/// The stages the analysis speed target counts: contacts, packing and
+/// percolation without the capped chain enumeration, within 1 s on 10^6
+/// spheres (BENCHMARKS.md, "Analysis").
 pub const TARGET_STAGES: [&str; 6] = [
     "contacts",
     "packing/",

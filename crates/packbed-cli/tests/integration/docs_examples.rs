@@ -1,4 +1,6 @@
-//! The shell examples of README.md and the user guide (docs/guide/*.md) run.
+//! The shell examples of README.md and the user guide (docs/guide/*.md) run,
+//! the documents' relative links resolve (docs/reference/*.md too), and the
+//! pages source comments name exist.
 //!
 //! Convention: a fenced block opened with ```` ```sh ```` one of whose
 //! commands calls `packbed` is an example, and this test runs it: the whole
@@ -126,6 +128,21 @@ fn pages(root: &Path) -> Vec<PathBuf> {
     all
 }
 
+/// The pages whose links are checked: those of [`pages`], then the reference
+/// pages (docs/reference/*.md) in name order. The reference pages hold no
+/// examples to run.
+fn linked_pages(root: &Path) -> Vec<PathBuf> {
+    let mut reference: Vec<PathBuf> = fs::read_dir(root.join("docs/reference"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "md"))
+        .collect();
+    reference.sort();
+    let mut all = pages(root);
+    all.extend(reference);
+    all
+}
+
 #[test]
 fn the_documents_shell_examples_run() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
@@ -230,7 +247,7 @@ fn the_documents_relative_links_resolve() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let mut broken = Vec::new();
     let mut checked = 0;
-    for page in pages(&root) {
+    for page in linked_pages(&root) {
         let text = fs::read_to_string(&page).unwrap();
         let name = page.strip_prefix(&root).unwrap().display().to_string();
         for (line, target) in links(&text) {
@@ -263,6 +280,124 @@ fn the_documents_relative_links_resolve() {
     assert!(broken.is_empty(), "{}", broken.join("\n"));
 }
 
+/// The Rust files under `dir`, in name order (build output left out).
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    let mut entries: Vec<PathBuf> = fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    entries.sort();
+    for path in entries {
+        if path.is_dir() {
+            if path.file_name().is_some_and(|n| n != "target") {
+                rust_files(&path, out);
+            }
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
+        }
+    }
+}
+
+/// The text of a line's comment (`//`, `///`, `//!` at its start), if any.
+fn comment(line: &str) -> Option<&str> {
+    line.trim_start().strip_prefix("//")
+}
+
+/// What a comment names: the byte offsets where `word` starts a path (not
+/// inside a longer word or path).
+fn path_starts<'a>(text: &'a str, word: &'a str) -> impl Iterator<Item = usize> + 'a {
+    text.match_indices(word)
+        .map(|(at, _)| at)
+        .filter(move |&at| {
+            !text[..at]
+                .chars()
+                .next_back()
+                .is_some_and(|c| c.is_alphanumeric() || matches!(c, '/' | '.' | '_' | '-'))
+        })
+}
+
+/// The `docs/….md` paths a comment names, each with the section title quoted
+/// right after it (`docs/reference/model.md`, "Filling"), if any.
+fn doc_references(text: &str) -> Vec<(String, Option<String>)> {
+    let mut found = Vec::new();
+    for at in path_starts(text, "docs/") {
+        let rest = &text[at..];
+        let end = rest
+            .find(|c: char| !(c.is_alphanumeric() || matches!(c, '/' | '.' | '_' | '-')))
+            .unwrap_or(rest.len());
+        let path = rest[..end].trim_end_matches('.');
+        let path = if let Some(stem) = path.strip_suffix(".md") {
+            format!("{stem}.md")
+        } else {
+            continue;
+        };
+        let after = rest[path.len()..].trim_start_matches('`');
+        let title = after
+            .strip_prefix(", \"")
+            .and_then(|t| t.split_once('"'))
+            .map(|(t, _)| t.to_string());
+        found.push((path, title));
+    }
+    found
+}
+
+/// The titles of a Markdown file's headings (outside fenced blocks).
+fn headings(markdown: &str) -> Vec<String> {
+    let mut fenced = false;
+    let mut found = Vec::new();
+    for line in markdown.lines() {
+        if line.trim_start().starts_with("```") {
+            fenced = !fenced;
+        } else if !fenced && line.starts_with('#') {
+            found.push(line.trim_start_matches('#').trim().to_string());
+        }
+    }
+    found
+}
+
+/// Comments say where a rule is written down, and it must be in the
+/// repository: no comment under crates/ names the team's background notes
+/// (a `spec` directory outside it), and every `docs/….md` page a comment names
+/// exists, with the section it quotes.
+#[test]
+fn source_comments_point_at_pages_that_exist() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut files = Vec::new();
+    rust_files(&root.join("crates"), &mut files);
+    let outside = ["spec", "/"].concat();
+    let mut wrong = Vec::new();
+    let mut checked = 0;
+    for file in &files {
+        let text = fs::read_to_string(file).unwrap();
+        let name = file.strip_prefix(&root).unwrap().display().to_string();
+        for (i, line) in text.lines().enumerate() {
+            let Some(c) = comment(line) else { continue };
+            if path_starts(c, &outside).next().is_some() {
+                wrong.push(format!(
+                    "{name}:{}: names {outside}…, which is not in the repository: \
+                     point at docs/ or say the rule here",
+                    i + 1
+                ));
+            }
+            for (path, title) in doc_references(c) {
+                checked += 1;
+                let Ok(page) = fs::read_to_string(root.join(&path)) else {
+                    wrong.push(format!("{name}:{}: {path}: no such file", i + 1));
+                    continue;
+                };
+                if let Some(title) = title {
+                    if !headings(&page).contains(&title) {
+                        wrong.push(format!("{name}:{}: {path}: no section \"{title}\"", i + 1));
+                    }
+                }
+            }
+        }
+    }
+    assert!(files.len() > 100, "only {} Rust files found", files.len());
+    assert!(checked > 0, "no docs/ page named in a comment");
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
 #[test]
 fn the_examples_extractor_finds_runs_skips_and_refuses() {
     let md = "text\n```sh\npackbed run --out a   # a bed\nls a\n```\n\
@@ -292,4 +427,20 @@ fn the_examples_extractor_finds_runs_skips_and_refuses() {
         links("see [a](b.md#c) and [d](https://e/f)."),
         [(1, "b.md#c".to_string()), (1, "https://e/f".to_string())]
     );
+    assert_eq!(
+        doc_references(
+            " (`docs/reference/model.md`, \"Filling\"); docs/guide/*.md; \
+             see docs/validation.md. Not crates/x/docs/y.md"
+        ),
+        [
+            (
+                "docs/reference/model.md".to_string(),
+                Some("Filling".to_string())
+            ),
+            ("docs/validation.md".to_string(), None),
+        ]
+    );
+    assert_eq!(comment("    //! a"), Some("! a"));
+    assert_eq!(comment("let a = \"//\";"), None);
+    assert_eq!(path_starts("species/ and spec/x", "spec/").count(), 1);
 }

@@ -59,7 +59,7 @@ fn a_slab_too_thin_for_its_permeability_is_warned_of_and_its_zeros_are_null() {
         note.contains("does not balance along x") && note.contains("0.50 d32 thick"),
         "{note}"
     );
-    // Every k given rests on a balanced flux (the spec's 1e-9).
+    // Every k given rests on a balanced flux (1e-9: `docs/reference/pores.md`, "Flow and permeability").
     for axis in k["axes"].as_array().unwrap() {
         let balanced = axis["imbalance"].as_f64().unwrap() <= 1e-9;
         assert!(balanced || axis["k"].is_null(), "{axis}");

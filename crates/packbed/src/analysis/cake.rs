@@ -1,4 +1,4 @@
-//! Filter cake properties (`spec/pores.md`, "Cake properties"): porosity,
+//! Filter cake properties (`docs/reference/pores.md`, "Cake properties"): porosity,
 //! Sauter diameter, specific surface, the Kozeny–Carman permeability and, with a
 //! solid density and a length unit, the specific cake resistance in SI units.
 //!

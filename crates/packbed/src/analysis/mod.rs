@@ -121,7 +121,7 @@ pub struct Summary {
 pub struct PackingSummary {
     /// Solid volume ÷ box volume (box up to the roof).
     pub global: Real,
-    /// Solid fraction of the bulk region (see `spec/analysis.md`); `None`
+    /// Solid fraction of the bulk region ([`packing::bulk_region`]); `None`
     /// (null) when the bed has no bulk region or it holds fewer bodies than the
     /// minimum (`bulk_note` says which).
     pub bulk: Option<Real>,

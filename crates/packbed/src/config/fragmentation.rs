@@ -1,5 +1,5 @@
 //! `[fragmentation]`: the load, the breaks and the springs of a bed's
-//! breakage (`spec/fragmentation.md`), shared by run configs and
+//! breakage (`docs/reference/fragmentation.md`), shared by run configs and
 //! `packbed fragment`.
 
 use crate::error::{Error, Result};

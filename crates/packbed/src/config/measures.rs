@@ -459,8 +459,8 @@ pub enum Conductance {
 }
 
 impl Conductance {
-    /// The factor `c` fixed once for this model from the published Stokes
-    /// references of `spec/pores.md` (ARCHITECTURE.md, "The conductance"):
+    /// The factor `c` fixed once for this model from published Stokes
+    /// references, never tuned per bed (`docs/reference/pores.md`, "The conductance"):
     /// - constriction: 0.55 ≈ 1/1.826, the model with `c` = 1 giving 1.826×
     ///   Zick & Homsy's touching simple cubic array (exact Stokes flow);
     /// - hydraulic radius: 0.89 = 1/√(0.979 · 1.29), leaving Zick & Homsy's

@@ -1,5 +1,5 @@
-//! The run configuration: the TOML schema of `spec/interfaces.md` (strict: unknown
-//! keys are errors) and its validation into a [`Plan`] the engine can run.
+//! The run configuration: the TOML schema (strict: unknown keys are errors;
+//! `docs/reference/formats.md`, "The config file") and its validation into a [`Plan`] the engine can run.
 
 mod edit;
 mod feed;

@@ -1,4 +1,4 @@
-//! The TOML schema of `spec/interfaces.md`: every table and key a config
+//! The TOML schema (`docs/reference/formats.md`, "The config file"): every table and key a config
 //! file may hold (strict: unknown keys are errors), their defaults, and reading
 //! a file.
 
@@ -124,7 +124,7 @@ pub struct FillConfig {
 
 /// The source study kept dropping after a particle stuck out above the roof
 /// and stopped only after many such misses; 100 in total reproduces its
-/// published packing fractions in 2D and 3D (`spec/model.md`, "Filling").
+/// published packing fractions in 2D and 3D (`docs/reference/model.md`, "Filling").
 pub const DEFAULT_ROOF_MISSES: u64 = 100;
 
 fn default_roof_misses() -> u64 {

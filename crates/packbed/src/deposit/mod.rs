@@ -1,5 +1,5 @@
 //! Sequential deposition: particles settle one at a time under gravity onto the
-//! bed already there (the drop-and-roll model of `spec/model.md`).
+//! bed already there (the drop-and-roll model of `docs/reference/model.md`).
 
 mod arc_search;
 mod base_layer;

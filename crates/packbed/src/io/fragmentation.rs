@@ -1,7 +1,7 @@
 //! The tables of `packbed fragment`: `bonds.csv` (every bond of the intact bed
 //! under load) and `breakage.csv` (the broken bonds in order), with the
-//! columns of `spec/fragmentation.md`. Numbers in the shortest exact form, as
-//! in the run's tables.
+//! columns of `docs/reference/fragmentation.md`, "What it writes". Numbers in
+//! the shortest exact form, as in the run's tables.
 
 use super::tables::Num;
 use crate::mechanics::Fragmentation;

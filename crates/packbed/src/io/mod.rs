@@ -1,6 +1,6 @@
 //! Files: the tables (`particles.csv`, `contacts.csv`, `wall_contacts.csv`),
 //! `summary.json`, exports and readers, and the atomic staging of an output
-//! directory. Layouts are in `spec/interfaces.md`; [`crate::output`] puts a
+//! directory. Layouts are in `docs/reference/formats.md`; [`crate::output`] puts a
 //! run's files together.
 
 pub mod atomic;

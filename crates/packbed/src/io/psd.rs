@@ -1,6 +1,6 @@
 //! `psd.csv`: the size distribution placed against the one requested, one row
-//! per size (`spec/interfaces.md`: diameters and radii, mass and number
-//! percent passing).
+//! per size: diameters and radii, mass and number percent passing
+//! (`docs/reference/formats.md`, "psd.csv").
 
 use crate::analysis::psd::PsdSummary;
 use std::io::Write;

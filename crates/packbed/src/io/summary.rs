@@ -1,8 +1,9 @@
 //! `summary.json`: what was asked (the config as used), what was built (box,
 //! counts, species) and what was measured (the analysis summary), with timings.
 //!
-//! The keys listed in `spec/interfaces.md` are a contract with users' scripts:
-//! add keys freely, never rename one.
+//! The keys of [`SUMMARY_KEYS`] are a contract with users' scripts
+//! (`docs/reference/formats.md`, "The contract keys"): add keys freely, never
+//! rename one.
 
 use crate::analysis::psd::PsdSummary;
 use crate::analysis::{Overlaps, Summary};
@@ -17,7 +18,7 @@ use crate::species::Shape;
 use serde::Serialize;
 
 /// JSON pointers every run's `summary.json` holds: the keys scripts rely on
-/// (`spec/interfaces.md`), checked on the library's summary and the command's.
+/// (`docs/reference/formats.md`), checked on the library's summary and the command's.
 pub const SUMMARY_KEYS: &[&str] = &[
     "/dim",
     "/seed",

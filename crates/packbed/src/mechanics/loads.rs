@@ -1,4 +1,4 @@
-//! The loads on a bed (`spec/fragmentation.md`, "Loads"): the top and bottom
+//! The loads on a bed (`docs/reference/fragmentation.md`, "Loads"): the top and bottom
 //! bodies, where their shares act, and how a group's total is shared again
 //! when one of its bodies loses its last bond.
 
@@ -252,8 +252,8 @@ impl<const D: usize> Loads<D> {
     }
 }
 
-/// Why a bed has no top body, by the rule of `spec/fragmentation.md`, and
-/// what would give it one.
+/// Why a bed has no top body, by the rule of [`top_bodies`], and what would
+/// give it one.
 fn no_top_body<const D: usize>(load: Load, bed: &Bed<D>, bodies: &Bodies<D>) -> String {
     let high = highest_points(bed, bodies);
     let top = high.iter().fold(Real::NEG_INFINITY, |a, (_, h)| a.max(*h));

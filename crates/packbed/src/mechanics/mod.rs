@@ -1,4 +1,4 @@
-//! Contact forces and breakage of a bed under load (`spec/fragmentation.md`):
+//! Contact forces and breakage of a bed under load (`docs/reference/fragmentation.md`):
 //! a stage after the analysis that takes a [`Bed`] and its contacts, never the
 //! deposition engine.
 //!

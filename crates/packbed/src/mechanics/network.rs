@@ -1,6 +1,6 @@
 //! The bond network of a bed: one rigid body per sphere or chain, one bond per
 //! contact of the analysis (particle pairs, floor, side walls), with the
-//! geometry the spring law needs (`spec/fragmentation.md`, "The network").
+//! geometry the spring law needs (`docs/reference/fragmentation.md`, "The network").
 //!
 //! Every lever arm is built from minimum-image displacements, never from
 //! absolute positions, so that a chain or a pair across a periodic side has the

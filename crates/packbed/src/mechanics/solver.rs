@@ -34,7 +34,7 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Par, Side};
 
-/// Ground spring stiffness relative to `k_n` (spec: `1e-9 k_n`).
+/// Ground spring stiffness relative to `k_n` (`docs/reference/fragmentation.md`, "Equilibrium").
 pub const GROUND: Real = 1e-9;
 
 /// Columns of `W` kept before the matrix is factored again (128 bonds in 3D,

@@ -1,5 +1,5 @@
 //! The spring law of a bond and the rigid-body kinematics it needs
-//! (`spec/fragmentation.md`, "Spring law"): the motion of a body's material
+//! (`docs/reference/fragmentation.md`, "Spring law"): the motion of a body's material
 //! point, the bond force, and the bond's stiffness blocks.
 //!
 //! A body has `D` translations and `R` rotations (2D: one angle; 3D: a rotation

@@ -1,4 +1,4 @@
-//! Pictures of a bed under load (`spec/fragmentation.md`, "What it writes"):
+//! Pictures of a bed under load (`docs/reference/fragmentation.md`, "What it writes"):
 //! `forces.png`/`.svg`, every bond of the intact bed as a line whose width and
 //! colour grow with its force, tension and compression in two colour ramps,
 //! with the load arrows; and `breakage.png`/`.svg`, the broken bonds

@@ -7,7 +7,7 @@ use packbed::config::Config;
 use packbed::deposit::{deposit, DepositReport};
 use packbed::math::Real;
 
-/// Gap tolerance of the model (`spec/model.md`: exact to 1e-9 r).
+/// Gap tolerance of the model (`docs/reference/model.md`, "Exactness": exact to 1e-9 r).
 pub const TOL: Real = 1e-9;
 
 /// A config from TOML text, as a user writes it; panics with the text.

@@ -1,5 +1,5 @@
-//! Contact forces and breakage (`spec/fragmentation.md`) checked against
-//! computations written from the spec alone, not from `packbed::mechanics`:
+//! Contact forces and breakage (`docs/reference/fragmentation.md`) checked
+//! against computations written from that model alone, not from `packbed::mechanics`:
 //!
 //! 1. a dense reference: the network, loads, stiffness matrix with ground
 //!    springs, a dense Cholesky solve, the bond forces and the breakage loop,
@@ -25,9 +25,9 @@ use packbed::AnyBed;
 
 type V3 = [Real; 3];
 
-/// The total load of every load case (spec: F = 1).
+/// The total load of every load case (`docs/reference/fragmentation.md`, "Loads").
 const F: Real = 1.0;
-/// Ground spring relative to `k_n` (spec).
+/// Ground spring relative to `k_n` (`docs/reference/fragmentation.md`, "Equilibrium").
 const GROUND: Real = 1e-9;
 const LOADS: [Load; 3] = [Load::Shear, Load::Compression, Load::Gravity];
 
@@ -59,7 +59,7 @@ fn min_image<const D: usize>(bed: &Bed<D>, a: V3, b: V3) -> V3 {
 }
 
 // ---------------------------------------------------------------------------
-// The reference network (spec "The network" and "Loads")
+// The reference network (docs/reference/fragmentation.md, "The network" and "Loads")
 // ---------------------------------------------------------------------------
 
 #[derive(Clone, Debug)]
@@ -211,7 +211,7 @@ fn union_measure(dim: usize, beads: &[(V3, Real)]) -> Real {
     total
 }
 
-/// The network and the loads of `bed`, from the spec.
+/// The network and the loads of `bed`, from the model's description.
 fn network<const D: usize>(bed: &Bed<D>, contacts: &Contacts, load: Load) -> Net {
     let n = bed.len();
     let up = D - 1;
@@ -516,7 +516,7 @@ fn solve_forces(net: &Net, alive: &[bool], loads: &Applied, kt: Real) -> (Vec<Re
 }
 
 // ---------------------------------------------------------------------------
-// The reference breakage (spec "Breakage")
+// The reference breakage (docs/reference/fragmentation.md, "Breakage")
 // ---------------------------------------------------------------------------
 
 #[derive(Clone, Copy, Debug, PartialEq)]

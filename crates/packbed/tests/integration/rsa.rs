@@ -279,7 +279,7 @@ fn saturation_check_finds_a_hole() {
 }
 
 // ---------------------------------------------------------------------------
-// 2. Reference values (spec/references.md): Zhang & Torquato (2013)
+// 2. Reference values: Zhang & Torquato (2013), as docs/validation.md cites them
 // ---------------------------------------------------------------------------
 
 /// Mean bulk packing fraction over `seeds` replicates.

@@ -31,8 +31,9 @@ pub const SHUT: Real = 1e-6;
 /// A net flux below this fraction of the summed throat fluxes is rounding.
 const NOISE: Real = 1e-9;
 
-/// The largest `imbalance` a permeability is reported with (`spec/pores.md`:
-/// 1e-9); beyond it the solution does not carry one flux through the slab.
+/// The largest `imbalance` a permeability is reported with; beyond it the
+/// solution does not carry one flux through the slab, and a `k` from it would
+/// not be the network's (`docs/reference/pores.md`, "Flow and permeability").
 pub const BALANCE: Real = 1e-9;
 
 /// Throats with a conductance below this fraction of the median are closed.

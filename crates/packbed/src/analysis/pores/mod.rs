@@ -1,4 +1,4 @@
-//! The pore space of a bed (`spec/pores.md`): the regular triangulation of the
+//! The pore space of a bed (`docs/reference/pores.md`): the regular triangulation of the
 //! particle centres weighted by their squared radii, its cells (pores) and
 //! facets (throats), their sizes, and the permeability from the Stokes flow
 //! through the network.

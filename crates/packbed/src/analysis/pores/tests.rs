@@ -319,7 +319,7 @@ fn against_the_correlations(bed: &Bed<3>) -> (Real, Real, PermeabilitySummary, P
 }
 
 /// A periodic deposited bed of equal spheres: the side axes agree, and the
-/// permeability is within the spec's ±25 % of Carman–Kozeny and van der
+/// permeability is within ±25 % (the network model's accuracy) of Carman–Kozeny and van der
 /// Hoef et al. Measured with the default conductance: 1.05 of Carman–Kozeny
 /// and 1.06 of van der Hoef et al. (BENCHMARKS.md).
 #[test]

@@ -32,7 +32,7 @@ const DIRECT_FALLBACK: usize = 300_000;
 /// balances, so they hold far below the tolerance (they set 1e-11 before the
 /// deflation: 4e-10 at 1e-10 on the sieve examples); but not at any
 /// tolerance: at 1e-6 a periodic axis' balance reached 5.8e-10 on a
-/// `sieve-sweep` bed, too near the spec's 1e-9; at 1e-7 the largest found is
+/// `sieve-sweep` bed, too near the 1e-9 a reported `k` must meet; at 1e-7 the largest found is
 /// 1.7e-11. `k` to seven digits is far finer than the spread of replicate
 /// beds or the network model's ±25 % against Stokes flow. Against a solve to
 /// 1e-11, at 1e-7 `k_z` moved by 1.7e-8 (10^5 equal spheres), 1.3e-7
