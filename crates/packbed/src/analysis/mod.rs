@@ -2,6 +2,7 @@
 //! or read from a file) and never reaches back into the deposition engine.
 
 pub mod cake;
+pub mod capture;
 mod cells;
 pub mod contacts;
 pub mod dimensions;

@@ -14,6 +14,15 @@
 //! count = 20000
 //! ```
 //!
+//! The first feeds may be a filter medium (`medium = true`: a precoat, a
+//! granular medium, a fibre layer of horizontal chains): they settle on the
+//! solid floor, then the medium is lifted by [`Plan::medium_gap`] and the
+//! floor opens. A later body that reaches the floor has passed the medium:
+//! it leaves the bed as filtrate, counted with where it left
+//! ([`crate::analysis::capture`]).
+//!
+//! [`Plan::medium_gap`]: super::Plan::medium_gap
+//!
 //! A species belongs to one feed, so a particle's feed is its species'
 //! (`particles.csv` gains a `feed` column); to feed one slurry twice, give
 //! it two species entries. Without `[[feeds]]` a bed is one feed of every
@@ -36,6 +45,10 @@ pub struct FeedStageConfig {
     /// Its settling rule (default: the config's `[settling]`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub settling: Option<SettlingConfig>,
+    /// True for a filter medium: it settles on the solid floor, then stands
+    /// fixed above an open floor through which the later feeds can pass.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub medium: bool,
 }
 
 /// One feed of a bed, checked: what it draws, how many, how they settle.
@@ -47,6 +60,37 @@ pub struct FeedStage {
     pub count: u64,
     /// How its particles come to rest.
     pub settling: Settling,
+    /// True for a filter medium (the feeds before the first slurry).
+    pub medium: bool,
+}
+
+impl<const D: usize> super::Plan<D> {
+    /// How far a filter medium stands above the open floor: the longest
+    /// body of the feeds after it (a sphere's diameter, a chain's length end
+    /// to end). A body resting on the floor then reaches no higher than the
+    /// medium's bottom, so it touches none of it: it has passed; a body the
+    /// medium holds rests on a contact above its bottom, so its lowest point
+    /// stands above half the gap. 0 without a medium.
+    pub fn medium_gap(&self) -> Real {
+        if !self.feeds.iter().any(|f| f.medium) {
+            return 0.0;
+        }
+        self.feeds
+            .iter()
+            .filter(|f| !f.medium)
+            .flat_map(|f| &f.species)
+            .map(|&s| {
+                let s = &self.species[s as usize];
+                let r = s.size.bounds().1;
+                match s.shape {
+                    Shape::Sphere => 2.0 * r,
+                    Shape::Chain { beads, spacing, .. } => {
+                        2.0 * r + Real::from(beads.saturating_sub(1)) * spacing * r
+                    }
+                }
+            })
+            .fold(0.0, Real::max)
+    }
 }
 
 /// The feeds of `stages`, checked against the named `species` (each of which
@@ -106,11 +150,22 @@ pub(crate) fn resolve_feeds(
                 "{what}.settling.restitution: the momentum rule settles spheres and discs; a rigid chain's momentum is not modelled"
             )));
         }
+        if stage.medium && k > 0 && !stages[k - 1].medium {
+            return Err(Error::config(format!(
+                "{what}.medium: the medium's feeds come first, before every feed that is not a medium (move this entry up)"
+            )));
+        }
         out.push(FeedStage {
             species: picked,
             count: stage.count,
             settling: rule,
+            medium: stage.medium,
         });
+    }
+    if out.last().is_some_and(|f| f.medium) {
+        return Err(Error::config(
+            "[[feeds]]: every feed is a medium; add the slurry's feed after it (a medium is what a later feed is filtered through)",
+        ));
     }
     if let Some(s) = species.iter().find(|s| s.feed.is_none()) {
         return Err(Error::config(format!(

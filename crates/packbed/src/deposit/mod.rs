@@ -47,6 +47,25 @@ pub struct DepositReport {
     pub moves: u64,
     /// Wall time of deposition in seconds.
     pub deposit_seconds: f64,
+    /// The bodies that passed the filter medium through the open floor, in
+    /// the order they were fed (empty without a medium).
+    pub filtrate: Vec<Filtrate>,
+    /// How far the medium was lifted above the open floor (0 without one).
+    pub medium_lift: Real,
+}
+
+/// A body that passed the filter medium: it reached the open floor.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Filtrate {
+    /// Its species.
+    pub species: u32,
+    /// Its (bead) radius.
+    pub radius: Real,
+    /// Its beads (1 for a sphere).
+    pub beads: u32,
+    /// Where it left: the horizontal position of its lowest bead on the
+    /// floor (x, and y in 3D; 0 for the axes a 2D bed lacks).
+    pub at: [Real; 2],
 }
 
 /// Re-drops of one particle after which the run gives up (never seen in practice).
@@ -71,6 +90,11 @@ struct Engine<'p, const D: usize> {
     picks: Vec<u32>,
     settling: Settling,
     feed_end: u64,
+    /// Beads fed that passed the medium (they count toward the feeds'
+    /// counts but are not in the bed).
+    passed_beads: u64,
+    /// True once the floor under the medium is open.
+    open_floor: bool,
     rng: RunRng,
     report: DepositReport,
 }
@@ -93,6 +117,8 @@ impl<'p, const D: usize> Engine<'p, D> {
                 Fill::Count(n) => n,
                 Fill::Roof { .. } => u64::MAX,
             },
+            passed_beads: 0,
+            open_floor: false,
             rng: RunRng::seed_from_u64(plan.seed),
             report: DepositReport::default(),
         };
@@ -116,6 +142,34 @@ impl<'p, const D: usize> Engine<'p, D> {
         self.settling = feed.settling;
         let before: u64 = self.plan.feeds[..k].iter().map(|f| f.count).sum();
         self.feed_end = before + feed.count;
+        if !feed.medium && k > 0 && self.plan.feeds[k - 1].medium {
+            self.open_the_floor();
+        }
+    }
+
+    /// Lifts the medium built so far by [`Plan::medium_gap`] and opens the
+    /// floor: a later body that reaches the floor has fallen clear of the
+    /// medium (the gap holds the longest of them), and leaves as filtrate.
+    fn open_the_floor(&mut self) {
+        let lift = self.plan.medium_gap();
+        for c in &mut self.bed.centres {
+            c[D - 1] += lift;
+        }
+        self.grid = Grid::for_particles(
+            &self.plan.container,
+            &grid_levels::<D>(&self.plan.species),
+            self.plan.estimated_particles() as usize,
+        );
+        for (id, (c, &r)) in self.bed.centres.iter().zip(&self.bed.radii).enumerate() {
+            self.grid.insert(id as u32, c, r);
+        }
+        self.open_floor = true;
+        self.report.medium_lift = lift;
+    }
+
+    /// Beads fed so far: those in the bed and those that passed the medium.
+    fn fed(&self) -> u64 {
+        self.bed.len() as u64 + self.passed_beads
     }
 
     fn terrain(&self) -> Terrain<'_, D> {
@@ -195,7 +249,7 @@ impl<'p, const D: usize> Engine<'p, D> {
         progress: &mut Progress,
     ) -> Result<bool> {
         let target = self.target();
-        while (self.bed.len() as u64) < target {
+        while self.fed() < target {
             if let Some(batches) = batches.as_mut() {
                 match self.drop_batch(batches, progress)? {
                     speculate::Ended::Placed { more: true } => continue,
@@ -279,6 +333,30 @@ impl<'p, const D: usize> Engine<'p, D> {
         s: u32,
         progress: &mut Progress,
     ) -> Result<bool> {
+        if self.open_floor {
+            // Bodies held by the medium stand above half the gap, bodies on
+            // the floor below it (`Plan::medium_gap`): no tolerance is needed.
+            let half_gap = 0.5 * self.report.medium_lift;
+            let lowest = (0..body.beads())
+                .map(|k| body.bead(pose, k))
+                .min_by(|a, b| a[D - 1].total_cmp(&b[D - 1]))
+                .unwrap_or(Vector::zero());
+            if lowest[D - 1] - body.radius() < half_gap {
+                let at = self.plan.container.wrap(lowest);
+                let mut xy = [0.0; 2];
+                for (k, x) in xy.iter_mut().enumerate().take(D - 1) {
+                    *x = at[k];
+                }
+                self.report.filtrate.push(Filtrate {
+                    species: s,
+                    radius: body.radius(),
+                    beads: body.beads(),
+                    at: xy,
+                });
+                self.passed_beads += u64::from(body.beads());
+                return Ok(true);
+            }
+        }
         if let Fill::Roof { misses } = self.plan.fill {
             let top = (0..body.beads())
                 .map(|k| body.bead(pose, k)[D - 1])

@@ -179,7 +179,7 @@ impl<const D: usize> Engine<'_, D> {
             placed,
         } = batches;
         draws.clear();
-        let left = self.target().saturating_sub(self.bed.len() as u64);
+        let left = self.target().saturating_sub(self.fed());
         let mut rng = self.rng.clone();
         // Up to `EXTRA` times the batch's size is drawn: a thread done with
         // its share while another still settles a slow sphere of the batch

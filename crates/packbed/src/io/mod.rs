@@ -4,6 +4,7 @@
 //! run's files together.
 
 pub mod atomic;
+pub mod capture;
 pub mod export;
 mod finite;
 pub mod fragmentation;

@@ -94,6 +94,10 @@ pub struct RunSummary {
     /// Forces and breakage under load (with a `[fragmentation]` table).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fragmentation: Option<FragmentationSummary>,
+    /// What the filter medium let through, held and left above it (beds
+    /// with a `medium = true` feed).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub capture: Option<crate::analysis::capture::CaptureSummary>,
     /// Wall times.
     pub timing: Timing,
     /// The species, in config order (the `species` column of `particles.csv`).
@@ -225,6 +229,7 @@ impl RunSummary {
             analysis: analysis.clone(),
             psd,
             fragmentation: None,
+            capture: capture(config, bed, report),
             timing,
             species: species_summaries(bed),
             config: config_as_used(config),
@@ -236,6 +241,23 @@ impl RunSummary {
     pub fn to_json(&self) -> Result<String> {
         json_text(self, "the run's results")
     }
+}
+
+/// The capture of a bed built with a filter medium.
+fn capture<const D: usize>(
+    config: &Config,
+    bed: &Bed<D>,
+    report: &DepositReport,
+) -> Option<crate::analysis::capture::CaptureSummary> {
+    let medium: Vec<bool> = bed
+        .species_info
+        .iter()
+        .map(|s| {
+            s.feed
+                .is_some_and(|k| config.feeds.get(k as usize).is_some_and(|f| f.medium))
+        })
+        .collect();
+    crate::analysis::capture::capture(bed, &medium, &report.filtrate, report.medium_lift)
 }
 
 /// A warning for each size table of `bed`'s species that names no unit in a

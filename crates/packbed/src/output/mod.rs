@@ -82,6 +82,17 @@ pub fn write_run_with<const D: usize>(
     )];
     tables.extend(contact_tables(contacts));
     tables.extend(made.tables);
+    if let Some(capture) = &summary.capture {
+        use crate::io::capture::{write_capture, write_filtrate, CAPTURE_FILES};
+        tables.push((
+            CAPTURE_FILES[0].to_string(),
+            Content::Stream(Box::new(move |w| write_filtrate(w, capture))),
+        ));
+        tables.push((
+            CAPTURE_FILES[1].to_string(),
+            Content::Stream(Box::new(move |w| write_capture(w, capture))),
+        ));
+    }
     let summary = warned(summary, made.missing);
     stage_dir(dir, tables, made.pictures, summary, |n| {
         earlier_file(n, true)
@@ -148,6 +159,7 @@ pub fn earlier_file(name: &str, beds: bool) -> bool {
         || crate::io::liquid::LIQUID_FILES.contains(&name)
         || crate::io::solid_bridges::DRYING_FILES.contains(&name)
         || name == crate::io::psd::PSD_FILE
+        || crate::io::capture::CAPTURE_FILES.contains(&name)
 }
 
 /// Whether `dir` holds a `summary.json` that packbed wrote (a JSON object

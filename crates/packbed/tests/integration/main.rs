@@ -11,6 +11,7 @@ mod ensemble;
 mod feeds;
 mod fragmentation;
 mod length_scale;
+mod medium;
 mod physics;
 mod regressions;
 #[cfg(feature = "render")]
