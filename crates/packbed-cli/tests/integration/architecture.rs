@@ -349,7 +349,10 @@ fn upward_imports(src: &Path, floors: &[(u32, Vec<String>)]) -> Vec<String> {
 
 /// The code spans of a Markdown text that look like paths of the
 /// repository: a name with a `/` or a source or page extension, no blanks
-/// and nothing of a pattern or an expression.
+/// and nothing of a pattern or an expression; absolute paths (the
+/// machine's, not the repository's) left out. Names of files packbed
+/// writes are not paths of the repository: the pages write them in
+/// italics, not in code.
 fn named_paths(markdown: &str) -> Vec<(usize, String)> {
     let mut out = Vec::new();
     for (n, line) in prose(markdown) {
@@ -360,6 +363,7 @@ fn named_paths(markdown: &str) -> Vec<(usize, String)> {
                     .any(|e| span.ends_with(e));
             let refused = span.is_empty()
                 || span.starts_with('-')
+                || span.starts_with('/')
                 || (span.starts_with('.') && !span.contains('/'))
                 || span.starts_with("http")
                 || span.contains("://")
