@@ -167,7 +167,10 @@ fn wrong_sizes(root: &Path, markdown: &str) -> Vec<String> {
     for claim in size_claims(markdown) {
         let path = root.join(&claim.path);
         if !path.exists() {
-            wrong.push(format!("line {}: `{}` does not exist", claim.line, claim.path));
+            wrong.push(format!(
+                "line {}: `{}` does not exist",
+                claim.line, claim.path
+            ));
             continue;
         }
         let (files, lines) = measure(&path);
@@ -526,14 +529,17 @@ fn a_false_claim_is_found() {
     fs::write(src.join("top.rs"), "use crate::{high::g, low};\n").unwrap();
     let fine = "| floor | rooms |\n| --- | --- |\n| 4 | `lib.rs` |\n| 3 | `top.rs` |\n| 2 | `high.rs` |\n| 1 | `low/` |\n";
     assert_eq!(upward_imports(&src, &floors(fine)), [] as [String; 0]);
-    let partial = "| floor | rooms |\n| --- | --- |\n| 4 | `lib.rs` |\n| 3 | `top.rs` |\n| 1 | `low/` |\n";
+    let partial =
+        "| floor | rooms |\n| --- | --- |\n| 4 | `lib.rs` |\n| 3 | `top.rs` |\n| 1 | `low/` |\n";
     assert!(upward_imports(&src, &floors(partial))
         .iter()
         .any(|p| p.contains("module `high`") && p.contains("on no floor")));
 
     let mut paths = Vec::new();
     repo_paths(&dir, &dir, &mut paths);
-    let named = named_paths("See `src/low/mod.rs`, `low/`, `high.rs`, `gone/x.rs`, `summary.json` and `a / b`.");
+    let named = named_paths(
+        "See `src/low/mod.rs`, `low/`, `high.rs`, `gone/x.rs`, `summary.json` and `a / b`.",
+    );
     let missing: Vec<&str> = named
         .iter()
         .filter(|(_, p)| !exists(p, &paths))
