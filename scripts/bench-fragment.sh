@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Speed of `packbed fragment` (spec/performance.md, issue 14): periodic beds of
+# Speed of `packbed fragment` (its targets: BENCHMARKS.md, "Contact forces and breakage"): periodic beds of
 # equal spheres under shear. Builds the beds with `packbed run`, then reports
 # the first solve and the breaks as timed by `packbed fragment` itself
 # (summary.json timing.*).

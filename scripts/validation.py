@@ -201,8 +201,8 @@ there; every run has a fixed seed, so the figures repeat).
 
 The source study is the PhD thesis on packed beds formed during filtration
 (Strathclyde 2023) whose method and tables are summarised in the project's
-notes on its percolation results; the literature values are those of
-`spec/references.md`. "min, mean ± sd, max" are over the beds of an ensemble.
+notes on its percolation results; each literature value is cited beside
+it. "min, mean ± sd, max" are over the beds of an ensemble.
 """)
 
     o.append("""
@@ -331,7 +331,7 @@ box (500 beds per radius set):
         o.append(f"| {rr} | {mean(box2[(lab, 'voids.count')], 1)} | {mean(box2[(lab, 'voids.mean_area_scaled')], 4)} | {mean(box2[(lab, 'voids.mean_sides')], 2)} |\n")
     o.append("""
 No reference: the study's void tables are not in this repository, and the
-literature values of `spec/references.md` do not include voids.
+literature cited on this page has no void statistics.
 """)
 
     rods = json.load(open(p("rods", "summary.json")))

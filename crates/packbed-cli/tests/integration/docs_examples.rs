@@ -129,17 +129,22 @@ fn pages(root: &Path) -> Vec<PathBuf> {
 }
 
 /// The pages whose links are checked: those of [`pages`], then the reference
-/// pages (docs/reference/*.md) in name order. The reference pages hold no
-/// examples to run.
+/// pages (docs/reference/*.md) in name order, ARCHITECTURE.md and the design
+/// records (docs/design/*.md). These hold no examples to run.
 fn linked_pages(root: &Path) -> Vec<PathBuf> {
-    let mut reference: Vec<PathBuf> = fs::read_dir(root.join("docs/reference"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "md"))
-        .collect();
-    reference.sort();
     let mut all = pages(root);
-    all.extend(reference);
+    for dir in ["docs/reference", "docs/design"] {
+        let mut more: Vec<PathBuf> = fs::read_dir(root.join(dir))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "md"))
+            .collect();
+        more.sort();
+        all.extend(more);
+        if dir == "docs/reference" {
+            all.push(root.join("ARCHITECTURE.md"));
+        }
+    }
     all
 }
 

@@ -5,6 +5,7 @@
 mod common;
 
 mod agglomeration;
+mod architecture;
 mod bounds;
 mod commands;
 mod compare;

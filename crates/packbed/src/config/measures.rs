@@ -446,7 +446,7 @@ pub struct FlowConfig {
 /// The constriction radius is what the throat lets through: with one factor
 /// fixed on Zick & Homsy's touching array it is within 10 % of their exact
 /// Stokes values from `φ` = 0.216 to 0.524 and within 16 % of the
-/// correlations on random beds from `φ` = 0.38 to 0.62 (ARCHITECTURE.md).
+/// correlations on random beds from `φ` = 0.38 to 0.62 (docs/design/conductance.md).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Conductance {

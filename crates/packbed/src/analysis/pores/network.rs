@@ -11,8 +11,8 @@
 //! that the wall is a plane of symmetry of the pore space, and a cell is kept
 //! when its power centre lies in the box. Throats to cells outside are walls
 //! (no flow): a slip wall for the network, the cheapest treatment that keeps
-//! a walled bed's pore space whole at the wall (ARCHITECTURE.md, "Walls:
-//! mirror images", has its measured effect).
+//! a walled bed's pore space whole at the wall (docs/design/pore-network.md,
+//! "Walls: mirror images").
 //!
 //! The margin is checked, not trusted: a pore in the part of the bed that is
 //! asked for must have an orthogonal sphere that no point beyond the margin
