@@ -34,6 +34,21 @@ impl Bed<2> {
     }
 }
 
+/// A body that passed the filter medium: it reached the open floor.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Filtrate {
+    /// Its species.
+    pub species: u32,
+    /// Its (bead) radius.
+    pub radius: Real,
+    /// Its beads (1 for a sphere).
+    pub beads: u32,
+    /// Where it left: the horizontal position of its lowest bead on the
+    /// floor (x, and y in 3D; 0 for the axes a 2D bed lacks).
+    pub at: [Real; 2],
+}
+
+
 /// A bed of either dimension: the one place the dimension is chosen at run time.
 #[derive(Clone, Debug)]
 pub enum AnyBed {

@@ -9,8 +9,7 @@
 //! chain's centre of mass) lies below it has lodged inside the medium, one
 //! above it belongs to the cake. A body's size is its bead diameter.
 
-use crate::bed::Bed;
-use crate::deposit::Filtrate;
+use crate::bed::{Bed, Filtrate};
 use crate::math::Real;
 use serde::Serialize;
 

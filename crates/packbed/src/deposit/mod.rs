@@ -12,7 +12,7 @@ mod rule;
 mod speculate;
 mod trail;
 
-use crate::bed::{AnyBed, Bed};
+use crate::bed::{AnyBed, Bed, Filtrate};
 use crate::config::{AnyPlan, BaseLayerKind, Config, Fill, Mode, Plan, Settling};
 use crate::error::{Error, Result};
 use crate::grid::{Grid, Levels};
@@ -52,20 +52,6 @@ pub struct DepositReport {
     pub filtrate: Vec<Filtrate>,
     /// How far the medium was lifted above the open floor (0 without one).
     pub medium_lift: Real,
-}
-
-/// A body that passed the filter medium: it reached the open floor.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Filtrate {
-    /// Its species.
-    pub species: u32,
-    /// Its (bead) radius.
-    pub radius: Real,
-    /// Its beads (1 for a sphere).
-    pub beads: u32,
-    /// Where it left: the horizontal position of its lowest bead on the
-    /// floor (x, and y in 3D; 0 for the axes a 2D bed lacks).
-    pub at: [Real; 2],
 }
 
 /// Re-drops of one particle after which the run gives up (never seen in practice).
