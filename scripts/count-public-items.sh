@@ -23,9 +23,20 @@
 #   method): read "named" as an upper bound of the documented API, not its
 #   exact size.
 #
-# Usage: scripts/count-public-items.sh [SRC_DIR]   (default crates/packbed/src)
+# With --rustdoc it also counts exactly what rustdoc documents (the items a
+# user can reach by path or through a re-export), from rustdoc's JSON output:
+# that needs a nightly toolchain (`rustup toolchain install nightly`) and
+# python3, takes a check build, and reads JSON format version 57 (older or
+# newer nightlies may name things differently).
+#
+# Usage: scripts/count-public-items.sh [--rustdoc] [SRC_DIR]   (default crates/packbed/src)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+RUSTDOC=0
+if [[ "${1:-}" == --rustdoc ]]; then
+    RUSTDOC=1
+    shift
+fi
 SRC="${1:-crates/packbed/src}"
 [[ -f "$SRC/lib.rs" ]] || { echo "no lib.rs in $SRC" >&2; exit 2; }
 
@@ -106,3 +117,40 @@ echo "packbed's public items in $SRC (the comment of scripts/count-public-items.
 paste <(printf 'kind\tall\n'; printf 'files\t%d\n' "$(wc -l <<<"$all")"; count <<<"$all") \
     <(printf 'named\n%d\n' "$(wc -l <<<"$named")"; count <<<"$named" | cut -f2) |
     awk -F'\t' '{ printf "%-16s %6s %6s\n", $1, $2, $3 }'
+
+((RUSTDOC)) || exit 0
+echo
+echo "rustdoc's JSON (cargo +nightly rustdoc -p packbed --lib, reachable items only)"
+TARGET="${CARGO_TARGET_DIR:-target}"
+cargo +nightly rustdoc -q -p packbed --lib -- -Z unstable-options --output-format json
+python3 - "$TARGET/doc/packbed.json" <<'PY'
+import collections, json, sys
+
+doc = json.load(open(sys.argv[1]))
+index = doc["index"]
+kind = lambda item: next(iter(item["inner"]))
+local = {i: item for i, item in index.items() if item.get("crate_id") == 0}
+# Methods: the items of inherent impls (not trait impls, whose methods the
+# trait documents).
+inherent = set()
+for item in local.values():
+    if kind(item) == "impl" and item["inner"]["impl"].get("trait") is None:
+        inherent.update(str(m) for m in item["inner"]["impl"]["items"])
+n = collections.Counter()
+for i, item in local.items():
+    k, public = kind(item), item.get("visibility") == "public"
+    if k == "function" and i in inherent:
+        n["fn (method)"] += public
+    elif k == "function" and i in doc["paths"]:
+        n["fn (free)"] += 1
+    elif k == "struct_field":
+        n["field"] += public
+    elif k in ("struct", "enum", "trait", "type_alias", "constant", "static", "module", "union", "use"):
+        n[k] += 1
+rows = ["fn (free)", "fn (method)", "struct", "enum", "trait", "type_alias", "constant", "static", "module", "union"]
+for k in rows:
+    print(f"{k:16} {n[k]:6}")
+print(f"{'items':16} {sum(n[k] for k in rows):6}")
+print(f"{'use (re-export)':16} {n['use']:6}")
+print(f"{'field':16} {n['field']:6}")
+PY
