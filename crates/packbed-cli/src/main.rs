@@ -36,6 +36,8 @@ enum Command {
     /// Build one bed, analyse it and write its files (default bed without arguments).
     Run(run::RunArgs),
     /// Analyse an existing bed file (packbed CSV, plain x y [z] r, LAMMPS dump, XYZ, VTU).
+    // This comment is also the `--help` text, where `[z]` reads as optional; it is no link.
+    #[allow(rustdoc::broken_intra_doc_links)]
     Analyze(analyze::AnalyzeArgs),
     /// Contact forces of a bed file under load, and the order its bonds break.
     Fragment(fragment::FragmentArgs),

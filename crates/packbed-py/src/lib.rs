@@ -2,7 +2,7 @@
 //!
 //! Thin by design: every call parses its arguments (settings arrive as JSON
 //! text of the TOML schema, so that serde gives the same checks and messages
-//! as a config file), runs the library off the GIL ([`detached`]) and hands
+//! as a config file), runs the library off the GIL (`detached`) and hands
 //! back numpy arrays or JSON text. The Python package in `python/packbed`
 //! wraps these into the documented API; nothing here reimplements the library.
 

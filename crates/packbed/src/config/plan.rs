@@ -802,7 +802,7 @@ pub fn pore_space_extent_problem(measures: &[Measure], diameters: Real) -> Optio
 /// Refuses to analyse a bed of `particles` particles in `dim` dimensions with
 /// `measures` when that would need more memory than packbed may use (in 3D
 /// the pore space costs about three times the rest); `points` as in
-/// [`run_bytes`].
+/// `run_bytes`.
 pub fn check_analysis(
     particles: usize,
     dim: u8,

@@ -135,6 +135,8 @@ pub(super) fn first_difference(a: &Value, b: &Value, path: &str) -> Option<Strin
     }
 }
 
+/// The contents of `manifest.json`: what an ensemble directory holds, so that
+/// a rerun resumes only the same ensemble and a merge joins only its shards.
 #[derive(Clone, Debug)]
 pub struct Manifest {
     /// Version of packbed that made the ensemble.

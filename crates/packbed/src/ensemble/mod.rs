@@ -21,7 +21,7 @@
 //! - with a sweep, the per-value files are under `sweep/NN-label/`, and
 //!   `sweep.csv`, `sweep.md` and the `plot_sweep_*` plots compare the values.
 //!
-//! Modules: [`replicates`] (running them, resume), [`manifest`] (what
+//! Modules: `replicates` (running them, resume), `manifest` (what
 //! identifies an ensemble directory, shards), [`merge`] (joining shards),
 //! [`write`] (the statistics files and plots), [`slurm`] (job scripts for a
 //! Slurm cluster), and [`stats`] (from `analysis`), [`tables`], [`seeds`], [`sweep`].
@@ -79,7 +79,7 @@ pub struct EnsembleOptions {
     pub pictures: bool,
     /// Set from another thread to stop the ensemble (Ctrl-C in Python): no
     /// replicate starts after it, running ones stop within 4096 particles,
-    /// and the run fails with [`Error::Interrupted`](crate::Error::Interrupted).
+    /// and the run fails with [`Error::Interrupted`].
     /// The replicates finished before are on disk, and a rerun resumes.
     pub stop: Option<Arc<AtomicBool>>,
 }

@@ -9,7 +9,7 @@
 //! Sherman–Morrison–Woodbury inverse
 //! `(A₀ − W Wᵀ)⁻¹ = A₀⁻¹ + Z S⁻¹ Zᵀ` with `Z = A₀⁻¹ W`, `S = I − Wᵀ Z`,
 //! kept half-solved: with `A₀ = Pᵀ L Lᵀ P` and `Y = L⁻¹ P W` (sparse, see
-//! [`factor`](super::factor)), `S = I − Yᵀ Y` and
+//! `math::sparse::factor`), `S = I − Yᵀ Y` and
 //! `A⁻¹ b = Pᵀ L⁻ᵀ (y + Y S⁻¹ Yᵀ y)` with `y = L⁻¹ P b`. A break costs a
 //! sparse forward solve per column of `W` and a small dense factorisation; a
 //! solve for loads seen before costs one backward half-solve.

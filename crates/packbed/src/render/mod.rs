@@ -4,8 +4,8 @@
 //!   embedded text, so both formats show the same picture.
 //! - [`bed2d`]: 2D beds, every disc drawn exactly (SVG circles in bed coordinates).
 //! - [`bed3d`]: 3D beds, a z-buffered raster of exact sphere surfaces, shaded.
-//! - [`frame`]: title, legend and scale bar around a bed picture.
-//! - [`plot`]: histograms, profiles, bars with error bars, from plain data.
+//! - `frame`: title, legend and scale bar around a bed picture.
+//! - `plot`: histograms, profiles, bars with error bars, from plain data.
 //! - [`fragmentation`]: bond forces and breakage of a bed under load.
 //! - [`colour`]: colour-blind-safe palettes.
 //!

@@ -1,7 +1,7 @@
 //! The plots of one bed and of ensembles, built from plain data: coordination
 //! histograms (overall and per species), the packing profile, regional packing
 //! bars, chain-angle histograms, and ensemble/sweep summaries. Each function
-//! returns a [`Plot`]; callers choose file names and formats.
+//! returns a `Plot`; callers choose file names and formats.
 
 use super::plot::{BarGroup, Plot, PlotData, Series};
 use crate::analysis::orientation::AngleFrom;

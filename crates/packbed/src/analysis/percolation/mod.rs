@@ -18,10 +18,10 @@
 //! right, without crossing the seam itself (a path across the periodic cell).
 
 //!
-//! Modules: [`options`] (what is large, the caps), [`graph`] and
+//! Modules: [`options`] (what is large, the caps), `graph` and
 //! [`large_graph`] (the graph of large bodies, the terminals of a chain),
-//! [`clusters`] (clusters and which span), [`shortest`], [`disjoint`] (the exact
-//! count of disjoint chains), [`unique`] (the enumeration of unique chains) and
+//! [`clusters`] (clusters and which span), `shortest`, `disjoint` (the exact
+//! count of disjoint chains), `unique` (the enumeration of unique chains) and
 //! [`report`] (the figures written to `summary.json`).
 
 mod clusters;

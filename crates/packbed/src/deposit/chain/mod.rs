@@ -36,7 +36,7 @@
 //! rest test measures it (QR, every shut contact), polished if needed
 //! (`Settler::rare_rest`).
 //!
-//! A body that does not come to rest within [`MAX_ITERATIONS`] is reported as
+//! A body that does not come to rest within `settle::MAX_ITERATIONS` is reported as
 //! stuck (the engine re-drops it and counts it).
 
 mod contacts;

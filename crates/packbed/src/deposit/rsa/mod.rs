@@ -7,7 +7,7 @@
 //!    `r_min`, a species and radius drawn as usual; kept when it fits (inside
 //!    the box, no overlap). Cheap while the box is open.
 //! 2. Once most trials fail, the exclusion-region phase (Zhang & Torquato 2013,
-//!    see [`voxels`]): the space where the smallest particle still fits is kept
+//!    see `voxels`): the space where the smallest particle still fits is kept
 //!    on voxels, trial centres are drawn only there, and voxels are refined
 //!    until none is left. Sampling only where something may fit leaves the
 //!    process unchanged; its cost stays near linear in the box.

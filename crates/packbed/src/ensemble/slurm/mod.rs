@@ -18,7 +18,7 @@
 //! Resubmitting into `DIR` resumes: every task resumes its shard (the
 //! replicates done are skipped, [`super::run`]) and the merge joins them.
 //! Script text, job-id parsing and the checks are pure functions here; running
-//! `sbatch`, `squeue` and `scancel` is in [`jobs`] (re-exported here).
+//! `sbatch`, `squeue` and `scancel` is in `jobs` (re-exported here).
 
 mod jobs;
 

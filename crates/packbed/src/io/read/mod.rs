@@ -8,8 +8,8 @@
 //! Every problem is an [`Error::Data`](crate::error::Error::Data) naming the file and the 1-based line.
 //!
 //! Modules: [`report`] (the box hint and what reading found), one per format
-//! ([`table`], [`lammps`], [`xyz`], [`vtu`]), and the checks every format
-//! shares ([`checks`]) on the particles collected in [`raw`].
+//! (`table`, `lammps`, `xyz`, `vtu`), and the checks every format
+//! shares (`checks`) on the particles collected in `raw`.
 
 mod checks;
 mod lammps;

@@ -31,8 +31,8 @@ use rayon::prelude::*;
 /// found. Where each row's couplings within its block start, where those
 /// above the row start, and the inverse diagonal are kept so that a sweep
 /// neither tests every column against the row nor divides (both sit on that
-/// chain). Once the hierarchy is built, [`Csr::cut_into_blocks`] puts each row's
-/// couplings to other blocks first (see [`blocks`]).
+/// chain). Once the hierarchy is built, `Csr::cut_into_blocks` puts each row's
+/// couplings to other blocks first (see `blocks`).
 ///
 /// The values are `V`: double precision where the matrix is built and where
 /// conjugate gradients multiply by it, single on the coarse levels, which

@@ -21,7 +21,7 @@
 //! off a separator is worth far more than the ordering's own time. There
 //! METIS's multilevel nested dissection (Karypis & Kumar 1998: coarsening by
 //! matchings, separators refined by Fiduccia–Mattheyses moves, the best of
-//! [`SEPARATOR_TRIALS`] at each level) finds separators a flat cut cannot:
+//! `SEPARATOR_TRIALS` at each level) finds separators a flat cut cannot:
 //! on the 3D benchmark bed (2·10⁴ spheres) it needs 20 % fewer flops than
 //! coordinate bisection (3.50·10¹¹ against 4.37·10¹¹) for 0.3 s of ordering.
 //! In 2D the factor is cheap (10⁵ discs: 3.6·10⁹ flops) and METIS's 0.5–1 s

@@ -187,11 +187,18 @@ pub fn solve_spd<const D: usize>(
 /// once the hierarchy holds them.
 #[derive(Clone, Debug)]
 pub struct Systems<const D: usize> {
+    /// The position of each node (unknown).
     pub points: Vec<Vector<D>>,
+    /// The diagonal the systems share.
     pub diag: Vec<Real>,
+    /// The off-diagonal entries `(i, j, a_ij)`, `i != j`, repeated pairs summed.
     pub off: Vec<(u32, u32, Real)>,
+    /// Per right-hand side, the shift added to `diag` (empty: none).
     pub shifts: Vec<Vec<Real>>,
+    /// The right-hand sides, one per system.
     pub rhs: Vec<Vec<Real>>,
+    /// Per right-hand side, the vector its residual stays orthogonal to
+    /// when solved iteratively (`None`: no such vector).
     pub deflate: Option<Vec<Vec<Real>>>,
 }
 

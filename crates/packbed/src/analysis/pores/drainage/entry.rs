@@ -7,7 +7,7 @@
 //!   `γ cos θ / r_c` in 2D (a cylindrical meniscus between two discs whose
 //!   gap is `2 r_c`).
 //! - `msp` (the default in 3D): the Mayer–Stowe–Princen balance of the
-//!   facet's cross-section ([`super::capillary`]), which counts the liquid
+//!   facet's cross-section ([`super::msp`]), which counts the liquid
 //!   left in the throat's three corners: the meniscus through a triangular
 //!   throat is not a sphere, and the inscribed circle overstates the entry
 //!   pressure of such throats (Mason & Morrow 1991; Joekar-Niasar et al.

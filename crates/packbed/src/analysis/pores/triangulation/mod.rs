@@ -117,7 +117,7 @@ impl<const D: usize> Triangulation<D> {
     /// configuration (a lattice) are split into cells the same way.
     ///
     /// Large inputs are triangulated in two pieces on two threads
-    /// ([`split`]): the same input cells, each once, with their links, and
+    /// (`split`): the same input cells, each once, with their links, and
     /// no far cells (their links read `NONE`). Small ones, and any input
     /// whose pieces cannot be certified, in one piece.
     pub fn with_ranks(points: &[[f64; D]], weights: &[f64], ranks: &[u64]) -> Self {

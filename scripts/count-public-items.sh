@@ -1,0 +1,156 @@
+#!/usr/bin/env bash
+# Counts the public items of the packbed library (crates/packbed/src), by
+# grep, so that it runs on stable Rust (rustdoc's JSON output, which would
+# count exactly what is reachable, needs nightly). Issue 62: the size of the
+# library's front door, to watch it over time.
+#
+# How it counts (one declaration = one line):
+# - an item is a declaration starting `pub ` (not `pub(crate)`, `pub(super)`,
+#   `pub(in ..)`) followed by fn, struct, enum, trait, type, const, static,
+#   mod or union (`pub const fn`, `pub unsafe fn`, .. count as fn);
+#   `pub fn` at column 0 is a free function, indented it is a method in an
+#   `impl` block;
+# - `pub use` re-exports are counted apart (each line once, whatever it lists);
+# - a field is a line `pub name: Type` (named fields), plus the `pub` fields
+#   of tuple structs on their `pub struct` line;
+# - comments are skipped, and so are inline private modules (`mod tests {`):
+#   their `pub` items are for the tests;
+# - two scopes: "all" is every file of the library (reached from lib.rs by
+#   `mod`, test modules left out); "named" keeps the files a user can reach
+#   by path, through `pub mod` declarations from lib.rs. Items
+#   of private modules re-exported by `pub use` count in "all" only, and a
+#   `pub` item of a public module may still be unnamable (a private type's
+#   method): read "named" as an upper bound of the documented API, not its
+#   exact size.
+#
+# With --rustdoc it also counts exactly what rustdoc documents (the items a
+# user can reach by path or through a re-export), from rustdoc's JSON output:
+# that needs a nightly toolchain (`rustup toolchain install nightly`) and
+# python3, takes a check build, and reads JSON format version 57 (older or
+# newer nightlies may name things differently).
+#
+# Usage: scripts/count-public-items.sh [--rustdoc] [SRC_DIR]   (default crates/packbed/src)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+RUSTDOC=0
+if [[ "${1:-}" == --rustdoc ]]; then
+    RUSTDOC=1
+    shift
+fi
+SRC="${1:-crates/packbed/src}"
+[[ -f "$SRC/lib.rs" ]] || { echo "no lib.rs in $SRC" >&2; exit 2; }
+
+# The files of the library reachable from lib.rs: through `pub mod` only
+# ($1 = pub), or through any `mod` but those under `#[cfg(test)]` ($1 = any).
+# Other attributes, such as `#[cfg(feature = "render")]`, are ignored: counted.
+lib_files() {
+    local queue=("$SRC/lib.rs") file dir name pattern
+    if [[ "$1" == pub ]]; then
+        pattern='^[[:space:]]*pub mod ([a-z_0-9]+);.*'
+    else
+        pattern='^[[:space:]]*(pub(\([^)]*\))? )?mod ([a-z_0-9]+);.*'
+    fi
+    while ((${#queue[@]})); do
+        file="${queue[0]}"
+        queue=("${queue[@]:1}")
+        echo "$file"
+        case "$file" in
+            */lib.rs | */mod.rs) dir="$(dirname "$file")" ;;
+            *) dir="${file%.rs}" ;;
+        esac
+        while read -r name; do
+            if [[ -f "$dir/$name.rs" ]]; then
+                queue+=("$dir/$name.rs")
+            elif [[ -f "$dir/$name/mod.rs" ]]; then
+                queue+=("$dir/$name/mod.rs")
+            fi
+        done < <(awk -v pat="$pattern" '
+            /^[[:space:]]*#\[cfg\(test\)\]/ { test = 1; next }
+            /^[[:space:]]*#\[/ { next }
+            { if (!test && $0 ~ pat) { sub(/;.*/, ""); print $NF } test = 0 }' "$file")
+    done
+}
+
+# Counts over the files given on stdin; prints "kind count" lines.
+count() {
+    xargs awk '
+        FNR == 1 { skip = 0 }
+        {
+            line = $0
+            if (line ~ /^[[:space:]]*\/\//) next
+            # Strings and char literals hold braces that are no blocks.
+            gsub(/"([^"\\]|\\.)*"/, "\"\"", line)
+            gsub(/'"'"'[{}]'"'"'/, "", line)
+            opens = gsub(/\{/, "{", line); closes = gsub(/\}/, "}", line)
+            if (skip) { depth += opens - closes; if (depth <= 0) skip = 0; next }
+            if (line ~ /^[[:space:]]*(pub\([^)]*\)[[:space:]]+)?mod [a-z_0-9]+[[:space:]]*\{/) {
+                skip = 1; depth = opens - closes; if (depth <= 0) skip = 0; next
+            }
+            if (line ~ /^pub (const |async |unsafe |extern "[^"]*" )*fn /) n["fn (free)"]++
+            else if (line ~ /^[[:space:]]+pub (const |async |unsafe |extern "[^"]*" )*fn /) n["fn (method)"]++
+            else if (line ~ /^[[:space:]]*pub struct /) {
+                n["struct"]++
+                t = line; f = gsub(/[(,][[:space:]]*pub [^(]/, "", t); if (f) n["field"] += f
+            }
+            else if (line ~ /^[[:space:]]*pub enum /) n["enum"]++
+            else if (line ~ /^[[:space:]]*pub (unsafe )?trait /) n["trait"]++
+            else if (line ~ /^[[:space:]]*pub type /) n["type"]++
+            else if (line ~ /^[[:space:]]*pub const /) n["const"]++
+            else if (line ~ /^[[:space:]]*pub static /) n["static"]++
+            else if (line ~ /^[[:space:]]*pub mod /) n["mod"]++
+            else if (line ~ /^[[:space:]]*pub union /) n["union"]++
+            else if (line ~ /^[[:space:]]*pub use /) n["use (re-export)"]++
+            else if (line ~ /^[[:space:]]*pub [a-z_][a-z_0-9]*[[:space:]]*:/) n["field"]++
+        }
+        END {
+            split("fn (free)|fn (method)|struct|enum|trait|type|const|static|mod|union", kinds, "|")
+            for (k = 1; k in kinds; k++) { printf "%s\t%d\n", kinds[k], n[kinds[k]]; items += n[kinds[k]] }
+            printf "items\t%d\n", items
+            printf "use (re-export)\t%d\n", n["use (re-export)"]
+            printf "field\t%d\n", n["field"]
+        }'
+}
+
+all="$(lib_files any | sort -u)"
+named="$(lib_files pub | sort -u)"
+echo "packbed's public items in $SRC (the comment of scripts/count-public-items.sh says how it counts)"
+paste <(printf 'kind\tall\n'; printf 'files\t%d\n' "$(wc -l <<<"$all")"; count <<<"$all") \
+    <(printf 'named\n%d\n' "$(wc -l <<<"$named")"; count <<<"$named" | cut -f2) |
+    awk -F'\t' '{ printf "%-16s %6s %6s\n", $1, $2, $3 }'
+
+((RUSTDOC)) || exit 0
+echo
+echo "rustdoc's JSON (cargo +nightly rustdoc -p packbed --lib, reachable items only)"
+TARGET="${CARGO_TARGET_DIR:-target}"
+cargo +nightly rustdoc -q -p packbed --lib -- -Z unstable-options --output-format json
+python3 - "$TARGET/doc/packbed.json" <<'PY'
+import collections, json, sys
+
+doc = json.load(open(sys.argv[1]))
+index = doc["index"]
+kind = lambda item: next(iter(item["inner"]))
+local = {i: item for i, item in index.items() if item.get("crate_id") == 0}
+# Methods: the items of inherent impls (not trait impls, whose methods the
+# trait documents).
+inherent = set()
+for item in local.values():
+    if kind(item) == "impl" and item["inner"]["impl"].get("trait") is None:
+        inherent.update(str(m) for m in item["inner"]["impl"]["items"])
+n = collections.Counter()
+for i, item in local.items():
+    k, public = kind(item), item.get("visibility") == "public"
+    if k == "function" and i in inherent:
+        n["fn (method)"] += public
+    elif k == "function" and i in doc["paths"]:
+        n["fn (free)"] += 1
+    elif k == "struct_field":
+        n["field"] += public
+    elif k in ("struct", "enum", "trait", "type_alias", "constant", "static", "module", "union", "use"):
+        n[k] += 1
+rows = ["fn (free)", "fn (method)", "struct", "enum", "trait", "type_alias", "constant", "static", "module", "union"]
+for k in rows:
+    print(f"{k:16} {n[k]:6}")
+print(f"{'items':16} {sum(n[k] for k in rows):6}")
+print(f"{'use (re-export)':16} {n['use']:6}")
+print(f"{'field':16} {n['field']:6}")
+PY
