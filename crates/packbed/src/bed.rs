@@ -48,7 +48,6 @@ pub struct Filtrate {
     pub at: [Real; 2],
 }
 
-
 /// A bed of either dimension: the one place the dimension is chosen at run time.
 #[derive(Clone, Debug)]
 pub enum AnyBed {

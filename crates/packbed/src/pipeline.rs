@@ -97,6 +97,22 @@ fn analyse<const D: usize>(
     };
     let mut summary = RunSummary::new(config, bed, deposit, &analysis, timing);
     summary.fragmentation = fragmentation;
+    if let (Some(options), Some(capture)) = (&config.filtration, &summary.capture) {
+        let a = &config.analysis;
+        // The config holds both for a filtration (`Config::plan`).
+        let unit = a.length_unit.map_or(1.0, |u| u.metres());
+        let rho = a.solid_density.unwrap_or(1.0);
+        let medium = crate::analysis::capture::medium_species(&config.feeds, bed);
+        let flow = a.flow.options();
+        match crate::analysis::filtration::filtration(
+            bed, &medium, capture, options, unit, rho, &flow,
+        ) {
+            Ok(f) => summary.filtration = Some(f),
+            Err(e) => warnings.push(format!(
+                "filtration: {e}; the bed and its capture are kept, without the curve"
+            )),
+        }
+    }
     summary.warnings.extend(warnings);
     Ok((contacts, summary))
 }

@@ -89,6 +89,21 @@ pub struct CaptureSummary {
     pub filtrate: Vec<Filtrate>,
 }
 
+/// Which species of `bed` are the medium's: those of the `[[feeds]]` marked
+/// `medium = true`.
+pub fn medium_species<const D: usize>(
+    feeds: &[crate::config::FeedStageConfig],
+    bed: &Bed<D>,
+) -> Vec<bool> {
+    bed.species_info
+        .iter()
+        .map(|s| {
+            s.feed
+                .is_some_and(|k| feeds.get(k as usize).is_some_and(|f| f.medium))
+        })
+        .collect()
+}
+
 /// The capture of `bed`, whose species `medium[s]` are the medium's, with
 /// the bodies that passed; `None` without a medium.
 pub fn capture<const D: usize>(
@@ -259,11 +274,14 @@ fn cut_size(classes: &[CaptureClass]) -> (Option<Real>, Option<String>) {
     )
 }
 
-/// The mean height of the medium's top over the columns it covers: a
-/// height map of the highest medium surface above a grid of column centres
+/// The mean height of the top of the particles `is_medium` picks over the
+/// columns they cover: a height map of their highest surface above a grid of column centres
 /// (cells of a quarter of the smallest medium radius, at most
 /// [`MAX_COLUMNS`] a side). `None` when it covers no column.
-fn mean_top<const D: usize>(bed: &Bed<D>, is_medium: &dyn Fn(usize) -> bool) -> Option<Real> {
+pub(crate) fn mean_top<const D: usize>(
+    bed: &Bed<D>,
+    is_medium: &dyn Fn(usize) -> bool,
+) -> Option<Real> {
     let c = &bed.container;
     let r_min = (0..bed.len())
         .filter(|&i| is_medium(i))

@@ -7,6 +7,7 @@ mod cells;
 pub mod contacts;
 pub mod dimensions;
 mod disjoint_paths;
+pub mod filtration;
 pub mod heap;
 pub mod histogram;
 mod maxflow;

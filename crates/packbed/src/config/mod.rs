@@ -4,6 +4,7 @@
 mod edit;
 mod feed;
 mod feeds;
+pub mod filtration;
 pub mod fragmentation;
 mod measures;
 mod plan;
@@ -20,6 +21,7 @@ pub use edit::{
 
 pub use feed::{Feed, FeedConfig, Pattern};
 pub use feeds::{FeedStage, FeedStageConfig};
+pub use filtration::{Drive, FiltrationConfig, FiltrationStop};
 pub use measures::*;
 pub use plan::*;
 pub use schema::*;

@@ -584,6 +584,24 @@ impl Config {
             }
         }
         self.analysis.check()?;
+        if let Some(f) = &self.filtration {
+            f.drive()?;
+            if D == 2 {
+                return Err(Error::config(
+                    "[filtration] is solved in 3D beds: a 2D bed's permeability is per unit depth, and its filtration curve is not modelled (set dim = 3)",
+                ));
+            }
+            if !feeds.iter().any(|f| f.medium) {
+                return Err(Error::config(
+                    "[filtration] filters the slurry through a medium: mark the medium's feeds with `medium = true` in [[feeds]]",
+                ));
+            }
+            if self.analysis.length_unit.is_none() || self.analysis.solid_density.is_none() {
+                return Err(Error::config(
+                    "[filtration] gives its figures in SI: set analysis.length_unit and analysis.solid_density",
+                ));
+            }
+        }
         if let Some(f) = &self.fragmentation {
             f.check()?;
         }

@@ -67,6 +67,10 @@ pub struct Config {
     /// Analysis settings.
     #[serde(default)]
     pub analysis: AnalysisConfig,
+    /// The filtration of the slurry through the medium (`filtration.*` in
+    /// the summary, `filtration.csv`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub filtration: Option<super::FiltrationConfig>,
     /// Load and break every bed (`fragmentation.*` in its summary).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fragmentation: Option<FragmentationConfig>,
@@ -288,6 +292,7 @@ impl Default for Config {
             feed: FeedConfig::default(),
             feeds: Vec::new(),
             analysis: AnalysisConfig::default(),
+            filtration: None,
             fragmentation: None,
             ensemble: None,
             sweep: None,

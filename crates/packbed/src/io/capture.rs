@@ -54,3 +54,18 @@ pub fn write_capture(w: &mut dyn Write, capture: &CaptureSummary) -> std::io::Re
     }
     out.flush()
 }
+
+/// `filtration.csv`'s name.
+pub const FILTRATION_FILE: &str = "filtration.csv";
+
+/// Writes `filtration.csv`: one row per checkpoint of the filtration, SI.
+pub fn write_filtration(
+    w: &mut dyn Write,
+    f: &crate::analysis::filtration::FiltrationSummary,
+) -> std::io::Result<()> {
+    let mut out = csv::Writer::from_writer(w);
+    for row in &f.checkpoints {
+        out.serialize(row).map_err(std::io::Error::other)?;
+    }
+    out.flush()
+}

@@ -98,6 +98,9 @@ pub struct RunSummary {
     /// with a `medium = true` feed).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub capture: Option<crate::analysis::capture::CaptureSummary>,
+    /// The filtration curve through medium and cake (a `[filtration]` table).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub filtration: Option<crate::analysis::filtration::FiltrationSummary>,
     /// Wall times.
     pub timing: Timing,
     /// The species, in config order (the `species` column of `particles.csv`).
@@ -230,6 +233,7 @@ impl RunSummary {
             psd,
             fragmentation: None,
             capture: capture(config, bed, report),
+            filtration: None,
             timing,
             species: species_summaries(bed),
             config: config_as_used(config),

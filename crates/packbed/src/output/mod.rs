@@ -93,6 +93,13 @@ pub fn write_run_with<const D: usize>(
             Content::Stream(Box::new(move |w| write_capture(w, capture))),
         ));
     }
+    if let Some(f) = &summary.filtration {
+        use crate::io::capture::{write_filtration, FILTRATION_FILE};
+        tables.push((
+            FILTRATION_FILE.to_string(),
+            Content::Stream(Box::new(move |w| write_filtration(w, f))),
+        ));
+    }
     let summary = warned(summary, made.missing);
     stage_dir(dir, tables, made.pictures, summary, |n| {
         earlier_file(n, true)
@@ -160,6 +167,7 @@ pub fn earlier_file(name: &str, beds: bool) -> bool {
         || crate::io::solid_bridges::DRYING_FILES.contains(&name)
         || name == crate::io::psd::PSD_FILE
         || crate::io::capture::CAPTURE_FILES.contains(&name)
+        || name == crate::io::capture::FILTRATION_FILE
 }
 
 /// Whether `dir` holds a `summary.json` that packbed wrote (a JSON object

@@ -9,6 +9,7 @@ mod chain_orientation;
 mod chains;
 mod ensemble;
 mod feeds;
+mod filtration;
 mod fragmentation;
 mod length_scale;
 mod medium;

@@ -214,57 +214,14 @@ pub fn solve<const D: usize>(
     axes: &[usize],
 ) -> Result<Flow, FlowError> {
     assert_eq!(shapes.len(), net.throats.len(), "one shape per throat");
-    let (viscosity, factor) = (options.viscosity, options.conductance_factor);
+    let viscosity = options.viscosity;
     // The solve's sweeps read its vectors at scattered rows (see
     // `memory::Allocator`).
     let _huge = crate::memory::huge_pages();
     let z = D - 1;
     let merge = merged(&shapes);
-    let conductance: Vec<Real> = shapes
-        .par_iter()
-        .zip(&net.throats)
-        .zip(&merge)
-        .map(|((shape, th), &merged)| {
-            let mean_r = shape.mean_radius;
-            let length = shape.length;
-            if merged {
-                return 0.0;
-            }
-            // Touching discs close the gap between them (no 3D facet closes:
-            // three touching spheres leave a hole of 0.155 radii).
-            if !(th.constriction_radius >= SHUT * mean_r) {
-                return 0.0;
-            }
-            let radius = match options.conductance {
-                Conductance::Constriction => th.constriction_radius,
-                Conductance::HydraulicRadius => shape.hydraulic_radius,
-            };
-            let g =
-                factor * super::geometry::conductance(shape.fluid_area, radius, length, viscosity);
-            if g.is_finite() && g > 0.0 {
-                g
-            } else {
-                0.0
-            }
-        })
-        .collect();
+    let conductance = conductances(net, &shapes, &merge, options);
     drop(shapes);
-    // A throat far narrower than a typical one carries nothing measurable but
-    // can spoil the factorisation (touching discs leave gaps of 1e-12): closed.
-    // Typical is the median: the cells over the loose top are huge.
-    let mut open: Vec<Real> = conductance.iter().copied().filter(|&g| g > 0.0).collect();
-    let typical = if open.is_empty() {
-        0.0
-    } else {
-        let mid = open.len() / 2;
-        *open.select_nth_unstable_by(mid, Real::total_cmp).1
-    };
-    // Not kept through the solves (0.1 GB at 10^6 spheres).
-    drop(open);
-    let conductance: Vec<Real> = conductance
-        .into_par_iter()
-        .map(|g| if g > CLOSED * typical { g } else { 0.0 })
-        .collect();
     let nodes = nodes(net, &merge, slab);
     let relink = || links(net, &nodes, &conductance, &merge);
     let r2 = net.mean_squared_radius;
@@ -310,6 +267,62 @@ pub fn solve<const D: usize>(
     }
     flow.conductance = conductance;
     Ok(flow)
+}
+
+/// Each throat's conductance under `options` (0 for a shut, merged or
+/// negligible throat): what [`solve`] solves with, for the callers that
+/// solve one network more than once ([`solve_z`]).
+pub fn conductances<const D: usize>(
+    net: &Network<D>,
+    shapes: &[ThroatShape],
+    merge: &[bool],
+    options: &FlowOptions,
+) -> Vec<Real> {
+    let (viscosity, factor) = (options.viscosity, options.conductance_factor);
+    let conductance: Vec<Real> = shapes
+        .par_iter()
+        .zip(&net.throats)
+        .zip(merge)
+        .map(|((shape, th), &merged)| {
+            let mean_r = shape.mean_radius;
+            let length = shape.length;
+            if merged {
+                return 0.0;
+            }
+            // Touching discs close the gap between them (no 3D facet closes:
+            // three touching spheres leave a hole of 0.155 radii).
+            if !(th.constriction_radius >= SHUT * mean_r) {
+                return 0.0;
+            }
+            let radius = match options.conductance {
+                Conductance::Constriction => th.constriction_radius,
+                Conductance::HydraulicRadius => shape.hydraulic_radius,
+            };
+            let g =
+                factor * super::geometry::conductance(shape.fluid_area, radius, length, viscosity);
+            if g.is_finite() && g > 0.0 {
+                g
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    // A throat far narrower than a typical one carries nothing measurable but
+    // can spoil the factorisation (touching discs leave gaps of 1e-12): closed.
+    // Typical is the median: the cells over the loose top are huge.
+    let mut open: Vec<Real> = conductance.iter().copied().filter(|&g| g > 0.0).collect();
+    let typical = if open.is_empty() {
+        0.0
+    } else {
+        let mid = open.len() / 2;
+        *open.select_nth_unstable_by(mid, Real::total_cmp).1
+    };
+    // Not kept through the solves (0.1 GB at 10^6 spheres).
+    drop(open);
+    conductance
+        .into_par_iter()
+        .map(|g| if g > CLOSED * typical { g } else { 0.0 })
+        .collect()
 }
 
 /// The flow along z through the slab of `net` with these throat

@@ -1,0 +1,297 @@
+//! The filtration of the slurry through the medium, as a laboratory reads it:
+//! the filtration curve t/V against V (Ruth), its fitted specific cake
+//! resistance α and medium resistance R_m beside the network's own.
+//!
+//! The flow through medium and cake is Stokes flow on the pore network of
+//! the finished bed ([`super::pores`]), solved along z from the medium's
+//! bottom up to each checkpoint's level h: the resistance of the bed below h
+//! is `R(h) = (h − z_bottom) / k(h)` (Darcy, in 1/m), and the solids below h
+//! are the mass the filter has taken, `w(h)` per area. A sequential bed is
+//! built bottom up and never moves, so the bed below h is the cake at the
+//! time the cake stood at h; the particles that later fill the pockets of
+//! that surface are within a particle of it. The filtrate volume per area
+//! is `V = w / c`, Ruth's `c` the solids deposited per filtrate volume.
+//!
+//! At constant pressure Δp the filtrate flows at `dV/dt = Δp / (μ R)`, so
+//! `t(V) = μ/Δp ∫₀^V R dV'`, integrated with R linear between checkpoints
+//! (exact for a cake whose R grows linearly in its mass) from the clean
+//! medium's R_m at V = 0. At constant rate q, `t = V / q` and
+//! `Δp = μ q R`. Ruth's line `t/V = μ α c V / (2 Δp) + μ R_m / Δp` (or
+//! `Δp = μ q (R_m + α c V)` at constant rate) is fitted to the checkpoints
+//! by least squares, as a laboratory fits its measured curve.
+
+use super::capture::CaptureSummary;
+use super::pores::flow::{conductances, merged, solve_z};
+use super::pores::network::network;
+use super::pores::FlowOptions;
+use crate::bed::Bed;
+use crate::config::{Drive, FiltrationConfig};
+use crate::math::{ball_volume, Real};
+use serde::Serialize;
+
+/// One checkpoint of the filtration (a row of `filtration.csv`), in SI.
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct Checkpoint {
+    /// Time since the start, s.
+    pub time_s: Real,
+    /// Filtrate volume per filter area, m³/m².
+    pub volume_m3_per_m2: Real,
+    /// Pressure drop across medium and cake, Pa.
+    pub pressure_pa: Real,
+    /// Cake height above the medium's surface, m.
+    pub cake_height_m: Real,
+    /// Solids taken by the filter per area (cake and lodged), kg/m².
+    pub mass_kg_per_m2: Real,
+    /// Resistance of medium and cake, 1/m.
+    pub r_total_per_m: Real,
+    /// Of it, the cake's: `r_total − r_medium`, 1/m.
+    pub r_cake_per_m: Real,
+    /// The clean medium's own resistance, 1/m.
+    pub r_medium_per_m: Real,
+}
+
+/// `filtration.*` of `summary.json`.
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct FiltrationSummary {
+    /// `pressure` (constant pressure drop) or `flow_rate` (constant rate).
+    pub drive: &'static str,
+    /// The checkpoints, in order (`filtration.csv`).
+    pub checkpoints: Vec<Checkpoint>,
+    /// The clean medium's own resistance, from the network of the medium
+    /// alone, 1/m.
+    pub r_medium_per_m: Real,
+    /// The medium's resistance with the particles lodged in it, at the end, 1/m.
+    pub r_medium_clogged_per_m: Real,
+    /// The network's specific resistance of the final cake: the rise of R
+    /// over the rise of the mass per area above the medium's surface, m/kg.
+    pub alpha_network_m_per_kg: Option<Real>,
+    /// α fitted to the curve as a laboratory fits it (Ruth), m/kg.
+    pub alpha_fit_m_per_kg: Option<Real>,
+    /// R_m fitted to the curve (its intercept), 1/m.
+    pub r_medium_fit_per_m: Option<Real>,
+    /// The rms departure of the curve from its fitted line over the mean of
+    /// the curve: how straight Ruth's line is.
+    pub ruth_departure: Option<Real>,
+    /// Which stop ended the curve before the last checkpoint (`pressure`,
+    /// `time`, `mass`), if one did.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stopped_by: Option<&'static str>,
+    /// Wall time of the network and its solves, s.
+    pub seconds: f64,
+}
+
+/// The filtration of `bed` (built with a medium, whose capture is `capture`)
+/// under `options`; `unit` metres per length unit, `rho` the solid density
+/// (kg/m³), `flow` the network's conductance settings. `Err` says why there
+/// is none.
+pub fn filtration<const D: usize>(
+    bed: &Bed<D>,
+    medium: &[bool],
+    capture: &CaptureSummary,
+    options: &FiltrationConfig,
+    unit: Real,
+    rho: Real,
+    flow: &FlowOptions,
+) -> Result<FiltrationSummary, String> {
+    let started = std::time::Instant::now();
+    let drive = options.drive().map_err(|e| e.to_string())?;
+    let is_medium = |i: usize| {
+        medium
+            .get(bed.species[i] as usize)
+            .copied()
+            .unwrap_or(false)
+    };
+    let z_bottom = capture.medium_bottom;
+    let surface = capture.medium_surface;
+    let d_max = (0..bed.len())
+        .filter(|&i| !is_medium(i))
+        .map(|i| 2.0 * bed.radii[i])
+        .fold(0.0, Real::max);
+    let top = super::capture::mean_top(bed, &|_| true).unwrap_or(surface);
+    // The cake's last level stands a largest diameter below its mean top:
+    // above it lies the rough surface, where later particles would still
+    // settle.
+    let end = top - d_max;
+    if !(end > surface + d_max) {
+        return Err(format!(
+            "the cake is too thin for a filtration curve: its top ({top:.4}) stands less than three \
+             of its largest diameters ({d_max:.4}) above the medium's surface ({surface:.4}); feed more"
+        ));
+    }
+    let n = options.checkpoints as usize;
+    let levels: Vec<Real> = (0..=n)
+        .map(|j| surface + (end - surface) * j as Real / n as Real)
+        .collect();
+    let unit_flow = FlowOptions {
+        viscosity: 1.0,
+        ..*flow
+    };
+    // The resistance of `bed` below each level (1/m), from one network.
+    let resistances = |bed: &Bed<D>, levels: &[Real]| -> Result<Vec<Real>, String> {
+        let top_level = levels.iter().copied().fold(z_bottom, Real::max);
+        let net = network(bed, (z_bottom, top_level)).map_err(|e| e.to_string())?;
+        let merge = merged(&net.shapes);
+        let g = conductances(&net, &net.shapes, &merge, &unit_flow);
+        levels
+            .iter()
+            .map(|&h| {
+                let (axis, _) = solve_z(&net, &merge, &g, &bed.container.size, (z_bottom, h))
+                    .map_err(|e| format!("the flow below {h} could not be solved ({e:?})"))?;
+                match axis.k {
+                    Some(k) if k > 0.0 => Ok((h - z_bottom) / k / unit),
+                    Some(_) => Err(format!(
+                        "no open path through the bed below {h}: the filter is closed"
+                    )),
+                    None => Err(format!("the flux below {h} does not balance")),
+                }
+            })
+            .collect()
+    };
+    let mut medium_bed = Bed::new(bed.container, bed.species_info.clone());
+    for i in (0..bed.len()).filter(|&i| is_medium(i)) {
+        medium_bed.push_bead(bed.centres[i], bed.radii[i], bed.species[i], bed.bodies[i]);
+    }
+    let r_medium = resistances(&medium_bed, &[surface])?[0];
+    let r = resistances(bed, &levels)?;
+    // Solids per area below each level (kg/m²), the medium's left out (3D:
+    // the config refuses a 2D filtration).
+    let area: Real = (0..D - 1).map(|k| bed.container.size[k] * unit).product();
+    let mass = |i: usize| rho * ball_volume::<D>(bed.radii[i]) * unit.powi(3);
+    let mut below: Vec<(Real, Real)> = (0..bed.len())
+        .filter(|&i| !is_medium(i))
+        .map(|i| (bed.centres[i][D - 1], mass(i)))
+        .collect();
+    below.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let w: Vec<Real> = levels
+        .iter()
+        .map(|&h| {
+            let k = below.partition_point(|e| e.0 < h);
+            below[..k].iter().map(|e| e.1).sum::<Real>() / area
+        })
+        .collect();
+    let (mu, c) = (options.viscosity, options.concentration);
+    // The curve: (V, R) from the clean medium at V = 0 through every level.
+    let mut rows = Vec::with_capacity(n + 1);
+    let (mut t, mut v_prev, mut r_prev) = (0.0, 0.0, r_medium);
+    for j in 0..=n {
+        let v = w[j] / c;
+        let (time, pressure) = match drive {
+            Drive::Pressure(dp) => {
+                t += mu / dp * 0.5 * (r_prev + r[j]) * (v - v_prev);
+                (t, dp)
+            }
+            Drive::FlowRate(q) => (v / q, mu * q * r[j]),
+        };
+        (v_prev, r_prev) = (v, r[j]);
+        rows.push(Checkpoint {
+            time_s: time,
+            volume_m3_per_m2: v,
+            pressure_pa: pressure,
+            cake_height_m: (levels[j] - surface) * unit,
+            mass_kg_per_m2: w[j],
+            r_total_per_m: r[j],
+            r_cake_per_m: r[j] - r_medium,
+            r_medium_per_m: r_medium,
+        });
+    }
+    let mut stopped_by = None;
+    if let Some(stop) = &options.stop {
+        let reached = |row: &Checkpoint| {
+            if stop.pressure.is_some_and(|p| row.pressure_pa >= p) {
+                Some("pressure")
+            } else if stop.time.is_some_and(|s| row.time_s >= s) {
+                Some("time")
+            } else if stop.mass.is_some_and(|m| row.mass_kg_per_m2 >= m) {
+                Some("mass")
+            } else {
+                None
+            }
+        };
+        if let Some(k) = rows.iter().position(|row| reached(row).is_some()) {
+            stopped_by = reached(&rows[k]);
+            rows.truncate(k + 1);
+        }
+    }
+    // Ruth's line through the checkpoints past the medium's surface.
+    let points: Vec<(Real, Real)> = rows
+        .iter()
+        .skip(1)
+        .filter(|row| row.volume_m3_per_m2 > 0.0)
+        .map(|row| {
+            let v = row.volume_m3_per_m2;
+            match drive {
+                Drive::Pressure(_) => (v, row.time_s / v),
+                Drive::FlowRate(_) => (v, row.pressure_pa),
+            }
+        })
+        .collect();
+    let fit = line(&points);
+    let (alpha_fit, r_fit) = match (fit, drive) {
+        (Some((slope, icpt)), Drive::Pressure(dp)) => {
+            (Some(2.0 * dp * slope / (mu * c)), Some(icpt * dp / mu))
+        }
+        (Some((slope, icpt)), Drive::FlowRate(q)) => {
+            (Some(slope / (mu * q * c)), Some(icpt / (mu * q)))
+        }
+        (None, _) => (None, None),
+    };
+    let departure = fit.map(|(slope, icpt)| {
+        let mean = points.iter().map(|p| p.1).sum::<Real>() / points.len() as Real;
+        let rms = (points
+            .iter()
+            .map(|p| (p.1 - slope * p.0 - icpt).powi(2))
+            .sum::<Real>()
+            / points.len() as Real)
+            .sqrt();
+        rms / mean
+    });
+    let dw = w[n] - w[0];
+    let alpha_network = (dw > 0.0).then(|| (r[n] - r[0]) / dw);
+    Ok(FiltrationSummary {
+        drive: match drive {
+            Drive::Pressure(_) => "pressure",
+            Drive::FlowRate(_) => "flow_rate",
+        },
+        checkpoints: rows,
+        r_medium_per_m: r_medium,
+        r_medium_clogged_per_m: r[0],
+        alpha_network_m_per_kg: alpha_network,
+        alpha_fit_m_per_kg: alpha_fit.filter(|a| a.is_finite()),
+        r_medium_fit_per_m: r_fit.filter(|r| r.is_finite()),
+        ruth_departure: departure.filter(|d| d.is_finite()),
+        stopped_by,
+        seconds: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// The least-squares line `y = a x + b` through `points` (at least two
+/// distinct x), as `(a, b)`.
+fn line(points: &[(Real, Real)]) -> Option<(Real, Real)> {
+    let n = points.len() as Real;
+    if points.len() < 2 {
+        return None;
+    }
+    let (mx, my) = points
+        .iter()
+        .fold((0.0, 0.0), |a, p| (a.0 + p.0 / n, a.1 + p.1 / n));
+    let sxx: Real = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: Real = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    (sxx > 0.0).then(|| {
+        let a = sxy / sxx;
+        (a, my - a * mx)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_line_through_points_on_a_line_is_that_line() {
+        let pts: Vec<(Real, Real)> = (0..5).map(|i| (i as Real, 3.0 * i as Real + 2.0)).collect();
+        let (a, b) = line(&pts).unwrap();
+        assert!((a - 3.0).abs() < 1e-12 && (b - 2.0).abs() < 1e-12);
+        assert!(line(&pts[..1]).is_none());
+        assert!(line(&[(1.0, 1.0), (1.0, 2.0)]).is_none());
+    }
+}

@@ -1,0 +1,193 @@
+//! `[filtration]`: the filtration curve through medium and cake, Ruth's
+//! line fitted to it, against the network's own resistances.
+
+use crate::common::config;
+use packbed::analysis::filtration::FiltrationSummary;
+use packbed::run_bed;
+
+/// A precoat of near-equal spheres (diameter 60 µm) and a slurry of
+/// `slurry` (species lines) fed after it in `feeds` (feed lines), filtered
+/// as `filtration` says.
+fn filter(slurry: &str, feeds: &str, filtration: &str) -> String {
+    format!(
+        "dim = 3\nseed = 3\n[box]\nwidth = 200\ndepth = 200\nheight = 20000\nperiodic = true\n\
+         [fill]\nbase_layer = \"none\"\n\
+         [[species]]\nname = \"precoat\"\nsize = {{ dist = \"lognormal\", median = 30.0, gsd = 1.05 }}\n\
+         {slurry}\
+         [[feeds]]\nspecies = [\"precoat\"]\ncount = 150\nmedium = true\n\
+         {feeds}\
+         [analysis]\nmeasures = [\"packing\"]\nlength_unit = \"um\"\nsolid_density = 2650\n\
+         [filtration]\n{filtration}"
+    )
+}
+
+const SLURRY: &str =
+    "[[species]]\nname = \"slurry\"\nsize = { dist = \"lognormal\", median = 10.0, gsd = 1.2 }\n";
+const ONE_FEED: &str = "[[feeds]]\nspecies = [\"slurry\"]\ncount = 5000\n";
+
+fn filtered(text: &str) -> FiltrationSummary {
+    let run = run_bed(&config(text), &mut |_| {}).unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        run.summary
+            .warnings
+            .iter()
+            .all(|w| !w.starts_with("filtration")),
+        "{:?}",
+        run.summary.warnings
+    );
+    run.summary.filtration.expect("a filtration")
+}
+
+#[test]
+fn a_homogeneous_cake_draws_ruths_line_with_the_networks_alpha_and_medium() {
+    let f = filtered(&filter(
+        SLURRY,
+        ONE_FEED,
+        "pressure = 1e5\nconcentration = 100\n",
+    ));
+    assert_eq!(f.checkpoints.len(), 21);
+    let alpha_net = f.alpha_network_m_per_kg.unwrap();
+    let alpha_fit = f.alpha_fit_m_per_kg.unwrap();
+    assert!(
+        (alpha_fit / alpha_net - 1.0).abs() < 0.05,
+        "α fit {alpha_fit:e}, network {alpha_net:e}"
+    );
+    // The intercept is the medium as it stands under the cake (with the
+    // particles lodged in its surface pockets), not the clean medium.
+    let r_fit = f.r_medium_fit_per_m.unwrap();
+    let r_in_place = f.r_medium_clogged_per_m;
+    assert!(
+        (r_fit / r_in_place - 1.0).abs() < 0.05,
+        "R_m fit {r_fit:e}, in place {r_in_place:e}"
+    );
+    assert!(r_in_place > f.r_medium_per_m);
+    // Ruth's straight line within the cake's sampling noise.
+    assert!(f.ruth_departure.unwrap() < 0.02, "{:?}", f.ruth_departure);
+    // At constant pressure: time grows, the pressure holds; mass per area
+    // is V c.
+    for w in f.checkpoints.windows(2) {
+        assert!(w[1].time_s > w[0].time_s && w[1].mass_kg_per_m2 > w[0].mass_kg_per_m2);
+    }
+    for row in &f.checkpoints {
+        assert_eq!(row.pressure_pa, 1e5);
+        assert!((row.volume_m3_per_m2 * 100.0 / row.mass_kg_per_m2 - 1.0).abs() < 1e-12);
+    }
+    // The same bed at the constant rate of the end of that run: the same
+    // resistances, Δp = μ q R, and the same fitted α.
+    let q = 1e5 / (1e-3 * f.checkpoints.last().unwrap().r_total_per_m);
+    let g = filtered(&filter(
+        SLURRY,
+        ONE_FEED,
+        &format!("flow_rate = {q:e}\nconcentration = 100\n"),
+    ));
+    for (a, b) in f.checkpoints.iter().zip(&g.checkpoints) {
+        assert_eq!(a.r_total_per_m, b.r_total_per_m);
+        assert!((b.pressure_pa / (1e-3 * q * b.r_total_per_m) - 1.0).abs() < 1e-12);
+    }
+    let alpha_rate = g.alpha_fit_m_per_kg.unwrap();
+    assert!(
+        (alpha_rate / alpha_net - 1.0).abs() < 0.05,
+        "{alpha_rate:e} {alpha_net:e}"
+    );
+}
+
+#[test]
+fn a_layered_cake_bends_ruths_line() {
+    // The coarse half of the slurry first, then the fine half: the cake's
+    // resistance grows faster once the fine layer forms, and t/V bends up.
+    let layered = "[[species]]\nname = \"coarse\"\nradius = 14.0\n\
+                   [[species]]\nname = \"fine\"\nradius = 5.0\n";
+    let feeds = "[[feeds]]\nspecies = [\"coarse\"]\ncount = 700\n\
+                 [[feeds]]\nspecies = [\"fine\"]\ncount = 9000\n";
+    let f = filtered(&filter(
+        layered,
+        feeds,
+        "pressure = 1e5\nconcentration = 100\n",
+    ));
+    let bent = f.ruth_departure.unwrap();
+    assert!(bent > 0.05, "departure {bent}");
+    // The local resistance per mass of the last checkpoints against the first.
+    let c = &f.checkpoints;
+    let slope = |a: usize, b: usize| {
+        (c[b].r_total_per_m - c[a].r_total_per_m) / (c[b].mass_kg_per_m2 - c[a].mass_kg_per_m2)
+    };
+    let n = c.len() - 1;
+    assert!(
+        slope(n - 3, n) > 3.0 * slope(1, 4),
+        "{} {}",
+        slope(1, 4),
+        slope(n - 3, n)
+    );
+}
+
+#[test]
+fn a_stop_ends_the_curve_where_it_is_reached() {
+    let f = filtered(&filter(
+        SLURRY,
+        ONE_FEED,
+        "pressure = 1e5\nconcentration = 100\nstop = { mass = 0.2 }\n",
+    ));
+    assert_eq!(f.stopped_by, Some("mass"));
+    let last = f.checkpoints.last().unwrap();
+    assert!(last.mass_kg_per_m2 >= 0.2);
+    let before = &f.checkpoints[f.checkpoints.len() - 2];
+    assert!(before.mass_kg_per_m2 < 0.2);
+}
+
+#[test]
+fn bad_filtrations_are_refused_in_one_line() {
+    for (filtration, needle) in [
+        (
+            "pressure = 0\nconcentration = 100\n",
+            "filtration.pressure must be a positive",
+        ),
+        (
+            "pressure = -1e5\nconcentration = 100\n",
+            "filtration.pressure must be a positive",
+        ),
+        (
+            "pressure = 1e5\nconcentration = 0\n",
+            "filtration.concentration must be a positive",
+        ),
+        (
+            "flow_rate = 1e-4\nconcentration = -3\n",
+            "filtration.concentration",
+        ),
+        (
+            "pressure = 1e5\nflow_rate = 1e-4\nconcentration = 1\n",
+            "either `pressure`",
+        ),
+        ("concentration = 1\n", "either `pressure`"),
+        (
+            "pressure = 1e5\nconcentration = 1\ncheckpoints = 1\n",
+            "filtration.checkpoints",
+        ),
+        (
+            "pressure = 1e5\nconcentration = 1\nstop = { time = 0 }\n",
+            "stop.time",
+        ),
+    ] {
+        let e = config(&filter(SLURRY, ONE_FEED, filtration))
+            .validate()
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(needle), "{filtration}: {e}");
+        assert!(!e.contains('\n'), "{e}");
+    }
+    // Without a medium; without the SI scale; in 2D.
+    let text = filter(SLURRY, ONE_FEED, "pressure = 1e5\nconcentration = 100\n");
+    for (from, to, needle) in [
+        ("medium = true\n", "", "medium = true"),
+        ("length_unit = \"um\"\n", "", "length_unit"),
+        ("dim = 3", "dim = 2", "3D beds"),
+    ] {
+        let text = text.replace(from, to);
+        let text = if to == "dim = 2" {
+            text.replace("depth = 200\n", "")
+        } else {
+            text
+        };
+        let e = config(&text).validate().unwrap_err().to_string();
+        assert!(e.contains(needle), "{needle}: {e}");
+    }
+}
