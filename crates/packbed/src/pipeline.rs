@@ -107,7 +107,12 @@ fn analyse<const D: usize>(
         match crate::analysis::filtration::filtration(
             bed, &medium, capture, options, unit, rho, &flow,
         ) {
-            Ok(f) => summary.filtration = Some(f),
+            Ok(f) => {
+                // The curve is part of the analysis' time and the run's.
+                summary.timing.analysis_seconds += f.seconds;
+                summary.timing.total_seconds = start.elapsed().as_secs_f64();
+                summary.filtration = Some(f);
+            }
             Err(e) => warnings.push(format!(
                 "filtration: {e}; the bed and its capture are kept, without the curve"
             )),

@@ -980,6 +980,13 @@ fn chosen_measures_leave_the_others_out_and_say_so() {
     );
 }
 
+/// A medium feed and a slurry feed in SI, ready for a `[filtration]` table.
+const FILTER: &str =
+    "[[species]]\nname = \"sand\"\nradius = 30\n[[species]]\nname = \"flour\"\nradius = 10\n\
+                      [[feeds]]\nspecies = [\"sand\"]\ncount = 30\nmedium = true\n\
+                      [[feeds]]\nspecies = [\"flour\"]\ncount = 300\n\
+                      [analysis]\nlength_unit = \"um\"\nsolid_density = 2650\n[filtration]\n";
+
 #[test]
 fn settling_rules_run_and_bad_ones_are_refused() {
     let s = Scratch::new();
@@ -1047,6 +1054,27 @@ fn settling_rules_run_and_bad_ones_are_refused() {
             "feeds.toml",
             "[[species]]\nname = \"a\"\nradius = 10\n[[feeds]]\nspecies = [\"sand\"]\ncount = 3\n",
             &["feeds[0].species", "sand"][..],
+        ),
+        (
+            "filter-p.toml",
+            &format!("{FILTER}pressure = 0\nconcentration = 50\n"),
+            &["filtration.pressure", "0"][..],
+        ),
+        (
+            "filter-c.toml",
+            &format!("{FILTER}pressure = 1e5\nconcentration = -5\n"),
+            &["filtration.concentration", "-5"][..],
+        ),
+        (
+            "filter-medium.toml",
+            &format!("{FILTER}pressure = 1e5\nconcentration = 50\n")
+                .replace("medium = true\n", ""),
+            &["[filtration]", "medium = true"][..],
+        ),
+        (
+            "medium-last.toml",
+            "[[species]]\nname = \"a\"\nradius = 10\n[[feeds]]\nspecies = [\"a\"]\ncount = 3\nmedium = true\n",
+            &["every feed is a medium"][..],
         ),
     ] {
         assert_config_refused(&s, name, text, needles);

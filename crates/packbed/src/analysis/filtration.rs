@@ -112,9 +112,9 @@ pub fn filtration<const D: usize>(
     // above it lies the rough surface, where later particles would still
     // settle.
     let end = top - d_max;
-    if !(end > surface + d_max) {
+    if end.partial_cmp(&(surface + d_max)) != Some(std::cmp::Ordering::Greater) {
         return Err(format!(
-            "the cake is too thin for a filtration curve: its top ({top:.4}) stands less than three \
+            "the cake is too thin for a filtration curve: its top ({top:.4}) stands less than two \
              of its largest diameters ({d_max:.4}) above the medium's surface ({surface:.4}); feed more"
         ));
     }

@@ -66,7 +66,8 @@ pub fn write_run_with<const D: usize>(
         .psd
         .as_ref()
         .map(|p| (p, summary.config.analysis.length_unit));
-    let made = extra_files(
+    #[cfg_attr(not(feature = "render"), allow(unused_mut))]
+    let mut made = extra_files(
         bed,
         contacts,
         &summary.analysis,
@@ -80,6 +81,18 @@ pub fn write_run_with<const D: usize>(
         RUN_FILES[0].to_string(),
         Content::Stream(Box::new(move |w| tables::write_particles(w, bed))),
     )];
+    #[cfg(feature = "render")]
+    if extras.pictures {
+        let mut drawn: crate::render::run_files::Pictures = (Vec::new(), Vec::new());
+        crate::render::run_files::filtration_plots(
+            &mut drawn,
+            summary.capture.as_ref(),
+            summary.filtration.as_ref(),
+            summary.config.analysis.length_unit.map(LengthUnit::symbol),
+        );
+        made.pictures.extend(drawn.0);
+        made.missing.extend(drawn.1);
+    }
     tables.extend(contact_tables(contacts));
     tables.extend(made.tables);
     if let Some(capture) = &summary.capture {

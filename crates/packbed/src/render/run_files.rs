@@ -226,6 +226,39 @@ pub fn psd_plot(out: &mut Pictures, psd: &PsdSummary, unit: Option<&str>) {
     );
 }
 
+/// Adds `plot_grade_efficiency` and `plot_filtration` (`.png`, `.svg`) to
+/// `out` for a bed built with a medium and filtered.
+pub fn filtration_plots(
+    out: &mut Pictures,
+    capture: Option<&crate::analysis::capture::CaptureSummary>,
+    filtration: Option<&crate::analysis::filtration::FiltrationSummary>,
+    unit: Option<&str>,
+) {
+    let mut plots = Vec::new();
+    if let Some(c) = capture.filter(|c| c.fed > 0) {
+        plots.push((
+            "plot_grade_efficiency",
+            run_plots::grade_efficiency(c, unit),
+        ));
+    }
+    if let Some(f) = filtration {
+        plots.push(("plot_filtration", run_plots::filtration_curve(f)));
+    }
+    for (name, plot) in plots {
+        keep(
+            out,
+            format!("{name}.png"),
+            plot.to_png(PLOT_SIZE.0, PLOT_SIZE.1),
+        );
+        keep(
+            out,
+            format!("{name}.svg"),
+            plot.to_svg(PLOT_SIZE.0, PLOT_SIZE.1)
+                .map(String::into_bytes),
+        );
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::agglomerate_classes;

@@ -414,3 +414,102 @@ fn angle_share_range(points: &[(Real, Real)], reference: &Series) -> (Real, Real
         .fold(0.0, |m: Real, p| m.max(p.1));
     (0.0, if top > 0.0 { 1.1 * top } else { 1.0 })
 }
+
+/// The filtration curve as a laboratory plots it: t/V against V at constant
+/// pressure (Δp against V at constant rate), the checkpoints and Ruth's
+/// fitted line through them.
+pub fn filtration_curve(f: &crate::analysis::filtration::FiltrationSummary) -> Plot {
+    let pressure = f.drive == "pressure";
+    let y = |c: &crate::analysis::filtration::Checkpoint| {
+        if pressure {
+            c.time_s / c.volume_m3_per_m2
+        } else {
+            c.pressure_pa
+        }
+    };
+    let points: Vec<(Real, Real)> = f
+        .checkpoints
+        .iter()
+        .filter(|c| c.volume_m3_per_m2 > 0.0)
+        .map(|c| (c.volume_m3_per_m2, y(c)))
+        .collect();
+    let mut series = vec![Series {
+        name: "the network's checkpoints".into(),
+        points: points.clone(),
+        errors: None,
+        markers: true,
+        band: None,
+    }];
+    if let (Some(first), Some(last), Some(a), Some(r)) = (
+        points.get(1),
+        points.last(),
+        f.alpha_fit_m_per_kg,
+        f.r_medium_fit_per_m,
+    ) {
+        series.push(Series {
+            name: format!("Ruth's line: α {a:.3e} m/kg, R_m {r:.3e} 1/m"),
+            points: fitted_line(&points[1..], first.0, last.0),
+            errors: None,
+            markers: false,
+            band: None,
+        });
+    }
+    Plot {
+        title: "Filtration curve".into(),
+        x_label: "filtrate volume per area V (m³/m²)".into(),
+        y_label: if pressure {
+            "t / V (s/m)".into()
+        } else {
+            "pressure drop (Pa)".into()
+        },
+        data: PlotData::Lines { series },
+        y_range: None,
+        x_range: None,
+    }
+}
+
+/// The least-squares line through `points`, drawn from `x0` to `x1`.
+fn fitted_line(points: &[(Real, Real)], x0: Real, x1: Real) -> Vec<(Real, Real)> {
+    let n = points.len() as Real;
+    let (mx, my) = points
+        .iter()
+        .fold((0.0, 0.0), |a, p| (a.0 + p.0 / n, a.1 + p.1 / n));
+    let sxx: Real = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: Real = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let a = if sxx > 0.0 { sxy / sxx } else { 0.0 };
+    vec![(x0, my + a * (x0 - mx)), (x1, my + a * (x1 - mx))]
+}
+
+/// The grade-efficiency curve: the fraction captured (lodged or in the
+/// cake) against size, on a log axis, with the cut size x50.
+pub fn grade_efficiency(c: &crate::analysis::capture::CaptureSummary, unit: Option<&str>) -> Plot {
+    let points: Vec<(Real, Real)> = c
+        .classes
+        .iter()
+        .filter_map(|k| Some(((k.d_lo * k.d_hi).sqrt(), k.grade_efficiency?)))
+        .collect();
+    let name = match c.x50 {
+        Some(x) => format!(
+            "x50 {} {}",
+            crate::math::display_length(x),
+            unit.unwrap_or("")
+        ),
+        None => "no x50 within the sizes fed".into(),
+    };
+    Plot {
+        title: "Grade efficiency of the medium".into(),
+        x_label: format!("diameter ({})", unit.unwrap_or("length units")),
+        y_label: "captured (lodged or cake)".into(),
+        data: PlotData::LogLines {
+            series: vec![Series {
+                name: name.trim().to_string(),
+                points,
+                errors: None,
+                markers: true,
+                band: None,
+            }],
+        },
+        y_range: Some((0.0, 1.0)),
+        x_range: None,
+    }
+}

@@ -133,6 +133,32 @@ pub fn run_text(s: &RunSummary, out: &Path, files: &[PathBuf]) -> String {
         &names,
         bulk_hint(s).as_deref(),
     ));
+    if let Some(c) = &s.capture {
+        let x50 = c.x50.map_or("none within the sizes fed".to_string(), |x| {
+            format!("{x:.4}")
+        });
+        let _ = writeln!(
+            t,
+            "  capture: {} fed after the medium: {} passed (filtrate.csv), {} lodged in it, {} in the cake; x50 {x50} (capture.csv)",
+            c.fed, c.passed, c.lodged, c.cake
+        );
+    }
+    if let Some(f) = &s.filtration {
+        let e = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3e}"));
+        let stop = f
+            .stopped_by
+            .map_or(String::new(), |b| format!(", stopped by {b}"));
+        let _ = writeln!(
+            t,
+            "  filtration: α {} m/kg fitted (network {}), R_m {} 1/m fitted (medium {:.3e} clean, {:.3e} in place); {} checkpoints{stop} (filtration.csv)",
+            e(f.alpha_fit_m_per_kg),
+            e(f.alpha_network_m_per_kg),
+            e(f.r_medium_fit_per_m),
+            f.r_medium_per_m,
+            f.r_medium_clogged_per_m,
+            f.checkpoints.len()
+        );
+    }
     let tm = &s.timing;
     let _ = writeln!(
         t,
