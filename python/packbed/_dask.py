@@ -49,7 +49,7 @@ def run_on(
         from distributed import as_completed
     except ImportError:
         raise ImportError("client= needs dask.distributed: pip install 'dask[distributed]'") from None
-    from ._core import _Progress
+    from ._progress import _Progress
 
     threads = sum(client.nthreads().values()) or 1
     count = max(1, min(runs, SHARDS_PER_THREAD * threads))
