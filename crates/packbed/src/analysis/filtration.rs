@@ -147,10 +147,7 @@ pub fn filtration<const D: usize>(
             })
             .collect()
     };
-    let mut medium_bed = Bed::new(bed.container, bed.species_info.clone());
-    for i in (0..bed.len()).filter(|&i| is_medium(i)) {
-        medium_bed.push_bead(bed.centres[i], bed.radii[i], bed.species[i], bed.bodies[i]);
-    }
+    let medium_bed = super::capture::medium_bed(bed, &is_medium);
     let r_medium = resistances(&medium_bed, &[surface])?[0];
     let r = resistances(bed, &levels)?;
     // Solids per area below each level (kg/m²), the medium's left out (3D:
