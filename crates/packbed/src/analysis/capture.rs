@@ -261,7 +261,10 @@ pub fn capture<const D: usize>(
 }
 
 /// The bed of the particles `is_medium` picks alone: the clean medium.
-pub(crate) fn medium_bed<const D: usize>(bed: &Bed<D>, is_medium: &dyn Fn(usize) -> bool) -> Bed<D> {
+pub(crate) fn medium_bed<const D: usize>(
+    bed: &Bed<D>,
+    is_medium: &dyn Fn(usize) -> bool,
+) -> Bed<D> {
     let mut medium = Bed::new(bed.container, bed.species_info.clone());
     for i in (0..bed.len()).filter(|&i| is_medium(i)) {
         medium.push_bead(bed.centres[i], bed.radii[i], bed.species[i], bed.bodies[i]);
@@ -283,9 +286,14 @@ fn criteria<const D: usize>(
         .filter(|&i| is_medium(i))
         .map(|i| 2.0 * bed.radii[i])
         .collect();
-    let space =
-        super::pores::pore_space(&medium_bed(bed, is_medium), (bottom, surface), None, None, None)
-            .ok()?;
+    let space = super::pores::pore_space(
+        &medium_bed(bed, is_medium),
+        (bottom, surface),
+        None,
+        None,
+        None,
+    )
+    .ok()?;
     let c = &space.pores.constriction_radius;
     if c.count == 0 {
         return None;

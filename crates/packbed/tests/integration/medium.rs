@@ -108,7 +108,10 @@ fn fed_is_passed_plus_lodged_plus_cake_and_the_medium_stands_clear_of_the_floor(
     // tightest throat of its spheres (three touching: 0.155 D, less a
     // tenth for the merged and clipped cells) and below their diameter.
     let c = crit.constriction_diameter;
-    assert!(0.0 < c[0] && c[0] <= c[1] && c[1] <= c[2] && c[2] <= c[3], "{c:?}");
+    assert!(
+        0.0 < c[0] && c[0] <= c[1] && c[1] <= c[2] && c[2] <= c[3],
+        "{c:?}"
+    );
     assert!(c[1] > 0.155 * 3.0 * 0.9 && c[1] < 3.0, "{c:?}");
     assert!((crit.indraratna_ratio - c[1] / crit.slurry_d85_by_surface).abs() < 1e-12);
     let passed = mean(&mut report.filtrate.iter().map(|f| f.radius));
