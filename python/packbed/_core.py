@@ -334,6 +334,43 @@ class Bed:
             raise ImportError("Bed.psd needs pandas: pip install pandas") from None
         return pd.DataFrame(summary["psd"]["table"])
 
+    def capture(self) -> "Any":
+        """What the filter medium passed, held and left above it, a ``pandas.DataFrame``.
+
+        The rows of ``capture.csv``, one per size class of the bodies fed after
+        the medium: ``d_lo``, ``d_hi``, ``fed``, ``passed``, ``lodged``, ``cake``,
+        ``grade_efficiency``. ``None`` for a bed built without a medium
+        (``[[feeds]]`` with ``medium = true``) or read from a file. The totals,
+        ``x50`` and the retention criteria: ``bed.summary["capture"]``.
+        """
+        summary = self.summary
+        if summary is None or "capture" not in summary:
+            return None
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("Bed.capture needs pandas: pip install pandas") from None
+        return pd.DataFrame(summary["capture"]["classes"])
+
+    def filtration(self) -> "Any":
+        """The filtration curve through medium and cake, a ``pandas.DataFrame``.
+
+        The rows of ``filtration.csv``, one per checkpoint, SI: ``time_s``,
+        ``volume_m3_per_m2``, ``pressure_pa``, ``cake_height_m``,
+        ``mass_kg_per_m2``, ``r_total_per_m``, ``r_cake_per_m``,
+        ``r_medium_per_m``. ``None`` for a bed built without a
+        ``[filtration]`` table. Ruth's fitted α and R_m beside the network's:
+        ``bed.summary["filtration"]``.
+        """
+        summary = self.summary
+        if summary is None or "filtration" not in summary:
+            return None
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("Bed.filtration needs pandas: pip install pandas") from None
+        return pd.DataFrame(summary["filtration"]["checkpoints"])
+
     def contacts(self, contact_tol: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Particle–particle contacts: arrays ``i`` < ``j`` (uint32) and ``gap`` (float64).
 

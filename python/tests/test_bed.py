@@ -411,3 +411,33 @@ def test_settling_rules_and_feeds_from_a_dict_equal_the_command(tmp_path, run_cl
     )
     with pytest.raises(packbed.ConfigError, match="settling.cohesion_exponent"):
         packbed.deposit({**config, "settling": {"cohesion_diameter": 2, "cohesion_exponent": 0}})
+
+
+def test_a_filtered_bed_gives_its_capture_and_curve_as_the_command_writes_them(tmp_path, run_cli):
+    optional("pandas")
+    text = (
+        "dim = 3\nseed = 3\n[box]\nwidth = 200\ndepth = 200\nheight = 20000\nperiodic = true\n"
+        "[fill]\nbase_layer = \"none\"\n"
+        "[[species]]\nname = \"precoat\"\nradius = 30.0\n"
+        "[[species]]\nname = \"slurry\"\nsize = { dist = \"lognormal\", median = 8.0, gsd = 1.3 }\n"
+        "[[feeds]]\nspecies = [\"precoat\"]\ncount = 150\nmedium = true\n"
+        "[[feeds]]\nspecies = [\"slurry\"]\ncount = 4000\nsettling = { restitution = 0.5 }\n"
+        "[analysis]\nmeasures = [\"packing\"]\nlength_unit = \"um\"\nsolid_density = 2650\n"
+        "[filtration]\npressure = 1e5\nconcentration = 100\ncheckpoints = 10\n"
+    )
+    (tmp_path / "f.toml").write_text(text)
+    bed = packbed.deposit(str(tmp_path / "f.toml"))
+    curve = bed.filtration()
+    assert len(curve) == 11
+    assert list(curve.columns)[:3] == ["time_s", "volume_m3_per_m2", "pressure_pa"]
+    assert (curve["pressure_pa"] == 1e5).all()
+    capture = bed.capture()
+    totals = bed.summary["capture"]
+    assert int(capture["fed"].sum()) == totals["fed"] == 4000
+    assert totals["passed"] + totals["lodged"] + totals["cake"] == 4000
+    run_cli("run", str(tmp_path / "f.toml"), "--out", str(tmp_path / "f"), "--quiet", "--no-pictures")
+    with open(tmp_path / "f" / "filtration.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert [float(r["r_total_per_m"]) for r in rows] == curve["r_total_per_m"].tolist()
+    plain = packbed.deposit({"dim": 3, "fill": {"count": 50}})
+    assert plain.filtration() is None and plain.capture() is None

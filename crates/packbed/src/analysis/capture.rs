@@ -43,6 +43,33 @@ pub struct CaptureClass {
     pub grade_efficiency: Option<Real>,
 }
 
+/// The classic retention criteria of granular filters, from the sizes of the
+/// medium and of the slurry fed after it and the medium's own pore network.
+/// Diameters in the bed's unit; percentiles of bead diameters by mass
+/// unless named otherwise.
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct FilterCriteria {
+    /// The medium's D15 (15 % of its mass is finer).
+    pub medium_d15: Real,
+    /// The slurry's d85 (85 % of its mass is finer).
+    pub slurry_d85: Real,
+    /// The slurry's d85 by surface area (weights d², as Indraratna et al.).
+    pub slurry_d85_by_surface: Real,
+    /// Constriction diameters of the medium's throats (its pore network,
+    /// between its bottom and its surface), by number: 10, 35, 50, 90 %.
+    pub constriction_diameter: [Real; 4],
+    /// Terzaghi's retention ratio D15 / d85: the medium retains the slurry
+    /// when it is at most 4 (filters against soils).
+    pub terzaghi_ratio: Real,
+    /// Kenney et al. (1985)'s controlling constriction of a granular filter,
+    /// D15 / 5: particles finer than it can pass a thick filter.
+    pub kenney_constriction: Real,
+    /// Indraratna et al. (2007)'s ratio d_c35 / d85,SA (the medium's
+    /// constriction 35 % of its throats are finer than, here by number, over
+    /// the slurry's d85 by surface area): the medium retains when at most 1.
+    pub indraratna_ratio: Real,
+}
+
 /// One bin of the lodged bodies' depth below the medium's surface.
 #[derive(Clone, Debug, Default, Serialize, PartialEq)]
 pub struct DepthBin {
@@ -84,6 +111,10 @@ pub struct CaptureSummary {
     pub classes: Vec<CaptureClass>,
     /// The lodged bodies by depth below the surface.
     pub depth_profile: Vec<DepthBin>,
+    /// The classic granular-filter retention criteria for this medium and
+    /// slurry, beside the simulated capture; null when the medium's pore
+    /// network could not be built (`note` says why).
+    pub criteria: Option<FilterCriteria>,
     /// The bodies that passed (`filtrate.csv`), in the order fed.
     #[serde(skip)]
     pub filtrate: Vec<Filtrate>,
@@ -202,6 +233,12 @@ pub fn capture<const D: usize>(
         c.grade_efficiency = (c.fed > 0).then(|| (lodged + cake) as Real / c.fed as Real);
     }
     let (x50, note) = cut_size(&classes);
+    let slurry: Vec<Real> = bodies
+        .iter()
+        .map(|b| b.0)
+        .chain(filtrate.iter().map(|f| 2.0 * f.radius))
+        .collect();
+    let criteria = criteria(bed, &is_medium, &slurry, medium_bottom, medium_surface);
     let passed = filtrate.len() as u64;
     let lodged: u64 = tally.iter().map(|t| t.1).sum();
     let cake: u64 = tally.iter().map(|t| t.2).sum();
@@ -218,8 +255,78 @@ pub fn capture<const D: usize>(
         note,
         classes,
         depth_profile,
+        criteria,
         filtrate: filtrate.to_vec(),
     })
+}
+
+/// The bed of the particles `is_medium` picks alone: the clean medium.
+pub(crate) fn medium_bed<const D: usize>(
+    bed: &Bed<D>,
+    is_medium: &dyn Fn(usize) -> bool,
+) -> Bed<D> {
+    let mut medium = Bed::new(bed.container, bed.species_info.clone());
+    for i in (0..bed.len()).filter(|&i| is_medium(i)) {
+        medium.push_bead(bed.centres[i], bed.radii[i], bed.species[i], bed.bodies[i]);
+    }
+    medium
+}
+
+/// The retention criteria of the medium against the slurry diameters
+/// `slurry` (every body fed after the medium); `None` when the medium's
+/// pore network has no throat between its bottom and surface.
+fn criteria<const D: usize>(
+    bed: &Bed<D>,
+    is_medium: &dyn Fn(usize) -> bool,
+    slurry: &[Real],
+    bottom: Real,
+    surface: Real,
+) -> Option<FilterCriteria> {
+    let medium: Vec<Real> = (0..bed.len())
+        .filter(|&i| is_medium(i))
+        .map(|i| 2.0 * bed.radii[i])
+        .collect();
+    let space = super::pores::pore_space(
+        &medium_bed(bed, is_medium),
+        (bottom, surface),
+        None,
+        None,
+        None,
+    )
+    .ok()?;
+    let c = &space.pores.constriction_radius;
+    if c.count == 0 {
+        return None;
+    }
+    let d_c35 = 2.0 * c.p35;
+    let medium_d15 = weighted_percentile(&medium, 0.15, D as i32);
+    let slurry_d85 = weighted_percentile(slurry, 0.85, D as i32);
+    let slurry_d85_by_surface = weighted_percentile(slurry, 0.85, D as i32 - 1);
+    Some(FilterCriteria {
+        medium_d15,
+        slurry_d85,
+        slurry_d85_by_surface,
+        constriction_diameter: [2.0 * c.p10, d_c35, 2.0 * c.p50, 2.0 * c.p90],
+        terzaghi_ratio: medium_d15 / slurry_d85,
+        kenney_constriction: medium_d15 / 5.0,
+        indraratna_ratio: d_c35 / slurry_d85_by_surface,
+    })
+}
+
+/// The diameter a fraction `q` of the total weight `d^power` is finer than
+/// (mass: `power` = dimension; surface: one less); 0 for no diameter.
+fn weighted_percentile(d: &[Real], q: Real, power: i32) -> Real {
+    let mut v: Vec<Real> = d.to_vec();
+    v.sort_by(Real::total_cmp);
+    let total: Real = v.iter().map(|x| x.powi(power)).sum();
+    let mut acc = 0.0;
+    for &x in &v {
+        acc += x.powi(power);
+        if acc >= q * total {
+            return x;
+        }
+    }
+    v.last().copied().unwrap_or(0.0)
 }
 
 /// `CLASSES + 1` log-spaced edges from `lo` to `hi`; one class when they

@@ -27,6 +27,7 @@ use super::pores::FlowOptions;
 use crate::bed::Bed;
 use crate::config::{Drive, FiltrationConfig};
 use crate::math::{ball_volume, Real};
+use rayon::prelude::*;
 use serde::Serialize;
 
 /// One checkpoint of the filtration (a row of `filtration.csv`), in SI.
@@ -132,8 +133,10 @@ pub fn filtration<const D: usize>(
         let net = network(bed, (z_bottom, top_level)).map_err(|e| e.to_string())?;
         let merge = merged(&net.shapes);
         let g = conductances(&net, &net.shapes, &merge, &unit_flow);
+        // Each level's solve on its own thread where one is free: a solve's
+        // set-up is partly serial, and the levels are independent.
         levels
-            .iter()
+            .par_iter()
             .map(|&h| {
                 let (axis, _) = solve_z(&net, &merge, &g, &bed.container.size, (z_bottom, h))
                     .map_err(|e| format!("the flow below {h} could not be solved ({e:?})"))?;
@@ -147,10 +150,7 @@ pub fn filtration<const D: usize>(
             })
             .collect()
     };
-    let mut medium_bed = Bed::new(bed.container, bed.species_info.clone());
-    for i in (0..bed.len()).filter(|&i| is_medium(i)) {
-        medium_bed.push_bead(bed.centres[i], bed.radii[i], bed.species[i], bed.bodies[i]);
-    }
+    let medium_bed = super::capture::medium_bed(bed, &is_medium);
     let r_medium = resistances(&medium_bed, &[surface])?[0];
     let r = resistances(bed, &levels)?;
     // Solids per area below each level (kg/m²), the medium's left out (3D:

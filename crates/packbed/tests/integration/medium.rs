@@ -82,6 +82,38 @@ fn fed_is_passed_plus_lodged_plus_cake_and_the_medium_stands_clear_of_the_floor(
         let (s, n) = v.fold((0.0, 0), |a, x| (a.0 + x, a.1 + 1));
         s / n as f64
     };
+    // The retention criteria from the sizes: D15 of the medium by mass
+    // (equal spheres: their diameter), d85 of everything fed after it.
+    let crit = cap.criteria.as_ref().expect("criteria");
+    assert!((crit.medium_d15 - 3.0).abs() < 1e-12, "{crit:?}");
+    let mut fed: Vec<f64> = (0..b.len())
+        .filter(|&i| b.species[i] == 1)
+        .map(|i| 2.0 * b.radii[i])
+        .chain(report.filtrate.iter().map(|f| 2.0 * f.radius))
+        .collect();
+    fed.sort_by(f64::total_cmp);
+    let total: f64 = fed.iter().map(|d| d.powi(3)).sum();
+    let mut acc = 0.0;
+    let d85 = *fed
+        .iter()
+        .find(|d| {
+            acc += d.powi(3);
+            acc >= 0.85 * total
+        })
+        .unwrap();
+    assert_eq!(crit.slurry_d85, d85);
+    assert!((crit.terzaghi_ratio - 3.0 / d85).abs() < 1e-12);
+    assert!((crit.kenney_constriction - 0.6).abs() < 1e-12);
+    // The medium's constrictions: positive, ordered, d_c35 not below the
+    // tightest throat of its spheres (three touching: 0.155 D, less a
+    // tenth for the merged and clipped cells) and below their diameter.
+    let c = crit.constriction_diameter;
+    assert!(
+        0.0 < c[0] && c[0] <= c[1] && c[1] <= c[2] && c[2] <= c[3],
+        "{c:?}"
+    );
+    assert!(c[1] > 0.155 * 3.0 * 0.9 && c[1] < 3.0, "{c:?}");
+    assert!((crit.indraratna_ratio - c[1] / crit.slurry_d85_by_surface).abs() < 1e-12);
     let passed = mean(&mut report.filtrate.iter().map(|f| f.radius));
     let held = mean(
         &mut (0..b.len())
