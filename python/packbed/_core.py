@@ -318,6 +318,18 @@ class Bed:
             raise ImpossibleError("cake: the bed has no bulk region to measure")
         return measured["cake"]
 
+    def _summary_table(self, key: str, rows: str) -> "Any":
+        """``summary.json``'s ``key.rows`` as a ``pandas.DataFrame``; ``None``
+        for a bed without that key (read from a file, or not built so)."""
+        summary = self.summary
+        if summary is None or key not in summary:
+            return None
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError(f"Bed.{key} needs pandas: pip install pandas") from None
+        return pd.DataFrame(summary[key][rows])
+
     def psd(self) -> "Any":
         """The built bed's size distribution against the requested one, a ``pandas.DataFrame``.
 
@@ -325,14 +337,7 @@ class Bed:
         mass and number percent passing. ``None`` for a bed read from a file or
         built without a size distribution.
         """
-        summary = self.summary
-        if summary is None or "psd" not in summary:
-            return None
-        try:
-            import pandas as pd
-        except ImportError:
-            raise ImportError("Bed.psd needs pandas: pip install pandas") from None
-        return pd.DataFrame(summary["psd"]["table"])
+        return self._summary_table("psd", "table")
 
     def capture(self) -> "Any":
         """What the filter medium passed, held and left above it, a ``pandas.DataFrame``.
@@ -343,14 +348,7 @@ class Bed:
         (``[[feeds]]`` with ``medium = true``) or read from a file. The totals,
         ``x50`` and the retention criteria: ``bed.summary["capture"]``.
         """
-        summary = self.summary
-        if summary is None or "capture" not in summary:
-            return None
-        try:
-            import pandas as pd
-        except ImportError:
-            raise ImportError("Bed.capture needs pandas: pip install pandas") from None
-        return pd.DataFrame(summary["capture"]["classes"])
+        return self._summary_table("capture", "classes")
 
     def filtration(self) -> "Any":
         """The filtration curve through medium and cake, a ``pandas.DataFrame``.
@@ -362,14 +360,7 @@ class Bed:
         ``[filtration]`` table. Ruth's fitted α and R_m beside the network's:
         ``bed.summary["filtration"]``.
         """
-        summary = self.summary
-        if summary is None or "filtration" not in summary:
-            return None
-        try:
-            import pandas as pd
-        except ImportError:
-            raise ImportError("Bed.filtration needs pandas: pip install pandas") from None
-        return pd.DataFrame(summary["filtration"]["checkpoints"])
+        return self._summary_table("filtration", "checkpoints")
 
     def contacts(self, contact_tol: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Particle–particle contacts: arrays ``i`` < ``j`` (uint32) and ``gap`` (float64).

@@ -218,16 +218,7 @@ fn anchor(heading: &str) -> String {
 
 /// The anchors of a Markdown file's headings (outside fenced blocks).
 fn anchors(markdown: &str) -> Vec<String> {
-    let mut fenced = false;
-    let mut found = Vec::new();
-    for line in markdown.lines() {
-        if line.trim_start().starts_with("```") {
-            fenced = !fenced;
-        } else if !fenced && line.starts_with('#') {
-            found.push(anchor(line.trim_start_matches('#')));
-        }
-    }
-    found
+    headings(markdown).iter().map(|h| anchor(h)).collect()
 }
 
 /// The targets of the inline links `[text](target)` of a Markdown text, with

@@ -265,8 +265,8 @@ pub fn filtration<const D: usize>(
 }
 
 /// The least-squares line `y = a x + b` through `points` (at least two
-/// distinct x), as `(a, b)`.
-fn line(points: &[(Real, Real)]) -> Option<(Real, Real)> {
+/// distinct x), as `(a, b)`: Ruth's line here and in its plot.
+pub fn line(points: &[(Real, Real)]) -> Option<(Real, Real)> {
     let n = points.len() as Real;
     if points.len() < 2 {
         return None;

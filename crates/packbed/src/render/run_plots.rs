@@ -427,28 +427,39 @@ pub fn filtration_curve(f: &crate::analysis::filtration::FiltrationSummary) -> P
             c.pressure_pa
         }
     };
-    let points: Vec<(Real, Real)> = f
-        .checkpoints
-        .iter()
-        .filter(|c| c.volume_m3_per_m2 > 0.0)
-        .map(|c| (c.volume_m3_per_m2, y(c)))
-        .collect();
+    let point = |c: &crate::analysis::filtration::Checkpoint| (c.volume_m3_per_m2, y(c));
+    let drawn = |skip: usize| -> Vec<(Real, Real)> {
+        f.checkpoints
+            .iter()
+            .skip(skip)
+            .filter(|c| c.volume_m3_per_m2 > 0.0)
+            .map(point)
+            .collect()
+    };
+    let points = drawn(0);
+    // Ruth's line through the points it was fitted to (past the medium's
+    // surface: `filtration::filtration`).
+    let fitted = drawn(1);
     let mut series = vec![Series {
         name: "the network's checkpoints".into(),
-        points: points.clone(),
+        points,
         errors: None,
         markers: true,
         band: None,
     }];
-    if let (Some(first), Some(last), Some(a), Some(r)) = (
-        points.get(1),
-        points.last(),
+    if let (Some(first), Some(last), Some((slope, icpt)), Some(a), Some(r)) = (
+        fitted.first(),
+        fitted.last(),
+        crate::analysis::filtration::line(&fitted),
         f.alpha_fit_m_per_kg,
         f.r_medium_fit_per_m,
     ) {
         series.push(Series {
             name: format!("Ruth's line: α {a:.3e} m/kg, R_m {r:.3e} 1/m"),
-            points: fitted_line(&points[1..], first.0, last.0),
+            points: vec![
+                (first.0, slope * first.0 + icpt),
+                (last.0, slope * last.0 + icpt),
+            ],
             errors: None,
             markers: false,
             band: None,
@@ -466,18 +477,6 @@ pub fn filtration_curve(f: &crate::analysis::filtration::FiltrationSummary) -> P
         y_range: None,
         x_range: None,
     }
-}
-
-/// The least-squares line through `points`, drawn from `x0` to `x1`.
-fn fitted_line(points: &[(Real, Real)], x0: Real, x1: Real) -> Vec<(Real, Real)> {
-    let n = points.len() as Real;
-    let (mx, my) = points
-        .iter()
-        .fold((0.0, 0.0), |a, p| (a.0 + p.0 / n, a.1 + p.1 / n));
-    let sxx: Real = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let sxy: Real = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let a = if sxx > 0.0 { sxy / sxx } else { 0.0 };
-    vec![(x0, my + a * (x0 - mx)), (x1, my + a * (x1 - mx))]
 }
 
 /// The grade-efficiency curve: the fraction captured (lodged or in the
