@@ -1072,6 +1072,12 @@ fn settling_rules_run_and_bad_ones_are_refused() {
             &["[filtration]", "medium = true"][..],
         ),
         (
+            "mesh-closed.toml",
+            "[box]\nwidth = 20\ndepth = 20\nheight = 400\nperiodic = true\n[[species]]\nname = \"a\"\nradius = 1\n\
+             [[feeds]]\nmesh = { wire_diameter = 2, aperture = 0 }\n[[feeds]]\nspecies = [\"a\"]\ncount = 3\n",
+            &["feeds[0].mesh.aperture", "no opening"][..],
+        ),
+        (
             "medium-last.toml",
             "[[species]]\nname = \"a\"\nradius = 10\n[[feeds]]\nspecies = [\"a\"]\ncount = 3\nmedium = true\n",
             &["every feed is a medium"][..],

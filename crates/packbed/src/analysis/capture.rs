@@ -121,7 +121,7 @@ pub struct CaptureSummary {
 }
 
 /// Which species of `bed` are the medium's: those of the `[[feeds]]` marked
-/// `medium = true`.
+/// `medium = true`, and a mesh's.
 pub fn medium_species<const D: usize>(
     feeds: &[crate::config::FeedStageConfig],
     bed: &Bed<D>,
@@ -130,18 +130,30 @@ pub fn medium_species<const D: usize>(
         .iter()
         .map(|s| {
             s.feed
-                .is_some_and(|k| feeds.get(k as usize).is_some_and(|f| f.medium))
+                .is_some_and(|k| feeds.get(k as usize).is_some_and(|f| f.is_medium()))
         })
         .collect()
 }
 
+/// The height of a woven mesh's mid-plane above its bottom, when the
+/// medium of `feeds` is a mesh: there its surface lies (see [`capture`]).
+pub fn mesh_mid_plane<const D: usize>(feeds: &[crate::config::FeedStageConfig]) -> Option<Real> {
+    let mesh = feeds.iter().find_map(|f| f.mesh)?;
+    Some(mesh.resolve("mesh").ok()?.mid_plane::<D>())
+}
+
 /// The capture of `bed`, whose species `medium[s]` are the medium's, with
-/// the bodies that passed; `None` without a medium.
+/// the bodies that passed; `None` without a medium. The medium's surface is
+/// its mean top, or for a woven mesh its mid-plane, `mid_plane` above its
+/// bottom ([`mesh_mid_plane`]): a body held in an opening (a sieve's
+/// blinding) is retained at the mesh's surface, and only one whose centre
+/// passed between the layers has lodged in it.
 pub fn capture<const D: usize>(
     bed: &Bed<D>,
     medium: &[bool],
     filtrate: &[Filtrate],
     lift: Real,
+    mid_plane: Option<Real>,
 ) -> Option<CaptureSummary> {
     if !medium.iter().any(|&m| m) {
         return None;
@@ -156,7 +168,10 @@ pub fn capture<const D: usize>(
         .filter(|&i| is_medium(i))
         .map(|i| bed.centres[i][D - 1] - bed.radii[i])
         .fold(Real::INFINITY, Real::min);
-    let medium_surface = mean_top(bed, &is_medium)?;
+    let medium_surface = match mid_plane {
+        Some(h) if medium_bottom.is_finite() => medium_bottom + h,
+        _ => mean_top(bed, &is_medium)?,
+    };
     // Bodies after the medium: (diameter, centre height) of each.
     let mut bodies: Vec<(Real, Real)> = Vec::new();
     let mut medium_bodies = 0;

@@ -28,6 +28,7 @@
 //! it two species entries. Without `[[feeds]]` a bed is one feed of every
 //! species, filled as `[fill]` says, bit for bit as before.
 
+use super::mesh::{Mesh, MeshConfig};
 use super::settling::{Settling, SettlingConfig};
 use crate::error::{Error, Result};
 use crate::math::Real;
@@ -38,9 +39,12 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FeedStageConfig {
-    /// The names of the species this feed draws from.
+    /// The names of the species this feed draws from (none for a mesh).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub species: Vec<String>,
-    /// How many bodies it places.
+    /// How many particles (beads) it places (none for a mesh: its wires
+    /// fill the box).
+    #[serde(default, skip_serializing_if = "is_zero")]
     pub count: u64,
     /// Its settling rule (default: the config's `[settling]`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -49,6 +53,21 @@ pub struct FeedStageConfig {
     /// fixed above an open floor through which the later feeds can pass.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub medium: bool,
+    /// A woven square mesh of wires as the medium, placed rather than fed
+    /// (`mesh = { wire_diameter = 2, aperture = 3 }`; see [`MeshConfig`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<MeshConfig>,
+}
+
+fn is_zero(n: &u64) -> bool {
+    *n == 0
+}
+
+impl FeedStageConfig {
+    /// True for a filter medium: marked `medium = true`, or a mesh.
+    pub fn is_medium(&self) -> bool {
+        self.medium || self.mesh.is_some()
+    }
 }
 
 /// One feed of a bed, checked: what it draws, how many, how they settle.
@@ -62,6 +81,8 @@ pub struct FeedStage {
     pub settling: Settling,
     /// True for a filter medium (the feeds before the first slurry).
     pub medium: bool,
+    /// A woven mesh placed as the medium (its species are made for it).
+    pub mesh: Option<Mesh>,
 }
 
 impl<const D: usize> super::Plan<D> {
@@ -103,6 +124,15 @@ pub(crate) fn resolve_feeds(
     let mut out = Vec::with_capacity(stages.len());
     for (k, stage) in stages.iter().enumerate() {
         let what = format!("feeds[{k}]");
+        if stage.is_medium() && k > 0 && !stages[k - 1].is_medium() {
+            return Err(Error::config(format!(
+                "{what}.medium: the medium's feeds come first, before every feed that is not a medium (move this entry up)"
+            )));
+        }
+        if let Some(mesh) = &stage.mesh {
+            out.push(mesh_stage(k, stage, mesh, settling)?);
+            continue;
+        }
         if stage.count == 0 {
             return Err(Error::config(format!("{what}.count must be at least 1")));
         }
@@ -150,16 +180,12 @@ pub(crate) fn resolve_feeds(
                 "{what}.settling.restitution: the momentum rule settles spheres and discs; a rigid chain's momentum is not modelled"
             )));
         }
-        if stage.medium && k > 0 && !stages[k - 1].medium {
-            return Err(Error::config(format!(
-                "{what}.medium: the medium's feeds come first, before every feed that is not a medium (move this entry up)"
-            )));
-        }
         out.push(FeedStage {
             species: picked,
             count: stage.count,
             settling: rule,
             medium: stage.medium,
+            mesh: None,
         });
     }
     if out.last().is_some_and(|f| f.medium) {
@@ -174,4 +200,64 @@ pub(crate) fn resolve_feeds(
         )));
     }
     Ok(out)
+}
+
+/// Feed `k`, a woven mesh: placed, so it names no species, count or rule
+/// (its species and count come with the box, [`weave`]); only the first
+/// feed, since it is laid on the floor.
+fn mesh_stage(
+    k: usize,
+    stage: &FeedStageConfig,
+    mesh: &MeshConfig,
+    settling: &SettlingConfig,
+) -> Result<FeedStage> {
+    let what = format!("feeds[{k}]");
+    if k > 0 {
+        return Err(Error::config(format!(
+            "{what}.mesh: a mesh is laid on the floor, so it is the first feed (a precoat may follow it)"
+        )));
+    }
+    for (given, key) in [
+        (!stage.species.is_empty(), "species"),
+        (stage.count != 0, "count"),
+        (stage.settling.is_some(), "settling"),
+    ] {
+        if given {
+            return Err(Error::config(format!(
+                "{what}.{key}: a mesh is placed, not fed: its wires fill the box (remove `{key}`)"
+            )));
+        }
+    }
+    Ok(FeedStage {
+        species: Vec::new(),
+        count: 0,
+        settling: settling.resolve()?,
+        medium: true,
+        mesh: Some(mesh.resolve(&what)?),
+    })
+}
+
+/// Adds the species of the feeds' mesh (if any) to `species`, now that the
+/// box `c` is known, and sets that feed's species and count (its beads).
+pub(crate) fn weave<const D: usize>(
+    feeds: &mut [FeedStage],
+    species: &mut Vec<Species>,
+    c: &crate::container::Container<D>,
+) -> Result<()> {
+    for (k, feed) in feeds.iter_mut().enumerate() {
+        let Some(mesh) = feed.mesh else { continue };
+        for family in mesh.wires(c, &format!("feeds[{k}]"))? {
+            let s = mesh.species(&family, k as u32);
+            if species.iter().any(|t| t.name == s.name) {
+                return Err(Error::config(format!(
+                    "species `{}`: that name is the mesh's (feeds[{k}]); rename the species",
+                    s.name
+                )));
+            }
+            feed.species.push(species.len() as u32);
+            feed.count += u64::from(family.wires) * u64::from(family.beads);
+            species.push(s);
+        }
+    }
+    Ok(())
 }

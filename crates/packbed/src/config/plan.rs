@@ -484,7 +484,7 @@ impl Config {
         let mut species = name_species(species);
         rsa_places_single_particles(self.mode, &species)?;
         let settling = self.settling.resolve()?;
-        let feeds = self.feeds(&mut species)?;
+        let mut feeds = self.feeds(&mut species)?;
         if self.mode == Mode::Rsa && !settling.is_rolling() {
             return Err(Error::config(
                 "[settling] rules how dropped particles come to rest; mode = \"rsa\" drops none (remove [settling], or use mode = \"deposit\")",
@@ -502,6 +502,9 @@ impl Config {
         }
         let r_max = Self::r_max(&species);
         let container = self.container.resolve::<D>(&species, r_max)?;
+        // A mesh's wires span the box, so its species come with the box.
+        let fed_species = species.len();
+        super::feeds::weave(&mut feeds, &mut species, &container)?;
         let feed = self.feed.resolve(&container, r_max)?;
         if self.mode == Mode::Rsa && !self.feed.is_default() {
             return Err(Error::config(
@@ -526,7 +529,8 @@ impl Config {
                 misses: self.fill.roof_misses,
             },
         };
-        chains_fit(&species, &container)?;
+        // A mesh's wires span the box on purpose (closed through its sides).
+        chains_fit(&species[..fed_species], &container)?;
         let r_min = species
             .iter()
             .map(|s| s.size.bounds().0)
@@ -537,7 +541,7 @@ impl Config {
         }
         // Refuse requests that cannot fit in memory, before allocating anything.
         // Beads, not bodies: each bead of a chain is a particle of the bed.
-        let beads = species
+        let beads = species[..fed_species]
             .iter()
             .map(|s| Real::from(s.shape.beads()))
             .fold(1.0, Real::max);

@@ -218,6 +218,10 @@ impl<'p, const D: usize> Engine<'p, D> {
         let mut batches = speculate.then(speculate::Batches::new);
         for k in 0..self.plan.feeds.len().max(1) {
             self.start_feed(k);
+            if let Some(mesh) = self.plan.feeds.get(k).and_then(|f| f.mesh) {
+                self.lay_mesh(&mesh, k);
+                continue;
+            }
             if !self.place_feed(&mut batches, progress)? {
                 break;
             }
@@ -225,6 +229,23 @@ impl<'p, const D: usize> Engine<'p, D> {
         let _ = progress(self.bed.len() as u64);
         self.report.deposit_seconds = started.elapsed().as_secs_f64();
         Ok((self.bed, self.report))
+    }
+
+    /// Lays the wires of feed `k`, a woven mesh, on the floor: placed where
+    /// the mesh says, not dropped (a filter's mesh is held fixed).
+    fn lay_mesh(&mut self, mesh: &crate::config::Mesh, k: usize) {
+        let c = self.plan.container;
+        let wires = mesh
+            .wires(&c, "")
+            .expect("the plan checked the mesh against its box");
+        for (family, &s) in wires.iter().zip(&self.plan.feeds[k].species) {
+            for beads in mesh.bodies::<D>(family) {
+                let id = self.bed.bodies.last().map_or(0, |&b| b + 1);
+                for p in beads {
+                    self.place_bead(p, mesh.r, s, id);
+                }
+            }
+        }
     }
 
     /// Places the feed being placed, up to [`Engine::target`]; false if the

@@ -253,15 +253,14 @@ fn capture<const D: usize>(
     bed: &Bed<D>,
     report: &DepositReport,
 ) -> Option<crate::analysis::capture::CaptureSummary> {
-    let medium: Vec<bool> = bed
-        .species_info
-        .iter()
-        .map(|s| {
-            s.feed
-                .is_some_and(|k| config.feeds.get(k as usize).is_some_and(|f| f.medium))
-        })
-        .collect();
-    crate::analysis::capture::capture(bed, &medium, &report.filtrate, report.medium_lift)
+    let medium = crate::analysis::capture::medium_species(&config.feeds, bed);
+    crate::analysis::capture::capture(
+        bed,
+        &medium,
+        &report.filtrate,
+        report.medium_lift,
+        crate::analysis::capture::mesh_mid_plane::<D>(&config.feeds),
+    )
 }
 
 /// A warning for each size table of `bed`'s species that names no unit in a

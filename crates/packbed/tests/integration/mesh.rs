@@ -1,0 +1,207 @@
+//! A woven square mesh as the filter medium (`[[feeds]]` with `mesh = {..}`):
+//! its wires are placed exactly, and it sieves: every particle finer than
+//! its aperture passes, every one coarser stays at its surface.
+
+use crate::common::{assert_checked, config, run, TOL};
+use packbed::analysis::capture::{capture, mesh_mid_plane};
+use packbed::analysis::validate::InvariantChecks;
+use packbed::bed::Bed;
+use packbed::config::Config;
+use packbed::deposit::DepositReport;
+
+/// A periodic box of `side` (3D: side × side) with a mesh of wires of
+/// diameter 2 and aperture 3 (pitch 5), then `count` spheres of radii
+/// uniform in [`lo`, `hi`].
+fn sieve(dim: u32, side: f64, lo: f64, hi: f64, count: u64) -> String {
+    let depth = if dim == 3 {
+        format!("depth = {side}\n")
+    } else {
+        String::new()
+    };
+    format!(
+        "dim = {dim}\nseed = 3\n[box]\nwidth = {side}\n{depth}height = 3000\nperiodic = true\n\
+         [fill]\nbase_layer = \"none\"\n\
+         [[species]]\nname = \"slurry\"\nsize = {{ dist = \"uniform\", min = {lo}, max = {hi} }}\n\
+         [[feeds]]\nmesh = {{ wire_diameter = 2, aperture = 3 }}\n\
+         [[feeds]]\nspecies = [\"slurry\"]\ncount = {count}\n"
+    )
+}
+
+/// The mesh's species: those named after its wires (placed after the
+/// config's own species).
+fn mesh_flags<const D: usize>(b: &Bed<D>) -> Vec<bool> {
+    b.species_info
+        .iter()
+        .map(|s| s.name.starts_with("mesh wires"))
+        .collect()
+}
+
+fn sieved<const D: usize>(
+    c: &Config,
+) -> (
+    Bed<D>,
+    DepositReport,
+    packbed::analysis::capture::CaptureSummary,
+) {
+    let (b, report) = run::<D>(c);
+    let cap = capture(
+        &b,
+        &mesh_flags(&b),
+        &report.filtrate,
+        report.medium_lift,
+        mesh_mid_plane::<D>(&c.feeds),
+    )
+    .unwrap();
+    (b, report, cap)
+}
+
+#[test]
+fn the_wires_lie_where_the_mesh_says() {
+    let c = config(&sieve(3, 25.0, 0.5, 1.0, 10));
+    let (b, report) = run::<3>(&c);
+    let lift = report.medium_lift;
+    assert_eq!(lift, 2.0);
+    let wire: Vec<usize> = (0..b.len())
+        .filter(|&i| mesh_flags(&b)[b.species[i] as usize])
+        .collect();
+    // Five wires each way, one body each, closed through the periodic sides.
+    let mut bodies: Vec<u32> = wire.iter().map(|&i| b.bodies[i]).collect();
+    bodies.dedup();
+    assert_eq!(bodies.len(), 10);
+    for &i in &wire {
+        assert_eq!(b.radii[i], 1.0);
+        let (x, y, z) = (b.centres[i][0], b.centres[i][1], b.centres[i][2]);
+        // Wires along x lie on the open floor's gap, wires along y on them.
+        let along_x = b.species_info[b.species[i] as usize].name.ends_with('x');
+        let (across, height) = if along_x { (y, 1.0) } else { (x, 3.0) };
+        assert!(((across - 2.5) / 5.0 - ((across - 2.5) / 5.0).round()).abs() < 1e-12);
+        assert!((z - lift - height).abs() < 1e-12, "{z}");
+    }
+    // Neighbouring beads of a wire at most a quarter radius apart, and the
+    // wire closed: its beads times their spacing is the box.
+    for s in b.species_info.iter().filter(|s| s.name.starts_with("mesh")) {
+        let packbed::species::Shape::Chain { beads, spacing, .. } = s.shape else {
+            panic!("{s:?}")
+        };
+        assert!(spacing <= 0.25);
+        assert!((f64::from(beads) * spacing - 25.0).abs() < 1e-9);
+    }
+    let checks = InvariantChecks {
+        rest: false,
+        ..InvariantChecks::new(TOL)
+    };
+    assert_checked(&b, &checks, "mesh");
+}
+
+#[test]
+fn a_mesh_coarser_than_every_particle_passes_them_all() {
+    // Diameters up to 2.9 through a 3-wide opening: none is held. The model
+    // drops one particle at a time and carries no fluid, so nothing bridges
+    // an opening that no particle stops in.
+    for (dim, seed) in [(2, 3), (3, 1), (3, 2), (3, 3)] {
+        let text = sieve(dim, 25.0, 0.5, 1.45, 2000).replace("seed = 3", &format!("seed = {seed}"));
+        let (b, report, cap) = if dim == 3 {
+            let (b, r, cap) = sieved::<3>(&config(&text));
+            (b.len(), r, cap)
+        } else {
+            let (b, r, cap) = sieved::<2>(&config(&text));
+            (b.len(), r, cap)
+        };
+        assert_eq!(
+            (cap.passed, cap.lodged, cap.cake),
+            (2000, 0, 0),
+            "{dim}D, seed {seed}"
+        );
+        assert_eq!(report.filtrate.len(), 2000);
+        // Only the wires are left in the bed.
+        let wires = if dim == 3 { 10 } else { 5 };
+        assert_eq!(cap.medium_bodies, wires);
+        assert!(b >= wires as usize);
+    }
+}
+
+#[test]
+fn a_mesh_finer_than_every_particle_holds_them_all_at_its_surface() {
+    // Diameters from 3.1 up over a 3-wide opening: none passes, none enters
+    // between the wires' layers; they sit in the openings and on each other.
+    for dim in [2, 3] {
+        let text = sieve(dim, 25.0, 1.55, 2.5, 400);
+        let (passed, lodged, cake) = if dim == 3 {
+            let (b, _, cap) = sieved::<3>(&config(&text));
+            let checks = InvariantChecks {
+                rest: false,
+                ..InvariantChecks::new(TOL)
+            };
+            assert_checked(&b, &checks, "mesh and cake");
+            // The surface is the mesh's mid-plane, where its layers touch.
+            assert!((cap.medium_surface - cap.medium_bottom - 2.0).abs() < 1e-12);
+            (cap.passed, cap.lodged, cap.cake)
+        } else {
+            let (_, _, cap) = sieved::<2>(&config(&text));
+            (cap.passed, cap.lodged, cap.cake)
+        };
+        assert_eq!((passed, lodged, cake), (0, 0, 400), "{dim}D");
+    }
+}
+
+#[test]
+fn a_mesh_sieves_a_mix_at_its_aperture() {
+    // Radii 0.5–2.5 over a 3-wide opening (d = 3 at r = 1.5): everything
+    // coarser than the aperture stays; of the finer, only what the coarse
+    // particles' layer catches stays, so the grade efficiency climbs to 1
+    // by the aperture.
+    let (_, report, cap) = sieved::<3>(&config(&sieve(3, 25.0, 0.5, 2.5, 3000)));
+    assert!(report.filtrate.iter().all(|f| 2.0 * f.radius < 3.0));
+    assert!(cap.passed > 0 && cap.cake > 0, "{cap:?}");
+    for class in &cap.classes {
+        if class.d_lo >= 3.0 {
+            assert_eq!(class.grade_efficiency, Some(1.0), "{class:?}");
+        }
+    }
+}
+
+#[test]
+fn bad_meshes_are_refused() {
+    let good = sieve(3, 25.0, 0.5, 1.0, 10);
+    for (text, needle) in [
+        (
+            good.replace("aperture = 3", "aperture = 0"),
+            "no opening",
+        ),
+        (
+            good.replace("aperture = 3", "aperture = -1"),
+            "no opening",
+        ),
+        (
+            good.replace("wire_diameter = 2", "wire_diameter = 0"),
+            "wire_diameter",
+        ),
+        (good.replace("periodic = true", "periodic = false"), "periodic"),
+        (
+            good.replace("width = 25", "width = 24"),
+            "make it 20 or 25",
+        ),
+        (
+            good.replace("width = 25", "width = 5"),
+            "at least two",
+        ),
+        (
+            good.replace(
+                "mesh = { wire_diameter = 2, aperture = 3 }\n",
+                "mesh = { wire_diameter = 2, aperture = 3 }\ncount = 4\n",
+            ),
+            "placed, not fed",
+        ),
+        (
+            good.replace(
+                "[[feeds]]\nmesh = { wire_diameter = 2, aperture = 3 }\n[[feeds]]\nspecies = [\"slurry\"]\ncount = 10\n",
+                "[[feeds]]\nspecies = [\"slurry\"]\ncount = 10\nmedium = true\n[[feeds]]\nmesh = { wire_diameter = 2, aperture = 3 }\n",
+            ),
+            "first feed",
+        ),
+    ] {
+        let e = config(&text).plan::<3>().unwrap_err().to_string();
+        assert!(e.contains(needle), "{needle}: {e}");
+        assert!(!e.contains('\n'), "{e}");
+    }
+}
