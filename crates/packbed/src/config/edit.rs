@@ -55,6 +55,24 @@ pub enum Edit {
     DrainageReducedPressure(Real),
     /// One key of `[settling]`: a sweep over how particles come to rest.
     Settling(SettlingEdit),
+    /// One key of `[filtration]`: a sweep over pressures or slurries.
+    Filtration(FiltrationEdit),
+    /// The bodies of one entry of `[[feeds]]` (0-based): a sweep over a
+    /// medium's depth or a slurry's amount.
+    FeedCount(usize, u64),
+}
+
+/// A change to `[filtration]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FiltrationEdit {
+    /// A constant pressure drop, Pa (it replaces a flow rate).
+    Pressure(Real),
+    /// A constant flux, m/s (it replaces a pressure).
+    FlowRate(Real),
+    /// The solids deposited per filtrate volume, kg/m³.
+    Concentration(Real),
+    /// The filtrate's viscosity, Pa s.
+    Viscosity(Real),
 }
 
 /// A change to `[settling]`.
@@ -158,7 +176,7 @@ impl FromStr for BoxSpec {
 }
 
 /// The parameters a sweep can vary, with the form of their values.
-pub const SWEEP_PARAMETERS: [(&str, &str); 29] = [
+pub const SWEEP_PARAMETERS: [(&str, &str); 34] = [
     ("ratio", "a list with one number ratio per species, e.g. [1, 2]"),
     (
         "radii",
@@ -224,7 +242,31 @@ pub const SWEEP_PARAMETERS: [(&str, &str); 29] = [
         "analysis.drainage.reduced_pressure",
         "the deliquoring pressure as P_c·d32/γ",
     ),
+    (
+        "filtration.pressure",
+        "the filtration's constant pressure drop, Pa (it replaces a flow_rate)",
+    ),
+    (
+        "filtration.flow_rate",
+        "the filtration's constant flux, m/s (it replaces a pressure)",
+    ),
+    (
+        "filtration.concentration",
+        "the solids deposited per filtrate volume, kg/m³",
+    ),
+    ("filtration.viscosity", "the filtrate's viscosity, Pa s"),
+    (
+        "feeds[K].count",
+        "a whole number of bodies for feed K (0-based): a medium's depth, a slurry's amount",
+    ),
 ];
+
+/// `feeds[K].key` → (K, key).
+pub(crate) fn feed_parameter(p: &str) -> Option<(usize, &str)> {
+    let rest = p.strip_prefix("feeds[")?;
+    let (k, key) = rest.split_once("].")?;
+    Some((k.parse().ok()?, key))
+}
 
 /// `species[K].key` → (K, key).
 pub(crate) fn species_parameter(p: &str) -> Option<(usize, &str)> {
@@ -290,6 +332,16 @@ impl Edit {
             }
             "analysis.drainage.pressure" => Edit::DrainagePressure(one()?),
             "analysis.drainage.reduced_pressure" => Edit::DrainageReducedPressure(one()?),
+            "filtration.pressure" => Edit::Filtration(FiltrationEdit::Pressure(one()?)),
+            "filtration.flow_rate" => Edit::Filtration(FiltrationEdit::FlowRate(one()?)),
+            "filtration.concentration" => {
+                Edit::Filtration(FiltrationEdit::Concentration(one()?))
+            }
+            "filtration.viscosity" => Edit::Filtration(FiltrationEdit::Viscosity(one()?)),
+            _ if feed_parameter(parameter).is_some() => match feed_parameter(parameter) {
+                Some((k, "count")) => Edit::FeedCount(k, whole(one()?)?),
+                _ => return Err(format!("{parameter}: a feed sweeps its count")),
+            },
             _ => match species_parameter(parameter) {
                 Some((k, "radius")) => Edit::SpeciesRadius(k, one()?),
                 Some((k, "ratio")) => Edit::SpeciesRatio(k, one()?),
@@ -409,6 +461,28 @@ impl Config {
             Edit::DrainageReducedPressure(p) => {
                 let d = &mut self.analysis.drainage;
                 (d.pressure, d.reduced_pressure) = (None, Some(*p));
+            }
+            Edit::Filtration(e) => {
+                let Some(f) = self.filtration.as_mut() else {
+                    return Err(Error::config(
+                        "the config has no [filtration] table to change",
+                    ));
+                };
+                match *e {
+                    FiltrationEdit::Pressure(p) => (f.pressure, f.flow_rate) = (Some(p), None),
+                    FiltrationEdit::FlowRate(q) => (f.pressure, f.flow_rate) = (None, Some(q)),
+                    FiltrationEdit::Concentration(c) => f.concentration = c,
+                    FiltrationEdit::Viscosity(v) => f.viscosity = v,
+                }
+            }
+            Edit::FeedCount(k, n) => {
+                let feeds = self.feeds.len();
+                let Some(f) = self.feeds.get_mut(*k) else {
+                    return Err(Error::config(format!(
+                        "the config has {feeds} [[feeds]] entries, no feeds[{k}]"
+                    )));
+                };
+                f.count = *n;
             }
             Edit::Settling(e) => {
                 let s = &mut self.settling;
