@@ -199,6 +199,13 @@ fn a_sweep_over_pressures_scales_the_time_and_keeps_the_cake() {
         "{head}"
     );
     assert!(md.contains("Per checkpoint and per size class"), "{md}");
+    for plot in [
+        "plot_sweep_alpha",
+        "plot_sweep_medium_resistance",
+        "plot_sweep_filtration_time",
+    ] {
+        assert!(s.path(&format!("p/{plot}.png")).exists(), "{plot}");
+    }
     assert!(!md.contains("## filtration.checkpoints["), "{md}");
     // A sweep over a config without a filtration is refused by name.
     let bare = s.input(
