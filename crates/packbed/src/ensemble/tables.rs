@@ -1025,6 +1025,68 @@ mod tests {
     }
 
     #[test]
+    fn the_filtration_figures_follow_the_cake_with_their_units() {
+        let mut config = Config::default();
+        config.analysis.length_unit = Some(crate::config::LengthUnit::Micrometre);
+        let v = Kind::Value;
+        let a = aggregate(
+            3,
+            &[
+                ("cake.porosity", v, st(3, 0.38, 0.01, 0.37, 0.39)),
+                ("capture.x50", v, st(2, 9.5, 0.5, 9.0, 10.0)),
+                (
+                    "filtration.alpha_fit_m_per_kg",
+                    v,
+                    st(3, 1.8e9, 5e7, 1.75e9, 1.85e9),
+                ),
+                (
+                    "filtration.final.time_s",
+                    v,
+                    st(3, 0.026, 0.001, 0.025, 0.027),
+                ),
+                (
+                    "filtration.checkpoints[2].time_s",
+                    v,
+                    st(3, 0.005, 0.0003, 0.0047, 0.0053),
+                ),
+            ],
+        );
+        let h = Header {
+            config: &config,
+            runs: 3,
+            shard: None,
+            sweep: None,
+        };
+        let md = ensemble_md(&h, &a);
+        let at = |s: &str| md.find(s).unwrap_or_else(|| panic!("{s} not in\n{md}"));
+        assert!(
+            at("## Cake") < at("\n## Filtration\n") && at("## Filtration") < at("## All measures")
+        );
+        at("| α fitted to Ruth's line | m/kg | filtration.alpha_fit_m_per_kg |");
+        at("| cut size x50 (grade efficiency 1/2) | µm | capture.x50 (2 of 3 beds) |");
+        at("| time at the end | s | filtration.final.time_s |");
+        assert!(!md.contains("| filtration.checkpoints[2]"), "{md}");
+        let json: Value = serde_json::from_str(&ensemble_json(&h, &a)).unwrap();
+        assert_eq!(json["measures"]["capture.x50"]["unit"], "µm");
+        assert!(json["measures"]["cake.porosity"].get("unit").is_none());
+        let rows = [SweepRow {
+            label: "1 bar",
+            aggregate: &a,
+        }];
+        let sweep = sweep_md("filtration.pressure", &config, &rows);
+        let head = sweep
+            .lines()
+            .find(|l| l.starts_with("| filtration.pressure |"))
+            .unwrap();
+        assert!(head.contains("| capture.x50 (µm) |"), "{head}");
+        assert!(
+            sweep.contains("\n## filtration.alpha_fit_m_per_kg (m/kg)\n"),
+            "{sweep}"
+        );
+        assert!(!sweep.contains("## filtration.checkpoints"), "{sweep}");
+    }
+
+    #[test]
     fn csv_rows() {
         let a = aggregate(
             2,
