@@ -866,6 +866,50 @@ mod tests {
     }
 
     #[test]
+    fn filtration_and_feed_sweeps_edit_their_keys() {
+        let n = SweepValue::Number(2e5);
+        assert_eq!(
+            Edit::from_sweep("filtration.pressure", &n),
+            Ok(Edit::Filtration(FiltrationEdit::Pressure(2e5)))
+        );
+        assert_eq!(
+            Edit::from_sweep("feeds[1].count", &SweepValue::Number(60.0)),
+            Ok(Edit::FeedCount(1, 60))
+        );
+        assert!(Edit::from_sweep("feeds[0].count", &SweepValue::Number(1.5)).is_err());
+        for p in [
+            "filtration.pressure",
+            "filtration.flow_rate",
+            "feeds[K].count",
+        ] {
+            assert!(SWEEP_PARAMETERS.iter().any(|(q, _)| *q == p), "{p}");
+        }
+        let mut c = Config::default();
+        let e = c
+            .apply(&Edit::Filtration(FiltrationEdit::Pressure(1e5)))
+            .unwrap_err();
+        assert!(e.to_string().contains("no [filtration] table"), "{e}");
+        c.filtration = Some(crate::config::FiltrationConfig {
+            pressure: None,
+            flow_rate: Some(1e-4),
+            viscosity: 1e-3,
+            concentration: 100.0,
+            checkpoints: 20,
+            stop: None,
+        });
+        // A pressure replaces a flow rate, and the other way round.
+        c.apply(&Edit::Filtration(FiltrationEdit::Pressure(3e5)))
+            .unwrap();
+        let f = c.filtration.as_ref().unwrap();
+        assert_eq!((f.pressure, f.flow_rate), (Some(3e5), None));
+        c.apply(&Edit::Filtration(FiltrationEdit::FlowRate(2e-4)))
+            .unwrap();
+        let f = c.filtration.as_ref().unwrap();
+        assert_eq!((f.pressure, f.flow_rate), (None, Some(2e-4)));
+        let e = c.apply(&Edit::FeedCount(0, 10)).unwrap_err();
+        assert!(e.to_string().contains("no feeds[0]"), "{e}");
+    }
+    #[test]
     fn drying_and_drainage_parameters_map_to_edits() {
         let n = SweepValue::Number(5.0);
         let cases = [
