@@ -15,6 +15,7 @@ mod ensemble;
 mod escapes;
 mod files;
 mod filtration;
+mod filtration_studies;
 mod fragment;
 mod front_door;
 mod output_dir;

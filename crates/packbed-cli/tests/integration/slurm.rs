@@ -5,9 +5,12 @@
 //!
 //! Every `packbed slurm ... --submit --wait` result is compared byte for byte
 //! with `packbed ensemble` of the same settings: a plain ensemble, a sweep,
-//! and an ensemble whose task was cancelled mid-run and then resubmitted.
+//! and an ensemble whose task was cancelled mid-run and then resubmitted;
+//! and a filtration sweep over pressures (its scripts also run by hand, where
+//! no Slurm is needed).
 
 use crate::common::{packbed, Scratch, SMALL, STAT_FILES};
+use crate::filtration_studies::small_filtration;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -717,4 +720,102 @@ fn a_drying_sweep_through_the_scripts_equals_the_local_ensemble() {
         let dir = format!("sweep/{value}");
         assert_same(&local.join(&dir), &plan.join(&dir), &STAT_FILES);
     }
+}
+
+/// A filtration sweep over pressures through `packbed slurm`'s scripts,
+/// in `dir` under `s`: the config it records, its tasks and merge.
+fn filtration_sweep(s: &Scratch) -> String {
+    let sweep = "[sweep]\nparameter = \"filtration.pressure\"\nvalues = [1e5, 2e5]\n";
+    let cfg = s.input("filter.toml", &small_filtration("um", 80, sweep));
+    let cfg = cfg.to_str().unwrap().to_string();
+    s.ok(&["ensemble", &cfg, "--runs", "2", "--out", "local", "-q"]);
+    cfg
+}
+
+/// The filtration's statistics of a Slurm directory equal the local ones,
+/// and carry its figures.
+fn assert_filtration_same(s: &Scratch, plan: &str) {
+    let (local, plan) = (s.path("local"), s.path(plan));
+    assert_same(&local, &plan, &["sweep.csv", "sweep.md"]);
+    for value in ["00-pressure-100000", "01-pressure-200000"] {
+        let dir = format!("sweep/{value}");
+        assert_same(&local.join(&dir), &plan.join(&dir), &STAT_FILES);
+    }
+    let csv = std::fs::read_to_string(plan.join("sweep.csv")).unwrap();
+    for key in [
+        "filtration.alpha_fit_m_per_kg",
+        "filtration.r_medium_fit_per_m",
+        "filtration.final.time_s",
+        "capture.passed_fraction",
+    ] {
+        assert!(csv.contains(&format!(",{key},2,")), "{key} not in\n{csv}");
+    }
+    let md = std::fs::read_to_string(plan.join("sweep/01-pressure-200000/ensemble.md")).unwrap();
+    assert!(
+        md.contains("| m/kg | filtration.alpha_fit_m_per_kg |"),
+        "{md}"
+    );
+}
+
+/// A filtration (a medium feed, `[filtration]`, a sweep over pressures)
+/// reaches the array tasks: the scripts, run by hand here (no Slurm
+/// needed), give the local ensemble's filtration tables.
+#[test]
+fn a_filtration_sweep_through_the_scripts_equals_the_local_ensemble() {
+    let s = Scratch::new();
+    let cfg = filtration_sweep(&s);
+    s.ok(&[
+        "slurm", &cfg, "--runs", "2", "--tasks", "2", "--out", "plan",
+    ]);
+    let config = s.read("plan/config.toml");
+    for needle in [
+        "medium = true",
+        "[filtration]",
+        "parameter = \"filtration.pressure\"",
+    ] {
+        assert!(config.contains(needle), "{needle} not in:\n{config}");
+    }
+    let script = s.read("plan/array.sh");
+    assert!(script.contains("#SBATCH --array=0-1\n"), "{script}");
+    for k in ["0", "1"] {
+        let st = Command::new("bash")
+            .arg(s.path("plan/array.sh"))
+            .env("SLURM_ARRAY_TASK_ID", k)
+            .current_dir(&s.work)
+            .stdin(Stdio::null())
+            .status()
+            .unwrap();
+        assert!(st.success(), "task {k}");
+    }
+    let st = Command::new("bash")
+        .arg(s.path("plan/merge.sh"))
+        .current_dir(&s.work)
+        .stdin(Stdio::null())
+        .status()
+        .unwrap();
+    assert!(st.success(), "merge");
+    assert_filtration_same(&s, "plan");
+}
+
+/// The same filtration sweep submitted to the real cluster: its merged
+/// tables are the local ones, byte for byte.
+#[test]
+fn slurm_filtration_sweep_equals_local() {
+    let Some(conf) = cluster() else {
+        return;
+    };
+    let s = Scratch::new();
+    let cfg = filtration_sweep(&s);
+    let out = run_ok(
+        &conf,
+        &s.work,
+        &[
+            "slurm", &cfg, "--runs", "2", "--tasks", "2", "--out", "cl", "--submit", "--wait",
+        ],
+    );
+    assert!(out.contains("submitted array job"), "{out}");
+    for k in 0..2 {
+        assert_eq!(s.read(&format!("cl/logs/task-{k}.status")).trim(), "0");
+    }
+    assert_filtration_same(&s, "cl");
 }

@@ -92,6 +92,12 @@ pub struct CaptureSummary {
     pub lodged: u64,
     /// In the cake above it.
     pub cake: u64,
+    /// `passed / fed` (null when nothing was fed).
+    pub passed_fraction: Option<Real>,
+    /// `lodged / fed`.
+    pub lodged_fraction: Option<Real>,
+    /// `cake / fed`.
+    pub cake_fraction: Option<Real>,
     /// Bodies of the medium.
     pub medium_bodies: u64,
     /// How far the medium stands above the open floor.
@@ -257,11 +263,16 @@ pub fn capture<const D: usize>(
     let passed = filtrate.len() as u64;
     let lodged: u64 = tally.iter().map(|t| t.1).sum();
     let cake: u64 = tally.iter().map(|t| t.2).sum();
+    let fed = passed + lodged + cake;
+    let fraction = |n: u64| (fed > 0).then(|| n as Real / fed as Real);
     Some(CaptureSummary {
-        fed: passed + lodged + cake,
+        fed,
         passed,
         lodged,
         cake,
+        passed_fraction: fraction(passed),
+        lodged_fraction: fraction(lodged),
+        cake_fraction: fraction(cake),
         medium_bodies,
         medium_lift: lift,
         medium_bottom,

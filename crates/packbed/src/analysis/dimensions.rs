@@ -103,9 +103,66 @@ pub fn length_power(key: &str, dim: u8) -> Option<i32> {
         // How far the placed curve is from the requested, and where.
         "psd.departure.at_diameter" => 1,
         _ if k.starts_with("psd.departure.") => 0,
+        // The filter medium's capture: bodies, fractions and ratios, and
+        // these lengths (sizes, heights, depths) in the bed's unit.
+        "capture.medium_lift"
+        | "capture.medium_bottom"
+        | "capture.medium_surface"
+        | "capture.x50"
+        | "capture.classes[].d_lo"
+        | "capture.classes[].d_hi"
+        | "capture.depth_profile[].depth_lo"
+        | "capture.depth_profile[].depth_hi"
+        | "capture.criteria.medium_d15"
+        | "capture.criteria.slurry_d85"
+        | "capture.criteria.slurry_d85_by_surface"
+        | "capture.criteria.constriction_diameter[]"
+        | "capture.criteria.kenney_constriction" => 1,
+        _ if k.starts_with("capture.") => 0,
+        // The filtration: in SI throughout, each key naming its unit.
+        _ if k.starts_with("filtration.") => 0,
         _ => return None,
     };
     Some(power)
+}
+
+/// The unit of a measure of the filtration (`filtration.*`, in SI, each key
+/// naming its unit: `_m_per_kg` is m/kg) or of the capture (`capture.*`:
+/// `length`, the bed's length unit, for its sizes, heights and depths;
+/// `bodies` for counts; `1` for fractions and ratios), as the ensemble,
+/// sweep and comparison tables print it beside the key. `None` for any
+/// other key: those tables print no unit for it.
+pub fn filtration_unit(key: &str, length: &str) -> Option<String> {
+    let key = normalised(key);
+    let k = key.as_str();
+    if let Some(rest) = k.strip_prefix("filtration.") {
+        // Longest suffix first: `_m3_per_m2` before `_per_m2`, `_per_m`
+        // before `_m`.
+        const SI: [(&str, &str); 8] = [
+            ("_m_per_kg", "m/kg"),
+            ("_m3_per_m2", "m³/m²"),
+            ("_kg_per_m2", "kg/m²"),
+            ("_per_m", "1/m"),
+            ("_pa", "Pa"),
+            ("_s", "s"),
+            ("_m", "m"),
+            ("ruth_departure", "1"),
+        ];
+        return SI
+            .iter()
+            .find(|(suffix, _)| rest.ends_with(suffix))
+            .map(|(_, unit)| unit.to_string());
+    }
+    if !k.starts_with("capture.") {
+        return None;
+    }
+    Some(match length_power(k, 3) {
+        Some(1) => length.to_string(),
+        _ if k.ends_with("fraction") || k.ends_with("efficiency") || k.ends_with("ratio") => {
+            "1".into()
+        }
+        _ => "bodies".into(),
+    })
 }
 
 /// `key` with its indices as `[]` and a species' name as `*`.
@@ -161,5 +218,44 @@ mod tests {
         );
         assert_eq!(length_power("fragmentation.max_force", 3), None);
         assert_eq!(length_power("cake.something_new", 3), None);
+        assert_eq!(length_power("capture.x50", 3), Some(1));
+        assert_eq!(length_power("capture.classes[3].d_lo", 3), Some(1));
+        assert_eq!(length_power("capture.classes[3].fed", 3), Some(0));
+        assert_eq!(
+            length_power("capture.criteria.constriction_diameter[1]", 3),
+            Some(1)
+        );
+        assert_eq!(length_power("capture.criteria.terzaghi_ratio", 3), Some(0));
+        assert_eq!(length_power("capture.passed_fraction", 3), Some(0));
+        assert_eq!(length_power("filtration.alpha_fit_m_per_kg", 3), Some(0));
+        assert_eq!(length_power("filtration.final.cake_height_m", 3), Some(0));
+    }
+
+    #[test]
+    fn units_of_the_filtration_and_the_capture() {
+        let unit = |k: &str| filtration_unit(k, "µm");
+        for (key, want) in [
+            ("filtration.alpha_fit_m_per_kg", "m/kg"),
+            ("filtration.alpha_network_m_per_kg", "m/kg"),
+            ("filtration.r_medium_fit_per_m", "1/m"),
+            ("filtration.r_medium_clogged_per_m", "1/m"),
+            ("filtration.ruth_departure", "1"),
+            ("filtration.final.time_s", "s"),
+            ("filtration.final.volume_m3_per_m2", "m³/m²"),
+            ("filtration.final.mass_kg_per_m2", "kg/m²"),
+            ("filtration.final.cake_height_m", "m"),
+            ("filtration.final.pressure_pa", "Pa"),
+            ("filtration.checkpoints[3].r_cake_per_m", "1/m"),
+            ("capture.x50", "µm"),
+            ("capture.criteria.medium_d15", "µm"),
+            ("capture.passed_fraction", "1"),
+            ("capture.classes[2].grade_efficiency", "1"),
+            ("capture.criteria.indraratna_ratio", "1"),
+            ("capture.lodged", "bodies"),
+        ] {
+            assert_eq!(unit(key).as_deref(), Some(want), "{key}");
+        }
+        assert_eq!(unit("cake.d32"), None);
+        assert_eq!(unit("packing.global"), None);
     }
 }

@@ -51,6 +51,36 @@ pub struct Checkpoint {
     pub r_medium_per_m: Real,
 }
 
+/// `filtration.final`: where the curve ended, in SI (the last checkpoint's).
+#[derive(Clone, Copy, Debug, Default, Serialize, PartialEq)]
+pub struct End {
+    /// Time since the start, s.
+    pub time_s: Real,
+    /// Filtrate volume per filter area, m³/m².
+    pub volume_m3_per_m2: Real,
+    /// Pressure drop across medium and cake, Pa.
+    pub pressure_pa: Real,
+    /// Cake height above the medium's surface, m.
+    pub cake_height_m: Real,
+    /// Solids taken by the filter per area (cake and lodged), kg/m².
+    pub mass_kg_per_m2: Real,
+    /// Resistance of medium and cake, 1/m.
+    pub r_total_per_m: Real,
+}
+
+impl From<&Checkpoint> for End {
+    fn from(c: &Checkpoint) -> End {
+        End {
+            time_s: c.time_s,
+            volume_m3_per_m2: c.volume_m3_per_m2,
+            pressure_pa: c.pressure_pa,
+            cake_height_m: c.cake_height_m,
+            mass_kg_per_m2: c.mass_kg_per_m2,
+            r_total_per_m: c.r_total_per_m,
+        }
+    }
+}
+
 /// `filtration.*` of `summary.json`.
 #[derive(Clone, Debug, Default, Serialize, PartialEq)]
 pub struct FiltrationSummary {
@@ -73,6 +103,11 @@ pub struct FiltrationSummary {
     /// The rms departure of the curve from its fitted line over the mean of
     /// the curve: how straight Ruth's line is.
     pub ruth_departure: Option<Real>,
+    /// The last checkpoint, where the curve ended (the same as the last of
+    /// `checkpoints`): the ensemble tables' time, volume, cake height and
+    /// mass at the end, whichever checkpoint each bed stopped at.
+    #[serde(rename = "final", skip_serializing_if = "Option::is_none")]
+    pub end: Option<End>,
     /// Which stop ended the curve before the last checkpoint (`pressure`,
     /// `time`, `mass`), if one did.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -252,6 +287,7 @@ pub fn filtration<const D: usize>(
             Drive::Pressure(_) => "pressure",
             Drive::FlowRate(_) => "flow_rate",
         },
+        end: rows.last().map(End::from),
         checkpoints: rows,
         r_medium_per_m: r_medium,
         r_medium_clogged_per_m: r[0],

@@ -55,6 +55,24 @@ pub enum Edit {
     DrainageReducedPressure(Real),
     /// One key of `[settling]`: a sweep over how particles come to rest.
     Settling(SettlingEdit),
+    /// One key of `[filtration]`: a sweep over pressures or slurries.
+    Filtration(FiltrationEdit),
+    /// The bodies of one entry of `[[feeds]]` (0-based): a sweep over a
+    /// medium's depth or a slurry's amount.
+    FeedCount(usize, u64),
+}
+
+/// A change to `[filtration]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FiltrationEdit {
+    /// A constant pressure drop, Pa (it replaces a flow rate).
+    Pressure(Real),
+    /// A constant flux, m/s (it replaces a pressure).
+    FlowRate(Real),
+    /// The solids deposited per filtrate volume, kg/m³.
+    Concentration(Real),
+    /// The filtrate's viscosity, Pa s.
+    Viscosity(Real),
 }
 
 /// A change to `[settling]`.
@@ -158,7 +176,7 @@ impl FromStr for BoxSpec {
 }
 
 /// The parameters a sweep can vary, with the form of their values.
-pub const SWEEP_PARAMETERS: [(&str, &str); 29] = [
+pub const SWEEP_PARAMETERS: [(&str, &str); 34] = [
     ("ratio", "a list with one number ratio per species, e.g. [1, 2]"),
     (
         "radii",
@@ -224,7 +242,31 @@ pub const SWEEP_PARAMETERS: [(&str, &str); 29] = [
         "analysis.drainage.reduced_pressure",
         "the deliquoring pressure as P_c·d32/γ",
     ),
+    (
+        "filtration.pressure",
+        "the filtration's constant pressure drop, Pa (it replaces a flow_rate)",
+    ),
+    (
+        "filtration.flow_rate",
+        "the filtration's constant flux, m/s (it replaces a pressure)",
+    ),
+    (
+        "filtration.concentration",
+        "the solids deposited per filtrate volume, kg/m³",
+    ),
+    ("filtration.viscosity", "the filtrate's viscosity, Pa s"),
+    (
+        "feeds[K].count",
+        "a whole number of bodies for feed K (0-based): a medium's depth, a slurry's amount",
+    ),
 ];
+
+/// `feeds[K].key` → (K, key).
+pub(crate) fn feed_parameter(p: &str) -> Option<(usize, &str)> {
+    let rest = p.strip_prefix("feeds[")?;
+    let (k, key) = rest.split_once("].")?;
+    Some((k.parse().ok()?, key))
+}
 
 /// `species[K].key` → (K, key).
 pub(crate) fn species_parameter(p: &str) -> Option<(usize, &str)> {
@@ -290,6 +332,16 @@ impl Edit {
             }
             "analysis.drainage.pressure" => Edit::DrainagePressure(one()?),
             "analysis.drainage.reduced_pressure" => Edit::DrainageReducedPressure(one()?),
+            "filtration.pressure" => Edit::Filtration(FiltrationEdit::Pressure(one()?)),
+            "filtration.flow_rate" => Edit::Filtration(FiltrationEdit::FlowRate(one()?)),
+            "filtration.concentration" => {
+                Edit::Filtration(FiltrationEdit::Concentration(one()?))
+            }
+            "filtration.viscosity" => Edit::Filtration(FiltrationEdit::Viscosity(one()?)),
+            _ if feed_parameter(parameter).is_some() => match feed_parameter(parameter) {
+                Some((k, "count")) => Edit::FeedCount(k, whole(one()?)?),
+                _ => return Err(format!("{parameter}: a feed sweeps its count")),
+            },
             _ => match species_parameter(parameter) {
                 Some((k, "radius")) => Edit::SpeciesRadius(k, one()?),
                 Some((k, "ratio")) => Edit::SpeciesRatio(k, one()?),
@@ -409,6 +461,28 @@ impl Config {
             Edit::DrainageReducedPressure(p) => {
                 let d = &mut self.analysis.drainage;
                 (d.pressure, d.reduced_pressure) = (None, Some(*p));
+            }
+            Edit::Filtration(e) => {
+                let Some(f) = self.filtration.as_mut() else {
+                    return Err(Error::config(
+                        "the config has no [filtration] table to change",
+                    ));
+                };
+                match *e {
+                    FiltrationEdit::Pressure(p) => (f.pressure, f.flow_rate) = (Some(p), None),
+                    FiltrationEdit::FlowRate(q) => (f.pressure, f.flow_rate) = (None, Some(q)),
+                    FiltrationEdit::Concentration(c) => f.concentration = c,
+                    FiltrationEdit::Viscosity(v) => f.viscosity = v,
+                }
+            }
+            Edit::FeedCount(k, n) => {
+                let feeds = self.feeds.len();
+                let Some(f) = self.feeds.get_mut(*k) else {
+                    return Err(Error::config(format!(
+                        "the config has {feeds} [[feeds]] entries, no feeds[{k}]"
+                    )));
+                };
+                f.count = *n;
             }
             Edit::Settling(e) => {
                 let s = &mut self.settling;
@@ -791,6 +865,50 @@ mod tests {
         assert!(e.to_string().contains("only 2 species"), "{e}");
     }
 
+    #[test]
+    fn filtration_and_feed_sweeps_edit_their_keys() {
+        let n = SweepValue::Number(2e5);
+        assert_eq!(
+            Edit::from_sweep("filtration.pressure", &n),
+            Ok(Edit::Filtration(FiltrationEdit::Pressure(2e5)))
+        );
+        assert_eq!(
+            Edit::from_sweep("feeds[1].count", &SweepValue::Number(60.0)),
+            Ok(Edit::FeedCount(1, 60))
+        );
+        assert!(Edit::from_sweep("feeds[0].count", &SweepValue::Number(1.5)).is_err());
+        for p in [
+            "filtration.pressure",
+            "filtration.flow_rate",
+            "feeds[K].count",
+        ] {
+            assert!(SWEEP_PARAMETERS.iter().any(|(q, _)| *q == p), "{p}");
+        }
+        let mut c = Config::default();
+        let e = c
+            .apply(&Edit::Filtration(FiltrationEdit::Pressure(1e5)))
+            .unwrap_err();
+        assert!(e.to_string().contains("no [filtration] table"), "{e}");
+        c.filtration = Some(crate::config::FiltrationConfig {
+            pressure: None,
+            flow_rate: Some(1e-4),
+            viscosity: 1e-3,
+            concentration: 100.0,
+            checkpoints: 20,
+            stop: None,
+        });
+        // A pressure replaces a flow rate, and the other way round.
+        c.apply(&Edit::Filtration(FiltrationEdit::Pressure(3e5)))
+            .unwrap();
+        let f = c.filtration.as_ref().unwrap();
+        assert_eq!((f.pressure, f.flow_rate), (Some(3e5), None));
+        c.apply(&Edit::Filtration(FiltrationEdit::FlowRate(2e-4)))
+            .unwrap();
+        let f = c.filtration.as_ref().unwrap();
+        assert_eq!((f.pressure, f.flow_rate), (None, Some(2e-4)));
+        let e = c.apply(&Edit::FeedCount(0, 10)).unwrap_err();
+        assert!(e.to_string().contains("no feeds[0]"), "{e}");
+    }
     #[test]
     fn drying_and_drainage_parameters_map_to_edits() {
         let n = SweepValue::Number(5.0);

@@ -14,10 +14,10 @@ mod settling;
 
 #[cfg(feature = "cli")]
 pub use edit::named;
-pub(crate) use edit::species_parameter;
+pub(crate) use edit::{feed_parameter, species_parameter};
 pub use edit::{
-    parse_numbers, BoxSpec, DryingEdit, Edit, MeasureList, Numbers, Overrides, SettlingEdit,
-    SizeEdit, SWEEP_PARAMETERS,
+    parse_numbers, BoxSpec, DryingEdit, Edit, FiltrationEdit, MeasureList, Numbers, Overrides,
+    SettlingEdit, SizeEdit, SWEEP_PARAMETERS,
 };
 
 pub use feed::{Feed, FeedConfig, Pattern};

@@ -13,7 +13,7 @@
 //! units. A group that names no unit cannot be set against one that does.
 
 use super::stats::{measures_of, Kind, Measure, Stats};
-use crate::analysis::dimensions::length_power;
+use crate::analysis::dimensions::{filtration_unit, length_power};
 use crate::config::LengthUnit;
 use crate::error::markdown_cell;
 use crate::error::{echo, Error, Result};
@@ -27,7 +27,7 @@ pub const ALPHA: f64 = 0.05;
 
 /// The measures a filtration study reads first, in this order when present;
 /// the rest follow in the order of `summary.json`.
-pub const HEADLINE: [&str; 25] = [
+pub const HEADLINE: [&str; 38] = [
     "cake.porosity",
     "cake.d32",
     "cake.specific_surface",
@@ -53,6 +53,20 @@ pub const HEADLINE: [&str; 25] = [
     "agglomeration.agitation.fraction_in_agglomerates",
     "agglomeration.agitation.d50_product",
     "psd.placed.d50",
+    // A filtration's (units from `dimensions::filtration_unit`).
+    "filtration.alpha_fit_m_per_kg",
+    "filtration.alpha_network_m_per_kg",
+    "filtration.r_medium_fit_per_m",
+    "filtration.r_medium_clogged_per_m",
+    "filtration.r_medium_per_m",
+    "filtration.ruth_departure",
+    "filtration.final.time_s",
+    "filtration.final.volume_m3_per_m2",
+    "filtration.final.cake_height_m",
+    "capture.passed_fraction",
+    "capture.lodged_fraction",
+    "capture.cake_fraction",
+    "capture.x50",
 ];
 
 /// Beds of one directory (or one value of a sweep).
@@ -848,13 +862,17 @@ impl Comparison {
                         v
                     })
                     .collect();
-                json!({
+                let mut row = json!({
                     "measure": r.name,
                     "kind": r.kind.as_str(),
                     "length_power": r.length_power,
                     "groups": stats,
                     "against_first": against,
-                })
+                });
+                if let Some(u) = self.unit_of(&r.name) {
+                    row["unit"] = json!(u);
+                }
+                row
             })
             .collect();
         let doc = json!({
@@ -871,6 +889,15 @@ impl Comparison {
             .map_err(|e| Error::Impossible(format!("compare.json: {e}")))?;
         text.push('\n');
         Ok(text)
+    }
+
+    /// The unit of a filtration's or capture's measure in this comparison
+    /// (lengths in the common unit), `None` for the others.
+    pub fn unit_of(&self, key: &str) -> Option<String> {
+        filtration_unit(
+            key,
+            self.length_unit.map_or("length units", LengthUnit::symbol),
+        )
     }
 
     /// The cells of the table, its header first.
@@ -896,7 +923,10 @@ impl Comparison {
             } else {
                 ""
             };
-            let mut cells = vec![format!("{}{unit}", r.name)];
+            let mut cells = vec![match self.unit_of(&r.name) {
+                Some(u) => format!("{} ({u})", r.name),
+                None => format!("{}{unit}", r.name),
+            }];
             for s in &r.stats {
                 cells.push(mean_sd(s));
             }
@@ -1002,7 +1032,9 @@ fn p_value(p: f64) -> String {
 
 /// The measures drawn, when present: one plot each.
 #[cfg(feature = "render")]
-const PLOTTED: [&str; 8] = [
+const PLOTTED: [&str; 10] = [
+    "filtration.alpha_fit_m_per_kg",
+    "filtration.r_medium_fit_per_m",
     "cake.porosity",
     "permeability.k_z",
     "cake.k_kozeny_carman",
@@ -1202,6 +1234,8 @@ fn axis_name(key: &str, unit: &str) -> String {
         "pores.d_c35" => format!("constriction d_c35 ({unit})"),
         "drainage.breakthrough.reduced" => "breakthrough pressure P_c·d32/γ".into(),
         "drainage.residual_saturation" => "residual wetting saturation".into(),
+        "filtration.alpha_fit_m_per_kg" => "α fitted to Ruth's line (m/kg)".into(),
+        "filtration.r_medium_fit_per_m" => "R_m fitted to Ruth's line (1/m)".into(),
         other => other.into(),
     }
 }

@@ -11,7 +11,7 @@
 //! ```
 
 // The `[sweep]` and `[ensemble]` tables are part of the config schema.
-use crate::config::{species_parameter, Config, Edit};
+use crate::config::{feed_parameter, species_parameter, Config, Edit};
 pub use crate::config::{EnsembleConfig, SweepConfig, SweepValue};
 use crate::error::{Error, Result};
 
@@ -70,7 +70,10 @@ impl SweepConfig {
             .collect::<Vec<_>>()
             .join(", ");
         let p = self.parameter.as_str();
-        if !PARAMETERS.iter().any(|(q, _)| *q == p) && species_parameter(p).is_none() {
+        if !PARAMETERS.iter().any(|(q, _)| *q == p)
+            && species_parameter(p).is_none()
+            && feed_parameter(p).is_none()
+        {
             return Err(Error::config(format!(
                 "sweep.parameter: unknown parameter `{p}` (expected one of {known})"
             )));

@@ -5,6 +5,7 @@
 //! aggregate gives the same bytes.
 
 use super::stats::{Aggregate, Kind, Measure, Stats};
+use crate::analysis::dimensions::filtration_unit;
 use crate::config::Config;
 use crate::error::markdown_cell;
 use crate::io::tables::Num;
@@ -47,9 +48,13 @@ pub fn ensemble_json(h: &Header, a: &Aggregate) -> String {
         serde_json::to_value(h.config).unwrap_or(Value::Null),
     );
     let mut measures = Map::new();
+    let length = length_symbol(h.config);
     for m in &a.measures {
         let mut e = stats_json(&m.stats);
         e.insert(0, ("kind", json!(m.kind.as_str())));
+        if let Some(u) = filtration_unit(&m.name, length) {
+            e.insert(1, ("unit", json!(u)));
+        }
         measures.insert(
             m.name.clone(),
             Value::Object(e.into_iter().map(|(k, v)| (k.to_string(), v)).collect()),
@@ -271,6 +276,60 @@ pub const CAKE: [(&str, &str); 13] = [
     ("cake.whole.porosity", "porosity (whole cake)"),
 ];
 
+/// The figures of a filtration that follow the cake in `ensemble.md` (and
+/// lead `sweep.md`'s per-measure tables), when present, with what they are;
+/// their units come from [`filtration_unit`].
+pub const FILTRATION: [(&str, &str); 17] = [
+    ("filtration.alpha_fit_m_per_kg", "α fitted to Ruth's line"),
+    (
+        "filtration.alpha_network_m_per_kg",
+        "α of the network (rise of R over rise of mass)",
+    ),
+    (
+        "filtration.r_medium_fit_per_m",
+        "R_m fitted to Ruth's line (intercept)",
+    ),
+    (
+        "filtration.r_medium_clogged_per_m",
+        "R_m in place (with what lodged in it)",
+    ),
+    ("filtration.r_medium_per_m", "R_m of the clean medium"),
+    (
+        "filtration.ruth_departure",
+        "Ruth's line: rms departure over mean",
+    ),
+    ("filtration.final.time_s", "time at the end"),
+    (
+        "filtration.final.volume_m3_per_m2",
+        "filtrate volume per area at the end",
+    ),
+    ("filtration.final.pressure_pa", "pressure drop at the end"),
+    ("filtration.final.cake_height_m", "cake height at the end"),
+    (
+        "filtration.final.mass_kg_per_m2",
+        "solids per area at the end",
+    ),
+    (
+        "capture.passed_fraction",
+        "passed the medium, fraction of fed",
+    ),
+    (
+        "capture.lodged_fraction",
+        "lodged in the medium, fraction of fed",
+    ),
+    ("capture.cake_fraction", "in the cake, fraction of fed"),
+    ("capture.x50", "cut size x50 (grade efficiency 1/2)"),
+    ("capture.passed", "passed the medium"),
+    ("capture.lodged", "lodged in the medium"),
+];
+
+/// The bed's length unit as the tables print it.
+fn length_symbol(c: &Config) -> &'static str {
+    c.analysis
+        .length_unit
+        .map_or("length units", crate::config::LengthUnit::symbol)
+}
+
 /// Whether a row of `ensemble.md` says nothing about the beds, so that the
 /// table is left with results (`ensemble.csv` keeps every row). By name
 /// first, so that a result that happens to agree in every bed (a lattice's
@@ -312,7 +371,20 @@ pub fn is_uninformative(m: &Measure, beds: u64) -> bool {
 /// Arrays of records that are curves (one record per point, e.g. the size
 /// distribution's 25 points of `psd.table`): a row per field and point would
 /// bury the table, so they go with the profiles, to `ensemble.csv`.
-const CURVES: [&str; 1] = ["psd.table"];
+const CURVES: [&str; 4] = [
+    "psd.table",
+    "filtration.checkpoints",
+    "capture.classes",
+    "capture.depth_profile",
+];
+
+/// The curves of a filtration: in `sweep.md` too they are left to
+/// `sweep.csv` (a table per checkpoint and field would bury the figures).
+const FILTRATION_CURVES: [&str; 3] = [
+    "filtration.checkpoints",
+    "capture.classes",
+    "capture.depth_profile",
+];
 
 /// The curve a measure is a point of, if any.
 fn curve_of(name: &str) -> Option<&'static str> {
@@ -413,6 +485,29 @@ pub fn ensemble_md(h: &Header, a: &Aggregate) -> String {
             let key = markdown_cell(&label(m, a.replicates));
             let _ = writeln!(t, "| {what} | {key} | {lo} | {mid} | {hi} |");
         }
+    }
+    let filtration: Vec<(&Measure, &str)> = FILTRATION
+        .iter()
+        .filter_map(|&(key, what)| find(key).map(|m| (m, what)))
+        .collect();
+    if !filtration.is_empty() {
+        let length = length_symbol(h.config);
+        let gap = if cake.is_empty() { "" } else { "\n" };
+        let _ = writeln!(t, "{gap}## Filtration\n");
+        let _ = writeln!(t, "| figure | unit | key | min | mean ± sd | max |");
+        let _ = writeln!(t, "| --- | --- | --- | ---: | ---: | ---: |");
+        for (m, what) in &filtration {
+            let [lo, mid, hi] = cells(&m.stats, m.kind);
+            let key = markdown_cell(&label(m, a.replicates));
+            let unit = markdown_cell(&filtration_unit(&m.name, length).unwrap_or_default());
+            let _ = writeln!(t, "| {what} | {unit} | {key} | {lo} | {mid} | {hi} |");
+        }
+        let _ = writeln!(
+            t,
+            "\nThe filtration in SI; the capture's sizes in {length}. Per checkpoint and per size class in `ensemble.csv`."
+        );
+    }
+    if !cake.is_empty() || !filtration.is_empty() {
         let _ = writeln!(t, "\n## All measures\n");
     }
     let _ = writeln!(t, "| measure | min | mean ± sd | max |");
@@ -420,7 +515,9 @@ pub fn ensemble_md(h: &Header, a: &Aggregate) -> String {
     let mut left_out = Vec::new();
     let mut curves: Vec<&str> = Vec::new();
     for m in &a.measures {
-        if CAKE.iter().any(|&(key, _)| key == m.name) {
+        if CAKE.iter().any(|&(key, _)| key == m.name)
+            || FILTRATION.iter().any(|&(key, _)| key == m.name)
+        {
             continue;
         }
         if let Some(c) = curve_of(&m.name) {
@@ -542,6 +639,16 @@ const HEADLINE: [&str; 13] = [
     "agglomeration.fraction_in_agglomerates",
 ];
 
+/// Filtration figures shown in the first table of `sweep.md`, after
+/// [`HEADLINE`]'s, if present.
+const SWEEP_FILTRATION: [&str; 5] = [
+    "filtration.alpha_fit_m_per_kg",
+    "filtration.r_medium_fit_per_m",
+    "filtration.final.time_s",
+    "capture.passed_fraction",
+    "capture.x50",
+];
+
 /// `sweep.md`: a headline table (one row per value; the cake, packing,
 /// coordination and every yes/no result such as percolation as % of beds,
 /// the search caps left to the tables below), then one table per
@@ -561,9 +668,16 @@ pub fn sweep_md(parameter: &str, base: &Config, rows: &[SweepRow]) -> String {
     };
     let mut headline: Vec<&str> = HEADLINE
         .iter()
+        .chain(&SWEEP_FILTRATION)
         .copied()
         .filter(|h| first.aggregate.measures.iter().any(|m| m.name == *h))
         .collect();
+    let length = length_symbol(base);
+    // A filtration figure's key with its unit.
+    let with_unit = |name: &str| match filtration_unit(name, length) {
+        Some(u) => format!("{name} ({u})"),
+        None => name.to_string(),
+    };
     for m in &first.aggregate.measures {
         // The caps of the chain search are bookkeeping, not results: they
         // stay in the per-measure tables below.
@@ -583,7 +697,7 @@ pub fn sweep_md(parameter: &str, base: &Config, rows: &[SweepRow]) -> String {
             .iter()
             .map(|h| match find(first.aggregate, h) {
                 Some(m) if m.kind == Kind::Percent => format!("{} (% of beds)", markdown_cell(h)),
-                _ => markdown_cell(h),
+                _ => markdown_cell(&with_unit(h)),
             })
             .collect::<Vec<_>>()
             .join(" | ")
@@ -608,15 +722,22 @@ pub fn sweep_md(parameter: &str, base: &Config, rows: &[SweepRow]) -> String {
     // Every measure, in the order of the first value's ensemble, then any that
     // only later values have.
     let mut names: Vec<String> = Vec::new();
+    let mut curves: Vec<&str> = Vec::new();
     for r in rows {
         for m in &r.aggregate.measures {
+            if let Some(c) = curve_of(&m.name).filter(|c| FILTRATION_CURVES.contains(c)) {
+                if !curves.contains(&c) {
+                    curves.push(c);
+                }
+                continue;
+            }
             if !names.contains(&m.name) {
                 names.push(m.name.clone());
             }
         }
     }
     for name in &names {
-        let _ = writeln!(t, "\n## {}\n", markdown_cell(name));
+        let _ = writeln!(t, "\n## {}\n", markdown_cell(&with_unit(name)));
         let _ = writeln!(t, "| {parameter} | min | mean ± sd | max |");
         let _ = writeln!(t, "| --- | ---: | ---: | ---: |");
         for r in rows {
@@ -635,6 +756,13 @@ pub fn sweep_md(parameter: &str, base: &Config, rows: &[SweepRow]) -> String {
                 }
             }
         }
+    }
+    if !curves.is_empty() {
+        let _ = writeln!(
+            t,
+            "\nPer checkpoint and per size class ({}): in `sweep.csv`, entry by entry.",
+            curves.join(", ")
+        );
     }
     t
 }
@@ -894,6 +1022,68 @@ mod tests {
             "{md}"
         );
         assert!(md.contains("defined in k beds only"), "{md}");
+    }
+
+    #[test]
+    fn the_filtration_figures_follow_the_cake_with_their_units() {
+        let mut config = Config::default();
+        config.analysis.length_unit = Some(crate::config::LengthUnit::Micrometre);
+        let v = Kind::Value;
+        let a = aggregate(
+            3,
+            &[
+                ("cake.porosity", v, st(3, 0.38, 0.01, 0.37, 0.39)),
+                ("capture.x50", v, st(2, 9.5, 0.5, 9.0, 10.0)),
+                (
+                    "filtration.alpha_fit_m_per_kg",
+                    v,
+                    st(3, 1.8e9, 5e7, 1.75e9, 1.85e9),
+                ),
+                (
+                    "filtration.final.time_s",
+                    v,
+                    st(3, 0.026, 0.001, 0.025, 0.027),
+                ),
+                (
+                    "filtration.checkpoints[2].time_s",
+                    v,
+                    st(3, 0.005, 0.0003, 0.0047, 0.0053),
+                ),
+            ],
+        );
+        let h = Header {
+            config: &config,
+            runs: 3,
+            shard: None,
+            sweep: None,
+        };
+        let md = ensemble_md(&h, &a);
+        let at = |s: &str| md.find(s).unwrap_or_else(|| panic!("{s} not in\n{md}"));
+        assert!(
+            at("## Cake") < at("\n## Filtration\n") && at("## Filtration") < at("## All measures")
+        );
+        at("| α fitted to Ruth's line | m/kg | filtration.alpha_fit_m_per_kg |");
+        at("| cut size x50 (grade efficiency 1/2) | µm | capture.x50 (2 of 3 beds) |");
+        at("| time at the end | s | filtration.final.time_s |");
+        assert!(!md.contains("| filtration.checkpoints[2]"), "{md}");
+        let json: Value = serde_json::from_str(&ensemble_json(&h, &a)).unwrap();
+        assert_eq!(json["measures"]["capture.x50"]["unit"], "µm");
+        assert!(json["measures"]["cake.porosity"].get("unit").is_none());
+        let rows = [SweepRow {
+            label: "1 bar",
+            aggregate: &a,
+        }];
+        let sweep = sweep_md("filtration.pressure", &config, &rows);
+        let head = sweep
+            .lines()
+            .find(|l| l.starts_with("| filtration.pressure |"))
+            .unwrap();
+        assert!(head.contains("| capture.x50 (µm) |"), "{head}");
+        assert!(
+            sweep.contains("\n## filtration.alpha_fit_m_per_kg (m/kg)\n"),
+            "{sweep}"
+        );
+        assert!(!sweep.contains("## filtration.checkpoints"), "{sweep}");
     }
 
     #[test]

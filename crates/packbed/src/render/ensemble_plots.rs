@@ -319,7 +319,7 @@ fn chain_angles(a: &Aggregate, beds: u64, dim: usize, from: AngleFrom) -> Option
 }
 
 /// Measures drawn against the sweep parameter, with their plot file stems.
-const SWEEP_MEASURES: [(&str, &str, &str); 11] = [
+const SWEEP_MEASURES: [(&str, &str, &str); 14] = [
     ("cake.porosity", "plot_sweep_porosity", "porosity (bulk)"),
     (
         "permeability.k_z",
@@ -370,6 +370,21 @@ const SWEEP_MEASURES: [(&str, &str, &str); 11] = [
         "agglomeration.d50_product",
         "plot_sweep_d50_product",
         "median size of the dried product (length units)",
+    ),
+    (
+        "filtration.alpha_fit_m_per_kg",
+        "plot_sweep_alpha",
+        "specific cake resistance α fitted to Ruth's line (m/kg)",
+    ),
+    (
+        "filtration.r_medium_fit_per_m",
+        "plot_sweep_medium_resistance",
+        "medium resistance R_m fitted to Ruth's line (1/m)",
+    ),
+    (
+        "filtration.final.time_s",
+        "plot_sweep_filtration_time",
+        "filtration time to the end of the curve (s)",
     ),
 ];
 

@@ -10,7 +10,7 @@ use std::path::Path;
 
 /// Measures printed on screen, when present, in this order: the cake first;
 /// yes/no measures follow (those of percolation only when it was asked for).
-const ON_SCREEN: [&str; 17] = [
+const ON_SCREEN: [&str; 21] = [
     "cake.porosity",
     "cake.d32",
     "cake.k_kozeny_carman",
@@ -28,6 +28,11 @@ const ON_SCREEN: [&str; 17] = [
     "agglomeration.bonds_per_particle",
     "agglomeration.fraction_in_agglomerates",
     "agglomeration.agitation.fraction_in_agglomerates",
+    // A filtration's, each key naming its SI unit (the rest in `ensemble.md`).
+    "filtration.alpha_fit_m_per_kg",
+    "filtration.r_medium_fit_per_m",
+    "filtration.final.time_s",
+    "capture.passed_fraction",
 ];
 
 use tables::SETTINGS;
