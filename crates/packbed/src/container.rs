@@ -39,7 +39,7 @@ impl Wall {
 pub const PRESETS: [&str; 1] = ["thesis"];
 
 impl<const D: usize> Container<D> {
-    /// The size of the preset box `name` (one of [`PRESETS`]) for particles of
+    /// The size of the preset box `name` (one of `PRESETS`) for particles of
     /// radius up to `r_max` in chains of up to `beads`; `None` for an unknown
     /// name. `thesis`, the source study's boxes: a cube 6 large diameters wide
     /// in 3D, a square 15 wide in 2D, stretched by `beads / 2` for 2D chains

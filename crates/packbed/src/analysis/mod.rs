@@ -29,18 +29,18 @@ pub use crate::config::{Measure, Measures};
 use crate::math::Real;
 use serde::Serialize;
 
-pub use cake::{CakeOptions, CakeRegion, CakeSummary};
-pub use contacts::{
-    coordination, find_contacts, overlaps, Contact, Contacts, Overlaps, WallContact,
-};
-pub use histogram::{count_histogram, BinnedHistogram};
+pub use cake::{CakeOptions, CakeSummary};
+pub use contacts::{coordination, find_contacts, overlaps, Contact, Contacts, Overlaps};
+pub use histogram::count_histogram;
 pub use orientation::Orientation;
-pub use packing::{ball_box_volume, bulk_region, Region};
+pub use packing::bulk_region;
+#[cfg(test)]
+use packing::Region;
 pub use percolation::{LargeRule, Percolation, PercolationOptions};
-pub use profile::{profile, Profile};
+pub use profile::Profile;
 pub use regions::RegionalPacking;
 pub use segregation::Segregation;
-pub use voids::{Void, VoidSummary};
+pub use voids::VoidSummary;
 
 /// Every measure of a bed, laid out as in `summary.json`.
 #[derive(Clone, Debug, Default, Serialize, PartialEq)]

@@ -14,14 +14,11 @@ mod settling;
 #[cfg(feature = "cli")]
 pub use edit::named;
 pub(crate) use edit::species_parameter;
-pub use edit::{
-    parse_numbers, BoxSpec, DryingEdit, Edit, MeasureList, Numbers, Overrides, SettlingEdit,
-    SizeEdit, SWEEP_PARAMETERS,
-};
+pub use edit::{parse_numbers, BoxSpec, Edit, MeasureList, Numbers, Overrides, SWEEP_PARAMETERS};
 
-pub use feed::{Feed, FeedConfig, Pattern};
+pub use feed::Feed;
 pub use feeds::{FeedStage, FeedStageConfig};
-pub use filtration::{Drive, FiltrationConfig, FiltrationStop};
+pub use filtration::{Drive, FiltrationConfig};
 pub use measures::*;
 pub use plan::*;
 pub use schema::*;

@@ -23,11 +23,6 @@ pub const LENGTH_RANGE: (Real, Real) = (1e-30, 1e30);
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vector<const D: usize>(pub [Real; D]);
 
-/// A 2D vector `(x, y)`, `y` up.
-pub type Vector2 = Vector<2>;
-/// A 3D vector `(x, y, z)`, `z` up.
-pub type Vector3 = Vector<3>;
-
 impl<const D: usize> Default for Vector<D> {
     fn default() -> Self {
         Self::zero()
@@ -253,5 +248,5 @@ mod rotation;
 pub mod sparse;
 pub mod v3;
 
-pub use lsq::{least_squares_qr, nnls, nnls_gen, nnls_qr, solve_pivoted, MAX_GEN_COLUMNS};
+pub use lsq::{nnls, nnls_gen, nnls_qr, solve_pivoted, MAX_GEN_COLUMNS};
 pub use rotation::{moment, rotate};

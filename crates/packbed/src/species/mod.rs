@@ -7,7 +7,7 @@ mod passing;
 mod table;
 
 pub use passing::passing_quantile;
-pub use table::{Basis, Layout, SizeClass, SizeTable, TableOptions, Within, ACCEPTED_HEADERS};
+pub use table::{SizeTable, TableOptions, Within};
 
 /// Unbounded size distributions are truncated to their central part unless the
 /// config bounds them, so that every species has a finite largest radius (the

@@ -425,7 +425,7 @@ impl SizeTable {
         SizeTable::read_with(path, &options, metres_per_unit)
     }
 
-    /// [`SizeTable::read`] with every option of [`TableOptions`].
+    /// [`SizeTable::read`] with every option of `TableOptions`.
     pub fn read_with(
         path: &Path,
         options: &TableOptions,
