@@ -16,15 +16,25 @@
 # - comments are skipped, and so are inline private modules (`mod tests {`):
 #   their `pub` items are for the tests;
 # - two scopes: "all" is every file of the library (reached from lib.rs by
-#   `mod`, test modules left out); "named" keeps the files a user can reach
-#   by path, through `pub mod` declarations from lib.rs. Items
-#   of private modules re-exported by `pub use` count in "all" only, and a
-#   `pub` item of a public module may still be unnamable (a private type's
-#   method): read "named" as an upper bound of the documented API, not its
-#   exact size.
+#   `mod`, test modules left out), reachable or not; "named" is what a user
+#   can name: the files reached from lib.rs through `pub mod` declarations
+#   and through modules re-exported whole (`pub use ensemble::slurm;`,
+#   `pub use jobs::*;`), all their `pub` items, plus the items these files
+#   re-export one by one from private modules (`pub use analysis::{analyze,
+#   Summary}`): each such name once, of the kind of its declaration, with,
+#   for a struct, enum or union, the `pub` methods of its inherent `impl`
+#   blocks and its `pub` fields in the file that declares it (issue 62: the
+#   modules became private and the root re-exports; before, "named" left
+#   re-exported items out). A `pub` item of a named file may still be
+#   unnamable (a private type's method), and a re-exported type's `impl`
+#   blocks in other files are not seen: read "named" as a close estimate of
+#   the API a user can name. Types reached only through public fields and
+#   signatures (a measure's summary inside `Summary`) are not named, and
+#   not counted; --rustdoc counts them.
 #
-# With --rustdoc it also counts exactly what rustdoc documents (the items a
-# user can reach by path or through a re-export), from rustdoc's JSON output:
+# With --rustdoc it also counts what rustdoc's JSON output holds (the items
+# a user can reach by path, through a re-export, or through the fields and
+# signatures of those):
 # that needs a nightly toolchain (`rustup toolchain install nightly`) and
 # python3, takes a check build, and reads JSON format version 57 (older or
 # newer nightlies may name things differently).
@@ -131,7 +141,9 @@ reexported() {
                         sub(/.*::/, "", w[3]); alias[w[5]] = w[3]
                     }
                     if (line !~ /^pub (const |async |unsafe |extern "[^"]*" )*(fn|struct|enum|trait|type|const|static|union|mod) /) continue
-                    t = line; sub(/^pub (const |async |unsafe |extern "[^"]*" )*/, "", t)
+                    t = line; sub(/^pub /, "", t)
+                    # `const NAME: T` is a constant, `const fn` a function.
+                    if (t !~ /^const [A-Za-z_0-9]+[[:space:]]*:/) sub(/^(const |async |unsafe |extern "[^"]*" )*/, "", t)
                     k = t; sub(/ .*/, "", k); sub(/^[a-z]+ /, "", t); sub(/[^A-Za-z_0-9].*/, "", t)
                     if (k == "fn") k = "fn (free)"
                     if (k == "mod") continue

@@ -50,12 +50,12 @@ pub type Result<T> = std::result::Result<T, Error>;
 
 impl Error {
     /// A configuration error.
-    pub fn config(msg: impl Into<String>) -> Self {
+    pub(crate) fn config(msg: impl Into<String>) -> Self {
         Error::Config(msg.into())
     }
 
     /// An error in the setting `setting` of the request.
-    pub fn setting(setting: &'static str, msg: impl Into<String>) -> Self {
+    pub(crate) fn setting(setting: &'static str, msg: impl Into<String>) -> Self {
         Error::Setting {
             setting,
             message: msg.into(),

@@ -533,7 +533,7 @@ pub struct Drawn {
 #[cfg_attr(not(feature = "render"), allow(dead_code))]
 impl Drawn {
     /// Keeps the picture `name` if `made` is one, else says it is missing.
-    pub fn keep(&mut self, name: String, made: Result<Vec<u8>>) {
+    pub(crate) fn keep(&mut self, name: String, made: Result<Vec<u8>>) {
         match made {
             Ok(bytes) => self.files.push((name, bytes)),
             Err(e) => self
