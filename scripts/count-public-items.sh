@@ -16,15 +16,25 @@
 # - comments are skipped, and so are inline private modules (`mod tests {`):
 #   their `pub` items are for the tests;
 # - two scopes: "all" is every file of the library (reached from lib.rs by
-#   `mod`, test modules left out); "named" keeps the files a user can reach
-#   by path, through `pub mod` declarations from lib.rs. Items
-#   of private modules re-exported by `pub use` count in "all" only, and a
-#   `pub` item of a public module may still be unnamable (a private type's
-#   method): read "named" as an upper bound of the documented API, not its
-#   exact size.
+#   `mod`, test modules left out), reachable or not; "named" is what a user
+#   can name: the files reached from lib.rs through `pub mod` declarations
+#   and through modules re-exported whole (`pub use ensemble::slurm;`,
+#   `pub use jobs::*;`), all their `pub` items, plus the items these files
+#   re-export one by one from private modules (`pub use analysis::{analyze,
+#   Summary}`): each such name once, of the kind of its declaration, with,
+#   for a struct, enum or union, the `pub` methods of its inherent `impl`
+#   blocks and its `pub` fields in the file that declares it (issue 62: the
+#   modules became private and the root re-exports; before, "named" left
+#   re-exported items out). A `pub` item of a named file may still be
+#   unnamable (a private type's method), and a re-exported type's `impl`
+#   blocks in other files are not seen: read "named" as a close estimate of
+#   the API a user can name. Types reached only through public fields and
+#   signatures (a measure's summary inside `Summary`) are not named, and
+#   not counted; --rustdoc counts them.
 #
-# With --rustdoc it also counts exactly what rustdoc documents (the items a
-# user can reach by path or through a re-export), from rustdoc's JSON output:
+# With --rustdoc it also counts what rustdoc's JSON output holds (the items
+# a user can reach by path, through a re-export, or through the fields and
+# signatures of those):
 # that needs a nightly toolchain (`rustup toolchain install nightly`) and
 # python3, takes a check build, and reads JSON format version 57 (older or
 # newer nightlies may name things differently).
@@ -40,35 +50,150 @@ fi
 SRC="${1:-crates/packbed/src}"
 [[ -f "$SRC/lib.rs" ]] || { echo "no lib.rs in $SRC" >&2; exit 2; }
 
-# The files of the library reachable from lib.rs: through `pub mod` only
+# The files of the library reachable from lib.rs: through `pub mod`, or a
+# module re-exported whole (`pub use ensemble::compare;`, `pub use jobs::*;`)
 # ($1 = pub), or through any `mod` but those under `#[cfg(test)]` ($1 = any).
 # Other attributes, such as `#[cfg(feature = "render")]`, are ignored: counted.
 lib_files() {
-    local queue=("$SRC/lib.rs") file dir name pattern
+    local queue=("$SRC/lib.rs") file dir name pattern seen=" "
     if [[ "$1" == pub ]]; then
-        pattern='^[[:space:]]*pub mod ([a-z_0-9]+);.*'
+        pattern='^[[:space:]]*pub (mod [a-z_0-9]+|use [a-z_0-9:]+(::\*)?);.*'
     else
         pattern='^[[:space:]]*(pub(\([^)]*\))? )?mod ([a-z_0-9]+);.*'
     fi
     while ((${#queue[@]})); do
         file="${queue[0]}"
         queue=("${queue[@]:1}")
+        [[ "$seen" == *" $file "* ]] && continue
+        seen+="$file "
         echo "$file"
         case "$file" in
             */lib.rs | */mod.rs) dir="$(dirname "$file")" ;;
             *) dir="${file%.rs}" ;;
         esac
         while read -r name; do
-            if [[ -f "$dir/$name.rs" ]]; then
-                queue+=("$dir/$name.rs")
-            elif [[ -f "$dir/$name/mod.rs" ]]; then
-                queue+=("$dir/$name/mod.rs")
+            # A `use` path: from the crate's root (`crate::`) or from here.
+            [[ "$name" == crate/* ]] && name="${name#crate/}" && base="$SRC" || base="$dir"
+            if [[ -f "$base/$name.rs" ]]; then
+                queue+=("$base/$name.rs")
+            elif [[ -f "$base/$name/mod.rs" ]]; then
+                queue+=("$base/$name/mod.rs")
             fi
         done < <(awk -v pat="$pattern" '
             /^[[:space:]]*#\[cfg\(test\)\]/ { test = 1; next }
             /^[[:space:]]*#\[/ { next }
-            { if (!test && $0 ~ pat) { sub(/;.*/, ""); print $NF } test = 0 }' "$file")
+            {
+                if (!test && $0 ~ pat) {
+                    sub(/;.*/, ""); name = $NF; sub(/::\*$/, "", name); gsub(/::/, "/", name)
+                    print name
+                }
+                test = 0
+            }' "$file")
     done
+}
+
+# The items re-exported one by one (`pub use a::{B, c}`) by the files on
+# stdin, declared in files of the library that are not on stdin (the
+# others count already): each name once, by the kind of its declaration
+# (the first top-level `pub` declaration of that name in the library, one
+# under the `use` path's module preferred), plus, for a struct, enum or
+# union, the `pub fn` of its inherent `impl` blocks and its `pub` fields in
+# the file that declares it. Prints "kind count" lines, as count() does.
+reexported() {
+    local named_list all_list
+    named_list="$(mktemp)" all_list="$(mktemp)"
+    cat >"$named_list"
+    lib_files any | sort -u >"$all_list"
+    awk -v named_list="$named_list" -v all_list="$all_list" '
+        function leaf(path, file,    name, hint, at, k, best, c, parts, n) {
+            sub(/^[[:space:]]+/, "", path); sub(/[[:space:]]+$/, "", path)
+            sub(/[[:space:]]+as[[:space:]].*/, "", path)
+            if (path == "" || path ~ /(^|::)self$/ || path ~ /\*$/) return
+            n = split(path, parts, "::"); name = parts[n]; hint = (n > 1) ? parts[n - 1] : ""
+            if (!(name in decls) && (name in alias)) name = alias[name]
+            if (!(name in decls)) { unresolved = unresolved " " name " (" file ")"; return }
+            # The declaration: one under the module the path names, else the first.
+            split(decls[name], c, "\n"); best = c[2]
+            for (k = 2; k in c; k++) if (hint != "" && (c[k] ~ ("/" hint "(/|\\.rs)"))) { best = c[k]; break }
+            if (best in named) return
+            if ((best SUBSEP name) in done) return
+            done[best, name] = 1
+            k = kind[best, name]; n_[k]++
+            n_["fn (method)"] += methods[best, name]
+            n_["field"] += fields[best, name]
+        }
+        BEGIN {
+            while ((getline f < named_list) > 0) named[f] = 1
+            # Every top-level `pub` declaration of the library, its methods and fields.
+            while ((getline f < all_list) > 0) {
+                type = ""; impl = ""
+                while ((getline line < f) > 0) {
+                    if (line ~ /^}/) { type = ""; impl = ""; continue }
+                    if (impl != "" && line ~ /^    pub (const |async |unsafe )*fn /) methods[f, impl]++
+                    if (type != "" && line ~ /^    pub [a-z_][a-z_0-9]*[[:space:]]*:/) fields[f, type]++
+                    if (line ~ /^impl(<[^>]*>)? [A-Za-z_0-9]+(<[^{]*>)?( where .*)? \{$/) {
+                        t = line; sub(/^impl(<[^>]*>)? /, "", t); sub(/[<[:space:]].*/, "", t); impl = t
+                        continue
+                    }
+                    # A re-export under another name, for chains of re-exports.
+                    if (line ~ /^pub use [A-Za-z_0-9:]+ as [A-Za-z_0-9]+;/) {
+                        t = line; sub(/;.*/, "", t); split(t, w, " ")
+                        sub(/.*::/, "", w[3]); alias[w[5]] = w[3]
+                    }
+                    if (line !~ /^pub (const |async |unsafe |extern "[^"]*" )*(fn|struct|enum|trait|type|const|static|union|mod) /) continue
+                    t = line; sub(/^pub /, "", t)
+                    # `const NAME: T` is a constant, `const fn` a function.
+                    if (t !~ /^const [A-Za-z_0-9]+[[:space:]]*:/) sub(/^(const |async |unsafe |extern "[^"]*" )*/, "", t)
+                    k = t; sub(/ .*/, "", k); sub(/^[a-z]+ /, "", t); sub(/[^A-Za-z_0-9].*/, "", t)
+                    if (k == "fn") k = "fn (free)"
+                    if (k == "mod") continue
+                    decls[t] = decls[t] "\n" f; kind[f, t] = k
+                    if (k == "struct") {
+                        tail = line; nf = gsub(/[(,][[:space:]]*pub [^(]/, "", tail); fields[f, t] += nf
+                        if (line ~ /\{$/) type = t
+                    }
+                    if (k == "enum" || k == "union") if (line ~ /\{$/) type = ""
+                }
+                close(f)
+            }
+            # The `pub use` statements of the named files, split into leaves.
+            for (f in named) {
+                stmt = ""; inuse = 0; test = 0
+                while ((getline line < f) > 0) {
+                    if (line ~ /^[[:space:]]*#\[cfg\(test\)\]/) { test = 1; continue }
+                    if (!inuse && line ~ /^[[:space:]]*pub use /) {
+                        if (test) { test = 0; continue }
+                        inuse = 1; stmt = ""
+                    }
+                    if (line !~ /^[[:space:]]*#\[/) test = 0
+                    if (!inuse) continue
+                    stmt = stmt " " line
+                    if (line !~ /;/) continue
+                    inuse = 0
+                    sub(/^[[:space:]]*pub use /, "", stmt); sub(/;.*/, "", stmt)
+                    # A module re-exported whole counts as a named file.
+                    if (stmt !~ /[{]/ && stmt ~ /(^|::)[a-z_0-9]+[[:space:]]*$/) continue
+                    depth = 0; prefix[0] = ""; cur = ""
+                    while (match(stmt, /[{},]/)) {
+                        cur = cur substr(stmt, 1, RSTART - 1); ch = substr(stmt, RSTART, 1)
+                        stmt = substr(stmt, RSTART + 1)
+                        if (ch == "{") { depth++; prefix[depth] = prefix[depth - 1] cur; cur = "" }
+                        else {
+                            if (cur ~ /[A-Za-z_]/) { p = prefix[depth] cur; gsub(/[[:space:]]+/, " ", p); gsub(/ ?:: ?/, "::", p); leaf(p, f) }
+                            cur = ""
+                            if (ch == "}") depth--
+                        }
+                    }
+                    cur = cur stmt
+                    if (cur ~ /[A-Za-z_]/) { p = prefix[depth] cur; gsub(/[[:space:]]+/, " ", p); gsub(/ ?:: ?/, "::", p); leaf(p, f) }
+                }
+                close(f)
+            }
+            if (unresolved != "") print "re-exports not found:" unresolved > "/dev/stderr"
+            split("fn (free)|fn (method)|struct|enum|trait|type|const|static|mod|union|field", kinds, "|")
+            for (k = 1; k in kinds; k++) printf "%s\t%d\n", kinds[k], n_[kinds[k]]
+        }'
+    rm -f "$named_list" "$all_list"
 }
 
 # Counts over the files given on stdin; prints "kind count" lines.
@@ -113,9 +238,18 @@ count() {
 
 all="$(lib_files any | sort -u)"
 named="$(lib_files pub | sort -u)"
+# The named scope: the named files' items plus the items they re-export.
+named_counts="$(
+    awk -F'\t' 'NR == FNR { extra[$1] = $2; next }
+        $1 == "items" { next }
+        { n = $2 + extra[$1]; print $1 "\t" n }
+        $1 == "union" { items = 0 }' <(reexported <<<"$named") <(count <<<"$named") |
+        awk -F'\t' '{ print } $1 !~ /^(use|field)/ { items += $2 }
+            $1 == "union" { print "items\t" items }'
+)"
 echo "packbed's public items in $SRC (the comment of scripts/count-public-items.sh says how it counts)"
 paste <(printf 'kind\tall\n'; printf 'files\t%d\n' "$(wc -l <<<"$all")"; count <<<"$all") \
-    <(printf 'named\n%d\n' "$(wc -l <<<"$named")"; count <<<"$named" | cut -f2) |
+    <(printf 'named\n%d\n' "$(wc -l <<<"$named")"; cut -f2 <<<"$named_counts") |
     awk -F'\t' '{ printf "%-16s %6s %6s\n", $1, $2, $3 }'
 
 ((RUSTDOC)) || exit 0

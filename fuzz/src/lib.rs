@@ -24,10 +24,10 @@
 //! the replay test can tell a seed that still reaches deep from one that a
 //! format change has made a refusal.
 
-use packbed::config::{parse_numbers, BoxSpec, Measure, Mode, Overrides};
-use packbed::ensemble::Shard;
-use packbed::species::{SizeTable, Within};
+use packbed::Shard;
+use packbed::{parse_numbers, BoxSpec, Measure, Mode, Overrides};
 use packbed::{AnalysisConfig, AnyBed, BoxHint, Config};
+use packbed::{SizeTable, Within};
 use rand::SeedableRng;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -193,7 +193,7 @@ pub fn config(data: &[u8]) -> bool {
     }
     // `run` refuses a sweep, `ensemble` resolves it into its points.
     let points = match &config.sweep {
-        Some(sweep) => match packbed::ensemble::validate(&config).and(sweep.points(&config)) {
+        Some(sweep) => match packbed::validate_ensemble(&config).and(sweep.points(&config)) {
             Ok(p) => p.into_iter().map(|p| p.config).collect(),
             Err(_) => return false,
         },
@@ -345,7 +345,7 @@ pub fn merge(data: &[u8]) -> bool {
     put(&run, "summary.json", &summary);
     let out = scratch().join("merge-out");
     let _ = fs::remove_dir_all(&out);
-    packbed::ensemble::merge_with(&[first.clone(), shard], &out, false).is_ok()
+    packbed::merge_ensembles(&[first.clone(), shard], &out, false).is_ok()
 }
 
 /// Two runs as `compare` finds them: the first's `summary.json` is the input

@@ -4,12 +4,12 @@
 //! left out, as the target says). Figures in BENCHMARKS.md.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use packbed::analysis::packing::{global_fraction, particle_volumes};
-use packbed::analysis::percolation::{percolation, PercolationOptions};
-use packbed::analysis::{bulk_region, coordination, find_contacts, profile, regions};
-use packbed::bed::AnyBed;
-use packbed::config::{Config, SpeciesConfig};
-use packbed::deposit::build;
+use packbed::build;
+use packbed::AnyBed;
+use packbed::{bulk_region, coordination, find_contacts, profile, regional_packing};
+use packbed::{global_fraction, particle_volumes};
+use packbed::{percolation, PercolationOptions};
+use packbed::{Config, SpeciesConfig};
 use std::hint::black_box;
 
 fn bed_config(n: u64) -> Config {
@@ -53,7 +53,7 @@ fn analysis(cr: &mut Criterion) {
             let volumes = particle_volumes(&bed);
             let global = global_fraction(&bed);
             let bulk = bulk_region(&bed).map(|r| r.fraction(&bed));
-            let regional = regions::regional_packing(&bed);
+            let regional = regional_packing(&bed);
             let prof = profile(&bed, 10.0);
             let perc = percolation(&bed, &contacts, &no_enumeration);
             black_box((z, volumes, global, bulk, regional, prof, perc))

@@ -3,8 +3,8 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use packbed::bench::{BenchBed, BenchSizes};
-use packbed::config::{BaseLayerKind, Config, SpeciesConfig};
-use packbed::deposit::build;
+use packbed::build;
+use packbed::{BaseLayerKind, Config, SpeciesConfig};
 
 /// Equal spheres (or discs) of radius 10, or two sizes, in a periodic box about
 /// as high as the bed grows.

@@ -3,8 +3,8 @@
 //! and the statistics files (target: at most 2 s wall on 2 cores).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use packbed::config::Config;
-use packbed::ensemble::{self, EnsembleOptions, Shard};
+use packbed::Config;
+use packbed::{EnsembleOptions, Shard};
 
 fn ensemble_500(cr: &mut Criterion) {
     let mut c = Config::default();
@@ -28,7 +28,7 @@ fn ensemble_500(cr: &mut Criterion) {
             // A fresh directory each time: a reused one would resume, not build.
             k += 1;
             let out = root.path().join(format!("e{k}"));
-            ensemble::run(&c, &opts, &out, &|_| {}).expect("valid config")
+            packbed::run_ensemble(&c, &opts, &out, &|_| {}).expect("valid config")
         })
     });
     group.finish();

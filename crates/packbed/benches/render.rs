@@ -1,10 +1,10 @@
 //! Rendering throughput: 10^6 spheres to a 1600 × 1200 PNG (target: under 10 s).
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use packbed::bed::{AnyBed, Bed};
-use packbed::container::Container;
-use packbed::math::Vector;
 use packbed::render::{render_png, RenderOptions};
+use packbed::Container;
+use packbed::Vector;
+use packbed::{AnyBed, Bed};
 
 /// A simple cubic lattice of touching spheres, 100 × 100 × 100 = 10^6 (the
 /// renderer's cost depends on the projected sizes, not on how they were packed).

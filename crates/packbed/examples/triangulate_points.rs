@@ -6,7 +6,7 @@
 //!
 //! `cargo run --release -p packbed --example triangulate_points -- POINTS [RUNS] [--checksum]`
 //! (RUNS 0 reads the file only, so that a profiler can subtract the reading.)
-use packbed::analysis::pores::triangulation::Triangulation;
+use packbed::Triangulation;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -112,7 +112,8 @@ impl<const D: usize> Bed<D> {
 
     /// The bed in a few words, for titles: `3D bed, 1200 spheres in 240
     /// bodies, periodic sides`.
-    pub fn describe(&self) -> String {
+    #[cfg_attr(not(feature = "render"), allow(dead_code))]
+    pub(crate) fn describe(&self) -> String {
         let what = match (D, self.len()) {
             (2, 1) => "disc",
             (2, _) => "discs",
@@ -146,7 +147,7 @@ impl<const D: usize> Bed<D> {
     }
 
     /// Largest particle radius (0 for an empty bed).
-    pub fn r_max(&self) -> Real {
+    pub(crate) fn r_max(&self) -> Real {
         self.radii.iter().copied().fold(0.0, Real::max)
     }
 
@@ -178,12 +179,13 @@ impl<const D: usize> Bed<D> {
     /// This bed as a 2D bed, when it is one. With [`Bed::as_3d`], the one
     /// place generic code learns its dimension (2D-only measures such as the
     /// voids, the 2D and 3D pictures), without copying the bed.
-    pub fn as_2d(&self) -> Option<&Bed<2>> {
+    pub(crate) fn as_2d(&self) -> Option<&Bed<2>> {
         (self as &dyn std::any::Any).downcast_ref()
     }
 
     /// This bed as a 3D bed, when it is one.
-    pub fn as_3d(&self) -> Option<&Bed<3>> {
+    #[cfg_attr(not(feature = "render"), allow(dead_code))]
+    pub(crate) fn as_3d(&self) -> Option<&Bed<3>> {
         (self as &dyn std::any::Any).downcast_ref()
     }
 }
@@ -227,7 +229,7 @@ impl AnyBed {
     }
 
     /// Number of bodies (a chain is one body).
-    pub fn body_count(&self) -> usize {
+    pub(crate) fn body_count(&self) -> usize {
         each_dim!(self, b => b.body_count())
     }
 

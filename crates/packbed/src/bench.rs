@@ -18,15 +18,15 @@ use std::ops::ControlFlow;
 use std::time::Instant;
 
 /// Radius of every bench particle.
-pub const RADIUS: f64 = 10.0;
+pub(crate) const RADIUS: f64 = 10.0;
 
 /// The radii of the bench particles.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub enum BenchSizes {
-    /// Every particle of radius [`RADIUS`].
+    /// Every particle of radius `RADIUS`.
     #[default]
     Equal,
-    /// Lognormal radii of median [`RADIUS`] and this geometric standard
+    /// Lognormal radii of median `RADIUS` and this geometric standard
     /// deviation, truncated as a config's are by default.
     Lognormal(f64),
     /// One species per radius, in equal numbers.
@@ -36,7 +36,7 @@ pub enum BenchSizes {
 impl BenchSizes {
     /// Refuses a geometric standard deviation below 1 and radii that are not
     /// positive, naming the setting (`gsd`, `radii`).
-    pub fn check(&self) -> Result<()> {
+    pub(crate) fn check(&self) -> Result<()> {
         let (setting, bad, what) = match self {
             BenchSizes::Equal => return Ok(()),
             BenchSizes::Lognormal(g) => (
@@ -224,7 +224,7 @@ pub struct BenchResult {
 /// The stages the analysis speed target counts: contacts, packing and
 /// percolation without the capped chain enumeration, within 1 s on 10^6
 /// spheres (BENCHMARKS.md, "Analysis").
-pub const TARGET_STAGES: [&str; 6] = [
+pub(crate) const TARGET_STAGES: [&str; 6] = [
     "contacts",
     "packing/",
     "percolation/graph",
@@ -341,7 +341,7 @@ fn time_measures(bed: &AnyBed, options: &AnalysisOptions) -> Vec<(String, f64)> 
 }
 
 /// Seconds of the stages the speed target counts ([`TARGET_STAGES`]).
-pub fn target_seconds(stages: &[(String, f64)]) -> f64 {
+pub(crate) fn target_seconds(stages: &[(String, f64)]) -> f64 {
     stages
         .iter()
         .filter(|(name, _)| TARGET_STAGES.iter().any(|p| name.starts_with(p)))
@@ -350,7 +350,7 @@ pub fn target_seconds(stages: &[(String, f64)]) -> f64 {
 }
 
 /// Peak resident memory of this process (`VmHWM`), where Linux reports it.
-pub fn peak_rss_bytes() -> Option<u64> {
+pub(crate) fn peak_rss_bytes() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;

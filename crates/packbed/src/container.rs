@@ -39,12 +39,12 @@ impl Wall {
 pub const PRESETS: [&str; 1] = ["thesis"];
 
 impl<const D: usize> Container<D> {
-    /// The size of the preset box `name` (one of [`PRESETS`]) for particles of
+    /// The size of the preset box `name` (one of `PRESETS`) for particles of
     /// radius up to `r_max` in chains of up to `beads`; `None` for an unknown
     /// name. `thesis`, the source study's boxes: a cube 6 large diameters wide
     /// in 3D, a square 15 wide in 2D, stretched by `beads / 2` for 2D chains
     /// longer than two beads.
-    pub fn preset_size(name: &str, r_max: Real, beads: u32) -> Option<Vector<D>> {
+    pub(crate) fn preset_size(name: &str, r_max: Real, beads: u32) -> Option<Vector<D>> {
         match name {
             "thesis" => {
                 let mut side = if D == 2 { 30.0 * r_max } else { 12.0 * r_max };
@@ -59,7 +59,7 @@ impl<const D: usize> Container<D> {
 
     /// Width along horizontal axis `k`.
     #[inline]
-    pub fn extent(&self, k: usize) -> Real {
+    pub(crate) fn extent(&self, k: usize) -> Real {
         self.size[k]
     }
 
@@ -70,12 +70,12 @@ impl<const D: usize> Container<D> {
     }
 
     /// Area (2D) or volume (3D) of the box up to the roof.
-    pub fn volume(&self) -> Real {
+    pub(crate) fn volume(&self) -> Real {
         self.size.0.iter().product()
     }
 
     /// The walls of this container: the floor, and the side walls unless periodic.
-    pub fn walls(&self) -> Vec<Wall> {
+    pub(crate) fn walls(&self) -> Vec<Wall> {
         let mut w = vec![Wall::Floor];
         if !self.periodic {
             for k in 0..D - 1 {
@@ -88,7 +88,7 @@ impl<const D: usize> Container<D> {
 
     /// The walls as a fixed array and their number (no allocation).
     #[inline]
-    pub fn wall_array(&self) -> ([Wall; 5], usize) {
+    pub(crate) fn wall_array(&self) -> ([Wall; 5], usize) {
         let mut w = [Wall::Floor; 5];
         let mut n = 1;
         if !self.periodic {
@@ -103,7 +103,7 @@ impl<const D: usize> Container<D> {
 
     /// Signed distance from `p` to the wall's surface (positive inside the box).
     #[inline]
-    pub fn wall_distance(&self, wall: Wall, p: &Vector<D>) -> Real {
+    pub(crate) fn wall_distance(&self, wall: Wall, p: &Vector<D>) -> Real {
         match wall {
             Wall::Floor => p[D - 1],
             Wall::Low(k) => p[k],
@@ -113,7 +113,7 @@ impl<const D: usize> Container<D> {
 
     /// The inward unit normal of a wall.
     #[inline]
-    pub fn wall_normal(&self, wall: Wall) -> Vector<D> {
+    pub(crate) fn wall_normal(&self, wall: Wall) -> Vector<D> {
         match wall {
             Wall::Floor => Vector::up(),
             Wall::Low(k) => Vector::axis(k),
@@ -126,7 +126,7 @@ impl<const D: usize> Container<D> {
     /// reader of a bed sees the same coordinates (a tiny negative `x` whose image
     /// rounds to `w` itself is put at 0).
     #[inline]
-    pub fn wrap_coordinate(&self, k: usize, x: Real) -> Real {
+    pub(crate) fn wrap_coordinate(&self, k: usize, x: Real) -> Real {
         let w = self.size[k];
         let y = x - w * (x / w).floor();
         if y >= w {
@@ -139,7 +139,7 @@ impl<const D: usize> Container<D> {
     /// The point `p` with its horizontal coordinates brought into the box on
     /// periodic sides (unchanged between walls).
     #[inline]
-    pub fn wrap(&self, mut p: Vector<D>) -> Vector<D> {
+    pub(crate) fn wrap(&self, mut p: Vector<D>) -> Vector<D> {
         if self.periodic {
             for k in 0..D - 1 {
                 p[k] = self.wrap_coordinate(k, p[k]);

@@ -50,12 +50,12 @@ pub type Result<T> = std::result::Result<T, Error>;
 
 impl Error {
     /// A configuration error.
-    pub fn config(msg: impl Into<String>) -> Self {
+    pub(crate) fn config(msg: impl Into<String>) -> Self {
         Error::Config(msg.into())
     }
 
     /// An error in the setting `setting` of the request.
-    pub fn setting(setting: &'static str, msg: impl Into<String>) -> Self {
+    pub(crate) fn setting(setting: &'static str, msg: impl Into<String>) -> Self {
         Error::Setting {
             setting,
             message: msg.into(),
@@ -164,7 +164,7 @@ fn hidden(c: char) -> bool {
 }
 
 /// A path for a message or the screen: whole, nothing in it acting on the
-/// terminal ([`inert`]).
+/// terminal (`inert`).
 pub fn inert_path(p: &std::path::Path) -> String {
     inert(&p.display().to_string())
 }
@@ -173,6 +173,7 @@ pub fn inert_path(p: &std::path::Path) -> String {
 /// entities, and the characters XML 1.0 forbids even as references (controls
 /// other than tab and line breaks) or that act on a terminal written as
 /// visible escapes (`\u{1b}`), as [`echo`] shows them.
+#[cfg_attr(not(feature = "render"), allow(dead_code))]
 pub fn xml_text(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in inert(text).chars() {

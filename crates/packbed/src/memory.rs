@@ -37,7 +37,7 @@ const HUGE_PAGE: usize = 2 << 20;
 static HUGE_WANTED: AtomicUsize = AtomicUsize::new(0);
 
 /// The process's allocator: the system's, except that while a stage holds
-/// [`huge_pages`] a large block is advised onto transparent huge pages before
+/// `huge_pages` a large block is advised onto transparent huge pages before
 /// it is first written.
 ///
 /// The flow's sweeps read the couplings of a row at scattered columns of

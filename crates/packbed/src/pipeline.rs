@@ -129,7 +129,7 @@ impl FinishedBed {
     }
 
     /// Writes the run's files plus pictures, plots and exports, atomically;
-    /// a picture that cannot be drawn is a warning (see [`Written`]).
+    /// a picture that cannot be drawn is a warning (see `Written`).
     pub fn write_with(&self, dir: &Path, extras: &RunExtras) -> Result<Written> {
         each_dim!(&self.bed, b => {
             crate::output::write_run_with(dir, b, &self.contacts, &self.summary, extras)
@@ -379,7 +379,7 @@ fn analyze_read<const D: usize>(
 }
 
 impl AnalyzedBed {
-    /// Writes the analysis files (`output::ANALYZE_FILES`) plus pictures,
+    /// Writes the analysis files (`contacts.csv`, `wall_contacts.csv`, `summary.json`) plus pictures,
     /// plots and exports into `dir`, atomically.
     pub fn write_with(&self, dir: &Path, extras: &RunExtras) -> Result<Written> {
         each_dim!(&self.bed, b => {

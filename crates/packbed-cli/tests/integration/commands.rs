@@ -4,7 +4,7 @@
 use crate::common::{
     assert_config_refused, assert_contains, assert_user_error, words, Outcome, Scratch,
 };
-use packbed::config::Config;
+use packbed::Config;
 use serde_json::Value;
 use std::path::Path;
 
@@ -195,7 +195,7 @@ fn example_files_are_valid() {
             let c = Config::from_file(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
             // A sweep is an ensemble's: every value is planned.
             let ok = match (c.sweep.is_some(), c.dim) {
-                (true, _) => packbed::ensemble::validate(&c),
+                (true, _) => packbed::validate_ensemble(&c),
                 (false, 2) => c.plan::<2>().map(drop),
                 (false, _) => c.plan::<3>().map(drop),
             };
@@ -322,7 +322,7 @@ fn summary_has_every_key_scripts_rely_on() {
     let o = s.ok(&["run", "--radii", "10,20", "--out", "out3", "--quiet"]);
     assert!(o.stdout.is_empty(), "--quiet: {}", o.stdout);
     let v = s.summary("out3");
-    for key in packbed::io::summary::SUMMARY_KEYS {
+    for key in packbed::SUMMARY_KEYS {
         assert!(v.pointer(key).is_some(), "summary.json lacks {key}");
     }
     assert_eq!(v["dim"], 3);

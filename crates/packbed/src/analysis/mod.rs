@@ -29,18 +29,18 @@ pub use crate::config::{Measure, Measures};
 use crate::math::Real;
 use serde::Serialize;
 
-pub use cake::{CakeOptions, CakeRegion, CakeSummary};
-pub use contacts::{
-    coordination, find_contacts, overlaps, Contact, Contacts, Overlaps, WallContact,
-};
-pub use histogram::{count_histogram, BinnedHistogram};
+pub use cake::{CakeOptions, CakeSummary};
+pub use contacts::{coordination, find_contacts, overlaps, Contact, Contacts, Overlaps};
+pub use histogram::count_histogram;
 pub use orientation::Orientation;
-pub use packing::{ball_box_volume, bulk_region, Region};
+pub use packing::bulk_region;
+#[cfg(test)]
+use packing::Region;
 pub use percolation::{LargeRule, Percolation, PercolationOptions};
-pub use profile::{profile, Profile};
+pub use profile::Profile;
 pub use regions::RegionalPacking;
 pub use segregation::Segregation;
-pub use voids::{Void, VoidSummary};
+pub use voids::VoidSummary;
 
 /// Every measure of a bed, laid out as in `summary.json`.
 #[derive(Clone, Debug, Default, Serialize, PartialEq)]
@@ -238,7 +238,7 @@ impl AnalysisOptions {
     /// The options with this contact tolerance and, if given, percolation
     /// threshold radius (else the default: the largest of the species'
     /// volume-median radii).
-    pub fn new(contact_tol: Real, large_radius: Option<Real>) -> Self {
+    pub(crate) fn new(contact_tol: Real, large_radius: Option<Real>) -> Self {
         let mut o = AnalysisOptions {
             contact_tol,
             ..Default::default()
@@ -269,7 +269,7 @@ pub struct StageTimes(pub Vec<(&'static str, f64)>);
 
 impl StageTimes {
     /// Runs `f`, recording its wall time under `name`.
-    pub fn time<T>(&mut self, name: &'static str, f: impl FnOnce() -> T) -> T {
+    pub(crate) fn time<T>(&mut self, name: &'static str, f: impl FnOnce() -> T) -> T {
         let t = std::time::Instant::now();
         let out = f();
         self.0.push((name, t.elapsed().as_secs_f64()));
@@ -277,7 +277,7 @@ impl StageTimes {
     }
 
     /// Total of the stages whose name starts with `prefix` (all for `""`).
-    pub fn total(&self, prefix: &str) -> f64 {
+    pub(crate) fn total(&self, prefix: &str) -> f64 {
         self.0
             .iter()
             .filter(|(n, _)| n.starts_with(prefix))
@@ -455,7 +455,7 @@ pub fn analyze_timed<const D: usize>(
 
 impl crate::config::AnalysisConfig {
     /// The options the analysis runs with for this `[analysis]` table.
-    pub fn options(&self) -> AnalysisOptions {
+    pub(crate) fn options(&self) -> AnalysisOptions {
         AnalysisOptions {
             bulk_min_bodies: self.bulk_min_bodies,
             angle_from: self.chain_angle_from,

@@ -276,9 +276,12 @@ pub(crate) fn species_parameter(p: &str) -> Option<(usize, &str)> {
 }
 
 impl Edit {
-    /// The edit that sets a sweep `parameter` (one of [`SWEEP_PARAMETERS`]) to
+    /// The edit that sets a sweep `parameter` (one of `SWEEP_PARAMETERS`) to
     /// `value`.
-    pub fn from_sweep(parameter: &str, value: &SweepValue) -> std::result::Result<Edit, String> {
+    pub(crate) fn from_sweep(
+        parameter: &str,
+        value: &SweepValue,
+    ) -> std::result::Result<Edit, String> {
         if let (SweepValue::Text(t), false) = (value, parameter.ends_with(".size.table")) {
             return Err(format!("expected a number, got the text \"{t}\""));
         }

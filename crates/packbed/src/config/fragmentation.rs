@@ -114,11 +114,11 @@ impl Default for FragmentationConfig {
 impl FragmentationConfig {
     /// Refuses settings no bed can be broken with, naming them as a config
     /// file does (`fragmentation.breaks`).
-    pub fn check(&self) -> Result<()> {
+    pub(crate) fn check(&self) -> Result<()> {
         self.check_naming(&|key| format!("fragmentation.{key}"))
     }
 
-    /// [`FragmentationConfig::check`], with the settings named by `name`
+    /// `FragmentationConfig::check`, with the settings named by `name`
     /// (the command: `--kt-kn`).
     pub fn check_naming(&self, name: &dyn Fn(&str) -> String) -> Result<()> {
         if let Breaks::Count(0) = self.breaks {

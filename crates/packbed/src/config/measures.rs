@@ -143,7 +143,7 @@ impl Default for AgitationConfig {
 
 impl AgitationConfig {
     /// What is wrong with the agitation's settings, in one line.
-    pub fn problem(&self) -> Option<String> {
+    pub(crate) fn problem(&self) -> Option<String> {
         if !(self.stress.is_finite() && self.stress >= 0.0) {
             return Some(format!(
                 "drying.agitation.stress (Pa) must be finite and at least 0, got {}",
@@ -240,14 +240,14 @@ impl Default for DryingConfig {
 
 impl DryingConfig {
     /// True when nothing is set.
-    pub fn is_default(&self) -> bool {
+    pub(crate) fn is_default(&self) -> bool {
         *self == DryingConfig::default()
     }
 
     /// The solubility the drying uses: the one given, else the
     /// concentration (a saturated liquid), `+∞` for a liquid with nothing
     /// dissolved (no solubility to reach).
-    pub fn solubility_or_default(&self) -> Real {
+    pub(crate) fn solubility_or_default(&self) -> Real {
         self.solubility.unwrap_or(if self.concentration > 0.0 {
             self.concentration
         } else {
@@ -323,7 +323,7 @@ pub enum EntryModel {
 
 impl EntryModel {
     /// The name in configs and summaries.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             EntryModel::Msp => "msp",
             EntryModel::Inscribed => "inscribed",
@@ -360,7 +360,7 @@ impl Default for DrainageConfig {
 
 impl DrainageConfig {
     /// True when nothing is set.
-    pub fn is_default(&self) -> bool {
+    pub(crate) fn is_default(&self) -> bool {
         *self == DrainageConfig::default()
     }
 
@@ -466,7 +466,7 @@ impl Conductance {
     /// - hydraulic radius: 0.89 = 1/√(0.979 · 1.29), leaving Zick & Homsy's
     ///   array (0.979× with `c` = 1) and van der Hoef et al.'s random arrays
     ///   at the packing of deposited beds (1.29×) equally far off.
-    pub fn default_factor(self) -> Real {
+    pub(crate) fn default_factor(self) -> Real {
         match self {
             Conductance::Constriction => 0.55,
             Conductance::HydraulicRadius => 0.89,
@@ -474,7 +474,7 @@ impl Conductance {
     }
 
     /// The name in configs and summaries.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Conductance::Constriction => "constriction",
             Conductance::HydraulicRadius => "hydraulic_radius",
@@ -513,7 +513,7 @@ impl Default for FlowConfig {
 impl FlowConfig {
     /// True when nothing is set, so that configs which do not use it keep
     /// their serialised form.
-    pub fn is_default(&self) -> bool {
+    pub(crate) fn is_default(&self) -> bool {
         *self == FlowConfig::default()
     }
 
@@ -559,7 +559,7 @@ pub enum LengthUnit {
 
 impl LengthUnit {
     /// The config name: `m`, `mm`, `um` or `nm`.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             LengthUnit::Metre => "m",
             LengthUnit::Millimetre => "mm",
@@ -569,7 +569,7 @@ impl LengthUnit {
     }
 
     /// The symbol for axes and legends: `m`, `mm`, `µm`, `nm`.
-    pub fn symbol(self) -> &'static str {
+    pub(crate) fn symbol(self) -> &'static str {
         match self {
             LengthUnit::Micrometre => "µm",
             u => u.name(),
@@ -577,7 +577,7 @@ impl LengthUnit {
     }
 
     /// Metres per unit.
-    pub fn metres(self) -> Real {
+    pub(crate) fn metres(self) -> Real {
         match self {
             LengthUnit::Metre => 1.0,
             LengthUnit::Millimetre => 1e-3,
@@ -600,23 +600,23 @@ impl Measures {
     /// The measures of a run that chooses none: all but the pore space, whose
     /// triangulation and flow solve cost more than the rest together on a
     /// large bed (BENCHMARKS.md) and are asked for by name.
-    pub fn default_set() -> Measures {
+    pub(crate) fn default_set() -> Measures {
         Measures::of(&Measure::DEFAULT)
     }
 
     /// These measures.
-    pub fn of(list: &[Measure]) -> Measures {
+    pub(crate) fn of(list: &[Measure]) -> Measures {
         Measures(list.iter().fold(0, |bits, m| bits | m.bit()))
     }
 
     /// True when `m` is in the set.
-    pub fn has(self, m: Measure) -> bool {
+    pub(crate) fn has(self, m: Measure) -> bool {
         self.0 & m.bit() != 0
     }
 
     /// The names of the default measures not in the set, in summary order
     /// (the measures asked for by name are not "left out" when absent).
-    pub fn left_out(self) -> Vec<&'static str> {
+    pub(crate) fn left_out(self) -> Vec<&'static str> {
         Measure::DEFAULT
             .into_iter()
             .filter(|&m| !self.has(m))
@@ -682,7 +682,7 @@ impl Measure {
     };
 
     /// The name in configs, options and `summary.json`.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Measure::Packing => "packing",
             Measure::Coordination => "coordination",
@@ -829,12 +829,12 @@ pub enum AngleFrom {
 impl AngleFrom {
     /// True for the default, so that configs which do not choose keep their
     /// serialised form (and ensemble fingerprints) unchanged.
-    pub fn is_vertical(&self) -> bool {
+    pub(crate) fn is_vertical(&self) -> bool {
         *self == AngleFrom::Vertical
     }
 
     /// The name used in configs and in `summary.json`.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             AngleFrom::Vertical => "vertical",
             AngleFrom::Horizontal => "horizontal",
@@ -851,7 +851,7 @@ impl AngleFrom {
     }
 
     /// The range of the angles in dimension `d`, degrees.
-    pub fn range(self, d: usize) -> (Real, Real) {
+    pub(crate) fn range(self, d: usize) -> (Real, Real) {
         match (self, d) {
             (AngleFrom::Vertical, 2) => (-90.0, 90.0),
             (AngleFrom::Horizontal, 2) => (0.0, 180.0),

@@ -15,16 +15,13 @@ mod settling;
 #[cfg(feature = "cli")]
 pub use edit::named;
 pub(crate) use edit::{feed_parameter, species_parameter};
-pub use edit::{
-    parse_numbers, BoxSpec, DryingEdit, Edit, FiltrationEdit, MeasureList, Numbers, Overrides,
-    SettlingEdit, SizeEdit, SWEEP_PARAMETERS,
-};
+pub use edit::{parse_numbers, BoxSpec, Edit, MeasureList, Numbers, Overrides, SWEEP_PARAMETERS};
 
-pub use feed::{Feed, FeedConfig, Pattern};
+pub use feed::Feed;
 pub use feeds::{FeedStage, FeedStageConfig};
-pub use filtration::{Drive, FiltrationConfig, FiltrationStop};
+pub use filtration::{Drive, FiltrationConfig};
 pub use measures::*;
-pub use mesh::{Mesh, MeshConfig, Wires};
+pub(crate) use mesh::Mesh;
 pub use plan::*;
 pub use schema::*;
 pub use settling::{Momentum, Settling, SettlingConfig};

@@ -76,7 +76,7 @@ pub struct SettlingConfig {
 
 impl SettlingConfig {
     /// True if nothing is set: today's rule.
-    pub fn is_default(&self) -> bool {
+    pub(crate) fn is_default(&self) -> bool {
         *self == SettlingConfig::default()
     }
 
@@ -246,13 +246,13 @@ pub struct Momentum {
 impl Settling {
     /// True for today's rule (roll until at rest), which settles bit for bit
     /// as before the rules existed.
-    pub fn is_rolling(&self) -> bool {
+    pub(crate) fn is_rolling(&self) -> bool {
         *self == Settling::default()
     }
 
     /// The probability that a particle of radius `r` sticks at a new
     /// contact: `sticking`, or by the cohesion law `1 / (1 + (2r / d_c)ⁿ)`.
-    pub fn sticking_at(&self, r: Real) -> Real {
+    pub(crate) fn sticking_at(&self, r: Real) -> Real {
         match self.cohesion {
             // n = 2 squares exactly, as the law did before it had an exponent.
             Some(c) if c.exponent == 2.0 => 1.0 / (1.0 + (2.0 * r / c.diameter).powi(2)),

@@ -45,7 +45,7 @@ impl Shard {
     }
 
     /// True if replicate `i` belongs to this shard.
-    pub fn has(&self, i: u64) -> bool {
+    pub(crate) fn has(&self, i: u64) -> bool {
         i % self.count == self.index
     }
 
@@ -167,7 +167,7 @@ impl Manifest {
     }
 
     /// Reads the manifest of an ensemble directory.
-    pub fn read(dir: &Path) -> Result<Manifest> {
+    pub(crate) fn read(dir: &Path) -> Result<Manifest> {
         let path = dir.join(MANIFEST);
         if !path.exists() {
             return Err(Error::Impossible(format!(

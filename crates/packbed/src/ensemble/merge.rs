@@ -12,12 +12,8 @@ use std::time::Instant;
 
 /// Joins the output directories of the shards of one ensemble into `out`: the
 /// same `ensemble.*` and `sweep.*` files as a single run of the whole ensemble
-/// (byte for byte), and copies of every replicate's `summary.json`.
-pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Outcome> {
-    merge_with(dirs, out, true)
-}
-
-/// [`merge`], writing the plots only if `pictures`.
+/// (byte for byte), and copies of every replicate's `summary.json`; the plots
+/// only if `pictures`.
 pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcome> {
     let start = Instant::now();
     if dirs.is_empty() {

@@ -38,8 +38,8 @@ pub mod sweep;
 pub mod tables;
 mod write;
 
-pub use manifest::{fingerprint, Manifest, Shard, MANIFEST};
-pub use merge::{merge, merge_with};
+pub use manifest::{fingerprint, Shard, MANIFEST};
+pub use merge::merge_with;
 pub use replicates::run;
 
 use crate::config::Config;

@@ -12,7 +12,7 @@
 
 // The `[sweep]` and `[ensemble]` tables are part of the config schema.
 use crate::config::{feed_parameter, species_parameter, Config, Edit};
-pub use crate::config::{EnsembleConfig, SweepConfig, SweepValue};
+pub use crate::config::{SweepConfig, SweepValue};
 use crate::error::{Error, Result};
 
 /// The parameters a sweep can vary, with the form of their values.

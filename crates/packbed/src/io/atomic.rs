@@ -175,11 +175,6 @@ impl Staging {
         self
     }
 
-    /// The directory files end up in.
-    pub fn dir(&self) -> &Path {
-        &self.dir
-    }
-
     /// Writes `name` (a plain file name) to a temporary file through `fill`.
     /// A file that cannot be written (a full disk, say) is removed again at
     /// once, so that the files staged before it can still be committed and

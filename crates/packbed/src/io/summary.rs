@@ -134,7 +134,7 @@ pub struct BoxSummary {
 
 impl BoxSummary {
     /// The box of `bed`; `source` says where an analysed file's box came from.
-    pub fn of<const D: usize>(bed: &Bed<D>, source: Option<&'static str>) -> Self {
+    pub(crate) fn of<const D: usize>(bed: &Bed<D>, source: Option<&'static str>) -> Self {
         let size = bed.container.size;
         BoxSummary {
             width: size[0],
@@ -381,7 +381,7 @@ impl Checks {
 
 impl AnalyzeSummary {
     /// Gathers the summary of an analysed bed file.
-    pub fn new<const D: usize>(
+    pub(crate) fn new<const D: usize>(
         source: &str,
         bed: &Bed<D>,
         read: &ReadReport,
@@ -413,7 +413,7 @@ impl AnalyzeSummary {
     }
 
     /// The JSON text, refused if any number in it is NaN or infinite.
-    pub fn to_json(&self) -> Result<String> {
+    pub(crate) fn to_json(&self) -> Result<String> {
         json_text(self, "the results")
     }
 }
@@ -639,7 +639,7 @@ pub struct FragmentTiming {
 
 impl FragmentSummary {
     /// Gathers the summary of a fragmented bed file.
-    pub fn new<const D: usize>(
+    pub(crate) fn new<const D: usize>(
         source: &str,
         bed: &Bed<D>,
         read: &ReadReport,

@@ -382,7 +382,7 @@ mod tests {
     }
 
     use super::*;
-    use crate::analysis::{Contact, WallContact};
+    use crate::analysis::contacts::{Contact, WallContact};
     use crate::container::{Container, Wall};
     use crate::math::Vector;
 

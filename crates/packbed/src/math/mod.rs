@@ -23,11 +23,6 @@ pub const LENGTH_RANGE: (Real, Real) = (1e-30, 1e30);
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vector<const D: usize>(pub [Real; D]);
 
-/// A 2D vector `(x, y)`, `y` up.
-pub type Vector2 = Vector<2>;
-/// A 3D vector `(x, y, z)`, `z` up.
-pub type Vector3 = Vector<3>;
-
 impl<const D: usize> Default for Vector<D> {
     fn default() -> Self {
         Self::zero()
@@ -46,13 +41,13 @@ impl<const D: usize> Vector<D> {
 
     /// The unit vector pointing up (against gravity).
     #[inline]
-    pub fn up() -> Self {
+    pub(crate) fn up() -> Self {
         Self::axis(D - 1)
     }
 
     /// The unit vector along axis `k`.
     #[inline]
-    pub fn axis(k: usize) -> Self {
+    pub(crate) fn axis(k: usize) -> Self {
         let mut v = Self::zero();
         v.0[k] = 1.0;
         v
@@ -60,13 +55,13 @@ impl<const D: usize> Vector<D> {
 
     /// Height (the vertical component).
     #[inline]
-    pub fn height(&self) -> Real {
+    pub(crate) fn height(&self) -> Real {
         self.0[D - 1]
     }
 
     /// Scalar product.
     #[inline]
-    pub fn dot(&self, o: &Self) -> Real {
+    pub(crate) fn dot(&self, o: &Self) -> Real {
         let mut s = 0.0;
         for k in 0..D {
             s += self.0[k] * o.0[k];
@@ -76,7 +71,7 @@ impl<const D: usize> Vector<D> {
 
     /// Squared Euclidean length.
     #[inline]
-    pub fn norm2(&self) -> Real {
+    pub(crate) fn norm2(&self) -> Real {
         self.dot(self)
     }
 
@@ -88,7 +83,7 @@ impl<const D: usize> Vector<D> {
 
     /// This vector scaled to unit length, or `None` for a (near) zero vector.
     #[inline]
-    pub fn normalized(&self) -> Option<Self> {
+    pub(crate) fn normalized(&self) -> Option<Self> {
         let n = self.norm();
         if n > 0.0 && n.is_finite() {
             Some(*self / n)
@@ -99,14 +94,14 @@ impl<const D: usize> Vector<D> {
 
     /// The horizontal part (vertical component set to zero).
     #[inline]
-    pub fn horizontal(&self) -> Self {
+    pub(crate) fn horizontal(&self) -> Self {
         let mut v = *self;
         v.0[D - 1] = 0.0;
         v
     }
 
     /// True when every component is finite.
-    pub fn is_finite(&self) -> bool {
+    pub(crate) fn is_finite(&self) -> bool {
         self.0.iter().all(|c| c.is_finite())
     }
 }
@@ -253,5 +248,5 @@ mod rotation;
 pub mod sparse;
 pub mod v3;
 
-pub use lsq::{least_squares_qr, nnls, nnls_gen, nnls_qr, solve_pivoted, MAX_GEN_COLUMNS};
+pub use lsq::{nnls, nnls_gen, nnls_qr, solve_pivoted, MAX_GEN_COLUMNS};
 pub use rotation::{moment, rotate};

@@ -149,6 +149,7 @@ pub fn orient3d(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
 /// four in the power sense (power distance of `q` to the orthosphere `< 0`, i.e. `q` conflicts
 /// with the cell), `-1` if outside, `0` if on it (and `0` if `p` is coplanar).
 #[inline]
+#[cfg(test)]
 pub fn power_test_3d(p: [[f64; 3]; 4], w: [f64; 4], q: [f64; 3], wq: f64) -> Sign {
     let s = power_det_sign_3d(&p, &w, q, wq);
     if s == 0 {
@@ -159,6 +160,7 @@ pub fn power_test_3d(p: [[f64; 3]; 4], w: [f64; 4], q: [f64; 3], wq: f64) -> Sig
 
 /// Same as [`power_test_3d`] in 2D with three weighted points (non-collinear) and a query.
 #[inline]
+#[cfg(test)]
 pub fn power_test_2d(p: [[f64; 2]; 3], w: [f64; 3], q: [f64; 2], wq: f64) -> Sign {
     let s = power_det_sign_2d(&p, &w, q, wq);
     if s == 0 {
@@ -172,6 +174,7 @@ pub fn power_test_2d(p: [[f64; 2]; 3], w: [f64; 3], q: [f64; 2], wq: f64) -> Sig
 /// Weights are perturbed as `w_i → w_i + ε_i`, where a point of higher rank gets an infinitely
 /// larger perturbation (see the module documentation for the exact convention). Ranks must be
 /// distinct. Returns `0` only if `p` is coplanar.
+#[cfg(test)]
 pub fn power_test_3d_perturbed(
     p: [[f64; 3]; 4],
     w: [f64; 4],
@@ -187,6 +190,7 @@ pub fn power_test_3d_perturbed(
 /// [`power_test_3d_perturbed`] for `p` known to be positively oriented (the
 /// cells of a triangulation), which spares the orientation test.
 #[inline]
+#[cfg(test)]
 pub fn power_test_3d_oriented(
     p: [[f64; 3]; 4],
     w: [f64; 4],
@@ -293,6 +297,7 @@ fn tie_break<const D: usize>(
 /// Symbolically perturbed [`power_test_2d`]: never `0` for non-collinear `p`.
 ///
 /// Same convention as [`power_test_3d_perturbed`]. Returns `0` only if `p` is collinear.
+#[cfg(test)]
 pub fn power_test_2d_perturbed(
     p: [[f64; 2]; 3],
     w: [f64; 3],
@@ -307,6 +312,7 @@ pub fn power_test_2d_perturbed(
 
 /// [`power_test_2d_perturbed`] for `p` known to be counter-clockwise.
 #[inline]
+#[cfg(test)]
 pub fn power_test_2d_oriented(
     p: [[f64; 2]; 3],
     w: [f64; 3],

@@ -128,6 +128,7 @@ pub fn fragment_with<const D: usize>(
 
 /// The bond forces of the intact bed under `options.load`, without breaking
 /// any bond (`options.breaks` is not used; `steps` is empty).
+#[cfg_attr(not(feature = "render"), allow(dead_code))]
 pub fn forces<const D: usize>(
     bed: &Bed<D>,
     contacts: &Contacts,

@@ -219,7 +219,7 @@ impl<'a, const D: usize> Solver<'a, D> {
     }
 
     /// Ground stiffness of each unknown.
-    pub fn ground(&self) -> &[Real] {
+    pub(crate) fn ground(&self) -> &[Real] {
         &self.ground
     }
 
@@ -239,7 +239,7 @@ impl<'a, const D: usize> Solver<'a, D> {
     }
 
     /// Removes bond `k` from the matrix.
-    pub fn remove(&mut self, k: usize) -> Result<()> {
+    pub(crate) fn remove(&mut self, k: usize) -> Result<()> {
         if !self.alive[k] {
             return Ok(());
         }
@@ -320,7 +320,7 @@ impl<'a, const D: usize> Solver<'a, D> {
 
     /// Solves the current matrix for `b`: the kept factor with the removed
     /// bonds' correction, refined by conjugate gradients on the exact matrix.
-    pub fn solve(&mut self, b: &[Real]) -> Result<Vec<Real>> {
+    pub(crate) fn solve(&mut self, b: &[Real]) -> Result<Vec<Real>> {
         if self
             .base
             .as_ref()

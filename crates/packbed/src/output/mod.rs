@@ -192,9 +192,6 @@ fn packbed_dir(dir: &Path) -> bool {
         .is_some_and(|v| v.get("packbed_version").is_some())
 }
 
-/// Names of the files [`write_analysis`] writes: a run's files minus the bed.
-pub const ANALYZE_FILES: [&str; 3] = ["contacts.csv", "wall_contacts.csv", "summary.json"];
-
 /// Writes the files of `packbed analyze` into `dir`, atomically as [`write_run`],
 /// with the pictures, plots and exports `extras` asks for.
 pub fn write_analysis<const D: usize>(
@@ -524,6 +521,7 @@ pub(crate) fn pictures<const D: usize>(
 
 /// The pictures of a run that could be drawn, and a warning for each that
 /// could not: a picture never costs the run its bed and measures.
+#[cfg_attr(not(feature = "render"), allow(dead_code))]
 #[derive(Debug, Default)]
 pub struct Drawn {
     /// `(file name, contents)`, in writing order.
@@ -532,9 +530,10 @@ pub struct Drawn {
     pub missing: Vec<String>,
 }
 
+#[cfg_attr(not(feature = "render"), allow(dead_code))]
 impl Drawn {
     /// Keeps the picture `name` if `made` is one, else says it is missing.
-    pub fn keep(&mut self, name: String, made: Result<Vec<u8>>) {
+    pub(crate) fn keep(&mut self, name: String, made: Result<Vec<u8>>) {
         match made {
             Ok(bytes) => self.files.push((name, bytes)),
             Err(e) => self

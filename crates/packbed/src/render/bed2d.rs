@@ -34,7 +34,7 @@ pub fn world_to_pixel(frame: &Frame, width: f64, height: f64) -> WorldToPixel {
     WorldToPixel { scale, tx, ty }
 }
 
-/// Where [`draw`] puts the bed in the image: bed coordinates to pixels.
+/// Where `draw` puts the bed in the image: bed coordinates to pixels.
 pub fn placement(bed: &Bed<2>, opts: &RenderOptions) -> Result<WorldToPixel> {
     let contacts = contacts_if_needed(bed, opts);
     let pal = picture_palette(bed, opts, contacts.as_ref())?;

@@ -406,11 +406,6 @@ impl PngCanvas {
         }
     }
 
-    /// The image.
-    pub fn pixmap(&self) -> &Pixmap {
-        &self.pixmap
-    }
-
     /// The PNG file's bytes.
     pub fn encode(&self) -> Result<Vec<u8>> {
         self.pixmap

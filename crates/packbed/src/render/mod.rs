@@ -1,27 +1,27 @@
 //! Pictures of beds and plots of measures.
 //!
-//! - [`canvas`]: one drawing API with an SVG and a PNG (tiny-skia) back end and
+//! - `canvas`: one drawing API with an SVG and a PNG (tiny-skia) back end and
 //!   embedded text, so both formats show the same picture.
-//! - [`bed2d`]: 2D beds, every disc drawn exactly (SVG circles in bed coordinates).
-//! - [`bed3d`]: 3D beds, a z-buffered raster of exact sphere surfaces, shaded.
+//! - `bed2d`: 2D beds, every disc drawn exactly (SVG circles in bed coordinates).
+//! - `bed3d`: 3D beds, a z-buffered raster of exact sphere surfaces, shaded.
 //! - `frame`: title, legend and scale bar around a bed picture.
 //! - `plot`: histograms, profiles, bars with error bars, from plain data.
-//! - [`fragmentation`]: bond forces and breakage of a bed under load.
-//! - [`colour`]: colour-blind-safe palettes.
+//! - `fragmentation`: bond forces and breakage of a bed under load.
+//! - `colour`: colour-blind-safe palettes.
 //!
 //! Colouring takes per-particle classes ([`ColorBy::Classes`]) so that any
 //! measure that marks particles (percolation chains, clusters) can be shown.
 
-pub mod bed2d;
-pub mod bed3d;
-pub mod canvas;
-pub mod colour;
+mod bed2d;
+mod bed3d;
+pub(crate) mod canvas;
+pub(crate) mod colour;
 pub(crate) mod ensemble_plots;
-pub mod fragmentation;
+pub(crate) mod fragmentation;
 pub(crate) mod frame;
 pub(crate) mod plot;
 pub(crate) mod run_files;
-pub mod run_plots;
+pub(crate) mod run_plots;
 
 use crate::analysis::percolation::{membership, LargeRule, Membership};
 use crate::analysis::{coordination, find_contacts, Contacts};
@@ -29,8 +29,17 @@ use crate::bed::{AnyBed, Bed};
 use crate::error::{Error, Result};
 use canvas::Rgb;
 
+pub use bed2d::placement;
 pub use bed3d::{Cut, View};
-pub use fragmentation::fragmentation_pictures;
+pub use canvas::text_width;
+pub use colour::{categorical, viridis};
+pub use fragmentation::{
+    fragmentation_pictures, particle_forces, HEIGHT as FRAGMENTATION_HEIGHT, NUMBERED_BREAKS,
+    WIDTH as FRAGMENTATION_WIDTH,
+};
+pub use run_plots::{
+    chain_angle_histogram, coordination_histogram, packing_profile, regional_packing,
+};
 
 /// Per-particle classes with names, e.g. "in a percolation chain" / "other".
 #[derive(Clone, Debug, PartialEq)]
@@ -57,7 +66,7 @@ pub enum ColorBy {
     /// [`default_color`]).
     Radius,
     /// The largest contact force `|f|` among the bonds of the particle's body
-    /// under the default load (shear, total 1), from [`crate::mechanics`]
+    /// under the default load (shear, total 1), from `crate::mechanics`
     /// (see [`fragmentation::particle_forces`]).
     Force,
     /// Given classes (percolation chains, clusters, …).
@@ -457,7 +466,7 @@ pub(crate) fn default_title<const D: usize>(bed: &Bed<D>, opts: &RenderOptions) 
 /// Classes for `--color chains`: the particles of the percolation analysis'
 /// spanning clusters (wall to wall, or wrapping round a periodic box), the
 /// other large particles, and the rest, from
-/// [`crate::analysis::percolation::membership`], so that the picture shows the
+/// `crate::analysis::percolation::membership`, so that the picture shows the
 /// chains `summary.json` counts.
 pub fn chain_classes<const D: usize>(
     bed: &Bed<D>,

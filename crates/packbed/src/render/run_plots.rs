@@ -312,7 +312,7 @@ pub fn chain_angles<const D: usize>(bed: &Bed<D>) -> Vec<Real> {
     out
 }
 
-/// Histogram of chain angles (from vertical, as [`chain_angles`] gives them)
+/// Histogram of chain angles (from vertical, as `chain_angles` gives them)
 /// in 5° bins of the `from` convention, as percentages of the chains.
 pub fn chain_angle_histogram(angles: &[Real], dim: usize, from: AngleFrom) -> Plot {
     let (lo, hi) = from.range(dim);

@@ -7,7 +7,7 @@ mod passing;
 mod table;
 
 pub use passing::passing_quantile;
-pub use table::{Basis, Layout, SizeClass, SizeTable, TableOptions, Within, ACCEPTED_HEADERS};
+pub use table::{SizeTable, TableOptions, Within};
 
 /// Unbounded size distributions are truncated to their central part unless the
 /// config bounds them, so that every species has a finite largest radius (the
@@ -28,7 +28,7 @@ pub enum SizeDist {
     /// Every particle has this radius.
     Fixed(Real),
     /// Normal distribution truncated to `[lo, hi]`: the config's `min`/`max`, or
-    /// by default `mean ± 3 sd` ([`SizeDist::normal_window`]).
+    /// by default `mean ± 3 sd` (`SizeDist::normal_window`).
     Normal {
         /// Mean radius (of the distribution before truncation).
         mean: Real,
@@ -41,7 +41,7 @@ pub enum SizeDist {
     },
     /// Lognormal distribution by median and geometric standard deviation,
     /// truncated to `[lo, hi]`: the config's `min`/`max`, or by default
-    /// `median · gsd^±3` ([`SizeDist::lognormal_window`]).
+    /// `median · gsd^±3` (`SizeDist::lognormal_window`).
     Lognormal {
         /// Median radius (of the distribution before truncation).
         median: Real,
@@ -66,7 +66,7 @@ pub enum SizeDist {
 impl SizeDist {
     /// The default window of a normal distribution: `mean ± 3 sd`, with a lower
     /// end at or below 0 replaced by `mean / 1000` (radii must be positive).
-    pub fn normal_window(mean: Real, sd: Real) -> (Real, Real) {
+    pub(crate) fn normal_window(mean: Real, sd: Real) -> (Real, Real) {
         let lo = mean - TRUNCATION_SIGMAS * sd;
         (
             if lo > 0.0 { lo } else { mean * 1e-3 },
@@ -75,7 +75,7 @@ impl SizeDist {
     }
 
     /// The default window of a lognormal distribution: `median · gsd^±3`.
-    pub fn lognormal_window(median: Real, gsd: Real) -> (Real, Real) {
+    pub(crate) fn lognormal_window(median: Real, gsd: Real) -> (Real, Real) {
         let f = gsd.powf(TRUNCATION_SIGMAS);
         (median / f, median * f)
     }
@@ -251,7 +251,7 @@ pub enum Shape {
 
 impl Shape {
     /// Particles (beads) per body: 1 for a sphere.
-    pub fn beads(&self) -> u32 {
+    pub(crate) fn beads(&self) -> u32 {
         match self {
             Shape::Sphere => 1,
             Shape::Chain { beads, .. } => *beads,
@@ -273,7 +273,7 @@ pub enum EntryOrientation {
 
 impl EntryOrientation {
     /// The config name: `vertical`, `random` or `horizontal`.
-    pub fn name(&self) -> &'static str {
+    pub(crate) fn name(&self) -> &'static str {
         match self {
             EntryOrientation::Vertical => "vertical",
             EntryOrientation::Random => "random",
@@ -305,7 +305,7 @@ pub struct SpeciesPicker {
 
 impl SpeciesPicker {
     /// A picker for these species (ratios validated to be >= 0 with a positive sum).
-    pub fn new(species: &[Species]) -> Self {
+    pub(crate) fn new(species: &[Species]) -> Self {
         let total: Real = species.iter().map(|s| s.ratio).sum();
         let mut acc = 0.0;
         let cumulative = species
@@ -319,7 +319,7 @@ impl SpeciesPicker {
     }
 
     /// Index of the next species.
-    pub fn pick<R: rand::Rng + ?Sized>(&self, rng: &mut R) -> usize {
+    pub(crate) fn pick<R: rand::Rng + ?Sized>(&self, rng: &mut R) -> usize {
         if self.cumulative.len() == 1 {
             return 0;
         }

@@ -60,7 +60,7 @@ pub enum Within {
 
 impl Within {
     /// The config name: `log-uniform` or `uniform`.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Within::LogUniform => "log-uniform",
             Within::Uniform => "uniform",
@@ -81,7 +81,7 @@ pub enum Basis {
 
 impl Basis {
     /// `number`, `volume` or `mass`.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Basis::Number => "number",
             Basis::Volume => "volume",
@@ -425,8 +425,8 @@ impl SizeTable {
         SizeTable::read_with(path, &options, metres_per_unit)
     }
 
-    /// [`SizeTable::read`] with every option of [`TableOptions`].
-    pub fn read_with(
+    /// [`SizeTable::read`] with every option of `TableOptions`.
+    pub(crate) fn read_with(
         path: &Path,
         options: &TableOptions,
         metres_per_unit: Option<Real>,
@@ -842,7 +842,7 @@ impl SizeTable {
     }
 
     /// The radii at which the table has rows: class edges and single sizes.
-    pub fn sizes(&self) -> Vec<Real> {
+    pub(crate) fn sizes(&self) -> Vec<Real> {
         let mut v: Vec<Real> = self.classes.iter().flat_map(|c| [c.lo, c.hi]).collect();
         v.sort_by(Real::total_cmp);
         v.dedup();

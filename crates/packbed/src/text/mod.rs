@@ -11,7 +11,7 @@ pub use run::{
 };
 
 /// A text for the screen (several lines): every character that acts on a
-/// terminal escaped as [`crate::error::echo`] escapes it, the line breaks
+/// terminal escaped as `crate::error::echo` escapes it, the line breaks
 /// kept. The last guard before stdout; a value inside a line (a name, a
 /// path) is escaped where it is written, its line breaks too.
 pub fn screen(text: &str) -> String {

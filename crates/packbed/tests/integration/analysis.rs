@@ -3,8 +3,8 @@
 //! measures.
 
 use crate::common::{config, run};
-use packbed::analysis::{analyze_with, find_contacts, voids, AnalysisOptions};
-use packbed::bed::Bed;
+use packbed::Bed;
+use packbed::{analyze_with, find_contacts, voids, AnalysisOptions};
 use std::f64::consts::PI;
 
 /// `count` discs of the given radii (equal ratios) in the default box.
@@ -110,7 +110,7 @@ fn raster_voids(bed: &Bed<2>, h: f64) -> Vec<f64> {
 fn voids_agree_with_a_raster_of_the_pore_space() {
     for (periodic, seed) in [(false, 3), (true, 4)] {
         let bed = bed2(150, &[10.0, 20.0], periodic, seed);
-        let v = voids::voids(&bed, &find_contacts(&bed, 1e-6));
+        let v = voids(&bed, &find_contacts(&bed, 1e-6));
         let h = 0.1;
         let mut raster = raster_voids(&bed, h);
         let mut exact: Vec<f64> = v.iter().map(|v| v.area).collect();

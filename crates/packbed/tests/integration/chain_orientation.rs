@@ -3,8 +3,8 @@
 //! is mirror-symmetric must be mirror-symmetric too (before, every chain of the
 //! base layer pointed to +90° and the last bin held about twice the first).
 
-use packbed::analysis::orientation::{body_axes, orientation, AngleFrom};
-use packbed::bed::Bed;
+use packbed::Bed;
+use packbed::{body_axes, orientation, AngleFrom};
 
 fn bed_2d(seed: u64) -> Bed<2> {
     let text = format!(
@@ -54,9 +54,9 @@ fn signed_angle_histogram_is_mirror_symmetric() {
 /// from the horizontal, packbed's default from the vertical.
 #[test]
 fn angles_from_vertical_and_from_horizontal() {
-    use packbed::analysis::{analyze_with, AnalysisOptions};
-    use packbed::container::Container;
-    use packbed::math::Vector;
+    use packbed::Container;
+    use packbed::Vector;
+    use packbed::{analyze_with, AnalysisOptions};
     let with = |from: AngleFrom| AnalysisOptions {
         angle_from: from,
         ..AnalysisOptions::default()

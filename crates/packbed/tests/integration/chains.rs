@@ -12,12 +12,12 @@
 //! 4. determinism.
 
 use crate::common::{config, run, TOL};
-use packbed::analysis::validate::{check_bed, Report};
-use packbed::bed::Bed;
-use packbed::config::{Config, Settling};
-use packbed::deposit::chain::{ChainShape, Pose};
-use packbed::deposit::{drop_onto, Entry};
-use packbed::math::{Real, Vector};
+use packbed::Bed;
+use packbed::{check_bed, CheckReport as Report};
+use packbed::{drop_onto, Entry};
+use packbed::{ChainShape, Pose};
+use packbed::{Config, Settling};
+use packbed::{Real, Vector};
 
 /// Drops one chain by hand; its bead centres at rest.
 fn drop_chain<const D: usize>(
@@ -398,7 +398,7 @@ fn rods_lie_closer_to_horizontal() {
     );
     let (bed, report) = run::<3>(&c);
     let (s, n) = order_parameter(&bed);
-    let phi = packbed::analysis::packing::bulk_fraction(&bed);
+    let phi = packbed::bulk_fraction(&bed);
     println!("{n} rods, S = {s:.4}, bulk packing fraction {phi:?}, {report:?}");
     assert_ok(&check_bed(&bed, TOL), "rods");
     assert!(s < 0.0, "S = {s}");

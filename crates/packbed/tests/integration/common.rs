@@ -1,11 +1,11 @@
 //! Helpers every test module shares: configs from TOML, deposition of a plan,
 //! and the checker's verdict.
 
-use packbed::analysis::validate::{check_bed_with, InvariantChecks, Report};
-use packbed::bed::Bed;
-use packbed::config::Config;
-use packbed::deposit::{deposit, DepositReport};
-use packbed::math::Real;
+use packbed::Bed;
+use packbed::Config;
+use packbed::Real;
+use packbed::{check_bed_with, CheckReport as Report, InvariantChecks};
+use packbed::{deposit, DepositReport};
 
 /// Gap tolerance of the model (`docs/reference/model.md`, "Exactness": exact to 1e-9 r).
 pub const TOL: Real = 1e-9;

@@ -2,9 +2,10 @@
 //! interruption, replicates equal to single runs, strict refusals, and every
 //! example config valid.
 
-use packbed::config::Config;
-use packbed::ensemble::{
-    self, seeds, EnsembleOptions, Shard, ENSEMBLE_FILES, MANIFEST, SWEEP_FILES,
+use packbed::Config;
+use packbed::{
+    ensemble_run_dir, merge_ensembles, replicate_seed, run_ensemble, EnsembleOptions, Outcome,
+    Shard, ENSEMBLE_FILES, MANIFEST, SWEEP_FILES,
 };
 use serde_json::Value;
 use std::fs;
@@ -38,8 +39,8 @@ fn opts(runs: u64, jobs: usize, shard: Shard) -> EnsembleOptions {
     }
 }
 
-fn run(config: &Config, o: &EnsembleOptions, out: &Path) -> ensemble::Outcome {
-    ensemble::run(config, o, out, &|_| {}).unwrap_or_else(|e| panic!("{e}"))
+fn run(config: &Config, o: &EnsembleOptions, out: &Path) -> Outcome {
+    run_ensemble(config, o, out, &|_| {}).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The statistics files (not timing.json) of an ensemble directory, with sweeps.
@@ -113,7 +114,7 @@ fn shards_merge_into_the_single_run() {
             assert!(o.points.iter().all(|p| p.aggregate.replicates == n));
             shards.push(d);
         }
-        ensemble::merge(&shards, &root.join("merged")).unwrap();
+        merge_ensembles(&shards, &root.join("merged"), true).unwrap();
         assert_same(&root.join("whole"), &root.join("merged"));
         if name == "sweep" {
             let md = fs::read_to_string(root.join("merged/sweep.md")).unwrap();
@@ -132,13 +133,13 @@ fn interrupted_ensemble_resumes_to_the_same_result() {
     // temporary file, one with a truncated summary, no statistics yet.
     let part = t.path().join("part");
     run(&c, &opts(8, 2, Shard::ALL), &part);
-    fs::remove_dir_all(ensemble::run_dir(&part, 1)).unwrap();
-    fs::remove_dir_all(ensemble::run_dir(&part, 6)).unwrap();
-    let stale = ensemble::run_dir(&part, 3);
+    fs::remove_dir_all(ensemble_run_dir(&part, 1)).unwrap();
+    fs::remove_dir_all(ensemble_run_dir(&part, 6)).unwrap();
+    let stale = ensemble_run_dir(&part, 3);
     fs::remove_file(stale.join("summary.json")).unwrap();
     fs::write(stale.join(".summary.json.12345.tmp"), "{\"dim\": 2, \"se").unwrap();
     fs::write(
-        ensemble::run_dir(&part, 5).join("summary.json"),
+        ensemble_run_dir(&part, 5).join("summary.json"),
         "{\"dim\": ",
     )
     .unwrap();
@@ -172,10 +173,10 @@ fn a_replicate_is_the_single_run_of_its_seed() {
     let c = small_config();
     run(&c, &opts(3, 2, Shard::ALL), t.path());
     for i in 0..3 {
-        let text = fs::read_to_string(ensemble::run_dir(t.path(), i).join("summary.json")).unwrap();
+        let text = fs::read_to_string(ensemble_run_dir(t.path(), i).join("summary.json")).unwrap();
         let mut from_ensemble: Value = serde_json::from_str(&text).unwrap();
         let mut single = c.clone();
-        single.seed = seeds::replicate_seed(c.seed, i);
+        single.seed = replicate_seed(c.seed, i);
         let finished = packbed::run_bed(&single, &mut |_| {}).unwrap();
         let mut direct: Value = serde_json::from_str(&finished.summary.to_json().unwrap()).unwrap();
         assert_eq!(from_ensemble["seed"], single.seed);
@@ -197,7 +198,7 @@ fn statistics_match_the_replicates() {
     let xs: Vec<f64> = (0..5)
         .map(|i| {
             let text =
-                fs::read_to_string(ensemble::run_dir(t.path(), i).join("summary.json")).unwrap();
+                fs::read_to_string(ensemble_run_dir(t.path(), i).join("summary.json")).unwrap();
             let v: Value = serde_json::from_str(&text).unwrap();
             v["packing"]["global"].as_f64().unwrap()
         })
@@ -241,9 +242,8 @@ fn statistics_match_the_replicates() {
 fn refusals() {
     let t = tempfile::tempdir().unwrap();
     let c = small_config();
-    let err =
-        |r: packbed::Result<ensemble::Outcome>| r.err().map(|e| e.to_string()).unwrap_or_default();
-    let e = err(ensemble::run(
+    let err = |r: packbed::Result<Outcome>| r.err().map(|e| e.to_string()).unwrap_or_default();
+    let e = err(run_ensemble(
         &c,
         &opts(0, 1, Shard::ALL),
         &t.path().join("a"),
@@ -260,17 +260,12 @@ fn refusals() {
     run(&c, &opts(2, 1, Shard::ALL), &out);
     let mut other = c.clone();
     other.species[1].ratio = 3.0;
-    let e = err(ensemble::run(
-        &other,
-        &opts(2, 1, Shard::ALL),
-        &out,
-        &|_| {},
-    ));
+    let e = err(run_ensemble(&other, &opts(2, 1, Shard::ALL), &out, &|_| {}));
     assert!(
         e.contains("different config") && e.contains("species[1].ratio"),
         "{e}"
     );
-    let e = err(ensemble::run(
+    let e = err(run_ensemble(
         &c,
         &opts(2, 1, Shard { index: 0, count: 2 }),
         &out,
@@ -281,40 +276,52 @@ fn refusals() {
     let junk = t.path().join("junk");
     fs::create_dir(&junk).unwrap();
     fs::write(junk.join("notes.txt"), "mine").unwrap();
-    let e = err(ensemble::run(&c, &opts(2, 1, Shard::ALL), &junk, &|_| {}));
+    let e = err(run_ensemble(&c, &opts(2, 1, Shard::ALL), &junk, &|_| {}));
     assert!(e.contains("not empty"), "{e}");
     // Merges of incompatible or incomplete shards.
     let s0 = t.path().join("s0");
     let s1 = t.path().join("s1");
     run(&c, &opts(4, 1, Shard { index: 0, count: 2 }), &s0);
-    let e = err(ensemble::merge(
+    let e = err(merge_ensembles(
         std::slice::from_ref(&s0),
         &t.path().join("m1"),
+        true,
     ));
     assert!(e.contains("1/2") && e.contains("missing"), "{e}");
-    let e = err(ensemble::merge(
+    let e = err(merge_ensembles(
         &[s0.clone(), s0.clone()],
         &t.path().join("m2"),
+        true,
     ));
     assert!(e.contains("twice"), "{e}");
     run(&other, &opts(4, 1, Shard { index: 1, count: 2 }), &s1);
-    let e = err(ensemble::merge(
+    let e = err(merge_ensembles(
         &[s0.clone(), s1.clone()],
         &t.path().join("m3"),
+        true,
     ));
     assert!(e.contains("different configs"), "{e}");
     let s1b = t.path().join("s1b");
     run(&c, &opts(5, 1, Shard { index: 1, count: 2 }), &s1b);
-    let e = err(ensemble::merge(&[s0.clone(), s1b], &t.path().join("m4")));
+    let e = err(merge_ensembles(
+        &[s0.clone(), s1b],
+        &t.path().join("m4"),
+        true,
+    ));
     assert!(e.contains("different replicate counts"), "{e}");
     let s1c = t.path().join("s1c");
     run(&c, &opts(4, 1, Shard { index: 1, count: 2 }), &s1c);
-    fs::remove_dir_all(ensemble::run_dir(&s1c, 3)).unwrap();
-    let e = err(ensemble::merge(&[s0.clone(), s1c], &t.path().join("m5")));
+    fs::remove_dir_all(ensemble_run_dir(&s1c, 3)).unwrap();
+    let e = err(merge_ensembles(
+        &[s0.clone(), s1c],
+        &t.path().join("m5"),
+        true,
+    ));
     assert!(e.contains("incomplete") && e.contains("replicate 3"), "{e}");
-    let e = err(ensemble::merge(
+    let e = err(merge_ensembles(
         &[t.path().join("nothing")],
         &t.path().join("m6"),
+        true,
     ));
     assert!(e.contains(MANIFEST), "{e}");
 }
@@ -323,7 +330,7 @@ fn refusals() {
 fn sweep_configs_are_refused_by_run() {
     let e = sweep_config().validate().unwrap_err().to_string();
     assert!(e.contains("packbed ensemble"), "{e}");
-    ensemble::validate(&sweep_config()).unwrap();
+    packbed::validate_ensemble(&sweep_config()).unwrap();
 }
 
 #[test]
@@ -337,7 +344,7 @@ fn every_example_config_is_valid() {
                 let c = Config::from_file(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
                 // Chains are refused by the engine until their issue lands, not by
                 // validation; both examples kinds must validate.
-                ensemble::validate(&c).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+                packbed::validate_ensemble(&c).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
                 if dir.ends_with("thesis") {
                     let runs = c.ensemble.as_ref().map(|e| e.runs);
                     // The study's 500 replicates; percolation and breakage
@@ -359,7 +366,7 @@ fn every_example_config_is_valid() {
 /// stopped.
 #[test]
 fn stop_interrupts_builds_and_ensembles() {
-    use packbed::config::{Mode, Overrides};
+    use packbed::{Mode, Overrides};
     use std::ops::ControlFlow;
     use std::sync::atomic::AtomicBool;
     use std::sync::Arc;
@@ -404,7 +411,7 @@ fn stop_interrupts_builds_and_ensembles() {
         stop: Some(stop.clone()),
         ..opts(3, 1, Shard::ALL)
     };
-    let e = ensemble::run(&c, &o, &dir.join("a"), &|_| {}).unwrap_err();
+    let e = run_ensemble(&c, &o, &dir.join("a"), &|_| {}).unwrap_err();
     assert!(matches!(e, packbed::Error::Interrupted), "{e}");
     stop.store(false, std::sync::atomic::Ordering::Relaxed);
     let resumed = run(&c, &o, &dir.join("a"));

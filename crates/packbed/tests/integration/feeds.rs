@@ -2,11 +2,11 @@
 //! species, count and settling rule.
 
 use crate::common::{assert_checked, config, run, TOL};
-use packbed::analysis::find_contacts;
-use packbed::analysis::validate::InvariantChecks;
-use packbed::bed::Bed;
-use packbed::config::Config;
-use packbed::deposit::DepositReport;
+use packbed::find_contacts;
+use packbed::Bed;
+use packbed::Config;
+use packbed::DepositReport;
+use packbed::InvariantChecks;
 
 const BOX: &str =
     "dim = 3\nseed = 11\n[box]\nwidth = 24\ndepth = 24\nheight = 3000\nperiodic = true\n\

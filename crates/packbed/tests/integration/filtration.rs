@@ -2,8 +2,8 @@
 //! line fitted to it, against the network's own resistances.
 
 use crate::common::config;
-use packbed::analysis::filtration::FiltrationSummary;
 use packbed::run_bed;
+use packbed::FiltrationSummary;
 
 /// A precoat of near-equal spheres (diameter 60 µm) and a slurry of
 /// `slurry` (species lines) fed after it in `feeds` (feed lines), filtered

@@ -14,14 +14,13 @@
 //! both dimensions.
 
 use crate::common::{config, run};
-use packbed::analysis::{find_contacts, Contacts};
-use packbed::bed::Bed;
-use packbed::container::Wall;
-use packbed::math::v3::{add, cross, dot, norm, scale, sub};
-use packbed::math::{Real, Vector};
-use packbed::mechanics::solver::{Solver, Springs};
-use packbed::mechanics::{fragment, Breaks, Fragmentation, FragmentationConfig, Load};
 use packbed::AnyBed;
+use packbed::Bed;
+use packbed::Wall;
+use packbed::{find_contacts, Contacts};
+use packbed::{fragment, Breaks, Fragmentation, FragmentationConfig, Load};
+use packbed::{Real, Vector};
+use packbed::{Solver, Springs};
 
 type V3 = [Real; 3];
 
@@ -1492,4 +1491,35 @@ fn equilibrium_on_beds_of_chains() {
             println!("{dim}D chains, {}: {u} unstable", load.name());
         }
     }
+}
+
+// Arithmetic on plain triples, written here so that the test's computations
+// stand apart from the library's.
+
+fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
 }

@@ -3,9 +3,9 @@
 //! errors rather than giving overlapping particles (radii of 1e-100) or a run
 //! that never ends (1e160), as they did before the range was checked.
 
-use packbed::analysis::validate::check_bed;
-use packbed::config::{Config, LENGTH_RANGE};
-use packbed::error::Error;
+use packbed::check_bed;
+use packbed::Error;
+use packbed::{Config, LENGTH_RANGE};
 
 fn config(dim: u8, small: f64, large: f64) -> Config {
     let text = format!(

@@ -3,11 +3,11 @@
 //! inside it, or form the cake; the capture per size class.
 
 use crate::common::{assert_checked, config, run, TOL};
-use packbed::analysis::capture::capture;
-use packbed::analysis::validate::InvariantChecks;
-use packbed::bed::Bed;
-use packbed::config::Config;
-use packbed::deposit::DepositReport;
+use packbed::capture;
+use packbed::Bed;
+use packbed::Config;
+use packbed::DepositReport;
+use packbed::InvariantChecks;
 
 const BOX: &str =
     "dim = 3\nseed = 5\n[box]\nwidth = 24\ndepth = 24\nheight = 3000\nperiodic = true\n\

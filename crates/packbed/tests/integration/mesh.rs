@@ -3,11 +3,9 @@
 //! its aperture passes, every one coarser stays at its surface.
 
 use crate::common::{assert_checked, config, run, TOL};
-use packbed::analysis::capture::{capture, mesh_mid_plane};
-use packbed::analysis::validate::InvariantChecks;
-use packbed::bed::Bed;
-use packbed::config::Config;
-use packbed::deposit::DepositReport;
+use packbed::{
+    capture, mesh_mid_plane, Bed, CaptureSummary, Config, DepositReport, InvariantChecks,
+};
 
 /// A periodic box of `side` (3D: side × side) with a mesh of wires of
 /// diameter 2 and aperture 3 (pitch 5), then `count` spheres of radii
@@ -36,13 +34,7 @@ fn mesh_flags<const D: usize>(b: &Bed<D>) -> Vec<bool> {
         .collect()
 }
 
-fn sieved<const D: usize>(
-    c: &Config,
-) -> (
-    Bed<D>,
-    DepositReport,
-    packbed::analysis::capture::CaptureSummary,
-) {
+fn sieved<const D: usize>(c: &Config) -> (Bed<D>, DepositReport, CaptureSummary) {
     let (b, report) = run::<D>(c);
     let cap = capture(
         &b,
@@ -79,12 +71,29 @@ fn the_wires_lie_where_the_mesh_says() {
     }
     // Neighbouring beads of a wire at most a quarter radius apart, and the
     // wire closed: its beads times their spacing is the box.
-    for s in b.species_info.iter().filter(|s| s.name.starts_with("mesh")) {
-        let packbed::species::Shape::Chain { beads, spacing, .. } = s.shape else {
-            panic!("{s:?}")
-        };
-        assert!(spacing <= 0.25);
-        assert!((f64::from(beads) * spacing - 25.0).abs() < 1e-9);
+    for &body in &bodies {
+        let beads: Vec<usize> = wire
+            .iter()
+            .copied()
+            .filter(|&i| b.bodies[i] == body)
+            .collect();
+        let along_x = b.species_info[b.species[beads[0]] as usize]
+            .name
+            .ends_with('x');
+        let mut at: Vec<f64> = beads
+            .iter()
+            .map(|&i| b.centres[i][usize::from(!along_x)])
+            .collect();
+        at.sort_by(f64::total_cmp);
+        let spacing = at[1] - at[0];
+        assert!(spacing <= 0.25, "{spacing}");
+        assert!(at.windows(2).all(|w| (w[1] - w[0] - spacing).abs() < 1e-9));
+        assert!((at.len() as f64 * spacing - 25.0).abs() < 1e-9);
+        // A bead right over (or under) every crossing, at 2.5 + 5 j.
+        for j in 0..5 {
+            let x = 2.5 + 5.0 * f64::from(j);
+            assert!(at.iter().any(|&a| (a - x).abs() < 1e-9), "{x}");
+        }
     }
     let checks = InvariantChecks {
         rest: false,

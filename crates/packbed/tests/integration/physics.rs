@@ -14,12 +14,12 @@
 //! a coarse skeleton past the move budget); they are fixed and stay as guards.
 
 use crate::common::{assert_checked, run, TOL};
-use packbed::analysis::analyze;
-use packbed::analysis::validate::{check_bed, check_bed_with, InvariantChecks, Report};
-use packbed::bed::{AnyBed, Bed};
-use packbed::config::{BaseLayerKind, Config, Fill, Settling};
-use packbed::deposit::{build, deposit, drop_onto, DepositReport, Entry};
-use packbed::math::{Real, Vector};
+use packbed::analyze;
+use packbed::{build, deposit, drop_onto, DepositReport, Entry};
+use packbed::{check_bed, check_bed_with, CheckReport as Report, InvariantChecks};
+use packbed::{AnyBed, Bed};
+use packbed::{BaseLayerKind, Config, Fill, Settling};
+use packbed::{Real, Vector};
 
 // ---------------------------------------------------------------------------
 // Helpers
@@ -1158,7 +1158,7 @@ fn bad_inputs_are_refused_without_panic() {
         ] {
             let mut c = base(dim);
             c.species[0].radius = None;
-            c.species[0].size = Some(packbed::config::SizeConfig {
+            c.species[0].size = Some(packbed::SizeConfig {
                 dist: Some(dist.into()),
                 ..Default::default()
             });

@@ -3,10 +3,10 @@
 //! Each test failed on the code before its fix.
 
 use crate::common::{assert_checked, config, run, TOL};
-use packbed::analysis::analyze;
-use packbed::analysis::validate::{check_bed_with, InvariantChecks};
-use packbed::bed::Bed;
-use packbed::config::{Config, Fill};
+use packbed::analyze;
+use packbed::Bed;
+use packbed::{check_bed_with, InvariantChecks};
+use packbed::{Config, Fill};
 
 fn assert_valid<const D: usize>(b: &Bed<D>, what: &str) {
     let checks = InvariantChecks {
@@ -166,7 +166,7 @@ fn large_threshold_of_a_size_distribution_is_below_a_coarser_fixed_size() {
 
 #[test]
 fn median_of_a_psd_table_weighs_rows_in_order_of_radius() {
-    use packbed::species::{SizeDist, SizeTable, Within};
+    use packbed::{SizeDist, SizeTable, Within};
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("psd.csv");
     std::fs::write(&path, "radius,number\n30,1\n10,2\n20,1.5\n").unwrap();
@@ -210,9 +210,9 @@ fn a_species_of_ratio_zero_never_appears() {
 
 #[test]
 fn a_spike_does_not_lower_the_bulk_region() {
-    use packbed::analysis::packing::{bulk_region, surface_height};
-    use packbed::container::Container;
-    use packbed::math::Vector;
+    use packbed::Container;
+    use packbed::Vector;
+    use packbed::{bulk_region, surface_height};
     // Unit spheres on a cubic lattice, 40 × 40 × 10 cells, one sphere on top at z = 30.
     let mut bed: Bed<3> = Bed::new(
         Container {
@@ -276,8 +276,8 @@ fn a_bulk_of_a_few_bodies_is_null_with_its_reason() {
 
 #[test]
 fn disjoint_chains_are_reported_per_direction_and_summed() {
-    use packbed::container::Container;
-    use packbed::math::Vector;
+    use packbed::Container;
+    use packbed::Vector;
     // One layer of unit spheres on a 10 × 6 square lattice: 6 rows span x, 10 columns span y.
     let mut bed: Bed<3> = Bed::new(
         Container {
@@ -306,8 +306,8 @@ fn disjoint_chains_are_reported_per_direction_and_summed() {
 
 #[test]
 fn enumerated_chain_lengths_never_undercut_nor_skip_the_shortest_chain() {
-    use packbed::analysis::find_contacts;
-    use packbed::analysis::percolation::{percolation, PercolationOptions};
+    use packbed::find_contacts;
+    use packbed::{percolation, PercolationOptions};
     // With the enumeration capped at a few chains, the first chains met used to
     // be longer than the breadth-first shortest ("shortest 47, lengths 50-250").
     let mut checked = 0;

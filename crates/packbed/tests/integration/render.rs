@@ -1,13 +1,12 @@
 //! Pictures, plots, exports and readers: parse what the writers wrote.
 
-use packbed::bed::{AnyBed, Bed};
-use packbed::container::Container;
-use packbed::io::export::Format;
-use packbed::io::read::{read_bed, BoxHint};
-use packbed::math::Vector;
-use packbed::render::canvas::text_width;
-use packbed::render::{self, bed2d, colour, ColorBy, Cut, RenderOptions, View};
+use packbed::render::{self, text_width, ColorBy, Cut, RenderOptions, View};
+use packbed::Container;
 use packbed::Error;
+use packbed::ExportFormat as Format;
+use packbed::Vector;
+use packbed::{read_bed, BoxHint};
+use packbed::{AnyBed, Bed};
 use std::path::{Path, PathBuf};
 use tiny_skia::Pixmap;
 
@@ -147,11 +146,11 @@ fn png_2d_has_the_size_the_box_and_the_discs_where_they_should_be() {
     let png = render::render_png(&AnyBed::D2(bed.clone()), &opts).unwrap();
     let p = Pixmap::decode_png(&png).unwrap();
     assert_eq!((p.width(), p.height()), (900, 700));
-    let w = bed2d::placement(&bed, &opts).unwrap();
+    let w = render::placement(&bed, &opts).unwrap();
     // Disc centres carry their species colour.
     for i in 0..bed.len() {
         let (x, y) = w.apply(bed.centres[i][0], bed.centres[i][1]);
-        let c = colour::categorical(bed.species[i] as usize);
+        let c = render::categorical(bed.species[i] as usize);
         assert_eq!(rgb(&p, x, y), (c.0, c.1, c.2), "disc {i}");
     }
     // The box outline: dark on the right wall at mid-height and on the roof.
@@ -175,23 +174,23 @@ fn coordination_colours_follow_the_contacts() {
         color: ColorBy::Coordination,
         ..RenderOptions::default()
     };
-    let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
+    let contacts = packbed::find_contacts(&bed, 1e-6);
     let pal = render::palette(&bed, &opts.color, Some(&contacts)).unwrap();
-    let z = packbed::analysis::coordination(&bed, &contacts);
+    let z = packbed::coordination(&bed, &contacts);
     // Floor discs: two neighbours in the row (one at the ends) plus smalls above.
     assert_eq!(z, vec![2, 4, 4, 4, 2, 2, 2, 2, 2]);
-    assert_eq!(pal.colours[0], colour::viridis(0.5));
-    assert_eq!(pal.colours[1], colour::viridis(1.0));
+    assert_eq!(pal.colours[0], render::viridis(0.5));
+    assert_eq!(pal.colours[1], render::viridis(1.0));
     let labels: Vec<&str> = pal.legend.iter().map(|l| l.1.as_str()).collect();
     assert_eq!(labels, ["2", "4"]);
 }
 
 #[test]
 fn chain_colours_mark_the_spanning_clusters_of_the_percolation() {
-    use packbed::analysis::percolation::{percolation, PercolationOptions};
-    use packbed::analysis::LargeRule;
+    use packbed::LargeRule;
+    use packbed::{percolation, PercolationOptions};
     let bed = bed2();
-    let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
+    let contacts = packbed::find_contacts(&bed, 1e-6);
     let c = render::chain_classes(&bed, &contacts, LargeRule::Median);
     // The floor row of large discs spans x0 to x1; the smalls are backdrop.
     assert_eq!(c.class, vec![0, 0, 0, 0, 0, 2, 2, 2, 2]);
@@ -201,7 +200,7 @@ fn chain_colours_mark_the_spanning_clusters_of_the_percolation() {
     // Without the middle disc the row no longer spans, here or in the analysis.
     let mut broken = bed.clone();
     broken.radii[2] = 19.0;
-    let contacts = packbed::analysis::find_contacts(&broken, 1e-6);
+    let contacts = packbed::find_contacts(&broken, 1e-6);
     let c = render::chain_classes(&broken, &contacts, LargeRule::Radius(20.0));
     assert_eq!(&c.class[..5], &[1, 1, 2, 1, 1]);
     let p = percolation(&broken, &contacts, &PercolationOptions::default());
@@ -209,7 +208,7 @@ fn chain_colours_mark_the_spanning_clusters_of_the_percolation() {
     // Periodic sides: the row closes round the seam, a cluster that wraps.
     let mut periodic = bed;
     periodic.container.periodic = true;
-    let contacts = packbed::analysis::find_contacts(&periodic, 1e-6);
+    let contacts = packbed::find_contacts(&periodic, 1e-6);
     let c = render::chain_classes(&periodic, &contacts, LargeRule::Median);
     assert_eq!(c.class, vec![0, 0, 0, 0, 0, 2, 2, 2, 2]);
     assert!(c.labels[0].contains("wrapping"));
@@ -244,7 +243,7 @@ fn png_3d_sphere_seen_from_above() {
     let p = Pixmap::decode_png(&png).unwrap();
     assert_eq!((p.width(), p.height()), (600, 500));
     // Find the blue disc: its bounding box is square and about 2/5 of the box's.
-    let blue = colour::categorical(0);
+    let blue = render::categorical(0);
     let (mut x0, mut x1, mut y0, mut y1) = (u32::MAX, 0, u32::MAX, 0);
     let mut box_ink = 0;
     for y in 0..p.height() {
@@ -411,23 +410,19 @@ fn assert_no_clipped_text(svg: &str, w: f64, h: f64) {
 #[test]
 fn plots_have_their_labels_inside_the_page() {
     let bed = bed2();
-    let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
-    let z = packbed::analysis::coordination(&bed, &contacts);
-    let profile = packbed::analysis::profile::profile(&bed, 5.0);
+    let contacts = packbed::find_contacts(&bed, 1e-6);
+    let z = packbed::coordination(&bed, &contacts);
+    let profile = packbed::profile(&bed, 5.0);
     let plots = [
-        render::run_plots::coordination_histogram(&bed, &z),
-        render::run_plots::packing_profile(&profile, 5.0, Some(0.8), None),
-        render::run_plots::regional_packing(&[
+        render::coordination_histogram(&bed, &z),
+        render::packing_profile(&profile, 5.0, Some(0.8), None),
+        render::regional_packing(&[
             ("floor".into(), 0.55, Some(0.02)),
             ("roof".into(), 0.4, Some(0.03)),
             ("wall".into(), 0.5, Some(0.01)),
             ("centre".into(), 0.6, Some(0.01)),
         ]),
-        render::run_plots::chain_angle_histogram(
-            &[-30.0, 2.0, 4.0, 88.0],
-            2,
-            packbed::analysis::orientation::AngleFrom::Vertical,
-        ),
+        render::chain_angle_histogram(&[-30.0, 2.0, 4.0, 88.0], 2, packbed::AngleFrom::Vertical),
     ];
     for plot in &plots {
         for (w, h) in [(1000, 700), (500, 350)] {
@@ -526,16 +521,16 @@ fn dump_has_the_lammps_layout() {
 fn packbed_csv_reads_with_the_box_from_summary_json() {
     let dir = scratch("csv");
     let bed = bed2();
-    let (contacts, analysis) = packbed::analysis::analyze(&bed, 1e-6);
-    let config = packbed::config::Config::default();
-    let summary = packbed::io::RunSummary::new(
+    let (contacts, analysis) = packbed::analyze(&bed, 1e-6);
+    let config = packbed::Config::default();
+    let summary = packbed::RunSummary::new(
         &config,
         &bed,
-        &packbed::deposit::DepositReport::default(),
+        &packbed::DepositReport::default(),
         &analysis,
-        packbed::io::Timing::default(),
+        packbed::Timing::default(),
     );
-    packbed::output::write_run(&dir, &bed, &contacts, &summary).unwrap();
+    packbed::write_run(&dir, &bed, &contacts, &summary).unwrap();
     match read_bed(&dir.join("particles.csv"), None).unwrap() {
         AnyBed::D2(b) => same_particles(&bed, &b),
         _ => panic!("2D"),
@@ -829,7 +824,7 @@ fn the_xml_checker_refuses_broken_documents() {
 /// one line per bond and one numbered label per break, no NaN or infinity.
 fn check_fragmentation_pictures<const D: usize>(
     bed: &Bed<D>,
-    frag: &packbed::mechanics::Fragmentation<D>,
+    frag: &packbed::Fragmentation<D>,
     what: &str,
 ) -> Vec<(String, Vec<u8>)> {
     let pics = render::fragmentation_pictures(bed, frag).unwrap();
@@ -844,7 +839,7 @@ fn check_fragmentation_pictures<const D: usize>(
             let p = Pixmap::decode_png(bytes).unwrap();
             assert_eq!(
                 (p.width(), p.height()),
-                (render::fragmentation::WIDTH, render::fragmentation::HEIGHT),
+                (render::FRAGMENTATION_WIDTH, render::FRAGMENTATION_HEIGHT),
                 "{what} {name}"
             );
             // Not blank: the bonds and the legend darken some pixels.
@@ -884,7 +879,7 @@ fn check_fragmentation_pictures<const D: usize>(
             assert!(n > 0, "{what}: nothing broke");
             assert_eq!(svg.matches("class=\"bond broken\"").count(), n, "{what}");
             // Only the first breaks are numbered; more would pile up.
-            let numbered = n.min(render::fragmentation::NUMBERED_BREAKS);
+            let numbered = n.min(render::NUMBERED_BREAKS);
             assert_eq!(
                 svg.matches("class=\"break-label\"").count(),
                 numbered,
@@ -915,10 +910,10 @@ fn deposited<const D: usize>(periodic: bool, count: u64) -> Bed<D> {
 
 #[test]
 fn fragmentation_pictures_2d_draw_every_bond_and_number_every_break() {
-    use packbed::mechanics::{fragment, FragmentationConfig};
+    use packbed::{fragment, FragmentationConfig};
     for periodic in [false, true] {
         let bed = deposited::<2>(periodic, 120);
-        let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
+        let contacts = packbed::find_contacts(&bed, 1e-6);
         let frag = fragment(&bed, &contacts, &FragmentationConfig::default()).unwrap();
         let what = format!("2D periodic {periodic}");
         let pics = check_fragmentation_pictures(&bed, &frag, &what);
@@ -939,9 +934,9 @@ fn fragmentation_pictures_2d_draw_every_bond_and_number_every_break() {
 
 #[test]
 fn fragmentation_pictures_3d_are_a_projection_with_numbered_breaks() {
-    use packbed::mechanics::{fragment, Breaks, FragmentationConfig};
+    use packbed::{fragment, Breaks, FragmentationConfig};
     let bed = deposited::<3>(false, 150);
-    let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
+    let contacts = packbed::find_contacts(&bed, 1e-6);
     let options = FragmentationConfig {
         breaks: Breaks::Count(12),
         ..FragmentationConfig::default()
@@ -961,9 +956,9 @@ fn fragmentation_pictures_3d_are_a_projection_with_numbered_breaks() {
 
 #[test]
 fn many_breaks_are_coloured_by_order_and_only_the_first_numbered() {
-    use packbed::mechanics::{fragment, Breaks, FragmentationConfig};
+    use packbed::{fragment, Breaks, FragmentationConfig};
     let bed = deposited::<3>(false, 150);
-    let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
+    let contacts = packbed::find_contacts(&bed, 1e-6);
     let options = FragmentationConfig {
         breaks: Breaks::Count(60),
         ..FragmentationConfig::default()
@@ -997,9 +992,9 @@ fn many_breaks_are_coloured_by_order_and_only_the_first_numbered() {
 
 #[test]
 fn fragmentation_pictures_refuse_another_beds_fragmentation() {
-    use packbed::mechanics::{fragment, FragmentationConfig};
+    use packbed::{fragment, FragmentationConfig};
     let bed = bed2();
-    let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
+    let contacts = packbed::find_contacts(&bed, 1e-6);
     let frag = fragment(&bed, &contacts, &FragmentationConfig::default()).unwrap();
     let mut other = bed.clone();
     other.push(Vector([100.0, 120.0]), 5.0, 1);
@@ -1009,16 +1004,16 @@ fn fragmentation_pictures_refuse_another_beds_fragmentation() {
 
 #[test]
 fn force_colours_follow_the_bond_forces_under_shear() {
-    use packbed::mechanics::{fragment, FragmentationConfig};
+    use packbed::{fragment, FragmentationConfig};
     let bed = bed2();
-    let contacts = packbed::analysis::find_contacts(&bed, 1e-6);
+    let contacts = packbed::find_contacts(&bed, 1e-6);
     let pal = render::palette(&bed, &ColorBy::Force, Some(&contacts)).unwrap();
     let frag = fragment(&bed, &contacts, &FragmentationConfig::default()).unwrap();
-    let f = render::fragmentation::particle_forces(&bed, &frag);
+    let f = render::particle_forces(&bed, &frag);
     let top = f.iter().copied().fold(0.0, f64::max);
     assert!(top > 0.0 && f.iter().all(|v| v.is_finite() && *v >= 0.0));
     for (k, &v) in f.iter().enumerate() {
-        assert_eq!(pal.colours[k], colour::viridis(v / top), "particle {k}");
+        assert_eq!(pal.colours[k], render::viridis(v / top), "particle {k}");
         // A body's largest bond is at least any of its bonds.
         for (g, force) in frag.bonds.iter().zip(&frag.forces) {
             if g.bead_i as usize == k || g.bead_j == Some(k as u32) {
@@ -1028,7 +1023,7 @@ fn force_colours_follow_the_bond_forces_under_shear() {
     }
     assert!(pal.heading.contains("force") && pal.heading.contains("shear"));
     assert_eq!(pal.legend.len(), 5);
-    assert_eq!(pal.legend[0].0, colour::viridis(1.0));
+    assert_eq!(pal.legend[0].0, render::viridis(1.0));
     // Both formats draw it.
     let opts = RenderOptions {
         color: ColorBy::Force,
@@ -1053,9 +1048,9 @@ fn fragment_pictures_that_cannot_be_drawn_leave_the_tables_and_a_warning() {
         size: vec![100.0, 100.0],
         periodic: false,
     };
-    let options = packbed::mechanics::FragmentationConfig {
-        load: packbed::mechanics::Load::Gravity,
-        breaks: packbed::mechanics::Breaks::Count(1),
+    let options = packbed::FragmentationConfig {
+        load: packbed::Load::Gravity,
+        breaks: packbed::Breaks::Count(1),
         kt_over_kn: 1.0,
     };
     let mut done = packbed::fragment_file(&file, Some(&hint), &options, 1e-6).unwrap();

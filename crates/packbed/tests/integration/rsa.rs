@@ -10,11 +10,11 @@
 //!    the rest test off), `count = N`, determinism.
 
 use crate::common::{assert_checked, run};
-use packbed::analysis::analyze;
-use packbed::analysis::validate::InvariantChecks;
-use packbed::bed::Bed;
-use packbed::config::Config;
-use packbed::math::{Real, Vector};
+use packbed::analyze;
+use packbed::Bed;
+use packbed::Config;
+use packbed::InvariantChecks;
+use packbed::{Real, Vector};
 
 fn config(dim: u8, seed: u64, boxed: &str, fill: &str, species: &str) -> Config {
     let text = format!(

@@ -4,12 +4,12 @@
 //! the bulk mean coordination is 2k).
 
 use crate::common::{assert_checked, config, run, TOL};
-use packbed::analysis::analyze;
-use packbed::analysis::validate::InvariantChecks;
-use packbed::bed::Bed;
-use packbed::config::{Config, Settling, SettlingConfig};
-use packbed::deposit::{drop_onto, Entry};
-use packbed::math::{Real, Vector};
+use packbed::analyze;
+use packbed::Bed;
+use packbed::InvariantChecks;
+use packbed::{drop_onto, Entry};
+use packbed::{Config, Settling, SettlingConfig};
+use packbed::{Real, Vector};
 
 fn rule(text: &str) -> Settling {
     toml::from_str::<SettlingConfig>(text)

@@ -3,9 +3,9 @@
 //! and the refusals of bad bounds.
 
 use crate::common::{config, run};
-use packbed::config::Config;
-use packbed::math::Real;
-use packbed::species::SizeDist;
+use packbed::Config;
+use packbed::Real;
+use packbed::SizeDist;
 use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 

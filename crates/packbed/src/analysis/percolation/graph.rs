@@ -62,11 +62,6 @@ impl LinkGraph {
         self.row.len().saturating_sub(1)
     }
 
-    /// True when the graph has no node.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
     /// Edge indices of node `u`.
     #[inline]
     pub(super) fn edges(&self, u: usize) -> std::ops::Range<usize> {

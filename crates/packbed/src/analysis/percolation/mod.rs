@@ -36,17 +36,20 @@ mod unique;
 #[cfg(test)]
 mod tests;
 
-pub use clusters::{clusters, spanning, Clusters};
+pub use clusters::{clusters, spanning};
 pub use disjoint::disjoint_chains;
-pub use graph::{LinkGraph, Terminals};
-pub use large_graph::{large_graph, terminals, LargeGraph};
-pub use options::{
-    default_large, default_large_radius, volume_median, LargeRule, LargeSource, PercolationOptions,
-    MAX_CHAINS, MAX_CHAIN_LENGTH, MAX_SEARCH_STEPS,
-};
-pub use report::{DirectionPercolation, LengthStats, Percolation};
+#[cfg(test)]
+use graph::LinkGraph;
+pub use graph::Terminals;
+pub use large_graph::{large_graph, terminals};
+#[cfg(test)]
+use options::{default_large, volume_median};
+pub use options::{LargeRule, LargeSource, PercolationOptions};
+#[cfg(test)]
+use report::LengthStats;
+pub use report::{DirectionPercolation, Percolation};
 pub use shortest::shortest_chain;
-pub use unique::{unique_chains, Enumeration};
+pub use unique::unique_chains;
 
 use super::contacts::Contacts;
 use super::StageTimes;
@@ -148,6 +151,7 @@ pub fn percolation_timed<const D: usize>(
 }
 
 /// Where a particle stands in the percolation of large bodies.
+#[cfg_attr(not(feature = "render"), allow(dead_code))]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Membership {
     /// Part of a large body in a cluster that spans (walls) or wraps (periodic)
@@ -162,6 +166,7 @@ pub enum Membership {
 /// Per particle, its [`Membership`]: the large bodies and spanning clusters of
 /// [`percolation`] itself (same threshold, same graph, same criterion), so that
 /// a picture of the chains agrees with `summary.json`.
+#[cfg_attr(not(feature = "render"), allow(dead_code))]
 pub fn membership<const D: usize>(
     bed: &Bed<D>,
     contacts: &Contacts,

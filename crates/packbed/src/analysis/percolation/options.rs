@@ -15,7 +15,7 @@ pub const MAX_SEARCH_STEPS: u64 = 5_000_000;
 /// Which particles are large.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LargeRule {
-    /// Particles with `r >=` the [`default_large_radius`] of the bed (the
+    /// Particles with `r >=` the default large radius of the bed (the
     /// default): the largest over the species of the volume-median radius
     /// drawn in that species, which for a species of one size is its radius.
     Median,
@@ -80,13 +80,8 @@ pub(super) fn large_particles<const D: usize>(
 }
 
 /// The default threshold of "large": the largest, over the species present,
-/// of the volume-median radius drawn in that species (0 for an empty bed).
-pub fn default_large_radius<const D: usize>(bed: &Bed<D>) -> Real {
-    default_large(bed).0
-}
-
-/// [`default_large_radius`] and whether a species of one size or of several
-/// decided it.
+/// of the volume-median radius drawn in that species (0 for an empty bed),
+/// and whether a species of one size or of several decided it.
 ///
 /// A species of one size gives its radius, so radii 10 and 20 make the 20s
 /// large and equal radii make every particle large, whatever the species. A

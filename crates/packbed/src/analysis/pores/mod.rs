@@ -52,7 +52,7 @@ impl Default for FlowOptions {
 impl crate::config::FlowConfig {
     /// The options the flow runs with for this `[analysis.flow]` table (here,
     /// not in `config`, so that the config floor imports nothing above it).
-    pub fn options(&self) -> FlowOptions {
+    pub(crate) fn options(&self) -> FlowOptions {
         use crate::config::FlowAxis;
         FlowOptions {
             viscosity: self.viscosity,
@@ -255,7 +255,7 @@ pub enum Column {
 
 impl Column {
     /// Number of rows.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         match self {
             Column::Int(v) => v.len(),
             Column::Float(v) => v.len(),

@@ -78,13 +78,13 @@ pub struct ChainShape {
 impl ChainShape {
     /// Signed distance of bead `k`'s centre from the centre of mass along the axis.
     #[inline]
-    pub fn offset(&self, k: u32) -> Real {
+    pub(crate) fn offset(&self, k: u32) -> Real {
         (k as Real - 0.5 * (self.beads - 1) as Real) * self.spacing * self.r
     }
 
     /// Distance from the centre of mass to the end beads' centres.
     #[inline]
-    pub fn half_length(&self) -> Real {
+    pub(crate) fn half_length(&self) -> Real {
         0.5 * (self.beads - 1) as Real * self.spacing * self.r
     }
 

@@ -95,7 +95,7 @@ pub fn submit(plan: &JobArray) -> Result<Submitted> {
 /// One job of `squeue`: id (`123`, `123_4`, `123_[0-9]`), state, reason,
 /// working directory.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct QueuedJob {
+pub(crate) struct QueuedJob {
     /// The job id as `squeue` shows it.
     pub id: String,
     /// E.g. `PENDING`, `RUNNING`.
@@ -111,7 +111,7 @@ pub struct QueuedJob {
 const SQUEUE_FORMAT: &str = "%i|%T|%r|%Z";
 
 /// Parses `squeue -h -o '%i|%T|%r|%Z'`.
-pub fn parse_squeue(text: &str) -> Vec<QueuedJob> {
+pub(crate) fn parse_squeue(text: &str) -> Vec<QueuedJob> {
     text.lines()
         .filter_map(|l| {
             let mut f = l.trim().splitn(4, '|');
@@ -136,7 +136,7 @@ pub(super) fn is_job(id: &str, job: &str) -> bool {
 }
 
 /// The jobs of this user in the queue (pending, running, completing).
-pub fn queue() -> Result<Vec<QueuedJob>> {
+pub(crate) fn queue() -> Result<Vec<QueuedJob>> {
     let out = slurm_command(
         "squeue",
         &["-h", "--me", "-o", SQUEUE_FORMAT],
@@ -181,13 +181,13 @@ pub fn clear_queue(plan: &JobArray) -> Result<Vec<String>> {
 }
 
 /// Cancels a job.
-pub fn cancel(job: &str) -> Result<()> {
+pub(crate) fn cancel(job: &str) -> Result<()> {
     slurm_command("scancel", &[job], Path::new(".")).map(drop)
 }
 
 /// How a waited-for submission ended.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub enum WaitOutcome {
+pub(crate) enum WaitOutcome {
     /// Every task and the merge succeeded.
     Done,
     /// These tasks (or the merge) did not succeed; the merge job, if still
@@ -198,7 +198,7 @@ pub enum WaitOutcome {
 /// Waits until the array and the merge of `jobs` have left the queue,
 /// polling `squeue` every `poll`, and reads their status files. A merge that
 /// can never run (a task failed) is cancelled rather than waited for.
-pub fn wait(plan: &JobArray, jobs: &Submitted, poll: Duration) -> Result<WaitOutcome> {
+pub(crate) fn wait(plan: &JobArray, jobs: &Submitted, poll: Duration) -> Result<WaitOutcome> {
     let mut squeue_errors = 0;
     let mut grace = 0;
     loop {

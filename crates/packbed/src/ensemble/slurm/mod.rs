@@ -33,15 +33,15 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 /// The resolved config the tasks run.
-pub const CONFIG_FILE: &str = "config.toml";
+pub(crate) const CONFIG_FILE: &str = "config.toml";
 /// The job-array script.
-pub const ARRAY_SCRIPT: &str = "array.sh";
+pub(crate) const ARRAY_SCRIPT: &str = "array.sh";
 /// The merge script.
-pub const MERGE_SCRIPT: &str = "merge.sh";
+pub(crate) const MERGE_SCRIPT: &str = "merge.sh";
 /// Directory of the shards' output directories (`shards/K`).
-pub const SHARDS_DIR: &str = "shards";
+pub(crate) const SHARDS_DIR: &str = "shards";
 /// Directory of the jobs' logs and exit statuses.
-pub const LOGS_DIR: &str = "logs";
+pub(crate) const LOGS_DIR: &str = "logs";
 
 /// Options of `sbatch` the scripts carry: those of `packbed slurm`, which
 /// the array and the merge share (the merge takes one CPU). With the `cli`
@@ -99,7 +99,7 @@ const OWN_OPTIONS: [&str; 7] = [
 ];
 
 /// `text` as one shell word: single-quoted, a `'` as `'\''`.
-pub fn shell_quote(text: &str) -> String {
+pub(crate) fn shell_quote(text: &str) -> String {
     let safe = !text.is_empty()
         && text
             .bytes()
@@ -112,7 +112,7 @@ pub fn shell_quote(text: &str) -> String {
 }
 
 /// A path as one shell word ([`shell_quote`]), for a command a user pastes.
-pub fn shell_path(path: &Path) -> String {
+pub(crate) fn shell_path(path: &Path) -> String {
     shell_quote(&path.to_string_lossy())
 }
 
@@ -120,7 +120,7 @@ pub fn shell_path(path: &Path) -> String {
 /// blanks outside quotes, drops quotes, reads `\` as an escape and an
 /// unescaped `#` as the start of a comment (its `_get_argument`), so a word
 /// with any of these is double-quoted and those escaped.
-pub fn sbatch_word(text: &str) -> String {
+pub(crate) fn sbatch_word(text: &str) -> String {
     if !text.contains(|c: char| c.is_whitespace() || "\"'\\#".contains(c)) {
         return text.to_string();
     }
@@ -202,7 +202,7 @@ impl JobArray {
 
     /// Checks the plan: `1 <= tasks <= runs`, an absolute `DIR` that
     /// `#SBATCH --output` can name, resource values that fit `#SBATCH` lines.
-    pub fn check(&self) -> Result<()> {
+    pub(crate) fn check(&self) -> Result<()> {
         super::check_runs(self.runs)?;
         if self.tasks == 0 {
             return Err(Error::setting("tasks", "must be at least 1"));
@@ -260,37 +260,37 @@ impl JobArray {
     }
 
     /// `DIR/config.toml`.
-    pub fn config_path(&self) -> PathBuf {
+    pub(crate) fn config_path(&self) -> PathBuf {
         self.out.join(CONFIG_FILE)
     }
 
     /// `DIR/array.sh`.
-    pub fn array_path(&self) -> PathBuf {
+    pub(crate) fn array_path(&self) -> PathBuf {
         self.out.join(ARRAY_SCRIPT)
     }
 
     /// `DIR/merge.sh`.
-    pub fn merge_path(&self) -> PathBuf {
+    pub(crate) fn merge_path(&self) -> PathBuf {
         self.out.join(MERGE_SCRIPT)
     }
 
     /// The log of task `K`.
-    pub fn task_log(&self, k: u64) -> PathBuf {
+    pub(crate) fn task_log(&self, k: u64) -> PathBuf {
         self.out.join(LOGS_DIR).join(format!("task-{k}.out"))
     }
 
     /// The exit status file of task `K`.
-    pub fn task_status(&self, k: u64) -> PathBuf {
+    pub(crate) fn task_status(&self, k: u64) -> PathBuf {
         self.out.join(LOGS_DIR).join(format!("task-{k}.status"))
     }
 
     /// The log of the merge.
-    pub fn merge_log(&self) -> PathBuf {
+    pub(crate) fn merge_log(&self) -> PathBuf {
         self.out.join(LOGS_DIR).join("merge.out")
     }
 
     /// The exit status file of the merge.
-    pub fn merge_status(&self) -> PathBuf {
+    pub(crate) fn merge_status(&self) -> PathBuf {
         self.out.join(LOGS_DIR).join("merge.status")
     }
 
@@ -346,7 +346,7 @@ impl JobArray {
     }
 
     /// The text of `array.sh`.
-    pub fn array_script(&self) -> String {
+    pub(crate) fn array_script(&self) -> String {
         let (n, m) = (self.runs, self.tasks);
         let out = self.out.display();
         format!(
@@ -377,7 +377,7 @@ exit \"$status\"
     }
 
     /// The text of `merge.sh`.
-    pub fn merge_script(&self) -> String {
+    pub(crate) fn merge_script(&self) -> String {
         let out = self.out.display();
         format!(
             "#!/bin/bash
@@ -422,7 +422,7 @@ fn task_config(config: &Config, runs: u64) -> Result<Config> {
 }
 
 /// The TOML text of `config.toml`, checked to read back as the same config.
-pub fn config_text(config: &Config, runs: u64) -> Result<(String, Config)> {
+pub(crate) fn config_text(config: &Config, runs: u64) -> Result<(String, Config)> {
     let c = task_config(config, runs)?;
     let body = toml::to_string(&c)
         .map_err(|e| Error::config(format!("cannot write the config as TOML: {e}")))?;
@@ -526,7 +526,7 @@ fn make_executable(_: &Path) -> Result<()> {
 
 /// The job id in what `sbatch` printed: `Submitted batch job 123`, or with
 /// `--parsable` `123` or `123;cluster`.
-pub fn parse_job_id(stdout: &str) -> Option<String> {
+pub(crate) fn parse_job_id(stdout: &str) -> Option<String> {
     let line = stdout.lines().map(str::trim).rfind(|l| !l.is_empty())?;
     let word = line
         .strip_prefix("Submitted batch job")
@@ -538,7 +538,7 @@ pub fn parse_job_id(stdout: &str) -> Option<String> {
 
 /// What ended a task or the merge, from its status file.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Ended {
+pub(crate) enum Ended {
     /// Exit status 0.
     Ok,
     /// A nonzero exit status.
@@ -548,7 +548,7 @@ pub enum Ended {
 }
 
 /// What the status file `path` says.
-pub fn ended(path: &Path) -> Ended {
+pub(crate) fn ended(path: &Path) -> Ended {
     match fs::read_to_string(path)
         .ok()
         .and_then(|t| t.trim().parse::<i32>().ok())
@@ -561,7 +561,7 @@ pub fn ended(path: &Path) -> Ended {
 
 /// One job of a submission: a task of the array, or the merge.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Job {
+pub(crate) enum Job {
     /// Array task `k`.
     Task(u64),
     /// The merge job.
@@ -579,7 +579,7 @@ impl std::fmt::Display for Job {
 
 /// A task or the merge that did not succeed.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Failure {
+pub(crate) struct Failure {
     /// Which job.
     pub what: Job,
     /// How it ended.
@@ -600,7 +600,7 @@ impl std::fmt::Display for Failure {
 }
 
 /// The tasks of `plan` that did not succeed, by their status files.
-pub fn failed_tasks(plan: &JobArray) -> Vec<Failure> {
+pub(crate) fn failed_tasks(plan: &JobArray) -> Vec<Failure> {
     (0..plan.tasks)
         .filter_map(|k| {
             let e = ended(&plan.task_status(k));
@@ -614,7 +614,7 @@ pub fn failed_tasks(plan: &JobArray) -> Vec<Failure> {
 }
 
 /// Removes the status files of earlier submissions, before submitting again.
-pub fn clear_statuses(plan: &JobArray) -> Result<()> {
+pub(crate) fn clear_statuses(plan: &JobArray) -> Result<()> {
     let mut paths: Vec<PathBuf> = (0..plan.tasks).map(|k| plan.task_status(k)).collect();
     paths.push(plan.merge_status());
     for p in paths {
@@ -683,7 +683,7 @@ pub fn submitted_text(plan: &JobArray, jobs: &Submitted, waiting: bool) -> Strin
 #[error("{0}")]
 pub struct JobsFailed(pub String);
 
-/// Waits for the merge of `jobs` ([`wait`]): the line saying where the
+/// Waits for the merge of `jobs` (`wait`): the line saying where the
 /// ensemble's files are, or [`JobsFailed`] naming the tasks that failed.
 pub fn wait_for_merge(
     plan: &JobArray,
@@ -702,7 +702,7 @@ pub fn wait_for_merge(
 
 /// The one line of a submission that failed: which job, which of its tasks
 /// and why, and what a rerun does.
-pub fn failed_text(jobs: &Submitted, failures: &[Failure]) -> String {
+pub(crate) fn failed_text(jobs: &Submitted, failures: &[Failure]) -> String {
     let list: Vec<String> = failures.iter().map(|f| f.to_string()).collect();
     let (job, then) = if failures.iter().any(|f| f.what == Job::Merge) {
         (

@@ -16,8 +16,6 @@ mod dump;
 mod vtu;
 mod xyz;
 
-pub use dump::boundary_flags;
-
 /// An export format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {

@@ -19,7 +19,7 @@ mod table;
 mod vtu;
 mod xyz;
 
-pub use report::{BoxHint, BoxSource, ReadReport, MAX_PARTICLES, OUTSIDE_TOL};
+pub use report::{BoxHint, BoxSource, ReadReport};
 
 use crate::bed::AnyBed;
 use crate::error::Result;

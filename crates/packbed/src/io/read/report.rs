@@ -29,7 +29,7 @@ pub enum BoxSource {
 
 impl BoxSource {
     /// How `summary.json` and the screen name it.
-    pub fn name(&self) -> &'static str {
+    pub(crate) fn name(&self) -> &'static str {
         match self {
             BoxSource::Given => "options",
             BoxSource::File => "file",

@@ -626,6 +626,7 @@ const THETA: Real = 0.15;
 impl Multigrid {
     /// The hierarchy of `a`; `None` when a coarse operator is not positive
     /// definite (the matrix is not).
+    #[cfg(test)]
     pub fn new(a: Csr) -> Option<Multigrid> {
         Multigrid::cut(a, Vec::new(), blocks::bounds)
     }
@@ -738,6 +739,7 @@ impl Multigrid {
     }
 
     /// Levels, coarsest included.
+    #[cfg(test)]
     pub fn depth(&self) -> usize {
         self.levels.len() + usize::from(self.finest.is_some()) + 1
     }
@@ -844,6 +846,7 @@ impl Multigrid {
 
     /// Solves `A x = b` to a relative residual of `tol` by preconditioned
     /// conjugate gradients; `None` if it does not get there.
+    #[cfg(test)]
     pub fn solve(&self, b: &[Real], tol: Real, max_steps: usize) -> Option<(Vec<Real>, usize)> {
         let ([x], steps) = self.solve_many([b], tol, max_steps)?;
         Some((x, steps))
@@ -853,6 +856,7 @@ impl Multigrid {
     /// residual of `tol`; the steps taken by the slowest. One sweep serves
     /// them all: the matrix is read once per step, not `K` times, and the
     /// sweep's chains of rows run side by side.
+    #[cfg(test)]
     pub fn solve_many<const K: usize>(
         &self,
         b: [&[Real]; K],

@@ -11,7 +11,9 @@ pub mod ordering;
 mod spd;
 mod supernodal;
 
-pub use spd::{solve_spd, solve_spd_shifted, SpdError, Systems, DIRECT_LIMIT};
+#[cfg(test)]
+pub(crate) use spd::{solve_spd, DIRECT_LIMIT};
+pub use spd::{solve_spd_shifted, SpdError, Systems};
 
 /// Item indices grouped by key, in a stable counting sort: key `k`'s items
 /// are `order[starts[k]..starts[k + 1]]`, ascending. Keys must be below `n`.

@@ -158,6 +158,7 @@ pub enum SpdError {
 /// diagonal `diag` and the symmetric off-diagonal entries `off` (`(i, j, a_ij)`
 /// with `i != j`, each pair once or several times, summed). `points` places
 /// the nodes for the 2D order.
+#[cfg(test)]
 pub fn solve_spd<const D: usize>(
     points: &[Vector<D>],
     diag: &[Real],

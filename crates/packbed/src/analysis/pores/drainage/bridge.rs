@@ -724,6 +724,7 @@ fn fold(g: &Geom) -> Option<(f64, f64)> {
 }
 
 /// Largest curvature `kappa` a toroidal bridge can have at this gap (`+∞` for gap <= 0).
+#[cfg(test)]
 fn kappa_max(r1: f64, r2: f64, gap: f64, theta: f64) -> Option<f64> {
     if gap <= 0.0 {
         return Some(f64::INFINITY);
@@ -765,6 +766,7 @@ fn bridge_of(g: &Geom, rho: f64) -> Option<Bridge> {
 /// Returns the stable (suction-controlled) bridge, or `None` for invalid input, when no
 /// bridge of that curvature exists at that gap (`gap > rupture_gap(..)`: ruptured), or when
 /// the bridge would not be pendular (a filling angle above 90°).
+#[cfg(test)]
 pub fn bridge_3d(r1: f64, r2: f64, gap: f64, theta: f64, kappa: f64) -> Option<Bridge> {
     if !inputs_ok(r1, r2, gap, theta) || !kappa.is_finite() || !gt(kappa, 0.0) {
         return None;
@@ -863,6 +865,7 @@ impl Pair {
     }
 
     /// The stable bridge at curvature `kappa` (as [`bridge_3d`]).
+    #[cfg(test)]
     pub fn bridge(&self, kappa: f64) -> Option<Bridge> {
         self.bridge_below(kappa, None)
     }
@@ -978,6 +981,7 @@ impl Pair {
 ///
 /// Note: at the rupture gap itself `bridge_3d` may still return `None` because the bridge at
 /// the fold can be non-pendular (filling angle above 90°) for very small `kappa`.
+#[cfg(test)]
 pub fn rupture_gap(r1: f64, r2: f64, theta: f64, kappa: f64) -> Option<f64> {
     if !inputs_ok(r1, r2, 0.0, theta) || !kappa.is_finite() || !gt(kappa, 0.0) {
         return None;

@@ -128,6 +128,7 @@ impl Frontier {
 /// liquid (as the trapping pass does), reading each curvature's split on
 /// the way: `O(N α)` for the whole curve instead of a search per point.
 /// Without trapping all liquid counts as joined (by films).
+#[cfg(test)]
 pub fn liquid_split(
     g: &InvasionGraph,
     drains_at: &[f64],
@@ -247,6 +248,7 @@ impl Adjacency {
 
 /// Drains `g`: invasion percolation from its inlets, with trapping when
 /// `trapping` is set.
+#[cfg(test)]
 pub fn invade(g: &InvasionGraph, trapping: bool) -> Invasion {
     invade_on(g, &Adjacency::new(g), trapping)
 }

@@ -462,6 +462,7 @@ enum Side {
 /// Drains the slab `[z_lo, z_hi]` of `net`, the network of `bed`, and finds
 /// where the liquid stays. `d32` reduces the pressures; `metres_per_unit`
 /// gives them in Pa.
+#[cfg(test)]
 pub fn drain<const D: usize>(
     bed: &Bed<D>,
     net: &Network<D>,

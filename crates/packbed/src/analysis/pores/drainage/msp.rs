@@ -705,6 +705,7 @@ pub fn inscribed_radius(c: &[[f64; 2]; 3], r: &[f64; 3]) -> Option<f64> {
 /// MS-P entry meniscus radius `R_e` of the throat (in-plane radius of the corner arcs at
 /// entry); the entry pressure is `P_e = γ / R_e` (see the module doc for the equation, the
 /// geometry and the cases). `theta` in `[0, π/2)`. `None` for invalid or degenerate input.
+#[cfg(test)]
 pub fn msp_entry_radius(c: &[[f64; 2]; 3], r: &[f64; 3], theta: f64) -> Option<f64> {
     msp_entry_radius_near(c, r, theta, None)
 }
@@ -811,34 +812,12 @@ pub(super) fn entry_radius(
 
 /// MS-P entry pressure `γ / R_e` for surface tension `gamma` (> 0). `None` as for
 /// [`msp_entry_radius`] or for invalid `gamma`.
+#[cfg(test)]
 pub fn msp_entry_pressure(c: &[[f64; 2]; 3], r: &[f64; 3], theta: f64, gamma: f64) -> Option<f64> {
     if !gamma.is_finite() || !gt(gamma, 0.0) {
         return None;
     }
     let p = gamma / msp_entry_radius(c, r, theta)?;
-    if p.is_finite() {
-        Some(p)
-    } else {
-        None
-    }
-}
-
-/// Haines / inscribed-circle entry pressure `2 γ cos θ / r_ins`. `None` as for
-/// [`inscribed_radius`] or for invalid `gamma`/`theta`.
-pub fn haines_entry_pressure(
-    c: &[[f64; 2]; 3],
-    r: &[f64; 3],
-    theta: f64,
-    gamma: f64,
-) -> Option<f64> {
-    if !gamma.is_finite()
-        || !gt(gamma, 0.0)
-        || !theta.is_finite()
-        || !(0.0..PI / 2.0).contains(&theta)
-    {
-        return None;
-    }
-    let p = 2.0 * gamma * theta.cos() / inscribed_radius(c, r)?;
     if p.is_finite() {
         Some(p)
     } else {

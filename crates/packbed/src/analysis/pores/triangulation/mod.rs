@@ -120,7 +120,7 @@ impl<const D: usize> Triangulation<D> {
     /// (`split`): the same input cells, each once, with their links, and
     /// no far cells (their links read `NONE`). Small ones, and any input
     /// whose pieces cannot be certified, in one piece.
-    pub fn with_ranks(points: &[[f64; D]], weights: &[f64], ranks: &[u64]) -> Self {
+    pub(crate) fn with_ranks(points: &[[f64; D]], weights: &[f64], ranks: &[u64]) -> Self {
         assert!(
             D == 2 || D == 3,
             "packbed triangulates in 2 or 3 dimensions"
@@ -221,7 +221,7 @@ impl<const D: usize> Triangulation<D> {
     }
 
     /// Number of input points.
-    pub fn input_len(&self) -> usize {
+    pub(crate) fn input_len(&self) -> usize {
         self.input
     }
 
@@ -231,12 +231,12 @@ impl<const D: usize> Triangulation<D> {
     }
 
     /// Coordinates of point `i`.
-    pub fn point(&self, i: u32) -> &[f64; D] {
+    pub(crate) fn point(&self, i: u32) -> &[f64; D] {
         &self.sites[i as usize].0
     }
 
     /// Weight of point `i`.
-    pub fn weight(&self, i: u32) -> f64 {
+    pub(crate) fn weight(&self, i: u32) -> f64 {
         self.sites[i as usize].1
     }
 
