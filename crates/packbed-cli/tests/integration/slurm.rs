@@ -667,6 +667,25 @@ fn printed_submit_lines_and_script_paths_are_quoted_for_the_shell() {
 /// The drying's settings and a sweep over them reach the array tasks: the
 /// scripts, run by hand here (no Slurm needed), give the local ensemble's
 /// agglomeration, value by value.
+/// Runs `plan/array.sh` for each of its `tasks` and then `plan/merge.sh`,
+/// as Slurm would, without a cluster.
+fn run_scripts_by_hand(s: &Scratch, tasks: usize) {
+    let bash = |script: &str, task: Option<usize>| {
+        let mut c = Command::new("bash");
+        c.arg(s.path(script))
+            .current_dir(&s.work)
+            .stdin(Stdio::null());
+        if let Some(k) = task {
+            c.env("SLURM_ARRAY_TASK_ID", k.to_string());
+        }
+        c.status().unwrap()
+    };
+    for k in 0..tasks {
+        assert!(bash("plan/array.sh", Some(k)).success(), "task {k}");
+    }
+    assert!(bash("plan/merge.sh", None).success(), "merge");
+}
+
 #[test]
 fn a_drying_sweep_through_the_scripts_equals_the_local_ensemble() {
     let s = Scratch::new();
@@ -692,23 +711,7 @@ fn a_drying_sweep_through_the_scripts_equals_the_local_ensemble() {
     ] {
         assert!(config.contains(needle), "{needle} not in:\n{config}");
     }
-    for k in ["0", "1"] {
-        let st = Command::new("bash")
-            .arg(s.path("plan/array.sh"))
-            .env("SLURM_ARRAY_TASK_ID", k)
-            .current_dir(&s.work)
-            .stdin(Stdio::null())
-            .status()
-            .unwrap();
-        assert!(st.success(), "task {k}");
-    }
-    let st = Command::new("bash")
-        .arg(s.path("plan/merge.sh"))
-        .current_dir(&s.work)
-        .stdin(Stdio::null())
-        .status()
-        .unwrap();
-    assert!(st.success(), "merge");
+    run_scripts_by_hand(&s, 2);
     let (local, plan) = (s.path("local"), s.path("plan"));
     assert_same(&local, &plan, &["sweep.csv", "sweep.md"]);
     let csv = s.read("plan/sweep.csv");
@@ -777,23 +780,7 @@ fn a_filtration_sweep_through_the_scripts_equals_the_local_ensemble() {
     }
     let script = s.read("plan/array.sh");
     assert!(script.contains("#SBATCH --array=0-1\n"), "{script}");
-    for k in ["0", "1"] {
-        let st = Command::new("bash")
-            .arg(s.path("plan/array.sh"))
-            .env("SLURM_ARRAY_TASK_ID", k)
-            .current_dir(&s.work)
-            .stdin(Stdio::null())
-            .status()
-            .unwrap();
-        assert!(st.success(), "task {k}");
-    }
-    let st = Command::new("bash")
-        .arg(s.path("plan/merge.sh"))
-        .current_dir(&s.work)
-        .stdin(Stdio::null())
-        .status()
-        .unwrap();
-    assert!(st.success(), "merge");
+    run_scripts_by_hand(&s, 2);
     assert_filtration_same(&s, "plan");
 }
 

@@ -37,18 +37,23 @@ fn medium_flags(b: &Bed<3>) -> Vec<bool> {
     (0..b.species_info.len()).map(|s| s == 0).collect()
 }
 
-#[test]
-fn fed_is_passed_plus_lodged_plus_cake_and_the_medium_stands_clear_of_the_floor() {
-    let c = config(&filter(400, 1.5, 3000, 0.25));
-    let (b, report) = run::<3>(&c);
-    let cap = capture(
-        &b,
-        &medium_flags(&b),
+/// The capture of `b`, whose species 0 is the medium.
+fn capture_of(b: &Bed<3>, report: &DepositReport) -> packbed::CaptureSummary {
+    capture(
+        b,
+        &medium_flags(b),
         &report.filtrate,
         report.medium_lift,
         None,
     )
-    .unwrap();
+    .unwrap()
+}
+
+#[test]
+fn fed_is_passed_plus_lodged_plus_cake_and_the_medium_stands_clear_of_the_floor() {
+    let c = config(&filter(400, 1.5, 3000, 0.25));
+    let (b, report) = run::<3>(&c);
+    let cap = capture_of(&b, &report);
     // Every slurry body fed is in exactly one place.
     assert_eq!(cap.fed, 3000);
     assert_eq!(cap.passed + cap.lodged + cap.cake, cap.fed);
@@ -146,14 +151,7 @@ fn a_medium_of_lone_spheres_holds_nothing() {
     // three supports and reaches the floor.
     let c = config(&filter(4, 2.0, 300, 0.3));
     let (b, report) = run::<3>(&c);
-    let cap = capture(
-        &b,
-        &medium_flags(&b),
-        &report.filtrate,
-        report.medium_lift,
-        None,
-    )
-    .unwrap();
+    let cap = capture_of(&b, &report);
     assert_eq!((cap.passed, cap.lodged, cap.cake), (300, 0, 0), "{cap:?}");
     assert_eq!(b.len(), 4);
     assert!(cap
@@ -175,14 +173,7 @@ fn a_dense_medium_passes_fines_below_its_throats_when_they_carry_momentum() {
     let text = filter(600, 0.5 * d, 4000, 0.2);
     let x50 = |text: &str| {
         let (b, report) = run::<3>(&config(text));
-        let cap = capture(
-            &b,
-            &medium_flags(&b),
-            &report.filtrate,
-            report.medium_lift,
-            None,
-        )
-        .unwrap();
+        let cap = capture_of(&b, &report);
         let first = cap.classes.first().unwrap().grade_efficiency.unwrap();
         let last = cap.classes.last().unwrap().grade_efficiency.unwrap();
         assert!(first < 0.5 && last == 1.0, "{first} {last}");
