@@ -60,6 +60,8 @@ pub enum Edit {
     /// The bodies of one entry of `[[feeds]]` (0-based): a sweep over a
     /// medium's depth or a slurry's amount.
     FeedCount(usize, u64),
+    /// `feeds[K].mass_per_area`: a feed's amount as kg of solids per m².
+    FeedMass(usize, Real),
 }
 
 /// A change to `[filtration]`.
@@ -176,7 +178,7 @@ impl FromStr for BoxSpec {
 }
 
 /// The parameters a sweep can vary, with the form of their values.
-pub const SWEEP_PARAMETERS: [(&str, &str); 34] = [
+pub const SWEEP_PARAMETERS: [(&str, &str); 35] = [
     ("ratio", "a list with one number ratio per species, e.g. [1, 2]"),
     (
         "radii",
@@ -258,6 +260,10 @@ pub const SWEEP_PARAMETERS: [(&str, &str); 34] = [
     (
         "feeds[K].count",
         "a whole number of bodies for feed K (0-based): a medium's depth, a slurry's amount",
+    ),
+    (
+        "feeds[K].mass_per_area",
+        "feed K's amount as kg of solids per m² of filter (it replaces its count)",
     ),
 ];
 
@@ -343,7 +349,12 @@ impl Edit {
             "filtration.viscosity" => Edit::Filtration(FiltrationEdit::Viscosity(one()?)),
             _ if feed_parameter(parameter).is_some() => match feed_parameter(parameter) {
                 Some((k, "count")) => Edit::FeedCount(k, whole(one()?)?),
-                _ => return Err(format!("{parameter}: a feed sweeps its count")),
+                Some((k, "mass_per_area")) => Edit::FeedMass(k, one()?),
+                _ => {
+                    return Err(format!(
+                        "{parameter}: a feed sweeps its count or its mass_per_area"
+                    ))
+                }
             },
             _ => match species_parameter(parameter) {
                 Some((k, "radius")) => Edit::SpeciesRadius(k, one()?),
@@ -485,7 +496,16 @@ impl Config {
                         "the config has {feeds} [[feeds]] entries, no feeds[{k}]"
                     )));
                 };
-                f.count = *n;
+                (f.count, f.mass_per_area) = (*n, None);
+            }
+            Edit::FeedMass(k, m) => {
+                let feeds = self.feeds.len();
+                let Some(f) = self.feeds.get_mut(*k) else {
+                    return Err(Error::config(format!(
+                        "the config has {feeds} [[feeds]] entries, no feeds[{k}]"
+                    )));
+                };
+                (f.count, f.mass_per_area) = (0, Some(*m));
             }
             Edit::Settling(e) => {
                 let s = &mut self.settling;
@@ -911,6 +931,19 @@ mod tests {
         assert_eq!((f.pressure, f.flow_rate), (None, Some(2e-4)));
         let e = c.apply(&Edit::FeedCount(0, 10)).unwrap_err();
         assert!(e.to_string().contains("no feeds[0]"), "{e}");
+        // A mass replaces a count, and the other way round.
+        assert_eq!(
+            Edit::from_sweep("feeds[1].mass_per_area", &SweepValue::Number(0.5)),
+            Ok(Edit::FeedMass(1, 0.5))
+        );
+        c.feeds = vec![crate::config::FeedStageConfig {
+            count: 10,
+            ..Default::default()
+        }];
+        c.apply(&Edit::FeedMass(0, 0.5)).unwrap();
+        assert_eq!((c.feeds[0].count, c.feeds[0].mass_per_area), (0, Some(0.5)));
+        c.apply(&Edit::FeedCount(0, 7)).unwrap();
+        assert_eq!((c.feeds[0].count, c.feeds[0].mass_per_area), (7, None));
     }
     #[test]
     fn drying_and_drainage_parameters_map_to_edits() {

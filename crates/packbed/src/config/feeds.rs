@@ -46,6 +46,12 @@ pub struct FeedStageConfig {
     /// fill the box).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub count: u64,
+    /// Or how much it feeds as a mass of solids per filter area, kg/m²
+    /// (3D; needs `analysis.length_unit` and `solid_density`): the feed ends
+    /// with the body that brings the mass it fed, placed or passed, each
+    /// bead counted whole, to at least this.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_per_area: Option<Real>,
     /// Its settling rule (default: the config's `[settling]`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub settling: Option<SettlingConfig>,
@@ -75,8 +81,14 @@ impl FeedStageConfig {
 pub struct FeedStage {
     /// Indices of its species (into the plan's species), in config order.
     pub species: Vec<u32>,
-    /// Bodies it places.
+    /// Beads it places; for a feed by mass, the expected number (the
+    /// memory estimate and the species' shares of the bed).
     pub count: u64,
+    /// A feed by mass: kg of solids per m² of filter, as written.
+    pub mass_per_area: Option<Real>,
+    /// A feed by mass: the solid volume it feeds, in the bed's length unit
+    /// cubed (set with the box, [`amounts`]); `None` for a feed by count.
+    pub volume: Option<Real>,
     /// How its particles come to rest.
     pub settling: Settling,
     /// True for a filter medium (the feeds before the first slurry).
@@ -133,8 +145,23 @@ pub(crate) fn resolve_feeds(
             out.push(mesh_stage(k, stage, mesh, settling)?);
             continue;
         }
-        if stage.count == 0 {
-            return Err(Error::config(format!("{what}.count must be at least 1")));
+        match (stage.count, stage.mass_per_area) {
+            (0, None) => {
+                return Err(Error::config(format!(
+                    "{what}.count must be at least 1 (or give the feed's `mass_per_area`, kg/m²)"
+                )))
+            }
+            (_, Some(m)) if !(m.is_finite() && m > 0.0) => {
+                return Err(Error::config(format!(
+                    "{what}.mass_per_area must be a positive number of kg per m² of filter (got {m})"
+                )))
+            }
+            (n, Some(_)) if n > 0 => {
+                return Err(Error::config(format!(
+                    "{what}: give its amount once: `count` (beads) or `mass_per_area` (kg/m²), not both"
+                )))
+            }
+            _ => {}
         }
         if stage.species.is_empty() {
             return Err(Error::config(format!(
@@ -167,8 +194,12 @@ pub(crate) fn resolve_feeds(
         // A feed draws by its own species' ratios; the bed holds each species
         // in the share its feed's count gives it, which the ratios then say
         // (the requested size distribution, the summary's species).
-        for &i in &picked {
-            species[i as usize].ratio *= stage.count as Real / sum;
+        // A feed by mass scales its shares once its count is known
+        // ([`amounts`]).
+        if stage.mass_per_area.is_none() {
+            for &i in &picked {
+                species[i as usize].ratio *= stage.count as Real / sum;
+            }
         }
         let rule = stage.settling.as_ref().unwrap_or(settling).resolve()?;
         if rule.momentum.is_some()
@@ -183,6 +214,8 @@ pub(crate) fn resolve_feeds(
         out.push(FeedStage {
             species: picked,
             count: stage.count,
+            mass_per_area: stage.mass_per_area,
+            volume: None,
             settling: rule,
             medium: stage.medium,
             mesh: None,
@@ -220,6 +253,7 @@ fn mesh_stage(
     for (given, key) in [
         (!stage.species.is_empty(), "species"),
         (stage.count != 0, "count"),
+        (stage.mass_per_area.is_some(), "mass_per_area"),
         (stage.settling.is_some(), "settling"),
     ] {
         if given {
@@ -231,6 +265,8 @@ fn mesh_stage(
     Ok(FeedStage {
         species: Vec::new(),
         count: 0,
+        mass_per_area: None,
+        volume: None,
         settling: settling.resolve()?,
         medium: true,
         mesh: Some(mesh.resolve(&what)?),
@@ -258,6 +294,74 @@ pub(crate) fn weave<const D: usize>(
             feed.count += u64::from(family.wires) * u64::from(family.beads);
             species.push(s);
         }
+    }
+    Ok(())
+}
+
+/// Turns each feed by mass into the solid volume it feeds and its expected
+/// count, now that the box `c` is known: `unit` metres per length unit,
+/// `rho` the solid density (kg/m³). The expected count is the volume over
+/// the mean body volume of the feed's species (by their ratios); it sizes
+/// the memory estimate and the species' shares of the requested size
+/// distribution, while the engine feeds until the volume is reached.
+pub(crate) fn amounts<const D: usize>(
+    feeds: &mut [FeedStage],
+    species: &mut [Species],
+    c: &crate::container::Container<D>,
+    unit: Option<Real>,
+    rho: Option<Real>,
+) -> Result<()> {
+    for (k, feed) in feeds.iter_mut().enumerate() {
+        let Some(mass) = feed.mass_per_area else {
+            continue;
+        };
+        let what = format!("feeds[{k}].mass_per_area");
+        if D != 3 {
+            return Err(Error::config(format!(
+                "{what}: a mass per filter area needs a 3D bed (dim = 3); give a 2D feed its `count`"
+            )));
+        }
+        let (Some(unit), Some(rho)) = (unit, rho) else {
+            return Err(Error::config(format!(
+                "{what}: a mass becomes particles through the bed's scale: set analysis.length_unit and analysis.solid_density"
+            )));
+        };
+        let area: Real = (0..D - 1).map(|a| c.size[a]).product();
+        let volume = mass * area / (rho * unit);
+        let sum: Real = feed
+            .species
+            .iter()
+            .map(|&i| species[i as usize].ratio)
+            .sum();
+        let mean_body: Real = feed
+            .species
+            .iter()
+            .map(|&i| {
+                let s = &species[i as usize];
+                s.ratio / sum
+                    * Real::from(s.shape.beads())
+                    * crate::math::ball_volume::<D>(1.0)
+                    * s.size.mean_cube()
+            })
+            .sum();
+        let expected = (volume / mean_body).ceil();
+        if !(expected.is_finite() && expected >= 1.0) || expected > 1e12 {
+            return Err(Error::config(format!(
+                "{what}: {mass} kg/m² over this box is {expected} bodies of the feed's sizes; give a mass of at least one body and at most 10^12"
+            )));
+        }
+        // In beads, as a feed's count is.
+        let beads = feed
+            .species
+            .iter()
+            .map(|&i| u64::from(species[i as usize].shape.beads()))
+            .max()
+            .unwrap_or(1);
+        feed.count = expected as u64 * beads;
+        for &i in &feed.species {
+            species[i as usize].ratio *= feed.count as Real / sum;
+        }
+        feed.volume = Some(volume);
     }
     Ok(())
 }

@@ -505,6 +505,13 @@ impl Config {
         // A mesh's wires span the box, so its species come with the box.
         let fed_species = species.len();
         super::feeds::weave(&mut feeds, &mut species, &container)?;
+        super::feeds::amounts(
+            &mut feeds,
+            &mut species,
+            &container,
+            self.analysis.length_unit.map(LengthUnit::metres),
+            self.analysis.solid_density,
+        )?;
         let feed = self.feed.resolve(&container, r_max)?;
         if self.mode == Mode::Rsa && !self.feed.is_default() {
             return Err(Error::config(

@@ -16,7 +16,7 @@ use crate::bed::{AnyBed, Bed, Filtrate};
 use crate::config::{AnyPlan, BaseLayerKind, Config, Fill, Mode, Plan, Settling};
 use crate::error::{Error, Result};
 use crate::grid::{Grid, Levels};
-use crate::math::{Real, Vector};
+use crate::math::{ball_volume, Real, Vector};
 use crate::species::{EntryOrientation, Shape, Species, SpeciesPicker};
 use body::{Chain, Dropper, Sphere};
 use chain::ChainShape;
@@ -76,6 +76,10 @@ struct Engine<'p, const D: usize> {
     picks: Vec<u32>,
     settling: Settling,
     feed_end: u64,
+    /// A feed by mass: the solid volume it feeds (infinite for a feed by
+    /// count), and the volume fed so far, placed or passed.
+    feed_volume_end: Real,
+    feed_volume: Real,
     /// Beads fed that passed the medium (they count toward the feeds'
     /// counts but are not in the bed).
     passed_beads: u64,
@@ -103,6 +107,8 @@ impl<'p, const D: usize> Engine<'p, D> {
                 Fill::Count(n) => n,
                 Fill::Roof { .. } => u64::MAX,
             },
+            feed_volume_end: Real::INFINITY,
+            feed_volume: 0.0,
             passed_beads: 0,
             open_floor: false,
             rng: RunRng::seed_from_u64(plan.seed),
@@ -126,8 +132,19 @@ impl<'p, const D: usize> Engine<'p, D> {
         self.picker = SpeciesPicker::new(&species);
         self.picks = feed.species.clone();
         self.settling = feed.settling;
-        let before: u64 = self.plan.feeds[..k].iter().map(|f| f.count).sum();
-        self.feed_end = before + feed.count;
+        // The feeds before it end where they ended: a feed by count at its
+        // count (a chain may pass it by a few beads), a feed by mass where
+        // its mass was reached.
+        let before = if k == 0 {
+            0
+        } else {
+            self.feed_end.min(self.fed())
+        };
+        (self.feed_end, self.feed_volume_end) = match feed.volume {
+            Some(v) => (u64::MAX, v),
+            None => (before + feed.count, Real::INFINITY),
+        };
+        self.feed_volume = 0.0;
         if !feed.medium && k > 0 && self.plan.feeds[k - 1].medium {
             self.open_the_floor();
         }
@@ -200,6 +217,12 @@ impl<'p, const D: usize> Engine<'p, D> {
         self.feed_end
     }
 
+    /// True while the feed being placed has more to feed: its count or
+    /// its mass not yet reached.
+    fn feeding(&self) -> bool {
+        self.fed() < self.feed_end && self.feed_volume < self.feed_volume_end
+    }
+
     /// Deposits the bed; spheres in speculative batches when `speculate`
     /// (the same bed either way).
     fn run(mut self, progress: &mut Progress, speculate: bool) -> Result<(Bed<D>, DepositReport)> {
@@ -255,8 +278,7 @@ impl<'p, const D: usize> Engine<'p, D> {
         batches: &mut Option<speculate::Batches<D>>,
         progress: &mut Progress,
     ) -> Result<bool> {
-        let target = self.target();
-        while self.fed() < target {
+        while self.feeding() {
             if let Some(batches) = batches.as_mut() {
                 match self.drop_batch(batches, progress)? {
                     speculate::Ended::Placed { more: true } => continue,
@@ -340,6 +362,7 @@ impl<'p, const D: usize> Engine<'p, D> {
         s: u32,
         progress: &mut Progress,
     ) -> Result<bool> {
+        self.feed_volume += Real::from(body.beads()) * ball_volume::<D>(body.radius());
         if self.open_floor {
             // Bodies held by the medium stand above half the gap, bodies on
             // the floor below it (`Plan::medium_gap`): no tolerance is needed.

@@ -28,7 +28,7 @@ use crate::bed::Bed;
 use crate::config::Plan;
 use crate::container::Container;
 use crate::error::Result;
-use crate::math::{Real, Vector};
+use crate::math::{ball_volume, Real, Vector};
 use rayon::prelude::*;
 use std::cell::RefCell;
 use std::ops::ControlFlow;
@@ -184,11 +184,17 @@ impl<const D: usize> Engine<'_, D> {
         // Up to `EXTRA` times the batch's size is drawn: a thread done with
         // its share while another still settles a slow sphere of the batch
         // (a fine percolating deep) settles the next ones meanwhile.
-        while (draws.len() as u64) < left.min((EXTRA * *size) as u64) {
+        // A feed by mass: the spheres drawn until its volume is reached, as
+        // the serial engine would feed them.
+        let mut volume = self.feed_volume;
+        while (draws.len() as u64) < left.min((EXTRA * *size) as u64)
+            && volume < self.feed_volume_end
+        {
             let (species, r) = super::draw(&self.picker, &self.picks, &self.plan.species, &mut rng);
             if self.chain_of(species, r).is_some() {
                 break;
             }
+            volume += ball_volume::<D>(r);
             let start =
                 Dropper::<D>::enter(&Sphere(r), &self.plan.container, &self.plan.feed, &mut rng);
             draws.push(Draw {

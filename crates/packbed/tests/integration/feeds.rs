@@ -153,3 +153,75 @@ fn bad_feeds_are_refused_in_one_line() {
     let e = config(&counted).plan::<3>().unwrap_err().to_string();
     assert!(e.contains("remove fill.count"), "{e}");
 }
+
+/// A precoat by count, then the slurry by mass per area (kg/m²) in a box of
+/// 24 × 24 µm: `mass` kg/m² of fines and rods.
+fn by_mass(mass: &str) -> String {
+    precoat_and_slurry().replace("count = 1500", &format!("mass_per_area = {mass}"))
+        + "[analysis]\nlength_unit = \"um\"\nsolid_density = 2500\n"
+}
+
+/// The solids of feed 1 in `b` (each bead whole), kg per m² of the box,
+/// and the mass of its last body.
+fn fed_mass(b: &Bed<3>) -> (f64, f64) {
+    let (unit, rho, area) = (1e-6, 2500.0, 24.0 * 24.0);
+    let mass = |i: usize| rho * 4.0 / 3.0 * std::f64::consts::PI * (b.radii[i] * unit).powi(3);
+    let per_area = |m: f64| m / (area * unit * unit);
+    let second: Vec<usize> = (0..b.len())
+        .filter(|&i| b.species_info[b.species[i] as usize].feed == Some(1))
+        .collect();
+    let total: f64 = second.iter().map(|&i| mass(i)).sum();
+    let last_body = b.bodies[*second.last().unwrap()];
+    let last: f64 = second
+        .iter()
+        .filter(|&&i| b.bodies[i] == last_body)
+        .map(|&i| mass(i))
+        .sum();
+    (per_area(total), per_area(last))
+}
+
+#[test]
+fn a_feed_by_mass_ends_with_the_body_that_reaches_its_mass() {
+    for mass in ["0.002", "0.005"] {
+        let m: f64 = mass.parse().unwrap();
+        let c = config(&by_mass(mass));
+        let (b, _) = run::<3>(&c);
+        let (fed, last) = fed_mass(&b);
+        // At least the mass asked, and short of it without the last body.
+        assert!(
+            fed >= m && fed - last < m,
+            "{mass}: fed {fed}, last body {last}"
+        );
+        let checks = InvariantChecks::new(TOL).held_by(&c.plan::<3>().unwrap().feeds[1].settling);
+        assert_checked(&b, &checks, "a feed by mass");
+    }
+    // The same bed by mass on one thread and on three (the speculative
+    // batches stop where the serial engine does).
+    let c = config(&by_mass("0.005"));
+    let (one, _) = deposit_on(1, &c);
+    let (three, _) = deposit_on(3, &c);
+    assert_eq!(one.centres, three.centres);
+    assert_eq!(one.radii, three.radii);
+}
+
+#[test]
+fn bad_feed_amounts_are_refused_in_one_line() {
+    let both = by_mass("0.002").replace("mass_per_area", "count = 10\nmass_per_area");
+    let cases = [
+        (by_mass("-1"), "must be a positive number of kg per m²"),
+        (by_mass("0"), "must be a positive number of kg per m²"),
+        (both, "not both"),
+        (
+            precoat_and_slurry().replace("count = 1500", "mass_per_area = 0.002"),
+            "set analysis.length_unit and analysis.solid_density",
+        ),
+        (
+            precoat_and_slurry().replace("count = 1500", ""),
+            "count must be at least 1 (or give",
+        ),
+    ];
+    for (text, expect) in cases {
+        let e = config(&text).plan::<3>().unwrap_err().to_string();
+        assert!(e.contains(expect) && !e.contains('\n'), "{e}");
+    }
+}
