@@ -11,7 +11,7 @@ use crate::deposit::Progress;
 use crate::error::{Error, Result};
 use crate::io::read::{read_bed_for, BoxHint, ReadReport};
 use crate::io::summary::{
-    AnalyzeSettings, AnalyzeTiming, FragmentSettings, FragmentSummary, FragmentTiming,
+    AnalyzeSettings, AnalyzeTiming, FragmentRunSummary, FragmentSettings, FragmentTiming,
 };
 use crate::io::{AnalyzeSummary, RunSummary, Timing};
 use crate::mechanics::{self, Fragmentation};
@@ -405,7 +405,7 @@ pub struct FragmentedBed {
     /// Forces, loads and breaks.
     pub fragmentation: AnyFragmentation,
     /// Everything its `summary.json` holds.
-    pub summary: FragmentSummary,
+    pub summary: FragmentRunSummary,
 }
 
 /// Reads the bed file at `path` (as [`analyze_file`] does), finds its contacts
@@ -506,7 +506,7 @@ fn fragment_read<const D: usize>(
         f64,
     ),
     progress: &mut dyn FnMut(u64),
-) -> Result<(Fragmentation<D>, FragmentSummary)> {
+) -> Result<(Fragmentation<D>, FragmentRunSummary)> {
     let contacts = crate::analysis::find_contacts(bed, contact_tol);
     let overlaps = crate::analysis::overlaps(bed, &contacts);
     let frag = mechanics::fragment_with(bed, &contacts, options, progress)?;
@@ -521,7 +521,7 @@ fn fragment_read<const D: usize>(
         kt_over_kn: options.kt_over_kn,
         contact_tol,
     };
-    let summary = FragmentSummary::new(
+    let summary = FragmentRunSummary::new(
         source,
         bed,
         read,

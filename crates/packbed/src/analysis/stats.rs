@@ -4,13 +4,13 @@
 //!
 //! The summary is walked generically, so every measure added to
 //! `analysis::Summary` is included without touching this module:
-//! - a number becomes a [`Measure`] (mean ± sample sd, min, max, n);
+//! - a number becomes a [`MeasureStats`] (mean ± sample sd, min, max, n);
 //! - a boolean becomes the percentage of beds where it is true (a measure of
 //!   the 0/100 indicator, so its mean is the percentage);
 //! - an array of numbers whose key contains `histogram` is summed over the
 //!   replicates and normalised ([`Histogram`]);
 //! - any other array of numbers (a profile) gets statistics per entry
-//!   ([`Series`]);
+//!   ([`ArrayStats`]);
 //! - an array of objects that all have distinct `name`s is keyed by name
 //!   (`species.large.placed`), other arrays by index (`x[3]`).
 //!
@@ -117,7 +117,7 @@ impl Stats {
 
 /// A scalar measure over the replicates.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Measure {
+pub struct MeasureStats {
     /// Dotted key, e.g. `packing.global`.
     pub name: String,
     /// Number or percentage of beds.
@@ -141,7 +141,7 @@ pub struct Histogram {
 
 /// An array of measures (e.g. a profile), with statistics per entry.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Series {
+pub struct ArrayStats {
     /// Dotted key, e.g. `packing.profile`.
     pub name: String,
     /// Statistics of entry `k` over the replicates whose array has entry `k`.
@@ -154,11 +154,11 @@ pub struct Aggregate {
     /// Number of replicates folded in.
     pub replicates: u64,
     /// Scalar measures, in the order of `summary.json`.
-    pub measures: Vec<Measure>,
+    pub measures: Vec<MeasureStats>,
     /// Histograms.
     pub histograms: Vec<Histogram>,
     /// Profiles and other arrays.
-    pub series: Vec<Series>,
+    pub series: Vec<ArrayStats>,
 }
 
 /// One leaf of a summary.
@@ -250,7 +250,7 @@ fn fold(summaries: &[Value], skip: &[&str], only: Option<&str>) -> Result<Aggreg
     };
     for name in order {
         match columns.remove(&name) {
-            Some(Column::Scalar(kind, v)) => agg.measures.push(Measure {
+            Some(Column::Scalar(kind, v)) => agg.measures.push(MeasureStats {
                 name,
                 kind,
                 stats: Stats::of(&v),
@@ -268,7 +268,7 @@ fn fold(summaries: &[Value], skip: &[&str], only: Option<&str>) -> Result<Aggreg
                     fraction,
                 })
             }
-            Some(Column::Series(per)) => agg.series.push(Series {
+            Some(Column::Series(per)) => agg.series.push(ArrayStats {
                 name,
                 entries: per.iter().map(|v| Stats::of(v)).collect(),
             }),

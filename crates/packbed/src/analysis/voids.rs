@@ -77,7 +77,7 @@ enum Kind {
 }
 
 /// The half-edge structure of the network.
-struct Network {
+struct PlanarGraph {
     /// Position of each vertex (discs first, `0..n`).
     pos: Vec<[Real; 2]>,
     /// Per half-edge: start vertex, end vertex, displacement, kind.
@@ -91,8 +91,8 @@ struct Network {
     discs: usize,
 }
 
-impl Network {
-    fn build(bed: &Bed<2>, contacts: &Contacts) -> Network {
+impl PlanarGraph {
+    fn build(bed: &Bed<2>, contacts: &Contacts) -> PlanarGraph {
         let n = bed.len();
         let w = bed.container.size[0];
         let h = analysis_height(bed);
@@ -173,7 +173,7 @@ impl Network {
             edges.push((c01, c11, [w, 0.0], Kind::Roof));
         }
         let m = 2 * edges.len();
-        let mut net = Network {
+        let mut net = PlanarGraph {
             pos,
             from: Vec::with_capacity(m),
             to: Vec::with_capacity(m),
@@ -242,7 +242,7 @@ struct Face {
     vertex: u32,
 }
 
-fn trace(net: &Network, radii: &[Real]) -> Vec<Face> {
+fn trace(net: &PlanarGraph, radii: &[Real]) -> Vec<Face> {
     let m = net.from.len();
     let mut done = vec![false; m];
     let mut faces = Vec::new();
@@ -324,7 +324,7 @@ pub fn voids(bed: &Bed<2>, contacts: &Contacts) -> Vec<Void> {
     if bed.is_empty() {
         return Vec::new();
     }
-    let net = Network::build(bed, contacts);
+    let net = PlanarGraph::build(bed, contacts);
     let faces = trace(&net, &bed.radii);
     let nv = net.pos.len();
     // Components of the network, and which touch a wall vertex.

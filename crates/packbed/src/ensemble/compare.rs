@@ -12,7 +12,7 @@
 //! a measure of unknown dimension is left out rather than compared across
 //! units. A group that names no unit cannot be set against one that does.
 
-use super::stats::{measures_of, Kind, Measure, Stats};
+use super::stats::{measures_of, Kind, MeasureStats, Stats};
 use crate::analysis::dimensions::{filtration_unit, length_power};
 use crate::config::LengthUnit;
 use crate::error::markdown_cell;
@@ -592,11 +592,11 @@ pub fn compare(groups: &[Group]) -> Result<Comparison> {
             not_converted.join(", ")
         ));
     }
-    let find = |a: &[Measure], name: &str| a.iter().position(|m| m.name == name);
+    let find = |a: &[MeasureStats], name: &str| a.iter().position(|m| m.name == name);
     let mut rows = Vec::new();
     let mut not_shared = Vec::new();
     for m in &aggregates[0].measures {
-        let found: Option<Vec<&Measure>> = aggregates
+        let found: Option<Vec<&MeasureStats>> = aggregates
             .iter()
             .map(|a| find(&a.measures, &m.name).map(|i| &a.measures[i]))
             .collect();

@@ -12,7 +12,7 @@
 //! - `runs/NNNN/summary.json`: replicate `NNNN`'s summary, written atomically
 //!   (with `--keep-beds`, also its `particles.csv` and contact files);
 //! - `ensemble.json`, `ensemble.csv`, `histograms.csv`, `ensemble.md`: the
-//!   statistics ([`stats`], [`tables`]), which depend only on the replicates'
+//!   statistics ([`stats`], [`reports`]), which depend only on the replicates'
 //!   summaries, folded in replicate order: the same for any thread count, and
 //!   for shards joined by [`merge`];
 //! - `timing.json`: wall times, kept apart because they differ between runs;
@@ -24,7 +24,7 @@
 //! Modules: `replicates` (running them, resume), `manifest` (what
 //! identifies an ensemble directory, shards), [`merge`] (joining shards),
 //! [`write`] (the statistics files and plots), [`slurm`] (job scripts for a
-//! Slurm cluster), and [`stats`] (from `analysis`), [`tables`], [`seeds`], [`sweep`].
+//! Slurm cluster), and [`stats`] (from `analysis`), [`reports`], [`seeds`], [`sweep`].
 
 pub mod compare;
 pub(crate) mod manifest;
@@ -34,8 +34,8 @@ pub(crate) mod replicates;
 pub mod seeds;
 pub mod slurm;
 pub use crate::analysis::stats;
+pub mod reports;
 pub mod sweep;
-pub mod tables;
 mod write;
 
 pub use manifest::{fingerprint, Shard, MANIFEST};

@@ -1,7 +1,7 @@
 //! The statistics files and plots of one point, and a sweep's comparison.
 
 use super::stats;
-use super::{tables, Point, PointResult, Shard, ENSEMBLE_FILES, SWEEP_FILES};
+use super::{reports, Point, PointResult, Shard, ENSEMBLE_FILES, SWEEP_FILES};
 use crate::config::Config;
 use crate::error::Result;
 use crate::io::Staging;
@@ -63,7 +63,7 @@ pub(super) fn write_point(
 ) -> Result<PointResult> {
     let aggregate = stats::measures_of(values)?;
     let timing = stats::timings_of(values)?;
-    let header = tables::Header {
+    let header = reports::Header {
         config: &p.config,
         runs,
         shard: shard.as_pair(),
@@ -86,10 +86,10 @@ pub(super) fn write_point(
         });
     }
     let texts = [
-        tables::ensemble_json(&header, &aggregate),
-        tables::ensemble_csv(&aggregate),
-        tables::histograms_csv(&aggregate),
-        tables::ensemble_md(&header, &aggregate),
+        reports::ensemble_json(&header, &aggregate),
+        reports::ensemble_csv(&aggregate),
+        reports::histograms_csv(&aggregate),
+        reports::ensemble_md(&header, &aggregate),
         format!(
             "{}\n",
             serde_json::to_string_pretty(&timing_json).unwrap_or_default()
@@ -140,9 +140,9 @@ pub(super) fn write_sweep(
     let Some(sw) = &config.sweep else {
         return Ok(points.iter().flat_map(|p| p.files.clone()).collect());
     };
-    let rows: Vec<tables::SweepRow> = points
+    let rows: Vec<reports::SweepRow> = points
         .iter()
-        .map(|p| tables::SweepRow {
+        .map(|p| reports::SweepRow {
             label: p.label.as_deref().unwrap_or(""),
             aggregate: &p.aggregate,
         })
@@ -150,8 +150,8 @@ pub(super) fn write_sweep(
     let mut base = config.clone();
     base.sweep = None;
     let texts = [
-        tables::sweep_csv(&rows),
-        tables::sweep_md(&sw.parameter, &base, &rows),
+        reports::sweep_csv(&rows),
+        reports::sweep_md(&sw.parameter, &base, &rows),
     ];
     let mut s = Staging::new(out)?;
     for (name, text) in SWEEP_FILES.iter().zip(&texts) {

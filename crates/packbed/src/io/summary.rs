@@ -556,7 +556,7 @@ mod tests {
 /// `summary.json` of `packbed fragment`: the bed file, its box and counts, the
 /// settings, and `fragmentation.*`.
 #[derive(Clone, Debug, Serialize)]
-pub struct FragmentSummary {
+pub struct FragmentRunSummary {
     /// Version of packbed that wrote the file.
     pub packbed_version: &'static str,
     /// Pictures that could not be drawn, the tables kept all the same
@@ -637,7 +637,7 @@ pub struct FragmentTiming {
     pub breakage_seconds: f64,
 }
 
-impl FragmentSummary {
+impl FragmentRunSummary {
     /// Gathers the summary of a fragmented bed file.
     pub(crate) fn new<const D: usize>(
         source: &str,
@@ -647,8 +647,8 @@ impl FragmentSummary {
         settings: FragmentSettings,
         fragmentation: &FragmentationSummary,
         timing: FragmentTiming,
-    ) -> FragmentSummary {
-        FragmentSummary {
+    ) -> FragmentRunSummary {
+        FragmentRunSummary {
             packbed_version: env!("CARGO_PKG_VERSION"),
             warnings: Vec::new(),
             source: source.to_string(),

@@ -562,7 +562,7 @@ pub fn write_fragmentation<const D: usize>(
     dir: &Path,
     bed: &Bed<D>,
     frag: &crate::mechanics::Fragmentation<D>,
-    summary: &crate::io::summary::FragmentSummary,
+    summary: &crate::io::summary::FragmentRunSummary,
     pictures: bool,
 ) -> Result<Written> {
     // The breakage may have taken minutes: pictures that cannot be drawn
@@ -594,7 +594,7 @@ pub fn write_fragmentation<const D: usize>(
     stage_dir(dir, tables, files, summary, |n| earlier_file(n, false))
 }
 
-impl WarnedSummary for crate::io::summary::FragmentSummary {
+impl WarnedSummary for crate::io::summary::FragmentRunSummary {
     fn warnings(&self) -> &Vec<String> {
         &self.warnings
     }
@@ -602,7 +602,7 @@ impl WarnedSummary for crate::io::summary::FragmentSummary {
         &mut self.warnings
     }
     fn to_json(&self) -> Result<String> {
-        crate::io::summary::FragmentSummary::to_json(self)
+        crate::io::summary::FragmentRunSummary::to_json(self)
     }
 }
 

@@ -11,7 +11,7 @@
 use super::plot::{format_number, BarGroup, Plot, PlotData, Series};
 use super::run_plots::{chain_angle_plot, length_label};
 use crate::analysis::orientation::AngleFrom;
-use crate::analysis::stats::{Aggregate, Histogram, Series as StatSeries, Stats};
+use crate::analysis::stats::{Aggregate, ArrayStats, Histogram, Stats};
 use crate::config::{LengthUnit, SweepConfig, SweepValue};
 
 /// Plots of one ensemble, as `(file stem, plot)`; only those whose measures
@@ -99,7 +99,7 @@ fn histogram<'a>(a: &'a Aggregate, name: &str) -> Option<&'a Histogram> {
         .filter(|h| h.counts.iter().any(|&c| c > 0.0))
 }
 
-fn series<'a>(a: &'a Aggregate, name: &str) -> Option<&'a StatSeries> {
+fn series<'a>(a: &'a Aggregate, name: &str) -> Option<&'a ArrayStats> {
     a.series.iter().find(|s| s.name == name)
 }
 
@@ -586,7 +586,7 @@ fn against(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::stats::{Kind, Measure};
+    use crate::analysis::stats::{Kind, MeasureStats};
     use crate::render::run_plots::isotropic_angles;
 
     fn stats(mean: f64, sd: f64) -> Stats {
@@ -604,7 +604,7 @@ mod tests {
             replicates: 4,
             measures: measures
                 .iter()
-                .map(|&(name, mean, sd)| Measure {
+                .map(|&(name, mean, sd)| MeasureStats {
                     name: name.into(),
                     kind: Kind::Value,
                     stats: stats(mean, sd),
@@ -626,11 +626,11 @@ mod tests {
         let mut a = aggregate(&[]);
         a.replicates = 3;
         a.series = vec![
-            StatSeries {
+            ArrayStats {
                 name: "drainage.curve.pc_reduced".into(),
                 entries: vec![entry(1.0, 1.0, 1.0), entry(10.0, 10.0, 10.0)],
             },
-            StatSeries {
+            ArrayStats {
                 name: "drainage.curve.saturation".into(),
                 entries: vec![entry(1.0, 1.0, 1.0), entry(0.3, 0.2, 0.45)],
             },
@@ -696,11 +696,11 @@ mod tests {
             max: mean,
         };
         a.series = vec![
-            StatSeries {
+            ArrayStats {
                 name: "packing.profile.z".into(),
                 entries: vec![entry(5.0), entry(15.0)],
             },
-            StatSeries {
+            ArrayStats {
                 name: "packing.profile.fraction".into(),
                 entries: vec![entry(0.5), entry(0.6)],
             },

@@ -3,7 +3,7 @@
 
 use super::run::{count, file_names, path};
 use crate::analysis::stats::Kind;
-use crate::ensemble::{tables, Outcome};
+use crate::ensemble::{reports, Outcome};
 use crate::error::inert;
 use std::fmt::Write;
 use std::path::Path;
@@ -35,7 +35,7 @@ const ON_SCREEN: [&str; 21] = [
     "capture.passed_fraction",
 ];
 
-use tables::SETTINGS;
+use reports::SETTINGS;
 
 /// The note of an ensemble rerun with fewer replicates than `out` holds.
 pub fn reduced_note(out: &Path, runs: u64, earlier: u64) -> String {
@@ -98,11 +98,11 @@ pub fn ensemble_text(o: &Outcome, out: &Path, threads: Option<usize>) -> String 
                 && (p.percolation_asked || !m.name.starts_with("percolation."))
         });
         for m in headline.chain(flags) {
-            let [lo, mid, hi] = tables::cells(&m.stats, m.kind);
+            let [lo, mid, hi] = reports::cells(&m.stats, m.kind);
             let _ = writeln!(
                 t,
                 "    {:<40} {mid}  (min {lo}, max {hi})",
-                inert(&tables::label(m, a.replicates))
+                inert(&reports::label(m, a.replicates))
             );
         }
         if !p.percolation_asked {
@@ -169,15 +169,15 @@ fn percolation_line(a: &crate::analysis::stats::Aggregate) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::stats::{Aggregate, Measure, Stats};
+    use crate::analysis::stats::{Aggregate, MeasureStats, Stats};
     use crate::ensemble::PointResult;
     use std::path::PathBuf;
 
-    fn percent(name: &str, beds_true: u64, beds: u64) -> Measure {
+    fn percent(name: &str, beds_true: u64, beds: u64) -> MeasureStats {
         let values: Vec<f64> = (0..beds)
             .map(|i| if i < beds_true { 100.0 } else { 0.0 })
             .collect();
-        Measure {
+        MeasureStats {
             name: name.into(),
             kind: Kind::Percent,
             stats: Stats::of(&values),
@@ -187,12 +187,12 @@ mod tests {
     fn screen(percolation_asked: bool) -> String {
         // The porosity after the packing, as when the first bed had no bulk.
         let mut measures = vec![
-            Measure {
+            MeasureStats {
                 name: "packing.global".into(),
                 kind: Kind::Value,
                 stats: Stats::of(&[0.6; 10]),
             },
-            Measure {
+            MeasureStats {
                 name: "cake.porosity".into(),
                 kind: Kind::Value,
                 stats: Stats::of(&[0.38, 0.39, 0.4, 0.41, 0.37, 0.36, 0.38, 0.39, 0.4]),

@@ -645,7 +645,7 @@ fn percolation_text(c: &Percolation) -> String {
 
 /// The short report of `packbed fragment`.
 pub fn fragment_text(
-    s: &crate::io::summary::FragmentSummary,
+    s: &crate::io::summary::FragmentRunSummary,
     out: &Path,
     files: &[PathBuf],
 ) -> String {

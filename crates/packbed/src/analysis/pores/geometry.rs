@@ -83,7 +83,7 @@ pub struct CellVolume {
 /// In 2D every quantity is per unit depth: `fluid_area` is a length,
 /// `void_volume` an area and `solid_surface` a length.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Throat {
+pub struct ThroatGeometry {
     /// Distance between the two power centres (the flow merges pores closer
     /// than `flow::LENGTH_FLOOR` of their spheres' mean radius).
     pub length: f64,
@@ -741,7 +741,13 @@ impl RegionTotals {
 
 /// Combines the per-side totals and applies the module's sign rule; see
 /// [`throat_3d`].
-fn finish_throat(t: RegionTotals, length: f64, fluid_area: f64, l: f64, dim: i32) -> Throat {
+fn finish_throat(
+    t: RegionTotals,
+    length: f64,
+    fluid_area: f64,
+    l: f64,
+    dim: i32,
+) -> ThroatGeometry {
     // Orient the region so its volume is non-negative; then the void and the
     // solid surface are the oriented totals, clamped at 0. A region whose
     // signed volume cancels exactly is oriented by its surface instead, so the
@@ -752,7 +758,7 @@ fn finish_throat(t: RegionTotals, length: f64, fluid_area: f64, l: f64, dim: i32
     let surface = (orient * t.surface).max(0.0);
     let rh = if surface > 0.0 { void / surface } else { 0.0 };
     let rh = if rh.is_finite() { rh } else { 0.0 };
-    Throat {
+    ThroatGeometry {
         length: fin(length * l),
         fluid_area: fin(fluid_area * l.powi(dim - 1)),
         void_volume: fin(void * l.powi(dim)),
@@ -762,7 +768,7 @@ fn finish_throat(t: RegionTotals, length: f64, fluid_area: f64, l: f64, dim: i32
     }
 }
 
-const DEGENERATE_THROAT: Throat = Throat {
+const DEGENERATE_THROAT: ThroatGeometry = ThroatGeometry {
     length: 0.0,
     fluid_area: 0.0,
     void_volume: 0.0,
@@ -771,7 +777,7 @@ const DEGENERATE_THROAT: Throat = Throat {
     overlap_inexact: false,
 };
 
-/// Throat between pores with power centres `p1`, `p2` through the facet with
+/// ThroatGeometry between pores with power centres `p1`, `p2` through the facet with
 /// vertex spheres `(c_v, r_v)`, v = 0, 1, 2 (Chareyre et al. 2012).
 ///
 /// * `length = |p1 − p2|`.
@@ -800,7 +806,7 @@ const DEGENERATE_THROAT: Throat = Throat {
 /// solid surface (zero radii or a flat region). A collinear facet gives zero
 /// area and no side, hence zero volume/surface. Non-finite inputs or all
 /// points coincident give an all-zero throat.
-pub fn throat_3d(p1: [f64; 3], p2: [f64; 3], c: &[[f64; 3]; 3], r: &[f64; 3]) -> Throat {
+pub fn throat_3d(p1: [f64; 3], p2: [f64; 3], c: &[[f64; 3]; 3], r: &[f64; 3]) -> ThroatGeometry {
     let Some((l, d, rs)) = framed(&[c[0], c[1], c[2], p1, p2], r) else {
         return DEGENERATE_THROAT;
     };
@@ -880,7 +886,7 @@ pub fn throat_3d(p1: [f64; 3], p2: [f64; 3], c: &[[f64; 3]; 3], r: &[f64; 3]) ->
 /// region is the triangles `(p_t, c_0, c_1)` with disc sectors `½ r² θ` and
 /// solid perimeter `Σ r θ`; same sign rule (side of the line through the
 /// edge), same fallbacks.
-pub fn throat_2d(p1: [f64; 2], p2: [f64; 2], c: &[[f64; 2]; 2], r: &[f64; 2]) -> Throat {
+pub fn throat_2d(p1: [f64; 2], p2: [f64; 2], c: &[[f64; 2]; 2], r: &[f64; 2]) -> ThroatGeometry {
     let Some((l, d, rs)) = framed(&[c[0], c[1], p1, p2], r) else {
         return DEGENERATE_THROAT;
     };
@@ -1631,7 +1637,7 @@ mod tests {
 
     // ---- degenerate inputs ----
 
-    fn all_finite_throat(t: &Throat) -> bool {
+    fn all_finite_throat(t: &ThroatGeometry) -> bool {
         [
             t.length,
             t.fluid_area,

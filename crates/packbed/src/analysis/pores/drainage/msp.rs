@@ -133,7 +133,7 @@ fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
 }
 
 /// Validated throat geometry.
-struct Throat {
+struct ThroatSection {
     r: [f64; 3],
     /// Centre distance of pair k = PAIRS[k].
     d: [f64; 3],
@@ -146,8 +146,8 @@ struct Throat {
     scale: f64,
 }
 
-impl Throat {
-    fn new(c: &[[f64; 2]; 3], r: &[f64; 3]) -> Option<Throat> {
+impl ThroatSection {
+    fn new(c: &[[f64; 2]; 3], r: &[f64; 3]) -> Option<ThroatSection> {
         if !c.iter().all(|p| finite_all(p)) || !finite_all(r) || !r.iter().all(|&x| x > 0.0) {
             return None;
         }
@@ -192,7 +192,7 @@ impl Throat {
         if !gt(void_area, 0.0) {
             return None;
         }
-        Some(Throat {
+        Some(ThroatSection {
             r: *r,
             d,
             alpha,
@@ -219,7 +219,7 @@ impl Throat {
         self.state_in(&self.corners(theta), rup, rr)
     }
 
-    /// [`Throat::state`] with the corners of [`Throat::corners`].
+    /// [`ThroatSection::state`] with the corners of [`ThroatSection::corners`].
     ///
     /// Every filling angle `b` enters the balance linearly, with a weight that depends only
     /// on the circle it lies on: in a corner's area ([`Geom::half_area_without_angles`]) as
@@ -293,7 +293,7 @@ impl Throat {
         self.rupture_in(&self.corners(theta), theta.cos(), 0.0)
     }
 
-    /// [`Throat::rupture_radii`] with the corners of [`Throat::corners`], `ct = cos θ`, for a
+    /// [`ThroatSection::rupture_radii`] with the corners of [`ThroatSection::corners`], `ct = cos θ`, for a
     /// solver that evaluates no radius below `floor`: a corner that already holds an arc at
     /// `floor` gets `floor` (below it only that fact matters; touching pairs whose centre
     /// distance exceeds `r_i + r_j` by rounding would otherwise cost a bisection down to
@@ -520,7 +520,14 @@ fn settle(
 /// is `u ← u + F / A_eff`. `None` (the bracketed search decides) where a step would cross a
 /// corner's filling radius in `rup` (the balance jumps there), go below `floor` (the rupture
 /// radii hold down to it), leave the valid configurations, or not converge.
-fn newton(t: &Throat, g: &[Geom; 3], ct: f64, rup: &[f64; 3], x: f64, floor: f64) -> Option<f64> {
+fn newton(
+    t: &ThroatSection,
+    g: &[Geom; 3],
+    ct: f64,
+    rup: &[f64; 3],
+    x: f64,
+    floor: f64,
+) -> Option<f64> {
     let balance = |x: f64| {
         let (a, lnw, lns) = t.state_in(g, rup, x)?;
         Some((lnw + lns * ct - a / x, a))
@@ -592,7 +599,7 @@ const DOWN_LIMIT: f64 = 1e-3;
 /// again lower down when the search goes there. `None` (the full scan decides) where the
 /// configuration stops being valid on the way down, or below `DOWN_LIMIT · lo`.
 fn downwards(
-    t: &Throat,
+    t: &ThroatSection,
     g: &[Geom; 3],
     ct: f64,
     balance: &dyn Fn(&[f64; 3], f64) -> Option<f64>,
@@ -639,7 +646,7 @@ fn downwards(
 /// triangle is returned. `None` for invalid/degenerate input or when no such circle exists
 /// (e.g. the void is closed by overlaps).
 pub fn inscribed_radius(c: &[[f64; 2]; 3], r: &[f64; 3]) -> Option<f64> {
-    let t = Throat::new(c, r)?;
+    let t = ThroatSection::new(c, r)?;
     // 2 (c_j − c_0)·X = |c_j|² − |c_0|² − (r_j² − r_0²) − 2ρ (r_j − r_0),  j = 1, 2.
     let mut m = [[0.0; 2]; 2];
     let mut a0 = [0.0; 2];
@@ -734,7 +741,7 @@ pub(super) fn entry_radius(
     if !theta.is_finite() || !(0.0..PI / 2.0).contains(&theta) {
         return None;
     }
-    let t = Throat::new(c, r)?;
+    let t = ThroatSection::new(c, r)?;
     let g = t.corners(theta);
     let ct = theta.cos();
     let balance = |rup: &[f64; 3], rr: f64| {
@@ -856,7 +863,7 @@ mod tests {
             for deg in [0.0f64, 30.0, 60.0] {
                 let th = deg.to_radians();
                 let c = tri(r, g);
-                let t = Throat::new(&c, &r).unwrap();
+                let t = ThroatSection::new(&c, &r).unwrap();
                 let rup = t.rupture_radii(th).unwrap();
                 let re = msp_entry_radius(&c, &r, th).unwrap();
                 for k in [0.8, 0.95, 1.0] {
@@ -898,7 +905,7 @@ mod tests {
             for deg in [0.0f64, 30.0, 60.0] {
                 let th = deg.to_radians();
                 let c = tri(r, g);
-                let t = Throat::new(&c, &r).unwrap();
+                let t = ThroatSection::new(&c, &r).unwrap();
                 let ins = inscribed_radius(&c, &r).unwrap();
                 let lo = 0.45 * ins;
                 let rup = t.rupture_in(&t.corners(th), th.cos(), 0.5 * lo).unwrap();
@@ -1193,7 +1200,7 @@ mod tests {
                         let below = bf.f(0.999 * re, n);
                         println!("{r:?} {g:?} θ={deg}: R_e {re:.5} at range end; F_brute(0.999 R_e) = {below:?}");
                         assert!(below.is_some_and(|v| v < 0.0));
-                        let t = Throat::new(&c, &r).unwrap();
+                        let t = ThroatSection::new(&c, &r).unwrap();
                         let rup = t.rupture_radii(th).unwrap();
                         assert!(t.state(th, &rup, 1.001 * re).is_none());
                     }
@@ -1213,7 +1220,7 @@ mod tests {
                 let c = tri(r, g);
                 let re = msp_entry_radius(&c, &r, th).unwrap();
                 let ri = inscribed_radius(&c, &r).unwrap();
-                let t = Throat::new(&c, &r).unwrap();
+                let t = ThroatSection::new(&c, &r).unwrap();
                 let rup = t.rupture_radii(th).unwrap();
                 assert!(2.0 * re >= ri, "{r:?} {g:?} {deg}");
                 if rup.iter().all(|&x| x <= re) {
@@ -1266,7 +1273,7 @@ mod tests {
             let c = tri(r, [0.0, 0.0, gw]);
             let th = deg.to_radians();
             let re = msp_entry_radius(&c, &r, th).unwrap();
-            let t = Throat::new(&c, &r).unwrap();
+            let t = ThroatSection::new(&c, &r).unwrap();
             let rup = t.rupture_radii(th).unwrap();
             let bf = Brute { c, r, th };
             let (fl, fh) = (bf.f(0.995 * re, 500), bf.f(1.005 * re, 500));
@@ -1310,7 +1317,7 @@ mod tests {
                 let res = msp_entry_radius(&cs, &rs, th).unwrap();
                 prop_assert!((res - s * re).abs() < 1e-6 * s * re);
                 if let Some(ri) = inscribed_radius(&c, &r) {
-                    let t = Throat::new(&c, &r).unwrap();
+                    let t = ThroatSection::new(&c, &r).unwrap();
                     prop_assert!(2.0 * re >= ri * (1.0 - 1e-9));
                     // The isoperimetric upper bound needs a closed gas region (every corner
                     // holding an arc at R_e).

@@ -4,7 +4,7 @@
 //! `sweep.md` (one row per value). Every function here is pure: the same
 //! aggregate gives the same bytes.
 
-use super::stats::{Aggregate, Kind, Measure, Stats};
+use super::stats::{Aggregate, Kind, MeasureStats, Stats};
 use crate::analysis::dimensions::filtration_unit;
 use crate::config::Config;
 use crate::error::markdown_cell;
@@ -235,7 +235,7 @@ fn scientific_cells(s: &Stats, kind: Kind) -> Option<[String; 3]> {
 /// The row name of a measure: its key, with the unit of booleans and, when
 /// it is not defined in every bed (a bulk measure of a bed without a bulk), in
 /// how many of the `beds` it is.
-pub fn label(m: &Measure, beds: u64) -> String {
+pub fn label(m: &MeasureStats, beds: u64) -> String {
     let mut l = m.name.clone();
     if m.kind == Kind::Percent {
         l.push_str(" (% of beds)");
@@ -343,7 +343,7 @@ fn length_symbol(c: &Config) -> &'static str {
 /// - the size distribution the config asked for (`*.requested.*`,
 ///   `*.requested_*`), which the beds' placed one is held against;
 /// - flags that only explain a null (`*_empty`) when no bed raised one.
-pub fn is_uninformative(m: &Measure, beds: u64) -> bool {
+pub fn is_uninformative(m: &MeasureStats, beds: u64) -> bool {
     let last = m.name.rsplit('.').next().unwrap_or("");
     if matches!(
         last,
@@ -472,7 +472,7 @@ pub fn ensemble_md(h: &Header, a: &Aggregate) -> String {
          measure of a bed without a bulk region); \"% of beds\" rows are yes/no measures.\n"
     );
     let find = |name: &str| a.measures.iter().find(|m| m.name == name);
-    let cake: Vec<(&Measure, &str)> = CAKE
+    let cake: Vec<(&MeasureStats, &str)> = CAKE
         .iter()
         .filter_map(|&(key, what)| find(key).map(|m| (m, what)))
         .collect();
@@ -486,7 +486,7 @@ pub fn ensemble_md(h: &Header, a: &Aggregate) -> String {
             let _ = writeln!(t, "| {what} | {key} | {lo} | {mid} | {hi} |");
         }
     }
-    let filtration: Vec<(&Measure, &str)> = FILTRATION
+    let filtration: Vec<(&MeasureStats, &str)> = FILTRATION
         .iter()
         .filter_map(|&(key, what)| find(key).map(|m| (m, what)))
         .collect();
@@ -816,8 +816,8 @@ mod tests {
         assert_eq!(fixed(-0.00001, 3), "0.000");
     }
 
-    fn measure(name: &str, kind: Kind, stats: Stats) -> Measure {
-        Measure {
+    fn measure(name: &str, kind: Kind, stats: Stats) -> MeasureStats {
+        MeasureStats {
             name: name.into(),
             kind,
             stats,
