@@ -103,9 +103,24 @@ fn analyse<const D: usize>(
         let unit = a.length_unit.map_or(1.0, |u| u.metres());
         let rho = a.solid_density.unwrap_or(1.0);
         let medium = crate::analysis::capture::medium_species(&config.feeds, bed);
+        let wires = crate::analysis::capture::mesh_species(&config.feeds, bed);
+        let mesh = config
+            .feeds
+            .iter()
+            .find_map(|f| f.mesh)
+            .and_then(|m| m.resolve("mesh").ok());
         let flow = a.flow.options();
         match crate::analysis::filtration::filtration(
-            bed, &medium, capture, options, unit, rho, &flow,
+            bed,
+            &crate::analysis::filtration::Medium {
+                species: &medium,
+                mesh: mesh.as_ref().map(|m| (m, &wires[..])),
+            },
+            capture,
+            options,
+            unit,
+            rho,
+            &flow,
         ) {
             Ok(f) => {
                 // The curve is part of the analysis' time and the run's.

@@ -141,6 +141,21 @@ pub fn medium_species<const D: usize>(
         .collect()
 }
 
+/// Which species of `bed` are a woven mesh's wires (laid by a `mesh` feed
+/// of `feeds`).
+pub fn mesh_species<const D: usize>(
+    feeds: &[crate::config::FeedStageConfig],
+    bed: &Bed<D>,
+) -> Vec<bool> {
+    bed.species_info
+        .iter()
+        .map(|s| {
+            s.feed
+                .is_some_and(|k| feeds.get(k as usize).is_some_and(|f| f.mesh.is_some()))
+        })
+        .collect()
+}
+
 /// The height of a woven mesh's mid-plane above its bottom, when the
 /// medium of `feeds` is a mesh: there its surface lies (see [`capture`]).
 pub fn mesh_mid_plane<const D: usize>(feeds: &[crate::config::FeedStageConfig]) -> Option<Real> {
