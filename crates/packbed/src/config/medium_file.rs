@@ -13,7 +13,7 @@ use super::feeds::{FeedStage, FeedStageConfig};
 use super::settling::SettlingConfig;
 use crate::error::{Error, Result};
 use crate::math::Real;
-use crate::species::{Shape, SizeDist, Species};
+use crate::species::{Shape, SizeDist, SizeTable, Species};
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -89,10 +89,9 @@ impl<const D: usize> super::Plan<D> {
     /// Gives feed `k`, a medium file, the particles read from it (`centres`
     /// with `D` components used, `radii`, the file's `species` indices and
     /// `bodies`): one species per species index of the file, named `medium
-    /// file <index>`, of the file's radius (uniform over the file's radii
-    /// where they differ: the size is what the grid and the summary see, the
-    /// particles keep their own), a ratio of its bodies; the beads of each
-    /// body kept together. Refused when the medium, lifted above the open
+    /// file <index>`, of the file's radius (a table of the file's radii
+    /// where they differ, each by its number), a ratio of its bodies; the
+    /// beads of each body kept together. Refused when the medium, lifted above the open
     /// floor, reaches the box's roof: the later feeds need the room above it.
     pub fn lay_medium_file(
         &mut self,
@@ -106,7 +105,8 @@ impl<const D: usize> super::Plan<D> {
         let Some(file) = self.feeds.get(k).and_then(|f| f.file.as_ref()) else {
             return Err(Error::config(format!("{what}: feed {k} reads no file")));
         };
-        let path = file.path.display().to_string();
+        let source = file.path.clone();
+        let path = source.display().to_string();
         let n = radii.len();
         // Bodies in order of first appearance, each one's beads together.
         let mut rank = vec![0usize; n];
@@ -146,7 +146,8 @@ impl<const D: usize> super::Plan<D> {
                 size: if lo == hi {
                     SizeDist::Fixed(lo)
                 } else {
-                    SizeDist::Uniform { min: lo, max: hi }
+                    let own: Vec<Real> = (0..n).filter(of).map(|i| radii[i]).collect();
+                    SizeDist::Table(SizeTable::of_radii(&own, &source))
                 },
                 ratio: own.len() as Real,
                 feed: Some(k as u32),

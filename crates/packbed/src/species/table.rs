@@ -745,6 +745,47 @@ impl SizeTable {
         })
     }
 
+    /// The sizes of particles placed as a file has them (a medium read from
+    /// a bed file): one size per distinct radius of `radii`, by number, in
+    /// the bed's own length unit; `source` names the file. `radii` holds at
+    /// least one positive radius.
+    pub(crate) fn of_radii(radii: &[Real], source: &Path) -> SizeTable {
+        let mut sorted = radii.to_vec();
+        sorted.sort_by(Real::total_cmp);
+        let n = sorted.len() as Real;
+        let mut classes: Vec<SizeClass> = Vec::new();
+        for r in sorted {
+            match classes.last_mut() {
+                Some(c) if c.lo == r => c.number += 1.0 / n,
+                _ => classes.push(SizeClass {
+                    number: 1.0 / n,
+                    ..class(r, r)
+                }),
+            }
+        }
+        let mut acc = 0.0;
+        let mut cumulative: Vec<Real> = classes
+            .iter()
+            .map(|c| {
+                acc += c.number;
+                acc
+            })
+            .collect();
+        if let Some(last) = cumulative.last_mut() {
+            *last = 1.0;
+        }
+        SizeTable {
+            classes,
+            cumulative,
+            within: Within::LogUniform,
+            layout: Layout::Sizes,
+            basis: Basis::Number,
+            size_word: "radius",
+            unit: Some("the bed's unit"),
+            source: source.to_path_buf(),
+        }
+    }
+
     /// The classes, in order of size.
     pub fn classes(&self) -> &[SizeClass] {
         &self.classes

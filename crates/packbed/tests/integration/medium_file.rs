@@ -314,3 +314,68 @@ fn bad_medium_files_are_refused_with_one_line() {
     assert!(!e.contains('\n'), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_files_bodies_stay_whole_and_its_species_keep_their_radii() {
+    // Two rigid bodies of two beads each, their rows interleaved and
+    // numbered sparsely (a scan's export), of two species and three radii.
+    let dir = scratch("bodies");
+    std::fs::write(
+        dir.join("medium.csv"),
+        "id,species,body,x,y,z,r\n\
+         0,4,7,4,4,1,1\n1,2,3,12,4,2,2\n2,4,7,5.5,4,1,1\n3,2,3,12,7,1.5,1.5\n",
+    )
+    .unwrap();
+    let path = dir.join("c.toml");
+    std::fs::write(
+        &path,
+        format!(
+            "{}{SLURRY}[[feeds]]\nfile = \"medium.csv\"\n[[feeds]]\nspecies = [\"slurry\"]\ncount = 200\n",
+            boxed(3000.0)
+        ),
+    )
+    .unwrap();
+    let c = Config::from_file(&path).unwrap();
+    let (b, cap) = filtered(&c);
+    assert_counted(&cap, 200, 2);
+    let lift = cap.medium_lift;
+    // Body 7 first (its first row comes first), then body 3, each whole.
+    assert_eq!(&b.bodies[..4], &[0, 0, 1, 1]);
+    let at: Vec<[f64; 4]> = (0..4)
+        .map(|i| {
+            let p = b.centres[i];
+            [p[0], p[1], p[2], b.radii[i]]
+        })
+        .collect();
+    assert_eq!(
+        at,
+        [
+            [4.0, 4.0, 1.0 + lift, 1.0],
+            [5.5, 4.0, 1.0 + lift, 1.0],
+            [12.0, 4.0, 2.0 + lift, 2.0],
+            [12.0, 7.0, 1.5 + lift, 1.5]
+        ]
+    );
+    // One species per species index of the file, in increasing order: 2
+    // (radii 2 and 1.5, a table of both) and 4 (radius 1).
+    let names: Vec<&str> = (0..4)
+        .map(|i| b.species_info[b.species[i] as usize].name.as_str())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "medium file 4",
+            "medium file 4",
+            "medium file 2",
+            "medium file 2"
+        ]
+    );
+    let plan = planned(&c).unwrap();
+    let packbed::AnyPlan::D3(plan) = plan else {
+        panic!("3D")
+    };
+    let bounds: Vec<(f64, f64)> = plan.species[1..].iter().map(|s| s.size.bounds()).collect();
+    assert_eq!(bounds, [(1.5, 2.0), (1.0, 1.0)]);
+    assert_eq!(plan.feeds[0].count, 4);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
