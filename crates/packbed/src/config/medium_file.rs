@@ -42,7 +42,7 @@ pub struct MediumBeads {
 }
 
 /// Feed `k`, a medium read from `path`: placed, so it names no species,
-/// count or rule; only the first feed, since it lies on the floor.
+/// count, mass or rule; only the first feed, since it lies on the floor.
 pub(super) fn file_stage(
     k: usize,
     stage: &FeedStageConfig,
@@ -58,6 +58,7 @@ pub(super) fn file_stage(
     for (given, key) in [
         (!stage.species.is_empty(), "species"),
         (stage.count != 0, "count"),
+        (stage.mass_per_area.is_some(), "mass_per_area"),
         (stage.settling.is_some(), "settling"),
         (stage.mesh.is_some(), "mesh"),
     ] {
@@ -75,6 +76,8 @@ pub(super) fn file_stage(
     Ok(FeedStage {
         species: Vec::new(),
         count: 0,
+        mass_per_area: None,
+        volume: None,
         settling: settling.resolve()?,
         medium: true,
         mesh: None,

@@ -274,6 +274,7 @@ fn bad_medium_files_are_refused_with_one_line() {
     for key in [
         "species = [\"medium\"]\n",
         "count = 4\n",
+        "mass_per_area = 0.1\n",
         "settling = { restitution = 0.5 }\n",
         "mesh = { wire_diameter = 2, aperture = 3 }\n",
     ] {
