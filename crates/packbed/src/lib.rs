@@ -146,9 +146,7 @@ pub use memory::Allocator;
 pub use output::check_out_dir;
 
 pub use bed::{AnyBed, Bed};
-pub use config::{
-    AnalysisConfig, AnyPlan, BoxSpec, Config, Edit, Measure, MeasureList, Numbers, Overrides,
-};
+pub use config::{AnalysisConfig, BoxSpec, Config, Edit, Measure, MeasureList, Numbers, Overrides};
 pub use ensemble::{run as run_ensemble, EnsembleOptions, Outcome};
 pub use error::{Error, Result};
 pub use io::read::{read_bed, read_bed_report, BoxHint, BoxSource, ReadReport};
