@@ -947,6 +947,20 @@ mod tests {
     use rand::SeedableRng;
     use rand_xoshiro::Xoshiro256PlusPlus;
 
+    #[test]
+    fn a_files_radii_make_a_table_of_its_sizes_by_number() {
+        let t = SizeTable::of_radii(&[2.0, 1.0, 2.0, 1.5], Path::new("m.csv"));
+        assert_eq!(t.bounds(), (1.0, 2.0));
+        let shares: Vec<(Real, Real)> = t.classes().iter().map(|c| (c.lo, c.number)).collect();
+        assert_eq!(shares, [(1.0, 0.25), (1.5, 0.25), (2.0, 0.5)]);
+        assert_eq!(t.cumulative.last(), Some(&1.0));
+        assert!(
+            t.describe().contains("3 sizes by number"),
+            "{}",
+            t.describe()
+        );
+    }
+
     fn table(text: &str, unit: Option<Real>) -> Result<SizeTable> {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("psd.csv");
