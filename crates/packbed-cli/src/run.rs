@@ -77,9 +77,8 @@ pub fn run(args: RunArgs) -> Result<()> {
     let settings = &args.overrides;
     let config = settings.applied_to_file(args.config.as_deref())?;
     // Planned (validated) once, before any work or output.
-    let plan = config
-        .planned()
-        .with_context(|| settings.source(args.config.as_deref()))?;
+    let plan =
+        packbed::planned(&config).with_context(|| settings.source(args.config.as_deref()))?;
     let extras = args.files.extras();
     check_out_dir(&args.out)?;
     let mut progress = Progress::new(plan.estimated_particles(), args.files.shown.quiet);

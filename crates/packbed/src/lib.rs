@@ -154,7 +154,7 @@ pub use io::{AnalyzeSummary, RunSummary};
 pub use output::RunExtras;
 pub use pipeline::{
     analyze_bed, analyze_file, analyze_read_bed, check_box_hint, fragment_file, fragment_file_with,
-    fragment_read_bed, picture_is_svg, run_bed, run_bed_or_stop, run_planned, AnalyzedBed,
+    fragment_read_bed, picture_is_svg, planned, run_bed, run_bed_or_stop, run_planned, AnalyzedBed,
     AnyFragmentation, FinishedBed, FragmentedBed,
 };
 #[cfg(feature = "render")]

@@ -43,17 +43,37 @@ pub fn run_bed(config: &Config, progress: &mut dyn FnMut(u64)) -> Result<Finishe
 /// [`run_bed`] that stops with [`Error::Interrupted`](crate::Error::Interrupted)
 /// when `progress` breaks (checked every 4096 particles).
 pub fn run_bed_or_stop(config: &Config, progress: &mut Progress) -> Result<FinishedBed> {
-    run_planned(config, &config.planned()?, progress)
+    run_planned(config, &planned(config)?, progress)
+}
+
+/// The plan of `config` ([`Config::planned`]) with the files it names read:
+/// a medium's bed file (`[[feeds]]` with `file`), its particles checked
+/// against the box and each other. A run plans its config here, once,
+/// before any work or output.
+pub fn planned(config: &Config) -> Result<crate::config::AnyPlan> {
+    let mut plan = config.planned()?;
+    crate::io::read::medium::read_media(&mut plan)?;
+    Ok(plan)
 }
 
 /// [`run_bed_or_stop`] of `config` planned already (`plan` is
-/// `config.planned()`): a run plans its config once.
+/// [`planned`]`(config)`): a run plans its config once.
 pub fn run_planned(
     config: &Config,
     plan: &crate::config::AnyPlan,
     progress: &mut Progress,
 ) -> Result<FinishedBed> {
     let start = Instant::now();
+    // A plan of `Config::planned` alone has not read a medium's file yet.
+    let read;
+    let plan = if crate::io::read::medium::unread(plan) {
+        let mut p = plan.clone();
+        crate::io::read::medium::read_media(&mut p)?;
+        read = p;
+        &read
+    } else {
+        plan
+    };
     let (bed, deposit) = crate::deposit::build_planned(plan, progress)?;
     let (contacts, summary) = each_dim!(&bed, b => analyse(config, b, &deposit, start)?);
     Ok(FinishedBed {

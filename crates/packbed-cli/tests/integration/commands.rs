@@ -94,6 +94,31 @@ fn unreadable_psd_table_is_refused() {
 }
 
 #[test]
+fn a_medium_file_reaching_into_the_feed_region_is_refused() {
+    // Two spheres 3 high; lifted by the slurry's diameter (2) they stand 5
+    // high, above the roof of a box 4 high: no room for the slurry.
+    let s = Scratch::new();
+    s.input(
+        "plate.csv",
+        "id,species,body,x,y,z,r\n0,0,0,5,5,1.5,1.5\n1,0,1,10,5,1.5,1.5\n",
+    );
+    assert_config_refused(
+        &s,
+        "plate.toml",
+        "[box]\nwidth = 24\ndepth = 24\nheight = 4\nperiodic = true\n\
+         [[species]]\nname = \"slurry\"\nradius = 1\n\
+         [[feeds]]\nfile = \"plate.csv\"\n[[feeds]]\nspecies = [\"slurry\"]\ncount = 3\n",
+        &[
+            "feeds[0].file",
+            "plate.csv",
+            "stands 5 high",
+            "box.height = 4",
+            "feed region",
+        ],
+    );
+}
+
+#[test]
 fn ratios_summing_to_zero_are_refused() {
     let s = Scratch::new();
     assert_user_error(&s, &["run", "--ratio", "0,0"], &["sum to zero"]);

@@ -28,6 +28,7 @@
 //! it two species entries. Without `[[feeds]]` a bed is one feed of every
 //! species, filled as `[fill]` says, bit for bit as before.
 
+use super::medium_file::MediumFile;
 use super::mesh::{Mesh, MeshConfig};
 use super::settling::{Settling, SettlingConfig};
 use crate::error::{Error, Result};
@@ -63,6 +64,10 @@ pub struct FeedStageConfig {
     /// (`mesh = { wire_diameter = 2, aperture = 3 }`; see [`MeshConfig`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mesh: Option<MeshConfig>,
+    /// A medium read from a bed file (`file = "medium.csv"`, relative to the
+    /// config file; see `config::medium_file`): placed as read, not fed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<std::path::PathBuf>,
 }
 
 fn is_zero(n: &u64) -> bool {
@@ -70,9 +75,10 @@ fn is_zero(n: &u64) -> bool {
 }
 
 impl FeedStageConfig {
-    /// True for a filter medium: marked `medium = true`, or a mesh.
+    /// True for a filter medium: marked `medium = true`, a mesh, or read
+    /// from a file.
     pub fn is_medium(&self) -> bool {
-        self.medium || self.mesh.is_some()
+        self.medium || self.mesh.is_some() || self.file.is_some()
     }
 }
 
@@ -95,6 +101,9 @@ pub struct FeedStage {
     pub medium: bool,
     /// A woven mesh placed as the medium (its species are made for it).
     pub mesh: Option<Mesh>,
+    /// A medium read from a bed file, placed as read (its species are made
+    /// for it when the file is read).
+    pub file: Option<MediumFile>,
 }
 
 impl<const D: usize> super::Plan<D> {
@@ -140,6 +149,10 @@ pub(crate) fn resolve_feeds(
             return Err(Error::config(format!(
                 "{what}.medium: the medium's feeds come first, before every feed that is not a medium (move this entry up)"
             )));
+        }
+        if let Some(path) = &stage.file {
+            out.push(super::medium_file::file_stage(k, stage, path, settling)?);
+            continue;
         }
         if let Some(mesh) = &stage.mesh {
             out.push(mesh_stage(k, stage, mesh, settling)?);
@@ -219,6 +232,7 @@ pub(crate) fn resolve_feeds(
             settling: rule,
             medium: stage.medium,
             mesh: None,
+            file: None,
         });
     }
     if out.last().is_some_and(|f| f.medium) {
@@ -270,6 +284,7 @@ fn mesh_stage(
         settling: settling.resolve()?,
         medium: true,
         mesh: Some(mesh.resolve(&what)?),
+        file: None,
     })
 }
 

@@ -7,6 +7,7 @@ mod feeds;
 pub mod filtration;
 pub mod fragmentation;
 mod measures;
+mod medium_file;
 mod mesh;
 mod plan;
 mod schema;

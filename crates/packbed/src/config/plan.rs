@@ -623,7 +623,12 @@ impl Config {
             mode: self.mode,
             container,
             fill,
-            base_layer: self.fill.base_layer,
+            // A medium read from a file lies on the floor: no layer under it.
+            base_layer: if feeds.first().is_some_and(|f| f.file.is_some()) {
+                BaseLayerKind::None
+            } else {
+                self.fill.base_layer
+            },
             species,
             contact_tol: tol,
             large_radius,

@@ -331,6 +331,14 @@ impl Config {
                     }
                 }
             }
+            // So is a medium's bed file.
+            for f in &mut c.feeds {
+                if let Some(t) = &mut f.file {
+                    if t.is_relative() {
+                        *t = dir.join(&*t);
+                    }
+                }
+            }
             if let Some(sweep) = &mut c.sweep {
                 if sweep.parameter.ends_with(".size.table") {
                     for v in &mut sweep.values {

@@ -245,6 +245,10 @@ impl<'p, const D: usize> Engine<'p, D> {
                 self.lay_mesh(&mesh, k);
                 continue;
             }
+            if self.plan.feeds.get(k).is_some_and(|f| f.file.is_some()) {
+                self.lay_file(k)?;
+                continue;
+            }
             if !self.place_feed(&mut batches, progress)? {
                 break;
             }
@@ -269,6 +273,30 @@ impl<'p, const D: usize> Engine<'p, D> {
                 }
             }
         }
+    }
+
+    /// Places the particles of feed `k`, a medium read from a bed file, as
+    /// the file has them: each body of the file one body of the bed (the
+    /// plan checked them against the box and each other when it read them).
+    fn lay_file(&mut self, k: usize) -> Result<()> {
+        let beads = self.plan.feeds[k]
+            .file
+            .as_ref()
+            .and_then(|f| f.beads.clone())
+            .ok_or_else(|| {
+                Error::config(format!(
+                    "feeds[{k}].file: the medium's bed file was not read: plan the run with `planned` (the front door's), which reads it, not with `Config::plan` alone"
+                ))
+            })?;
+        let first = self.bed.bodies.last().map_or(0, |&b| b + 1);
+        for i in 0..beads.radii.len() {
+            let mut p = Vector::<D>::zero();
+            for a in 0..D {
+                p[a] = beads.centres[i][a];
+            }
+            self.place_bead(p, beads.radii[i], beads.species[i], first + beads.bodies[i]);
+        }
+        Ok(())
     }
 
     /// Places the feed being placed, up to [`Engine::target`]; false if the

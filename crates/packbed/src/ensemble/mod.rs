@@ -180,7 +180,8 @@ fn points(config: &Config) -> Result<Vec<Point>> {
     base.ensemble = None;
     match &config.sweep {
         None => {
-            base.validate()?;
+            // Planned as a run plans it: a medium's bed file read too.
+            crate::pipeline::planned(&base)?;
             Ok(vec![Point {
                 label: None,
                 dir: PathBuf::new(),

@@ -102,7 +102,7 @@ impl SweepConfig {
             config
                 .apply(&edit)
                 .map_err(|e| e.within(p).within(&place))?;
-            config.validate().map_err(|e| e.within(&place))?;
+            crate::pipeline::planned(&config).map_err(|e| e.within(&place))?;
             let nums = value.numbers();
             let text: Vec<String> = match value {
                 // A table is named by its file's stem.

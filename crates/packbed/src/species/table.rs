@@ -745,6 +745,47 @@ impl SizeTable {
         })
     }
 
+    /// The sizes of particles placed as a file has them (a medium read from
+    /// a bed file): one size per distinct radius of `radii`, by number, in
+    /// the bed's own length unit; `source` names the file. `radii` holds at
+    /// least one positive radius.
+    pub(crate) fn of_radii(radii: &[Real], source: &Path) -> SizeTable {
+        let mut sorted = radii.to_vec();
+        sorted.sort_by(Real::total_cmp);
+        let n = sorted.len() as Real;
+        let mut classes: Vec<SizeClass> = Vec::new();
+        for r in sorted {
+            match classes.last_mut() {
+                Some(c) if c.lo == r => c.number += 1.0 / n,
+                _ => classes.push(SizeClass {
+                    number: 1.0 / n,
+                    ..class(r, r)
+                }),
+            }
+        }
+        let mut acc = 0.0;
+        let mut cumulative: Vec<Real> = classes
+            .iter()
+            .map(|c| {
+                acc += c.number;
+                acc
+            })
+            .collect();
+        if let Some(last) = cumulative.last_mut() {
+            *last = 1.0;
+        }
+        SizeTable {
+            classes,
+            cumulative,
+            within: Within::LogUniform,
+            layout: Layout::Sizes,
+            basis: Basis::Number,
+            size_word: "radius",
+            unit: Some("the bed's unit"),
+            source: source.to_path_buf(),
+        }
+    }
+
     /// The classes, in order of size.
     pub fn classes(&self) -> &[SizeClass] {
         &self.classes
@@ -905,6 +946,20 @@ mod tests {
     use super::*;
     use rand::SeedableRng;
     use rand_xoshiro::Xoshiro256PlusPlus;
+
+    #[test]
+    fn a_files_radii_make_a_table_of_its_sizes_by_number() {
+        let t = SizeTable::of_radii(&[2.0, 1.0, 2.0, 1.5], Path::new("m.csv"));
+        assert_eq!(t.bounds(), (1.0, 2.0));
+        let shares: Vec<(Real, Real)> = t.classes().iter().map(|c| (c.lo, c.number)).collect();
+        assert_eq!(shares, [(1.0, 0.25), (1.5, 0.25), (2.0, 0.5)]);
+        assert_eq!(t.cumulative.last(), Some(&1.0));
+        assert!(
+            t.describe().contains("3 sizes by number"),
+            "{}",
+            t.describe()
+        );
+    }
 
     fn table(text: &str, unit: Option<Real>) -> Result<SizeTable> {
         let dir = tempfile::tempdir().unwrap();

@@ -13,6 +13,7 @@ mod filtration;
 mod fragmentation;
 mod length_scale;
 mod medium;
+mod medium_file;
 mod mesh;
 mod physics;
 mod regressions;

@@ -402,20 +402,24 @@ exit \"$status\"
     }
 }
 
-/// The config as the tasks get it: PSD tables made absolute (they are
+/// The config as the tasks get it: PSD tables and medium files made absolute (they are
 /// relative to the config file, which moves into `DIR`), the replicate count
 /// stored as `[ensemble] runs`.
 fn task_config(config: &Config, runs: u64) -> Result<Config> {
     let mut c = config.clone();
     c.ensemble = Some(EnsembleConfig { runs });
-    for s in &mut c.species {
-        if let Some(SizeConfig { table: Some(t), .. }) = &mut s.size {
-            if t.is_relative() {
-                *t = std::path::absolute(&*t).map_err(|e| Error::Io {
-                    path: t.clone(),
-                    source: e,
-                })?;
-            }
+    let tables = c.species.iter_mut().filter_map(|s| match &mut s.size {
+        Some(SizeConfig { table: Some(t), .. }) => Some(t),
+        _ => None,
+    });
+    // A medium's bed file too.
+    let files = c.feeds.iter_mut().filter_map(|f| f.file.as_mut());
+    for t in tables.chain(files) {
+        if t.is_relative() {
+            *t = std::path::absolute(&*t).map_err(|e| Error::Io {
+                path: t.clone(),
+                source: e,
+            })?;
         }
     }
     Ok(c)

@@ -13,6 +13,7 @@
 
 mod checks;
 mod lammps;
+pub(crate) mod medium;
 mod raw;
 pub mod report;
 mod table;
