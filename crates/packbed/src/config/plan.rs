@@ -623,8 +623,14 @@ impl Config {
             mode: self.mode,
             container,
             fill,
-            // A medium read from a file lies on the floor: no layer under it.
-            base_layer: if feeds.first().is_some_and(|f| f.file.is_some()) {
+            // A medium laid as it is (a woven mesh, a bed file) lies on the
+            // floor: no base layer under it (one under a mesh was 1,000
+            // powder particles below the wires, and the capture counted
+            // them lodged).
+            base_layer: if feeds
+                .first()
+                .is_some_and(|f| f.file.is_some() || f.mesh.is_some())
+            {
                 BaseLayerKind::None
             } else {
                 self.fill.base_layer

@@ -286,3 +286,21 @@ fn the_filtration_through_a_mesh_is_solved_and_the_same_in_um_and_mm() {
         "network over screen {ratio}"
     );
 }
+
+#[test]
+fn a_mesh_lies_on_the_floor_whatever_the_base_layer() {
+    // The default base layer is random; a mesh is laid on the floor, so
+    // none is laid under it: the bed is the same as with "none".
+    let none = sieve(3, 25.0, 0.5, 1.0, 300);
+    let default = none.replace("base_layer = \"none\"\n", "");
+    assert_ne!(none, default);
+    let (a, ra, ca) = sieved::<3>(&config(&none));
+    let (b, rb, cb) = sieved::<3>(&config(&default));
+    assert_eq!(rb.base_layer, 0);
+    assert_eq!(a.centres, b.centres);
+    assert_eq!(
+        (ca.passed, ca.lodged, ca.cake),
+        (cb.passed, cb.lodged, cb.cake)
+    );
+    assert_eq!(ra.filtrate, rb.filtrate);
+}
