@@ -151,7 +151,7 @@ pub(crate) fn resolve_feeds(
             )));
         }
         if let Some(path) = &stage.file {
-            out.push(super::medium_file::file_stage(k, stage, path, settling)?);
+            out.push(file_stage(k, stage, path, settling)?);
             continue;
         }
         if let Some(mesh) = &stage.mesh {
@@ -247,6 +247,53 @@ pub(crate) fn resolve_feeds(
         )));
     }
     Ok(out)
+}
+
+/// Feed `k`, a medium read from `path`: placed, so it names no species,
+/// count, mass or rule; only the first feed, since it lies on the floor.
+fn file_stage(
+    k: usize,
+    stage: &FeedStageConfig,
+    path: &std::path::Path,
+    settling: &SettlingConfig,
+) -> Result<FeedStage> {
+    let what = format!("feeds[{k}]");
+    if k > 0 {
+        return Err(Error::config(format!(
+            "{what}.file: a medium read from a file lies on the floor, so it is the first feed (a precoat may follow it)"
+        )));
+    }
+    for (given, key) in [
+        (!stage.species.is_empty(), "species"),
+        (stage.count != 0, "count"),
+        (stage.mass_per_area.is_some(), "mass_per_area"),
+        (stage.settling.is_some(), "settling"),
+        (stage.mesh.is_some(), "mesh"),
+    ] {
+        if given {
+            return Err(Error::config(format!(
+                "{what}.{key}: a medium read from a file is placed as the file has it, not fed (remove `{key}`)"
+            )));
+        }
+    }
+    if path.as_os_str().is_empty() {
+        return Err(Error::config(format!(
+            "{what}.file is empty: name the bed file of the medium"
+        )));
+    }
+    Ok(FeedStage {
+        species: Vec::new(),
+        count: 0,
+        mass_per_area: None,
+        volume: None,
+        settling: settling.resolve()?,
+        medium: true,
+        mesh: None,
+        file: Some(MediumFile {
+            path: path.to_path_buf(),
+            beads: None,
+        }),
+    })
 }
 
 /// Feed `k`, a woven mesh: placed, so it names no species, count or rule
