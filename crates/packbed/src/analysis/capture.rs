@@ -132,13 +132,7 @@ pub fn medium_species<const D: usize>(
     feeds: &[crate::config::FeedStageConfig],
     bed: &Bed<D>,
 ) -> Vec<bool> {
-    bed.species_info
-        .iter()
-        .map(|s| {
-            s.feed
-                .is_some_and(|k| feeds.get(k as usize).is_some_and(|f| f.is_medium()))
-        })
-        .collect()
+    species_fed_by(feeds, bed, |f| f.is_medium())
 }
 
 /// Which species of `bed` are a woven mesh's wires (laid by a `mesh` feed
@@ -147,11 +141,20 @@ pub fn mesh_species<const D: usize>(
     feeds: &[crate::config::FeedStageConfig],
     bed: &Bed<D>,
 ) -> Vec<bool> {
+    species_fed_by(feeds, bed, |f| f.mesh.is_some())
+}
+
+/// Which species of `bed` belong to a feed of `feeds` that `pick` picks.
+fn species_fed_by<const D: usize>(
+    feeds: &[crate::config::FeedStageConfig],
+    bed: &Bed<D>,
+    pick: impl Fn(&crate::config::FeedStageConfig) -> bool,
+) -> Vec<bool> {
     bed.species_info
         .iter()
         .map(|s| {
             s.feed
-                .is_some_and(|k| feeds.get(k as usize).is_some_and(|f| f.mesh.is_some()))
+                .is_some_and(|k| feeds.get(k as usize).is_some_and(&pick))
         })
         .collect()
 }

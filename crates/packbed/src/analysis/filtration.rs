@@ -95,9 +95,6 @@ const WIRE_SPACING: Real = 1.2;
 /// Beads 1.2 radii apart overlap pairwise only, which the network's
 /// geometry takes exactly, and leave notches 0.2 radii deep.
 fn thinned_wires<const D: usize>(bed: &Bed<D>, wires: &[bool]) -> Bed<D> {
-    if !wires.iter().any(|&w| w) {
-        return bed.clone();
-    }
     let mut out = Bed::new(bed.container, bed.species_info.clone());
     let mut start = 0;
     while start < bed.len() {
@@ -315,11 +312,11 @@ pub fn filtration<const D: usize>(
     };
     // The masses are the bed's; the flow sees the wires as beads a little
     // more than a radius apart (`thinned_wires`).
-    let solids = bed;
-    let thinned = thinned_wires(bed, wires);
-    let bed = &thinned;
-    let medium_bed =
-        super::capture::medium_bed(bed, &|i| medium.get(bed.species[i] as usize) == Some(&true));
+    let thinned = mesh.map(|_| thinned_wires(bed, wires));
+    let flow_bed = thinned.as_ref().unwrap_or(bed);
+    let medium_bed = super::capture::medium_bed(flow_bed, &|i| {
+        medium.get(flow_bed.species[i] as usize) == Some(&true)
+    });
     let r_medium = match mesh_top {
         Some(top) => resistances(
             &mirrored(&medium_bed, top, MIRROR_DEPTH * scale, false),
@@ -327,10 +324,11 @@ pub fn filtration<const D: usize>(
         )?[0],
         None => resistances(&medium_bed, &[surface])?[0],
     };
-    let r = resistances(bed, &levels)?;
+    drop(medium_bed);
+    let r = resistances(flow_bed, &levels)?;
+    drop(thinned);
     // Solids per area below each level (kg/m²), the medium's left out (3D:
     // the config refuses a 2D filtration).
-    let bed = solids;
     let area: Real = (0..D - 1).map(|k| bed.container.size[k] * unit).product();
     let mass = |i: usize| rho * ball_volume::<D>(bed.radii[i]) * unit.powi(3);
     let mut below: Vec<(Real, Real)> = (0..bed.len())

@@ -249,6 +249,39 @@ pub(crate) fn resolve_feeds(
     Ok(out)
 }
 
+/// Checks feed `k`, a medium placed rather than fed (its `key`, `mesh` or
+/// `file`): the first feed, since it lies on the floor (`lies`, e.g. "a
+/// mesh is laid"), and given no key of a fed feed (`placed` says why).
+/// Returns the feed's name for messages.
+fn placed_first(
+    k: usize,
+    stage: &FeedStageConfig,
+    key: &str,
+    lies: &str,
+    placed: &str,
+) -> Result<String> {
+    let what = format!("feeds[{k}]");
+    if k > 0 {
+        return Err(Error::config(format!(
+            "{what}.{key}: {lies} on the floor, so it is the first feed (a precoat may follow it)"
+        )));
+    }
+    for (given, other) in [
+        (!stage.species.is_empty(), "species"),
+        (stage.count != 0, "count"),
+        (stage.mass_per_area.is_some(), "mass_per_area"),
+        (stage.settling.is_some(), "settling"),
+        (key != "mesh" && stage.mesh.is_some(), "mesh"),
+    ] {
+        if given {
+            return Err(Error::config(format!(
+                "{what}.{other}: {placed} (remove `{other}`)"
+            )));
+        }
+    }
+    Ok(what)
+}
+
 /// Feed `k`, a medium read from `path`: placed, so it names no species,
 /// count, mass or rule; only the first feed, since it lies on the floor.
 fn file_stage(
@@ -257,25 +290,13 @@ fn file_stage(
     path: &std::path::Path,
     settling: &SettlingConfig,
 ) -> Result<FeedStage> {
-    let what = format!("feeds[{k}]");
-    if k > 0 {
-        return Err(Error::config(format!(
-            "{what}.file: a medium read from a file lies on the floor, so it is the first feed (a precoat may follow it)"
-        )));
-    }
-    for (given, key) in [
-        (!stage.species.is_empty(), "species"),
-        (stage.count != 0, "count"),
-        (stage.mass_per_area.is_some(), "mass_per_area"),
-        (stage.settling.is_some(), "settling"),
-        (stage.mesh.is_some(), "mesh"),
-    ] {
-        if given {
-            return Err(Error::config(format!(
-                "{what}.{key}: a medium read from a file is placed as the file has it, not fed (remove `{key}`)"
-            )));
-        }
-    }
+    let what = placed_first(
+        k,
+        stage,
+        "file",
+        "a medium read from a file lies",
+        "a medium read from a file is placed as the file has it, not fed",
+    )?;
     if path.as_os_str().is_empty() {
         return Err(Error::config(format!(
             "{what}.file is empty: name the bed file of the medium"
@@ -305,24 +326,13 @@ fn mesh_stage(
     mesh: &MeshConfig,
     settling: &SettlingConfig,
 ) -> Result<FeedStage> {
-    let what = format!("feeds[{k}]");
-    if k > 0 {
-        return Err(Error::config(format!(
-            "{what}.mesh: a mesh is laid on the floor, so it is the first feed (a precoat may follow it)"
-        )));
-    }
-    for (given, key) in [
-        (!stage.species.is_empty(), "species"),
-        (stage.count != 0, "count"),
-        (stage.mass_per_area.is_some(), "mass_per_area"),
-        (stage.settling.is_some(), "settling"),
-    ] {
-        if given {
-            return Err(Error::config(format!(
-                "{what}.{key}: a mesh is placed, not fed: its wires fill the box (remove `{key}`)"
-            )));
-        }
-    }
+    let what = placed_first(
+        k,
+        stage,
+        "mesh",
+        "a mesh is laid",
+        "a mesh is placed, not fed: its wires fill the box",
+    )?;
     Ok(FeedStage {
         species: Vec::new(),
         count: 0,

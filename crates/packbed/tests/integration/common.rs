@@ -6,6 +6,7 @@ use packbed::Config;
 use packbed::Real;
 use packbed::{check_bed_with, CheckReport as Report, InvariantChecks};
 use packbed::{deposit, DepositReport};
+use packbed::{run_bed, FiltrationSummary};
 
 /// Gap tolerance of the model (`docs/reference/model.md`, "Exactness": exact to 1e-9 r).
 pub const TOL: Real = 1e-9;
@@ -29,4 +30,19 @@ pub fn assert_checked<const D: usize>(b: &Bed<D>, checks: &InvariantChecks, what
     assert!(rep.is_ok(), "{what}: {rep}");
     assert_eq!(rep.particles, b.len());
     rep
+}
+
+/// The filtration of the run of `text`; panics if the run fails or warns
+/// that the curve could not be solved.
+pub fn filtered(text: &str) -> FiltrationSummary {
+    let run = run_bed(&config(text), &mut |_| {}).unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        run.summary
+            .warnings
+            .iter()
+            .all(|w| !w.starts_with("filtration")),
+        "{:?}",
+        run.summary.warnings
+    );
+    run.summary.filtration.expect("a filtration")
 }

@@ -1,9 +1,7 @@
 //! `[filtration]`: the filtration curve through medium and cake, Ruth's
 //! line fitted to it, against the network's own resistances.
 
-use crate::common::config;
-use packbed::run_bed;
-use packbed::FiltrationSummary;
+use crate::common::{config, filtered};
 
 /// A precoat of near-equal spheres (diameter 60 µm) and a slurry of
 /// `slurry` (species lines) fed after it in `feeds` (feed lines), filtered
@@ -24,19 +22,6 @@ fn filter(slurry: &str, feeds: &str, filtration: &str) -> String {
 const SLURRY: &str =
     "[[species]]\nname = \"slurry\"\nsize = { dist = \"lognormal\", median = 10.0, gsd = 1.2 }\n";
 const ONE_FEED: &str = "[[feeds]]\nspecies = [\"slurry\"]\ncount = 5000\n";
-
-fn filtered(text: &str) -> FiltrationSummary {
-    let run = run_bed(&config(text), &mut |_| {}).unwrap_or_else(|e| panic!("{e}"));
-    assert!(
-        run.summary
-            .warnings
-            .iter()
-            .all(|w| !w.starts_with("filtration")),
-        "{:?}",
-        run.summary.warnings
-    );
-    run.summary.filtration.expect("a filtration")
-}
 
 #[test]
 fn a_homogeneous_cake_draws_ruths_line_with_the_networks_alpha_and_medium() {

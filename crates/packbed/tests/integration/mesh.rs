@@ -2,7 +2,7 @@
 //! its wires are placed exactly, and it sieves: every particle finer than
 //! its aperture passes, every one coarser stays at its surface.
 
-use crate::common::{assert_checked, config, run, TOL};
+use crate::common::{assert_checked, config, filtered, run, TOL};
 use packbed::{
     capture, mesh_mid_plane, Bed, CaptureSummary, Config, DepositReport, InvariantChecks,
 };
@@ -234,16 +234,7 @@ fn filtered_on_a_mesh(scale: f64, unit: &str) -> packbed::FiltrationSummary {
         d = 2.0 * scale,
         a = 3.0 * scale,
     );
-    let run = packbed::run_bed(&config(&text), &mut |_| {}).unwrap_or_else(|e| panic!("{e}"));
-    assert!(
-        run.summary
-            .warnings
-            .iter()
-            .all(|w| !w.starts_with("filtration")),
-        "{:?}",
-        run.summary.warnings
-    );
-    run.summary.filtration.expect("a filtration")
+    filtered(&text)
 }
 
 #[test]
