@@ -160,8 +160,13 @@ fn species_fed_by<const D: usize>(
 }
 
 /// The height of a woven mesh's mid-plane above its bottom, when the
-/// medium of `feeds` is a mesh: there its surface lies (see [`capture`]).
+/// medium of `feeds` is a mesh alone: there its surface lies (see
+/// [`capture`]). Under a precoat the medium's surface is the precoat's
+/// top, as for any granular medium, so this is `None`.
 pub fn mesh_mid_plane<const D: usize>(feeds: &[crate::config::FeedStageConfig]) -> Option<Real> {
+    if feeds.iter().any(|f| f.medium && f.mesh.is_none()) {
+        return None;
+    }
     let mesh = feeds.iter().find_map(|f| f.mesh)?;
     Some(mesh.resolve("mesh").ok()?.mid_plane::<D>())
 }

@@ -248,11 +248,14 @@ pub fn filtration<const D: usize>(
     let z_bottom = capture.medium_bottom;
     let wires = mesh.map_or(&[][..], |m| m.1);
     let is_wire = |b: &Bed<D>, i: usize| wires.get(b.species[i] as usize).copied() == Some(true);
-    // A mesh's filtration starts over its upper wires: its mid-plane (the
-    // capture's surface) would halve it, and the cells of its symmetric
-    // wires centre on that plane, a rounding coin for the cut.
+    // A bare mesh's filtration starts over its upper wires: its mid-plane
+    // (the capture's surface) would halve it, and the cells of its
+    // symmetric wires centre on that plane, a rounding coin for the cut. A
+    // mesh under a precoat is part of a granular medium, whose surface is
+    // the precoat's top.
+    let precoated = (0..bed.len()).any(|i| is_medium(i) && !is_wire(bed, i));
     let mesh_top = (0..bed.len())
-        .filter(|&i| is_wire(bed, i))
+        .filter(|&i| !precoated && is_wire(bed, i))
         .map(|i| bed.centres[i][D - 1] + bed.radii[i])
         .fold(Real::NEG_INFINITY, Real::max);
     let mesh_top = mesh_top.is_finite().then_some(mesh_top);

@@ -295,3 +295,63 @@ fn a_mesh_lies_on_the_floor_whatever_the_base_layer() {
     );
     assert_eq!(ra.filtrate, rb.filtrate);
 }
+
+/// A precoat of spheres coarser than the opening (median diameter 5) on
+/// the mesh of [`sieve`] (wires 2, aperture 3), then `slurry` particles
+/// finer than the opening (median diameter 1.2), filtered at 1 bar (µm).
+fn precoated_mesh(slurry: u64) -> String {
+    format!(
+        "dim = 3\nseed = 4\n[box]\nwidth = 25\ndepth = 25\nheight = 3000\nperiodic = true\n\
+         [fill]\nbase_layer = \"none\"\n\
+         [[species]]\nname = \"precoat\"\nsize = {{ dist = \"lognormal\", median = 2.5, gsd = 1.05 }}\n\
+         [[species]]\nname = \"slurry\"\nsize = {{ dist = \"lognormal\", median = 0.6, gsd = 1.2 }}\n\
+         [[feeds]]\nmesh = {{ wire_diameter = 2, aperture = 3 }}\n\
+         [[feeds]]\nspecies = [\"precoat\"]\ncount = 150\nmedium = true\n\
+         [[feeds]]\nspecies = [\"slurry\"]\ncount = {slurry}\n\
+         [analysis]\nmeasures = [\"packing\"]\nlength_unit = \"um\"\nsolid_density = 2650\n\
+         [filtration]\npressure = 1e5\nconcentration = 100\n"
+    )
+}
+
+#[test]
+fn a_precoat_on_a_mesh_is_one_granular_medium() {
+    let text = precoated_mesh(20_000);
+    let c = config(&text);
+    // The medium's surface is the precoat's top, not the mesh's mid-plane:
+    // fines caught inside the precoat have lodged in the medium.
+    assert_eq!(mesh_mid_plane::<3>(&c.feeds), None);
+    let run = packbed::run_bed(&c, &mut |_| {}).unwrap();
+    let w = &run.summary.warnings;
+    assert!(w.iter().all(|w| !w.starts_with("filtration")), "{w:?}");
+    let cap = run.summary.capture.unwrap();
+    let wires_top = cap.medium_bottom + 4.0;
+    assert!(
+        cap.medium_surface > wires_top + 4.0,
+        "surface {} over the wires' top {wires_top}",
+        cap.medium_surface
+    );
+    assert!(cap.lodged > 0, "{cap:?}");
+    assert_eq!(cap.fed, cap.passed + cap.lodged + cap.cake);
+    // The curve starts at that surface: the clean medium is the mesh and
+    // the precoat, and Ruth's line over the cake gives the network's α.
+    let f = run.summary.filtration.unwrap();
+    let bare = filtered_on_a_mesh(1.0, "um");
+    assert!(
+        f.r_medium_per_m > bare.r_medium_per_m,
+        "mesh and precoat {:e}, bare mesh {:e}",
+        f.r_medium_per_m,
+        bare.r_medium_per_m
+    );
+    assert!(f.r_medium_screen_per_m.is_some());
+    assert!(f.checkpoints[0].cake_height_m.abs() < 1e-12);
+    let (fit, net) = (
+        f.alpha_fit_m_per_kg.unwrap(),
+        f.alpha_network_m_per_kg.unwrap(),
+    );
+    assert!(
+        (fit / net - 1.0).abs() < 0.05,
+        "α fit {fit:e}, network {net:e}"
+    );
+    // What lodged in the precoat raised the medium's resistance.
+    assert!(f.r_medium_clogged_per_m > f.r_medium_per_m);
+}
