@@ -52,8 +52,17 @@ pub fn run_bed_or_stop(config: &Config, progress: &mut Progress) -> Result<Finis
 /// before any work or output.
 pub fn planned(config: &Config) -> Result<crate::config::AnyPlan> {
     let mut plan = config.planned()?;
-    crate::io::read::medium::read_media(&mut plan)?;
+    crate::io::read::medium::read_media(&mut plan, flow_needed(config).as_ref())?;
     Ok(plan)
+}
+
+/// The flow settings a filtration solves with, when `config` asks for one:
+/// then a medium read from a file must let fluid through.
+fn flow_needed(config: &Config) -> Option<crate::analysis::pores::FlowOptions> {
+    config
+        .filtration
+        .as_ref()
+        .map(|_| config.analysis.flow.options())
 }
 
 /// [`run_bed_or_stop`] of `config` planned already (`plan` is
@@ -68,7 +77,7 @@ pub fn run_planned(
     let read;
     let plan = if crate::io::read::medium::unread(plan) {
         let mut p = plan.clone();
-        crate::io::read::medium::read_media(&mut p)?;
+        crate::io::read::medium::read_media(&mut p, flow_needed(config).as_ref())?;
         read = p;
         &read
     } else {

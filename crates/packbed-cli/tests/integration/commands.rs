@@ -119,6 +119,30 @@ fn a_medium_file_reaching_into_the_feed_region_is_refused() {
 }
 
 #[test]
+fn a_medium_file_with_no_opening_is_refused_for_a_filtration() {
+    // One body of beads 0.5 apart (radius 1) in two layers over the whole
+    // periodic floor: a plate no fluid passes.
+    let s = Scratch::new();
+    let mut plate = String::from("id,species,body,x,y,z,r\n");
+    for id in 0..2 * 48 * 48 {
+        let (k, i, j) = (id / (48 * 48), id / 48 % 48, id % 48);
+        let (x, y, z) = (0.5 * i as f64, 0.5 * j as f64, 1 + 2 * k);
+        plate.push_str(&format!("{id},0,0,{x},{y},{z},1\n"));
+    }
+    s.input("plate.csv", &plate);
+    assert_config_refused(
+        &s,
+        "closed.toml",
+        "[box]\nwidth = 24\ndepth = 24\nheight = 400\nperiodic = true\n\
+         [[species]]\nname = \"slurry\"\nradius = 1\n\
+         [[feeds]]\nfile = \"plate.csv\"\n[[feeds]]\nspecies = [\"slurry\"]\ncount = 30\n\
+         [analysis]\nlength_unit = \"um\"\nsolid_density = 2650\n\
+         [filtration]\npressure = 1e5\nconcentration = 100\n",
+        &["feeds[0].file", "plate.csv", "no opening", "[filtration]"],
+    );
+}
+
+#[test]
 fn ratios_summing_to_zero_are_refused() {
     let s = Scratch::new();
     assert_user_error(&s, &["run", "--ratio", "0,0"], &["sum to zero"]);

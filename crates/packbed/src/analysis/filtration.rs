@@ -220,6 +220,85 @@ pub struct Medium<'a> {
     pub mesh: Option<(&'a Mesh, &'a [bool])>,
 }
 
+/// The permeability along z (length², at unit viscosity) of `bed` between
+/// the plane `z_bottom`, mirrored (`mirrored`), and each of `levels`, from
+/// one network; 0 below a level with no open path. `scale` is the bed's
+/// largest radius. The slab starts a hair above the plane: the mirror puts
+/// the power centres of the cells that straddle it on that plane, and
+/// their side of the cut would be a rounding coin (the pores on it hold
+/// `P = −z` there either way).
+fn permeabilities<const D: usize>(
+    bed: &Bed<D>,
+    z_bottom: Real,
+    scale: Real,
+    levels: &[Real],
+    flow: &FlowOptions,
+) -> Result<Vec<Real>, String> {
+    let unit_flow = FlowOptions {
+        viscosity: 1.0,
+        ..*flow
+    };
+    let inlet = z_bottom + MIRROR_CUT * scale;
+    let top_level = levels.iter().copied().fold(z_bottom, Real::max);
+    let bed = mirrored(bed, z_bottom, MIRROR_DEPTH * scale, true);
+    let net = network(&bed, (z_bottom, top_level)).map_err(|e| e.to_string())?;
+    let merge = merged(&net.shapes);
+    let g = conductances(&net, &net.shapes, &merge, &unit_flow);
+    // Each level's solve on its own thread where one is free: a solve's
+    // set-up is partly serial, and the levels are independent.
+    levels
+        .par_iter()
+        .map(|&h| {
+            let (axis, _) = solve_z(&net, &merge, &g, &bed.container.size, (inlet, h))
+                .map_err(|e| format!("the flow below {h} could not be solved ({e:?})"))?;
+            match axis.k {
+                Some(k) if k > 0.0 => Ok(k),
+                Some(_) => Ok(0.0),
+                None => Err(format!("the flux below {h} does not balance")),
+            }
+        })
+        .collect()
+}
+
+/// Whether fluid passes `medium` (a filter medium alone, on its floor)
+/// from its bottom to its surface, its mean top, on its pore network:
+/// `Ok(false)` when no path is open. Spheres of different bodies that do
+/// not overlap always leave one in 3D; beads of one body that overlap
+/// deeply close the throats between them (the network gives a facet of two
+/// such beads no fluid area), and so can a sintered plate read from a
+/// file.
+pub fn medium_is_open<const D: usize>(medium: &Bed<D>, flow: &FlowOptions) -> Result<bool, String> {
+    let z_bottom = (0..medium.len())
+        .map(|i| medium.centres[i][D - 1] - medium.radii[i])
+        .fold(Real::INFINITY, Real::min);
+    let Some(surface) = super::capture::mean_top(medium, &|_| true) else {
+        return Ok(true);
+    };
+    if !z_bottom.is_finite() || surface <= z_bottom {
+        return Ok(true);
+    }
+    let scale = medium.radii.iter().copied().fold(0.0, Real::max);
+    let (stack, level) = capped(medium, surface, scale);
+    Ok(permeabilities(&stack, z_bottom, scale, &[level], flow)?[0] > 0.0)
+}
+
+/// A clean granular medium with its mirror image above the plane its
+/// highest particle touches, so that the pores over its surface are cells
+/// of particles, not the triangulation's hull: a medium one particle thick
+/// has no cells above its centres at all, and its flow no outlet. With the
+/// level its resistance is taken to: its `surface`, but a hair below that
+/// plane, on which the cells between a layer and its image centre (a
+/// monolayer's mean top is the plane). `scale` is the largest radius.
+fn capped<const D: usize>(medium: &Bed<D>, surface: Real, scale: Real) -> (Bed<D>, Real) {
+    let peak = (0..medium.len())
+        .map(|i| medium.centres[i][D - 1] + medium.radii[i])
+        .fold(Real::NEG_INFINITY, Real::max);
+    (
+        mirrored(medium, peak, MIRROR_DEPTH * scale, false),
+        surface.min(peak - MIRROR_CUT * scale),
+    )
+}
+
 /// The filtration of `bed` (built with a medium, whose capture is `capture`)
 /// under `options`; `unit` metres per length unit, `rho` the solid density
 /// (kg/m³), `flow` the network's conductance settings. `Err` says why there
@@ -279,37 +358,19 @@ pub fn filtration<const D: usize>(
     let levels: Vec<Real> = (0..=n)
         .map(|j| surface + (end - surface) * j as Real / n as Real)
         .collect();
-    let unit_flow = FlowOptions {
-        viscosity: 1.0,
-        ..*flow
-    };
-    // The slab starts a hair above the medium's bottom: the mirror puts the
-    // power centres of the cells that straddle it on that plane, and their
-    // side of the cut would be a rounding coin (the pores on it hold
-    // `P = −z` there either way).
     let scale = bed.radii.iter().copied().fold(0.0, Real::max);
     let inlet = z_bottom + MIRROR_CUT * scale;
     // The resistance of `bed` below each level (1/m), from one network.
     let resistances = |bed: &Bed<D>, levels: &[Real]| -> Result<Vec<Real>, String> {
-        let top_level = levels.iter().copied().fold(z_bottom, Real::max);
-        let bed = mirrored(bed, z_bottom, MIRROR_DEPTH * scale, true);
-        let net = network(&bed, (z_bottom, top_level)).map_err(|e| e.to_string())?;
-        let merge = merged(&net.shapes);
-        let g = conductances(&net, &net.shapes, &merge, &unit_flow);
-        // Each level's solve on its own thread where one is free: a solve's
-        // set-up is partly serial, and the levels are independent.
+        let k = permeabilities(bed, z_bottom, scale, levels, flow)?;
         levels
-            .par_iter()
-            .map(|&h| {
-                let (axis, _) = solve_z(&net, &merge, &g, &bed.container.size, (inlet, h))
-                    .map_err(|e| format!("the flow below {h} could not be solved ({e:?})"))?;
-                match axis.k {
-                    Some(k) if k > 0.0 => Ok((h - inlet) / k / unit),
-                    Some(_) => Err(format!(
-                        "no open path through the bed below {h}: the filter is closed"
-                    )),
-                    None => Err(format!("the flux below {h} does not balance")),
-                }
+            .iter()
+            .zip(k)
+            .map(|(&h, k)| match k {
+                k if k > 0.0 => Ok((h - inlet) / k / unit),
+                _ => Err(format!(
+                    "no open path through the bed below {h}: the filter is closed"
+                )),
             })
             .collect()
     };
@@ -325,7 +386,10 @@ pub fn filtration<const D: usize>(
             &mirrored(&medium_bed, top, MIRROR_DEPTH * scale, false),
             &[top - MIRROR_CUT * scale],
         )?[0],
-        None => resistances(&medium_bed, &[surface])?[0],
+        None => {
+            let (stack, level) = capped(&medium_bed, surface, scale);
+            resistances(&stack, &[level])?[0]
+        }
     };
     drop(medium_bed);
     let r = resistances(flow_bed, &levels)?;

@@ -316,6 +316,59 @@ fn bad_medium_files_are_refused_with_one_line() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A plate over the whole periodic floor of [`boxed`]: two layers (z = 1
+/// and 3) of beads of radius 1 at `spacing` on a square grid, all one body
+/// (`one_body`) or each its own. (A single layer has no pore between its
+/// layer and its mirror images whose flow the network solves: see the
+/// guide's limits.)
+fn plate(spacing: f64, one_body: bool) -> String {
+    let n = (24.0 / spacing).round() as usize;
+    let mut t = String::from("id,species,body,x,y,z,r\n");
+    for k in 0..2 {
+        for i in 0..n {
+            for j in 0..n {
+                let id = n * n * k + n * i + j;
+                let body = if one_body { 0 } else { id };
+                let (x, y, z) = (spacing * i as f64, spacing * j as f64, 1 + 2 * k);
+                t.push_str(&format!("{id},0,{body},{x},{y},{z},1\n"));
+            }
+        }
+    }
+    t
+}
+
+/// A filtration needs a medium that fluid passes: a plate of one body's
+/// beads overlapping deeply is a wall to the pore network, and is refused
+/// when `[filtration]` asks for the curve; the same plate without it, and a
+/// grid of touching spheres with it, are media.
+#[test]
+fn a_medium_file_with_no_opening_is_refused_for_a_filtration() {
+    let dir = scratch("closed");
+    let filtration = "[analysis]\nlength_unit = \"um\"\nsolid_density = 2650\n\
+                      [filtration]\npressure = 1e5\nconcentration = 100\n";
+    let plan = |csv: &str, tail: &str| {
+        std::fs::write(dir.join("plate.csv"), csv).unwrap();
+        let text = format!(
+            "{}{SLURRY}[[feeds]]\nfile = \"plate.csv\"\n\
+             [[feeds]]\nspecies = [\"slurry\"]\ncount = 10\n{tail}",
+            boxed(400.0).replace("[analysis]\nmeasures = [\"packing\"]\n", "")
+        );
+        let path = dir.join("c.toml");
+        std::fs::write(&path, &text).unwrap();
+        planned(&Config::from_file(&path).unwrap_or_else(|e| panic!("{e}\n{text}")))
+            .map(drop)
+            .map_err(|e| e.to_string())
+    };
+    let e = plan(&plate(0.5, true), filtration).unwrap_err();
+    assert!(!e.contains('\n'), "{e}");
+    for needle in ["feeds[0].file", "plate.csv", "no opening", "[filtration]"] {
+        assert!(e.contains(needle), "`{needle}` not in: {e}");
+    }
+    plan(&plate(0.5, true), "").unwrap();
+    plan(&plate(2.0, false), filtration).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn a_files_bodies_stay_whole_and_its_species_keep_their_radii() {
     // Two rigid bodies of two beads each, their rows interleaved and

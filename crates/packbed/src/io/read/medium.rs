@@ -6,6 +6,8 @@
 //! above it.
 
 use super::report::BoxHint;
+use crate::analysis::filtration::medium_is_open;
+use crate::analysis::pores::FlowOptions;
 use crate::analysis::validate::{check_bed_with, InvariantChecks, Violation};
 use crate::bed::Bed;
 use crate::config::{AnyPlan, Plan};
@@ -18,11 +20,12 @@ use std::path::Path;
 /// (`docs/reference/model.md`, "Exactness"), which every bed it builds keeps.
 pub const MEDIUM_FILE_TOL: Real = 1e-9;
 
-/// Reads the bed files of the media of `plan` not read yet.
-pub(crate) fn read_media(plan: &mut AnyPlan) -> Result<()> {
+/// Reads the bed files of the media of `plan` not read yet. With `flow`
+/// (a filtration's), each must let fluid through on its pore network.
+pub(crate) fn read_media(plan: &mut AnyPlan, flow: Option<&FlowOptions>) -> Result<()> {
     match plan {
-        AnyPlan::D2(p) => read_media_of(p),
-        AnyPlan::D3(p) => read_media_of(p),
+        AnyPlan::D2(p) => read_media_of(p, flow),
+        AnyPlan::D3(p) => read_media_of(p, flow),
     }
 }
 
@@ -37,7 +40,7 @@ pub(crate) fn unread(plan: &AnyPlan) -> bool {
         .any(|f| f.file.as_ref().is_some_and(|f| f.beads.is_none()))
 }
 
-fn read_media_of<const D: usize>(plan: &mut Plan<D>) -> Result<()> {
+fn read_media_of<const D: usize>(plan: &mut Plan<D>, flow: Option<&FlowOptions>) -> Result<()> {
     for k in 0..plan.feeds.len() {
         let Some(file) = &plan.feeds[k].file else {
             continue;
@@ -49,6 +52,9 @@ fn read_media_of<const D: usize>(plan: &mut Plan<D>) -> Result<()> {
         let what = format!("feeds[{k}].file");
         let bed = read_in_box(&path, plan, &what)?;
         check_apart(&bed, &path, &what)?;
+        if let Some(flow) = flow {
+            check_open(&bed, flow, &path, &what)?;
+        }
         let centres: Vec<[Real; 3]> = bed
             .centres
             .iter()
@@ -164,6 +170,27 @@ fn check_apart<const D: usize>(bed: &Bed<D>, path: &Path, what: &str) -> Result<
         )));
     }
     Ok(())
+}
+
+/// Refuses a medium that no fluid passes, from its bottom to its surface on
+/// its pore network (`medium_is_open`): a filtration through it has no
+/// curve, and a plate of one body's overlapping beads can be such a wall.
+fn check_open<const D: usize>(
+    bed: &Bed<D>,
+    flow: &FlowOptions,
+    path: &Path,
+    what: &str,
+) -> Result<()> {
+    let path = path.display();
+    match medium_is_open(bed, flow) {
+        Ok(true) => Ok(()),
+        Ok(false) => Err(Error::config(format!(
+            "{what}: {path}: the medium has no opening: its pore network has no open path from its bottom to its surface, so no filtrate passes it and [filtration] has no curve (beads of one body that overlap deeply close the throats between them; give the plate openings, or run without [filtration])"
+        ))),
+        Err(e) => Err(Error::config(format!(
+            "{what}: {path}: the flow through the medium could not be solved: {e}"
+        ))),
+    }
 }
 
 /// `n` and the noun `one` or `many` as `n` asks.
