@@ -235,7 +235,7 @@ fn example_parses_back_to_the_default() {
 fn example_files_are_valid() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
     let mut n = 0;
-    let files = [dir.clone(), dir.join("settling")]
+    let files = [dir.clone(), dir.join("settling"), dir.join("filtration")]
         .into_iter()
         .flat_map(|d| std::fs::read_dir(d).unwrap())
         .map(|e| e.unwrap().path());

@@ -206,12 +206,22 @@ pub(crate) fn resolve_feeds(
         }
         // A feed draws by its own species' ratios; the bed holds each species
         // in the share its feed's count gives it, which the ratios then say
-        // (the requested size distribution, the summary's species).
-        // A feed by mass scales its shares once its count is known
-        // ([`amounts`]).
+        // (the requested size distribution, the summary's species): its
+        // expected bodies, the count (in beads) over the feed's mean beads
+        // per body, since the ratios (and the size distribution's number
+        // shares) count bodies. A feed by mass scales its shares once its
+        // count is known ([`amounts`]).
         if stage.mass_per_area.is_none() {
+            let beads: Real = picked
+                .iter()
+                .map(|&i| {
+                    let s = &species[i as usize];
+                    s.ratio / sum * Real::from(s.shape.beads())
+                })
+                .sum();
+            let bodies = stage.count as Real / beads;
             for &i in &picked {
-                species[i as usize].ratio *= stage.count as Real / sum;
+                species[i as usize].ratio *= bodies / sum;
             }
         }
         let rule = stage.settling.as_ref().unwrap_or(settling).resolve()?;
@@ -430,8 +440,9 @@ pub(crate) fn amounts<const D: usize>(
             .max()
             .unwrap_or(1);
         feed.count = expected as u64 * beads;
+        // The shares count bodies, as the ratios do.
         for &i in &feed.species {
-            species[i as usize].ratio *= feed.count as Real / sum;
+            species[i as usize].ratio *= expected / sum;
         }
         feed.volume = Some(volume);
     }

@@ -58,9 +58,16 @@ fn feeds_place_their_counts_in_turn_from_their_own_species() {
     assert!((share - 0.2).abs() < 0.04, "{rods} rods, {fines} fines");
     let feeds: Vec<_> = b.species_info.iter().map(|s| s.feed).collect();
     assert_eq!(feeds, [Some(0), Some(1), Some(1)]);
-    // The ratios say each species' share of the bed: 300, 1200, 300.
+    // The ratios say each species' share of the bed in bodies: 300 sand;
+    // the second feed's 1,500 particles are 1,500 / 1.4 bodies (a body is
+    // 0.8 × 1 + 0.2 × 3 beads on average), 0.8 of them fines, 0.2 rods.
+    // (They were once its particles split by ratio, 1,200 and 300, which
+    // counted each rod's beads as bodies in the requested size distribution.)
     let ratios: Vec<_> = b.species_info.iter().map(|s| s.ratio).collect();
-    assert!((ratios[0] - 300.0).abs() < 1e-9 && (ratios[1] - 1200.0).abs() < 1e-9);
+    let bodies = 1500.0 / 1.4;
+    assert!((ratios[0] - 300.0).abs() < 1e-9, "{ratios:?}");
+    assert!((ratios[1] - 0.8 * bodies).abs() < 1e-9, "{ratios:?}");
+    assert!((ratios[2] - 0.2 * bodies).abs() < 1e-9, "{ratios:?}");
     // Every particle at rest by the loosest rule of the bed (sticking).
     let checks = InvariantChecks::new(TOL).held_by(&c.plan::<3>().unwrap().feeds[1].settling);
     assert_checked(&b, &checks, "feeds");

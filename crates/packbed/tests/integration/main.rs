@@ -9,6 +9,7 @@ mod chain_orientation;
 mod chains;
 mod ensemble;
 mod feeds;
+mod fibres;
 mod filtration;
 mod fragmentation;
 mod length_scale;
