@@ -350,6 +350,20 @@ class Bed:
         """
         return self._summary_table("capture", "classes")
 
+    def constrictions(self) -> "Any":
+        """The medium's constriction diameters beside the slurry's sizes, a ``pandas.DataFrame``.
+
+        The rows of ``constrictions.csv``, one per class of one log-spaced
+        axis over both: ``d_lo``, ``d_hi``, ``constrictions`` (the medium's
+        throats in the class), ``constrictions_finer`` (the fraction of its
+        throats narrower than ``d_hi``), ``slurry`` (bodies fed after the
+        medium in the class), ``slurry_finer``. ``None`` for a bed built
+        without a medium or read from a file; empty when the medium has no
+        pore network. Its percentiles and the retention criteria:
+        ``bed.summary["capture"]["criteria"]``.
+        """
+        return self._summary_table("capture", "constrictions")
+
     def filtration(self) -> "Any":
         """The filtration curve through medium and cake, a ``pandas.DataFrame``.
 

@@ -439,5 +439,13 @@ def test_a_filtered_bed_gives_its_capture_and_curve_as_the_command_writes_them(t
     with open(tmp_path / "f" / "filtration.csv") as f:
         rows = list(csv.DictReader(f))
     assert [float(r["r_total_per_m"]) for r in rows] == curve["r_total_per_m"].tolist()
+    # The medium's constrictions beside the slurry: as constrictions.csv.
+    constrictions = bed.constrictions()
+    assert int(constrictions["slurry"].sum()) == 4000
+    assert constrictions["constrictions_finer"].iloc[-1] == 1.0
+    with open(tmp_path / "f" / "constrictions.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert [int(r["constrictions"]) for r in rows] == constrictions["constrictions"].tolist()
     plain = packbed.deposit({"dim": 3, "fill": {"count": 50}})
     assert plain.filtration() is None and plain.capture() is None
+    assert plain.constrictions() is None

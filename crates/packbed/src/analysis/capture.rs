@@ -70,6 +70,29 @@ pub struct FilterCriteria {
     pub indraratna_ratio: Real,
 }
 
+/// Classes of the constriction distribution (`constrictions.csv`).
+pub const CONSTRICTION_CLASSES: usize = 20;
+
+/// One class of the medium's constriction diameters beside the slurry's
+/// diameters, on one log-spaced axis over both (`constrictions.csv`): what
+/// a particle of a size meets against how many of that size were fed.
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct ConstrictionClass {
+    /// Lower edge of the class, diameter.
+    pub d_lo: Real,
+    /// Upper edge (the last class includes it).
+    pub d_hi: Real,
+    /// The medium's throats whose constriction diameter is in the class.
+    pub constrictions: u64,
+    /// The fraction of the medium's throats finer than `d_hi` (by number;
+    /// 1 in the last class).
+    pub constrictions_finer: Real,
+    /// Bodies fed after the medium whose diameter is in the class.
+    pub slurry: u64,
+    /// The fraction of those bodies finer than `d_hi` (by number).
+    pub slurry_finer: Real,
+}
+
 /// One bin of the lodged bodies' depth below the medium's surface.
 #[derive(Clone, Debug, Default, Serialize, PartialEq)]
 pub struct DepthBin {
@@ -124,6 +147,10 @@ pub struct CaptureSummary {
     /// The bodies that passed (`filtrate.csv`), in the order fed.
     #[serde(skip)]
     pub filtrate: Vec<Filtrate>,
+    /// The medium's full constriction distribution beside the slurry's
+    /// sizes (`constrictions.csv`; its percentiles are in `criteria`);
+    /// empty where `criteria` is null.
+    pub constrictions: Vec<ConstrictionClass>,
 }
 
 /// Which species of `bed` are the medium's: those of the `[[feeds]]` marked
@@ -282,7 +309,9 @@ pub fn capture<const D: usize>(
         .map(|b| b.0)
         .chain(filtrate.iter().map(|f| 2.0 * f.radius))
         .collect();
-    let criteria = criteria(bed, &is_medium, &slurry, medium_bottom, medium_surface);
+    let (criteria, constrictions) =
+        criteria(bed, &is_medium, &slurry, medium_bottom, medium_surface)
+            .map_or((None, Vec::new()), |(c, d)| (Some(c), d));
     let passed = filtrate.len() as u64;
     let lodged: u64 = tally.iter().map(|t| t.1).sum();
     let cake: u64 = tally.iter().map(|t| t.2).sum();
@@ -306,6 +335,7 @@ pub fn capture<const D: usize>(
         depth_profile,
         criteria,
         filtrate: filtrate.to_vec(),
+        constrictions,
     })
 }
 
@@ -322,15 +352,16 @@ pub(crate) fn medium_bed<const D: usize>(
 }
 
 /// The retention criteria of the medium against the slurry diameters
-/// `slurry` (every body fed after the medium); `None` when the medium's
-/// pore network has no throat between its bottom and surface.
+/// `slurry` (every body fed after the medium), with the constriction
+/// distribution they are read from; `None` when the medium's pore network
+/// has no throat between its bottom and surface.
 fn criteria<const D: usize>(
     bed: &Bed<D>,
     is_medium: &dyn Fn(usize) -> bool,
     slurry: &[Real],
     bottom: Real,
     surface: Real,
-) -> Option<FilterCriteria> {
+) -> Option<(FilterCriteria, Vec<ConstrictionClass>)> {
     let medium: Vec<Real> = (0..bed.len())
         .filter(|&i| is_medium(i))
         .map(|i| 2.0 * bed.radii[i])
@@ -351,7 +382,15 @@ fn criteria<const D: usize>(
     let medium_d15 = weighted_percentile(&medium, 0.15, D as i32);
     let slurry_d85 = weighted_percentile(slurry, 0.85, D as i32);
     let slurry_d85_by_surface = weighted_percentile(slurry, 0.85, D as i32 - 1);
-    Some(FilterCriteria {
+    // The throats the percentiles count: both pores in the slab.
+    let t = &space.tables;
+    let throats: Vec<Real> = t
+        .throats
+        .iter()
+        .filter(|th| th.pores.iter().all(|&p| t.pores[p as usize].in_slab))
+        .map(|th| 2.0 * th.constriction_radius)
+        .collect();
+    let criteria = FilterCriteria {
         medium_d15,
         slurry_d85,
         slurry_d85_by_surface,
@@ -359,7 +398,48 @@ fn criteria<const D: usize>(
         terzaghi_ratio: medium_d15 / slurry_d85,
         kenney_constriction: medium_d15 / 5.0,
         indraratna_ratio: d_c35 / slurry_d85_by_surface,
-    })
+    };
+    Some((criteria, constriction_classes(&throats, slurry)))
+}
+
+/// The constriction diameters `throats` and the slurry diameters `slurry`
+/// counted in [`CONSTRICTION_CLASSES`] log-spaced classes over both (the
+/// throats of zero width, closed by contacts, in the first).
+fn constriction_classes(throats: &[Real], slurry: &[Real]) -> Vec<ConstrictionClass> {
+    let open = throats.iter().chain(slurry).copied().filter(|&d| d > 0.0);
+    let (lo, hi) = open.fold((Real::INFINITY, 0.0), |(lo, hi): (Real, Real), d| {
+        (lo.min(d), hi.max(d))
+    });
+    let e = log_edges(lo, hi, CONSTRICTION_CLASSES);
+    if e.is_empty() {
+        return Vec::new();
+    }
+    let n = e.len() - 1;
+    let class = |d: Real| e[1..].partition_point(|&hi| hi <= d).min(n - 1);
+    let count = |v: &[Real]| {
+        let mut c = vec![0u64; n];
+        for &d in v {
+            c[class(d)] += 1;
+        }
+        c
+    };
+    let (ct, cs) = (count(throats), count(slurry));
+    let (mut at, mut as_) = (0u64, 0u64);
+    let fraction = |k: u64, of: usize| if of > 0 { k as Real / of as Real } else { 0.0 };
+    (0..n)
+        .map(|k| {
+            at += ct[k];
+            as_ += cs[k];
+            ConstrictionClass {
+                d_lo: e[k],
+                d_hi: e[k + 1],
+                constrictions: ct[k],
+                constrictions_finer: fraction(at, throats.len()),
+                slurry: cs[k],
+                slurry_finer: fraction(as_, slurry.len()),
+            }
+        })
+        .collect()
 }
 
 /// The diameter a fraction `q` of the total weight `d^power` is finer than
@@ -381,19 +461,23 @@ fn weighted_percentile(d: &[Real], q: Real, power: i32) -> Real {
 /// `CLASSES + 1` log-spaced edges from `lo` to `hi`; one class when they
 /// are equal, none when nothing was fed.
 fn edges(lo: Real, hi: Real) -> Vec<Real> {
+    log_edges(lo, hi, CLASSES)
+}
+
+/// `n + 1` log-spaced edges from `lo` to `hi`; one class when they are
+/// equal, none when `lo` is not a positive number at most `hi`.
+fn log_edges(lo: Real, hi: Real, n: usize) -> Vec<Real> {
     if !(lo > 0.0 && hi >= lo) {
         return Vec::new();
     }
     if hi <= lo * (1.0 + 1e-12) {
         return vec![lo, hi];
     }
-    let step = (hi / lo).ln() / CLASSES as Real;
-    let mut e: Vec<Real> = (0..=CLASSES)
-        .map(|k| lo * (step * k as Real).exp())
-        .collect();
+    let step = (hi / lo).ln() / n as Real;
+    let mut e: Vec<Real> = (0..=n).map(|k| lo * (step * k as Real).exp()).collect();
     // The ends exactly, not as rounded by exp.
     e[0] = lo;
-    e[CLASSES] = hi;
+    e[n] = hi;
     e
 }
 

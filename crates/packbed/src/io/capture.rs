@@ -1,13 +1,15 @@
-//! `filtrate.csv` (one row per body that passed the filter medium) and
-//! `capture.csv` (the grade-efficiency classes) of a bed built with a
-//! medium (`docs/reference/formats.md`, "capture.csv and filtrate.csv").
+//! `filtrate.csv` (one row per body that passed the filter medium),
+//! `capture.csv` (the grade-efficiency classes) and `constrictions.csv`
+//! (the medium's constrictions beside the slurry's sizes) of a bed built
+//! with a medium (`docs/reference/formats.md`, "capture.csv,
+//! constrictions.csv and filtrate.csv").
 
 use crate::analysis::capture::CaptureSummary;
 use serde::Serialize;
 use std::io::Write;
 
-/// The files' names: `[filtrate, capture]`.
-pub const CAPTURE_FILES: [&str; 2] = ["filtrate.csv", "capture.csv"];
+/// The files' names: `[filtrate, capture, constrictions]`.
+pub const CAPTURE_FILES: [&str; 3] = ["filtrate.csv", "capture.csv", "constrictions.csv"];
 
 #[derive(Serialize)]
 struct FiltrateRow {
@@ -50,6 +52,24 @@ pub fn write_capture(w: &mut dyn Write, capture: &CaptureSummary) -> std::io::Re
         "grade_efficiency",
     ])?;
     for c in &capture.classes {
+        out.serialize(c).map_err(std::io::Error::other)?;
+    }
+    out.flush()
+}
+
+/// Writes `constrictions.csv`: the medium's constriction diameters and the
+/// slurry's diameters, one row per class of one log-spaced axis.
+pub fn write_constrictions(w: &mut dyn Write, capture: &CaptureSummary) -> std::io::Result<()> {
+    let mut out = csv::WriterBuilder::new().has_headers(false).from_writer(w);
+    out.write_record([
+        "d_lo",
+        "d_hi",
+        "constrictions",
+        "constrictions_finer",
+        "slurry",
+        "slurry_finer",
+    ])?;
+    for c in &capture.constrictions {
         out.serialize(c).map_err(std::io::Error::other)?;
     }
     out.flush()

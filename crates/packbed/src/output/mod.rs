@@ -96,7 +96,9 @@ pub fn write_run_with<const D: usize>(
     tables.extend(contact_tables(contacts));
     tables.extend(made.tables);
     if let Some(capture) = &summary.capture {
-        use crate::io::capture::{write_capture, write_filtrate, CAPTURE_FILES};
+        use crate::io::capture::{
+            write_capture, write_constrictions, write_filtrate, CAPTURE_FILES,
+        };
         tables.push((
             CAPTURE_FILES[0].to_string(),
             Content::Stream(Box::new(move |w| write_filtrate(w, capture))),
@@ -105,6 +107,12 @@ pub fn write_run_with<const D: usize>(
             CAPTURE_FILES[1].to_string(),
             Content::Stream(Box::new(move |w| write_capture(w, capture))),
         ));
+        if !capture.constrictions.is_empty() {
+            tables.push((
+                CAPTURE_FILES[2].to_string(),
+                Content::Stream(Box::new(move |w| write_constrictions(w, capture))),
+            ));
+        }
     }
     if let Some(f) = &summary.filtration {
         use crate::io::capture::{write_filtration, FILTRATION_FILE};

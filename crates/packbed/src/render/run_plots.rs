@@ -495,19 +495,34 @@ pub fn grade_efficiency(c: &crate::analysis::capture::CaptureSummary, unit: Opti
         ),
         None => "no x50 within the sizes fed".into(),
     };
+    let mut series = vec![Series {
+        name: format!("captured: {}", name.trim()),
+        points,
+        errors: None,
+        markers: true,
+        band: None,
+    }];
+    // Beside it, what the particles meet: the fraction of the medium's
+    // throats narrower than d, and of the slurry finer than d.
+    let finer =
+        |name: &str, f: &dyn Fn(&crate::analysis::capture::ConstrictionClass) -> Real| Series {
+            name: name.into(),
+            points: c.constrictions.iter().map(|k| (k.d_hi, f(k))).collect(),
+            errors: None,
+            markers: false,
+            band: None,
+        };
+    if !c.constrictions.is_empty() {
+        series.push(finer("medium's constrictions finer", &|k| {
+            k.constrictions_finer
+        }));
+        series.push(finer("slurry finer (by number)", &|k| k.slurry_finer));
+    }
     Plot {
         title: "Grade efficiency of the medium".into(),
         x_label: format!("diameter ({})", unit.unwrap_or("length units")),
-        y_label: "captured (lodged or cake)".into(),
-        data: PlotData::LogLines {
-            series: vec![Series {
-                name: name.trim().to_string(),
-                points,
-                errors: None,
-                markers: true,
-                band: None,
-            }],
-        },
+        y_label: "captured (lodged or cake); fraction finer".into(),
+        data: PlotData::LogLines { series },
         y_range: Some((0.0, 1.0)),
         x_range: None,
     }

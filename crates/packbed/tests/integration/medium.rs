@@ -126,6 +126,36 @@ fn fed_is_passed_plus_lodged_plus_cake_and_the_medium_stands_clear_of_the_floor(
     );
     assert!(c[1] > 0.155 * 3.0 * 0.9 && c[1] < 3.0, "{c:?}");
     assert!((crit.indraratna_ratio - c[1] / crit.slurry_d85_by_surface).abs() < 1e-12);
+    // The full distribution (`constrictions.csv`) holds every slurry body
+    // fed, and its throats: at each percentile's class the fraction finer
+    // passes the percentile's share, one class below it does not.
+    let classes = &cap.constrictions;
+    assert!(!classes.is_empty());
+    let slurry: u64 = classes.iter().map(|k| k.slurry).sum();
+    assert_eq!(slurry, fed.len() as u64);
+    assert_eq!(classes.last().unwrap().constrictions_finer, 1.0);
+    assert_eq!(classes.last().unwrap().slurry_finer, 1.0);
+    let throats: u64 = classes.iter().map(|k| k.constrictions).sum();
+    for (q, d) in [(0.10, c[0]), (0.35, c[1]), (0.50, c[2]), (0.90, c[3])] {
+        let k = classes
+            .iter()
+            .position(|k| d < k.d_hi)
+            .unwrap_or(classes.len() - 1);
+        // by_number picks entry round((n − 1) q) of the sorted throats.
+        let rank = ((throats - 1) as f64 * q).round() + 1.0;
+        let below = if k == 0 {
+            0.0
+        } else {
+            classes[k - 1].constrictions_finer
+        };
+        assert!(
+            classes[k].constrictions_finer * throats as f64 >= rank - 1e-9
+                && below * throats as f64 <= rank - 1.0 + 1e-9,
+            "{q}: {d} in class {k}"
+        );
+    }
+    let finer = fed.iter().filter(|&&d| d < classes[3].d_hi).count();
+    assert!((classes[3].slurry_finer - finer as f64 / fed.len() as f64).abs() < 1e-12);
     let passed = mean(&mut report.filtrate.iter().map(|f| f.radius));
     let held = mean(
         &mut (0..b.len())
