@@ -111,6 +111,8 @@ pub fn length_power(key: &str, dim: u8) -> Option<i32> {
         | "capture.x50"
         | "capture.classes[].d_lo"
         | "capture.classes[].d_hi"
+        | "capture.constrictions[].d_lo"
+        | "capture.constrictions[].d_hi"
         | "capture.depth_profile[].depth_lo"
         | "capture.depth_profile[].depth_hi"
         | "capture.criteria.medium_d15"
@@ -158,7 +160,11 @@ pub fn filtration_unit(key: &str, length: &str) -> Option<String> {
     }
     Some(match length_power(k, 3) {
         Some(1) => length.to_string(),
-        _ if k.ends_with("fraction") || k.ends_with("efficiency") || k.ends_with("ratio") => {
+        _ if k.ends_with("fraction")
+            || k.ends_with("efficiency")
+            || k.ends_with("ratio")
+            || k.ends_with("_finer") =>
+        {
             "1".into()
         }
         _ => "bodies".into(),
@@ -252,6 +258,10 @@ mod tests {
             ("capture.classes[2].grade_efficiency", "1"),
             ("capture.criteria.indraratna_ratio", "1"),
             ("capture.lodged", "bodies"),
+            ("capture.constrictions[4].d_hi", "µm"),
+            ("capture.constrictions[4].constrictions_finer", "1"),
+            ("capture.constrictions[4].slurry", "bodies"),
+            ("filtration.r_medium_fit_se_per_m", "1/m"),
         ] {
             assert_eq!(unit(key).as_deref(), Some(want), "{key}");
         }

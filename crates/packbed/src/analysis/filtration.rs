@@ -208,6 +208,15 @@ pub struct FiltrationSummary {
     /// `time`, `mass`), if one did.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stopped_by: Option<&'static str>,
+    /// The standard error of `r_medium_fit_per_m` from the scatter of the
+    /// checkpoints about Ruth's line (least squares, n − 2 degrees of
+    /// freedom), 1/m; null with fewer than three points.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub r_medium_fit_se_per_m: Option<Real>,
+    /// Why the fitted R_m is not the medium's, when the curve does not
+    /// resolve it (the intercept is not above twice its standard error).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
     /// Wall time of the network and its solves, s.
     pub seconds: f64,
 }
@@ -467,14 +476,37 @@ pub fn filtration<const D: usize>(
         })
         .collect();
     let fit = line(&points);
+    // The intercept's scale from the curve's units to 1/m.
+    let to_r = match drive {
+        Drive::Pressure(dp) => dp / mu,
+        Drive::FlowRate(q) => 1.0 / (mu * q),
+    };
     let (alpha_fit, r_fit) = match (fit, drive) {
         (Some((slope, icpt)), Drive::Pressure(dp)) => {
-            (Some(2.0 * dp * slope / (mu * c)), Some(icpt * dp / mu))
+            (Some(2.0 * dp * slope / (mu * c)), Some(icpt * to_r))
         }
         (Some((slope, icpt)), Drive::FlowRate(q)) => {
-            (Some(slope / (mu * q * c)), Some(icpt / (mu * q)))
+            (Some(slope / (mu * q * c)), Some(icpt * to_r))
         }
         (None, _) => (None, None),
+    };
+    let r_fit_se = fit
+        .and_then(|f| intercept_error(&points, f))
+        .map(|se| se * to_r)
+        .filter(|se| se.is_finite());
+    // A medium far less resistant than the cake is within the curve's
+    // scatter: its intercept can come out anywhere, below zero too.
+    let note = match (r_fit.filter(|r| r.is_finite()), r_fit_se) {
+        (Some(fitted), Some(se)) if !(fitted > 2.0 * se) => Some(format!(
+            "Ruth's intercept ({fitted:.3e} ± {se:.3e} 1/m) does not resolve the medium: its resistance \
+             ({r_medium:.3e} 1/m clean, {:.3e} in place) is {:.2} % of the filter's at the end \
+             ({:.3e}), within the curve's scatter about the line; read r_medium_per_m and \
+             r_medium_clogged_per_m",
+            r[0],
+            100.0 * r[0] / r[n].max(Real::MIN_POSITIVE),
+            r[n]
+        )),
+        _ => None,
     };
     let departure = fit.map(|(slope, icpt)| {
         let mean = points.iter().map(|p| p.1).sum::<Real>() / points.len() as Real;
@@ -503,6 +535,8 @@ pub fn filtration<const D: usize>(
         r_medium_fit_per_m: r_fit.filter(|r| r.is_finite()),
         ruth_departure: departure.filter(|d| d.is_finite()),
         stopped_by,
+        r_medium_fit_se_per_m: r_fit_se,
+        note,
         seconds: started.elapsed().as_secs_f64(),
     })
 }
@@ -525,6 +559,24 @@ pub fn line(points: &[(Real, Real)]) -> Option<(Real, Real)> {
     })
 }
 
+/// The standard error of the intercept of the least-squares `fit` (slope,
+/// intercept) of `points`: `s √(1/n + x̄² / Sxx)`, `s²` the residuals'
+/// sum of squares over `n − 2`; `None` with fewer than three points.
+fn intercept_error(points: &[(Real, Real)], fit: (Real, Real)) -> Option<Real> {
+    let n = points.len();
+    if n < 3 {
+        return None;
+    }
+    let nf = n as Real;
+    let mx = points.iter().map(|p| p.0).sum::<Real>() / nf;
+    let sxx: Real = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let ssr: Real = points
+        .iter()
+        .map(|p| (p.1 - fit.0 * p.0 - fit.1).powi(2))
+        .sum();
+    (sxx > 0.0).then(|| (ssr / (nf - 2.0) * (1.0 / nf + mx * mx / sxx)).sqrt())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -536,5 +588,21 @@ mod tests {
         assert!((a - 3.0).abs() < 1e-12 && (b - 2.0).abs() < 1e-12);
         assert!(line(&pts[..1]).is_none());
         assert!(line(&[(1.0, 1.0), (1.0, 2.0)]).is_none());
+    }
+
+    /// By hand: points (0, 1), (1, 2), (2, 2), (3, 4): the fit y = 0.9 x + 0.9,
+    /// residuals 0.1, 0.2, −0.7, 0.4, SSR 0.7, s² 0.35, x̄ 1.5, Sxx 5, so
+    /// se² = 0.35 (1/4 + 2.25/5) = 0.245.
+    #[test]
+    fn the_intercepts_error_is_the_textbooks() {
+        let pts = [(0.0, 1.0), (1.0, 2.0), (2.0, 2.0), (3.0, 4.0)];
+        let fit = line(&pts).unwrap();
+        assert!((fit.0 - 0.9).abs() < 1e-12 && (fit.1 - 0.9).abs() < 1e-12);
+        let se = intercept_error(&pts, fit).unwrap();
+        assert!((se * se - 0.245).abs() < 1e-12, "{se}");
+        assert_eq!(intercept_error(&pts[..2], fit), None);
+        let on_line: Vec<(Real, Real)> =
+            (0..5).map(|i| (i as Real, 2.0 * i as Real + 1.0)).collect();
+        assert!(intercept_error(&on_line, line(&on_line).unwrap()).unwrap() < 1e-12);
     }
 }

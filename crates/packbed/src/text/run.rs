@@ -158,6 +158,9 @@ pub fn run_text(s: &RunSummary, out: &Path, files: &[PathBuf]) -> String {
             f.r_medium_clogged_per_m,
             f.checkpoints.len()
         );
+        if let Some(note) = &f.note {
+            let _ = writeln!(t, "  filtration note: {note}");
+        }
     }
     let tm = &s.timing;
     let _ = writeln!(

@@ -109,6 +109,9 @@ fn ruths_intercept_is_the_clean_medium_when_nothing_enters_it() {
             (fit / clean - 1.0).abs() < 0.05,
             "seed {seed}: R_m fit {fit:e}, clean {clean:e}"
         );
+        // Resolved by the curve: no note, its standard error well below it.
+        assert_eq!(f.note, None);
+        assert!(f.r_medium_fit_se_per_m.unwrap() < 0.05 * fit, "{f:?}");
         let (a_fit, a_net) = (
             f.alpha_fit_m_per_kg.unwrap(),
             f.alpha_network_m_per_kg.unwrap(),
