@@ -497,7 +497,7 @@ pub fn filtration<const D: usize>(
     // A medium far less resistant than the cake is within the curve's
     // scatter: its intercept can come out anywhere, below zero too.
     let note = match (r_fit.filter(|r| r.is_finite()), r_fit_se) {
-        (Some(fitted), Some(se)) if !(fitted > 2.0 * se) => Some(format!(
+        (Some(fitted), Some(se)) if fitted <= 2.0 * se => Some(format!(
             "Ruth's intercept ({fitted:.3e} ± {se:.3e} 1/m) does not resolve the medium: its resistance \
              ({r_medium:.3e} 1/m clean, {:.3e} in place) is {:.2} % of the filter's at the end \
              ({:.3e}), within the curve's scatter about the line; read r_medium_per_m and \
