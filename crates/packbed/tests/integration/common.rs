@@ -6,7 +6,7 @@ use packbed::Config;
 use packbed::Real;
 use packbed::{check_bed_with, CheckReport as Report, InvariantChecks};
 use packbed::{deposit, DepositReport};
-use packbed::{run_bed, FiltrationSummary};
+use packbed::{run_bed, FiltrationSummary, FinishedBed};
 
 /// Gap tolerance of the model (`docs/reference/model.md`, "Exactness": exact to 1e-9 r).
 pub const TOL: Real = 1e-9;
@@ -32,17 +32,28 @@ pub fn assert_checked<const D: usize>(b: &Bed<D>, checks: &InvariantChecks, what
     rep
 }
 
-/// The filtration of the run of `text`; panics if the run fails or warns
-/// that the curve could not be solved.
-pub fn filtered(text: &str) -> FiltrationSummary {
+/// The finished run of `text`; panics if the run fails or warns that the
+/// filtration curve could not be solved.
+pub fn filtered_run(text: &str) -> FinishedBed {
     let run = run_bed(&config(text), &mut |_| {}).unwrap_or_else(|e| panic!("{e}"));
-    assert!(
-        run.summary
-            .warnings
-            .iter()
-            .all(|w| !w.starts_with("filtration")),
-        "{:?}",
-        run.summary.warnings
+    let w = &run.summary.warnings;
+    assert!(w.iter().all(|w| !w.starts_with("filtration")), "{w:?}");
+    run
+}
+
+/// The filtration of the run of `text` ([`filtered_run`]).
+pub fn filtered(text: &str) -> FiltrationSummary {
+    filtered_run(text).summary.filtration.expect("a filtration")
+}
+
+/// Asserts that Ruth's fitted α of `f` is within 5 % of the network's.
+pub fn assert_alpha_fits(f: &FiltrationSummary) {
+    let (fit, net) = (
+        f.alpha_fit_m_per_kg.expect("a fitted α"),
+        f.alpha_network_m_per_kg.expect("the network's α"),
     );
-    run.summary.filtration.expect("a filtration")
+    assert!(
+        (fit / net - 1.0).abs() < 0.05,
+        "α fit {fit:e}, network {net:e}"
+    );
 }

@@ -4,8 +4,8 @@
 //! a slurry of spheres filtered through it (docs/guide/filtration.md, "A
 //! layer of fibres").
 
-use crate::common::{config, filtered, run};
-use packbed::{run_bed, AnyBed, Bed, CaptureSummary, FiltrationSummary};
+use crate::common::{assert_alpha_fits, config, filtered, filtered_run, run};
+use packbed::{AnyBed, Bed, CaptureSummary, FiltrationSummary};
 
 /// Beads per fibre, their radius and their centre distance in radii (in µm
 /// at `scale` 1).
@@ -44,15 +44,7 @@ const STICK: &str = "settling = { contacts = 1 }\n";
 /// The bed, capture and filtration of the run of `text`; panics if the
 /// run fails or warns that the curve could not be solved.
 fn fibre_run(text: &str) -> (Bed<3>, CaptureSummary, FiltrationSummary) {
-    let run = run_bed(&config(text), &mut |_| {}).unwrap_or_else(|e| panic!("{e}"));
-    assert!(
-        run.summary
-            .warnings
-            .iter()
-            .all(|w| !w.starts_with("filtration")),
-        "{:?}",
-        run.summary.warnings
-    );
+    let run = filtered_run(text);
     let AnyBed::D3(bed) = run.bed else {
         panic!("a 3D bed")
     };
@@ -142,14 +134,7 @@ fn a_layer_of_fibres_is_a_medium_that_filters() {
 
     // The slurry forms a cake on the layer, and Ruth's line gives its α
     // (measured 4.52e9 against the network's 4.50e9 m/kg).
-    let (fit, net) = (
-        f.alpha_fit_m_per_kg.unwrap(),
-        f.alpha_network_m_per_kg.unwrap(),
-    );
-    assert!(
-        (fit / net - 1.0).abs() < 0.05,
-        "α fit {fit:e}, network {net:e}"
-    );
+    assert_alpha_fits(&f);
 
     // The layer is 0.3 % of the filter's resistance at the end: Ruth's
     // intercept does not resolve it, and the summary says so.

@@ -1,7 +1,7 @@
 //! `[filtration]`: the filtration curve through medium and cake, Ruth's
 //! line fitted to it, against the network's own resistances.
 
-use crate::common::{config, filtered};
+use crate::common::{assert_alpha_fits, config, filtered, filtered_run};
 
 /// A precoat of near-equal spheres (diameter 60 µm) and a slurry of
 /// `slurry` (species lines) fed after it in `feeds` (feed lines), filtered
@@ -31,12 +31,8 @@ fn a_homogeneous_cake_draws_ruths_line_with_the_networks_alpha_and_medium() {
         "pressure = 1e5\nconcentration = 100\n",
     ));
     assert_eq!(f.checkpoints.len(), 21);
+    assert_alpha_fits(&f);
     let alpha_net = f.alpha_network_m_per_kg.unwrap();
-    let alpha_fit = f.alpha_fit_m_per_kg.unwrap();
-    assert!(
-        (alpha_fit / alpha_net - 1.0).abs() < 0.05,
-        "α fit {alpha_fit:e}, network {alpha_net:e}"
-    );
     // The intercept is the medium as it stands under the cake (with the
     // particles lodged in its surface pockets), not the clean medium.
     let r_fit = f.r_medium_fit_per_m.unwrap();
@@ -100,7 +96,7 @@ fn coarse_on_fine(seed: u64) -> String {
 fn ruths_intercept_is_the_clean_medium_when_nothing_enters_it() {
     for seed in [1, 2] {
         let text = coarse_on_fine(seed);
-        let run = packbed::run_bed(&crate::common::config(&text), &mut |_| {}).unwrap();
+        let run = filtered_run(&text);
         let cap = run.summary.capture.unwrap();
         assert_eq!((cap.passed, cap.lodged, cap.cake), (0, 0, 800));
         let f = run.summary.filtration.unwrap();
@@ -112,14 +108,7 @@ fn ruths_intercept_is_the_clean_medium_when_nothing_enters_it() {
         // Resolved by the curve: no note, its standard error well below it.
         assert_eq!(f.note, None);
         assert!(f.r_medium_fit_se_per_m.unwrap() < 0.05 * fit, "{f:?}");
-        let (a_fit, a_net) = (
-            f.alpha_fit_m_per_kg.unwrap(),
-            f.alpha_network_m_per_kg.unwrap(),
-        );
-        assert!(
-            (a_fit / a_net - 1.0).abs() < 0.05,
-            "seed {seed}: α fit {a_fit:e}, network {a_net:e}"
-        );
+        assert_alpha_fits(&f);
     }
 }
 

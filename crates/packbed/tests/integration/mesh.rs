@@ -2,7 +2,7 @@
 //! its wires are placed exactly, and it sieves: every particle finer than
 //! its aperture passes, every one coarser stays at its surface.
 
-use crate::common::{assert_checked, config, filtered, run, TOL};
+use crate::common::{assert_alpha_fits, assert_checked, config, filtered, filtered_run, run, TOL};
 use packbed::{
     capture, mesh_mid_plane, Bed, CaptureSummary, Config, DepositReport, InvariantChecks,
 };
@@ -253,14 +253,7 @@ fn the_filtration_through_a_mesh_is_solved_and_the_same_in_um_and_mm() {
     assert!(same(um.r_medium_clogged_per_m, mm.r_medium_clogged_per_m));
     // Every particle stays on the mesh: the cake is homogeneous, and Ruth's
     // line gives the network's α.
-    let (fit, net) = (
-        um.alpha_fit_m_per_kg.unwrap(),
-        um.alpha_network_m_per_kg.unwrap(),
-    );
-    assert!(
-        (fit / net - 1.0).abs() < 0.05,
-        "α fit {fit:e}, network {net:e}"
-    );
+    assert_alpha_fits(&um);
     // Armour & Cannon's screen, by hand: d = 2 µm, pitch 5 µm, ε = 1 − π/10,
     // a = (π/10)·4/d, L = 2d, R = 8.61 a² L / ε².
     let d = 2e-6;
@@ -320,9 +313,7 @@ fn a_precoat_on_a_mesh_is_one_granular_medium() {
     // The medium's surface is the precoat's top, not the mesh's mid-plane:
     // fines caught inside the precoat have lodged in the medium.
     assert_eq!(mesh_mid_plane::<3>(&c.feeds), None);
-    let run = packbed::run_bed(&c, &mut |_| {}).unwrap();
-    let w = &run.summary.warnings;
-    assert!(w.iter().all(|w| !w.starts_with("filtration")), "{w:?}");
+    let run = filtered_run(&text);
     let cap = run.summary.capture.unwrap();
     let wires_top = cap.medium_bottom + 4.0;
     assert!(
@@ -344,14 +335,7 @@ fn a_precoat_on_a_mesh_is_one_granular_medium() {
     );
     assert!(f.r_medium_screen_per_m.is_some());
     assert!(f.checkpoints[0].cake_height_m.abs() < 1e-12);
-    let (fit, net) = (
-        f.alpha_fit_m_per_kg.unwrap(),
-        f.alpha_network_m_per_kg.unwrap(),
-    );
-    assert!(
-        (fit / net - 1.0).abs() < 0.05,
-        "α fit {fit:e}, network {net:e}"
-    );
+    assert_alpha_fits(&f);
     // What lodged in the precoat raised the medium's resistance.
     assert!(f.r_medium_clogged_per_m > f.r_medium_per_m);
 }
