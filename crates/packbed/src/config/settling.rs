@@ -134,11 +134,17 @@ impl SettlingConfig {
                 "settling.cohesion_exponent shapes the cohesion law: give `cohesion_diameter` too",
             ));
         }
-        let momentum = self.momentum()?;
-        if momentum.is_some() && (contacts.is_some() || slope.is_some()) {
+        let mut momentum = self.momentum()?;
+        if momentum.is_some() && contacts.is_some() {
             return Err(Error::config(
-                "settling: `restitution` (momentum) acts at rest and on the way down; it does not combine with `contacts` or `friction_angle`",
+                "settling: `restitution` (momentum) acts at rest and on the way down; it does not combine with `contacts`",
             ));
+        }
+        if let (Some(m), Some(s), None) = (momentum.as_mut(), slope, self.sliding_friction) {
+            // Coulomb's law with one coefficient: a particle that slides
+            // loses what the static friction of the angle would hold,
+            // µ = tan α.
+            m.sliding_friction = s / (1.0 - s * s).sqrt();
         }
         Ok(Settling {
             contacts,
@@ -337,7 +343,6 @@ mod tests {
                 "restitution = 0\nsliding_friction = -1",
                 "settling.sliding_friction",
             ),
-            ("restitution = 0.5\nfriction_angle = 20", "does not combine"),
         ] {
             let e = resolve(text).unwrap_err().to_string();
             assert!(e.contains(key), "{text}: {e}");

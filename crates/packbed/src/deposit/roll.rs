@@ -306,8 +306,9 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
                     // wide): a zero-force contact blocks as well as a loaded one.
                     return Some(p);
                 }
-                if rule.slope.is_some() {
-                    // Balanced, every way on starts level: friction holds it.
+                if rule.slope.is_some() && spent(&motion) {
+                    // Balanced, every way on starts level: friction holds it
+                    // (a moving particle passes over).
                     return Some(p);
                 }
                 // Balanced but unstable (on top of a sphere, or of a circle): any
@@ -317,8 +318,9 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
             } else {
                 (-residual).normalized()?
             };
-            if rule.slope.is_some_and(|s| -direction[D - 1] < s) {
-                // Held by friction: the way down is less steep than its angle.
+            if rule.slope.is_some_and(|s| -direction[D - 1] < s) && spent(&motion) {
+                // Held by friction: the way down is less steep than its angle
+                // (a moving particle slides on and slows down).
                 return Some(p);
             }
             direction
@@ -358,7 +360,16 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
         // With friction the arc also ends where its slope falls below the
         // angle (in a groove, before its lowest point): held there.
         let mut held = false;
-        if let Some(s) = rule.slope {
+        if let (Some(s), Some(m)) = (rule.slope, motion.as_ref().filter(|m| m.energy() > 0.0)) {
+            // Moving: held where its energy is spent on a stretch less steep
+            // than the angle, not where the stretch begins.
+            if let Some(x) = momentum::spent_on_arc(&arc, &p, m.energy(), m.mu(), s, &end) {
+                end = x;
+                end_rank = x.diamond();
+                released = None;
+                held = true;
+            }
+        } else if let Some(s) = rule.slope {
             if let Some(x) = slope_trig(&arc, s).downcrossing(1e-14) {
                 let rank = x.diamond();
                 if rank < end_rank {
@@ -416,6 +427,12 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
         }
     }
     None
+}
+
+/// True for a particle with no kinetic energy left (every particle of a
+/// quasi-static rule): static friction may hold it.
+fn spent(motion: &Option<momentum::Motion>) -> bool {
+    motion.as_ref().is_none_or(|m| m.energy() <= 0.0)
 }
 
 /// Whether a particle touching `active` stops there before it balances: it

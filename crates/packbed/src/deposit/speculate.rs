@@ -646,6 +646,7 @@ mod tests {
             "friction_angle = 30\nsticking = 0.2",
             "restitution = 0.5\ndrop_height = 30",
             "restitution = 0\nsliding_friction = 0.3\nsticking = 0.1",
+            "restitution = 0.5\nfriction_angle = 25",
         ];
         for rule in rules {
             same::<3>(&format!(

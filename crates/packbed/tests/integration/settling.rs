@@ -93,6 +93,81 @@ fn friction_holds_a_sphere_on_a_slope_below_its_angle_only() {
     assert!((tipped[2] - 1.0).abs() < 1e-12, "{tipped:?}");
 }
 
+#[test]
+fn a_moving_sphere_is_held_by_friction_where_its_energy_is_spent() {
+    // Landing 0.6 off the axis of a unit sphere (normal tilt θ0 =
+    // asin 0.3), with restitution 0.5 it keeps h (1 − 0.75 cos² θ0) of its
+    // fall h. Sliding on, at tilt θ it has gained 2 (cos θ0 − cos θ) and
+    // lost µ 2 (sin θ − sin θ0) (µ = tan 30°, the friction angle's): it
+    // stops where that is spent, if the path is still less steep than 30°
+    // there. The energy is least at θ = 30° (where tan θ = µ), so a fall
+    // whose energy is left there slides off to the floor.
+    let b = one_sphere_3d();
+    let mu = (30.0 as Real).to_radians().tan();
+    let sin0: Real = 0.3;
+    let cos0 = (1.0 - sin0 * sin0).sqrt();
+    let energy = |h: Real, theta: Real| {
+        h * (1.0 - 0.75 * cos0 * cos0) + 2.0 * (cos0 - theta.cos())
+            - mu * 2.0 * (theta.sin() - sin0)
+    };
+    // The least fall that passes 30°.
+    let passes = -energy(0.0, (30.0 as Real).to_radians()) / (1.0 - 0.75 * cos0 * cos0);
+    assert!((passes - 0.1736).abs() < 1e-3, "{passes}");
+    let theta0 = sin0.asin();
+    for h in [0.02, 0.1, 0.97 * passes] {
+        // Bisection for the stop, independent of the engine's.
+        let (mut lo, mut hi) = (theta0, (30.0 as Real).to_radians());
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if energy(h, mid) > 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let stop = [5.0 + 2.0 * hi.sin(), 5.0, 1.0 + 2.0 * hi.cos()];
+        let rule_text = format!("friction_angle = 30\nrestitution = 0.5\ndrop_height = {h}");
+        let p = drop_one(&b, 1.0, [5.6, 5.0, 0.0], &rule(&rule_text));
+        close(p, stop, 1e-9);
+        assert!(
+            hi > theta0 + 1e-3,
+            "h {h}: it slid on ({hi} against {theta0})"
+        );
+        // In 2D the same, on a disc.
+        let b2 = Bed::of_spheres([10.0, 50.0], false, [([5.0, 1.0], 1.0, 0)]);
+        let p2 = drop_onto(
+            &b2,
+            Entry::Sphere {
+                r: 1.0,
+                start: Vector([5.6, 0.0]),
+            },
+            &rule(&rule_text),
+            1,
+        )
+        .unwrap()[0];
+        close(p2, [stop[0], stop[2]], 1e-9);
+    }
+    // Past 30° it slides off: on the floor.
+    let p = drop_one(
+        &b,
+        1.0,
+        [5.6, 5.0, 0.0],
+        &rule(&format!(
+            "friction_angle = 30\nrestitution = 0.5\ndrop_height = {}",
+            1.03 * passes
+        )),
+    );
+    close(p, [7.0, 5.0, 1.0], 1e-9);
+    // Without momentum the friction angle holds it where it lands.
+    let held = drop_one(&b, 1.0, [5.6, 5.0, 0.0], &rule("friction_angle = 30"));
+    close(held, [5.6, 5.0, 1.0 + (4.0 - 0.36 as Real).sqrt()], 1e-12);
+    // A given sliding friction replaces tan α.
+    let s = rule("friction_angle = 30\nrestitution = 0.5\nsliding_friction = 0.1");
+    assert_eq!(s.momentum.unwrap().sliding_friction, 0.1);
+    let s = rule("friction_angle = 30\nrestitution = 0.5");
+    assert!((s.momentum.unwrap().sliding_friction - mu).abs() < 1e-15);
+}
+
 /// A config of equal spheres or discs of radius 1 settled by `settling`.
 fn bed_config(dim: u8, periodic: bool, count: u64, species: &str, settling: &str) -> Config {
     let depth = if dim == 3 { "depth = 30\n" } else { "" };
@@ -257,7 +332,12 @@ fn a_point_or_line_feed_drops_about_its_place_with_its_spread() {
 fn heaps_poured_from_a_point_pass_the_checker() {
     // A point feed pours a heap against nothing: the rules hold particles on
     // its flanks as on a flat bed.
-    for settling in ["", "friction_angle = 25", "sticking = 0.2"] {
+    for settling in [
+        "",
+        "friction_angle = 25",
+        "sticking = 0.2",
+        "friction_angle = 25\nrestitution = 0.5",
+    ] {
         let c = config(&format!(
             "dim = 3\nseed = 2\n[box]\nwidth = 60\ndepth = 60\nheight = 5000\n[fill]\ncount = 2000\n\
              base_layer = \"none\"\n[[species]]\nsize = {{ dist = \"lognormal\", median = 1.0, gsd = 1.3 }}\n\

@@ -107,6 +107,66 @@ pub(super) fn head_on<const D: usize>(hits: &ContactSet<D>, p: &Vector<D>, t: &V
         .fold(0.0, Real::max)
 }
 
+/// Where a sphere moving along `arc` from `p` with `energy`, losing `mu`
+/// per unit of horizontal travel, has first spent its energy at a point less
+/// steep than the friction angle's sine `s`, before `end`: static friction
+/// holds it there (with `mu = tan α`, a block on a plane less steep than α
+/// slows down and stays, on a steeper one it speeds up). The energy is the
+/// one [`Motion::slid`] books, sampled at [`SPENT_SAMPLES`] points of the arc
+/// and the first sign change bisected to rounding: an energy that dips below
+/// zero and rises again between two samples is missed, which on the short
+/// arcs between contacts changes where a particle stops by less than a
+/// sample's length, never whether it overlaps.
+pub(super) fn spent_on_arc<const D: usize>(
+    arc: &Arc<D>,
+    p: &Vector<D>,
+    energy: Real,
+    mu: Real,
+    s: Real,
+    end: &Crossing,
+) -> Option<Crossing> {
+    let at = |t: Real| {
+        let (sin, cos) = t.sin_cos();
+        Crossing { cos, sin }
+    };
+    let left = |x: &Crossing| {
+        let q = arc.point_at(x);
+        energy + p.height() - q.height() - mu * (q - *p).horizontal().norm()
+    };
+    let mut t_end = end.sin.atan2(end.cos);
+    if t_end < 0.0 {
+        t_end += std::f64::consts::TAU;
+    }
+    let mut lo = 0.0;
+    for k in 1..=SPENT_SAMPLES {
+        let t = t_end * k as Real / SPENT_SAMPLES as Real;
+        if left(&at(t)) > 0.0 {
+            lo = t;
+            continue;
+        }
+        let mut hi = t;
+        for _ in 0..64 {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            if left(&at(mid)) > 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let x = at(hi);
+        // Static friction holds it only where the way on is less steep than
+        // the angle; elsewhere it slides on from rest.
+        return (-arc.tangent_at(&x).height() < s).then_some(x);
+    }
+    None
+}
+
+/// Points of an arc [`spent_on_arc`] samples before it bisects.
+const SPENT_SAMPLES: usize = 16;
+
 /// A way out of a pocket.
 pub(super) struct Exit<const D: usize> {
     /// The rim: the highest point of the circle the sphere climbs.
