@@ -9,7 +9,10 @@ cd "$(mktemp -d)"
 for dim in 3 2; do
 for rule in "" "friction_angle = 15" "friction_angle = 25" "friction_angle = 35" \
   "restitution = 0.3" "restitution = 0.3\nsliding_friction = 0.268" \
-  "restitution = 0.3\nsliding_friction = 0.466" "restitution = 0.3\nsliding_friction = 0.700"; do
+  "restitution = 0.3\nsliding_friction = 0.466" "restitution = 0.3\nsliding_friction = 0.700" \
+  "friction_angle = 15\nrestitution = 0.5" "friction_angle = 25\nrestitution = 0.5" \
+  "friction_angle = 35\nrestitution = 0.5" "friction_angle = 15\nrestitution = 0.9" \
+  "friction_angle = 25\nrestitution = 0.9" "friction_angle = 35\nrestitution = 0.9"; do
   if [ $dim = 3 ]; then
     box="width = 200\ndepth = 200\nheight = 400"; count=20000; spread=10
   else

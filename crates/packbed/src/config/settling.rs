@@ -24,7 +24,11 @@
 //! - `friction_angle = α` in degrees, [0, 90): it stops where the downhill
 //!   slope of its path falls below α (on one support the tilt of the contact
 //!   normal from the vertical, in a groove the groove's slope), so that a
-//!   slope steeper than α never holds a particle and a heap stands near it.
+//!   slope steeper than α never holds a particle. Held where it lands, a
+//!   particle on a heap's flank stays at any particle's top: a spire. With
+//!   `restitution`, a particle with energy left slides over such spots,
+//!   losing µ = tan α (or `sliding_friction`) per horizontal travel, and
+//!   stops where its energy is spent on a stretch less steep than α.
 //! - `restitution = e` in [0, 1), with `drop_height = h` (a length; default
 //!   the particle's diameter): momentum. The particle lands with the kinetic
 //!   energy of a fall from h, gains what it descends, keeps at each impact the
@@ -32,7 +36,7 @@
 //!   pocket over its lowest open rim when its energy is above the rim. This
 //!   moves the rule toward denser beds. `sliding_friction = µ` (default 0)
 //!   takes µ times each move's horizontal travel from the energy. Spheres
-//!   and discs only.
+//!   and discs only; not with `contacts`.
 //!
 //! Side walls are no contacts for `contacts` and `sticking`: they guide a
 //! particle, the floor and the particles hold it.

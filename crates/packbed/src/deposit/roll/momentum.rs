@@ -125,10 +125,6 @@ pub(super) fn spent_on_arc<const D: usize>(
     s: Real,
     end: &Crossing,
 ) -> Option<Crossing> {
-    let at = |t: Real| {
-        let (sin, cos) = t.sin_cos();
-        Crossing { cos, sin }
-    };
     let left = |x: &Crossing| {
         let q = arc.point_at(x);
         energy + p.height() - q.height() - mu * (q - *p).horizontal().norm()
@@ -137,31 +133,46 @@ pub(super) fn spent_on_arc<const D: usize>(
     if t_end < 0.0 {
         t_end += std::f64::consts::TAU;
     }
-    let mut lo = 0.0;
-    for k in 1..=SPENT_SAMPLES {
-        let t = t_end * k as Real / SPENT_SAMPLES as Real;
-        if left(&at(t)) > 0.0 {
-            lo = t;
+    // Most moves keep their energy: the climb is at most to the circle's
+    // top and the horizontal travel at most the arc's length.
+    let (uz, vz) = (arc.u.height(), arc.v.height());
+    let climb = arc.rho * ((uz * uz + vz * vz).sqrt() - uz);
+    if energy > climb + mu * arc.rho * t_end.min(2.0) {
+        return None;
+    }
+    // Samples by rotation and bisection by half-angles: one `sin_cos` an arc.
+    let (sin, cos) = (t_end / SPENT_SAMPLES as Real).sin_cos();
+    let mut lo = Crossing { cos: 1.0, sin: 0.0 };
+    for _ in 0..SPENT_SAMPLES {
+        let x = unit(lo.cos * cos - lo.sin * sin, lo.sin * cos + lo.cos * sin);
+        if left(&x) > 0.0 {
+            lo = x;
             continue;
         }
-        let mut hi = t;
-        for _ in 0..64 {
-            let mid = 0.5 * (lo + hi);
-            if mid <= lo || mid >= hi {
-                break;
-            }
-            if left(&at(mid)) > 0.0 {
+        let mut hi = x;
+        // Until the bracket is 1e-13 of a radian (at most ~40 halvings).
+        while (hi.cos - lo.cos).powi(2) + (hi.sin - lo.sin).powi(2) > 1e-26 {
+            let mid = unit(lo.cos + hi.cos, lo.sin + hi.sin);
+            if left(&mid) > 0.0 {
                 lo = mid;
             } else {
                 hi = mid;
             }
         }
-        let x = at(hi);
         // Static friction holds it only where the way on is less steep than
         // the angle; elsewhere it slides on from rest.
-        return (-arc.tangent_at(&x).height() < s).then_some(x);
+        return (-arc.tangent_at(&hi).height() < s).then_some(hi);
     }
     None
+}
+
+/// The point of the unit circle in the direction `(c, s)` (not zero).
+fn unit(c: Real, s: Real) -> Crossing {
+    let n = (c * c + s * s).sqrt();
+    Crossing {
+        cos: c / n,
+        sin: s / n,
+    }
 }
 
 /// Points of an arc [`spent_on_arc`] samples before it bisects.
