@@ -337,7 +337,15 @@ fn sweep_configs_are_refused_by_run() {
 fn every_example_config_is_valid() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
     let mut seen = 0;
-    for dir in [root.clone(), root.join("thesis"), root.join("drying")] {
+    for dir in [
+        root.clone(),
+        root.join("thesis"),
+        root.join("thesis/chains"),
+        root.join("drying"),
+        root.join("feeds"),
+        root.join("filtration"),
+        root.join("settling"),
+    ] {
         for e in fs::read_dir(&dir).unwrap() {
             let p = e.unwrap().path();
             if p.extension().is_some_and(|x| x == "toml") {
@@ -357,7 +365,7 @@ fn every_example_config_is_valid() {
             }
         }
     }
-    assert!(seen >= 12, "{seen} example configs");
+    assert!(seen >= 60, "{seen} example configs");
 }
 
 /// A stop asked for from outside (Ctrl-C in Python) ends the build and the
