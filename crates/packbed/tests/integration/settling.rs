@@ -59,16 +59,7 @@ fn hit_and_stick_stops_where_it_first_touches() {
     close(p, [5.0 + 2.0, 5.0, 1.0], 1e-9);
     // In 2D the same.
     let b2 = Bed::of_spheres([10.0, 50.0], false, [([5.0, 1.0], 1.0, 0)]);
-    let p = drop_onto(
-        &b2,
-        Entry::Sphere {
-            r: 1.0,
-            start: Vector([5.6, 0.0]),
-        },
-        &rule("contacts = 1"),
-        1,
-    )
-    .unwrap()[0];
+    let p = drop_one(&b2, 1.0, [5.6, 0.0], &rule("contacts = 1"));
     close(p, [5.6, 1.0 + (4.0 - 0.36 as Real).sqrt()], 1e-12);
 }
 
@@ -135,16 +126,7 @@ fn a_moving_sphere_is_held_by_friction_where_its_energy_is_spent() {
         );
         // In 2D the same, on a disc.
         let b2 = Bed::of_spheres([10.0, 50.0], false, [([5.0, 1.0], 1.0, 0)]);
-        let p2 = drop_onto(
-            &b2,
-            Entry::Sphere {
-                r: 1.0,
-                start: Vector([5.6, 0.0]),
-            },
-            &rule(&rule_text),
-            1,
-        )
-        .unwrap()[0];
+        let p2 = drop_one(&b2, 1.0, [5.6, 0.0], &rule(&rule_text));
         close(p2, [stop[0], stop[2]], 1e-9);
     }
     // Past 30° it slides off: on the floor.
