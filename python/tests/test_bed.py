@@ -364,12 +364,15 @@ def test_settling_rules_and_feeds_from_a_dict_equal_the_command(tmp_path, run_cl
     assert abs(z - 2.0) < 0.05, z
     with pytest.raises(packbed.ConfigError, match="settling.sticking"):
         packbed.deposit({**config, "settling": {"sticking": 2}})
-    # The momentum rule and the cohesion law with its exponent, likewise.
+    # The momentum rule, the cohesion law with its exponent and the friction
+    # angle with momentum, likewise.
     for k, (rule, lines) in enumerate([
         ({"restitution": 0.5, "sliding_friction": 0.3, "drop_height": 3},
          "restitution = 0.5\nsliding_friction = 0.3\ndrop_height = 3\n"),
         ({"cohesion_diameter": 2, "cohesion_exponent": 0.7},
          "cohesion_diameter = 2\ncohesion_exponent = 0.7\n"),
+        ({"friction_angle": 25, "restitution": 0.9},
+         "friction_angle = 25\nrestitution = 0.9\n"),
     ]):
         name = f"rule{k}"
         (tmp_path / f"{name}.toml").write_text(text.split("[settling]")[0] + "[settling]\n" + lines)
