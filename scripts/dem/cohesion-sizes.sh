@@ -25,47 +25,11 @@
 # "table" prints cohesion_table.py's tables for each distribution.
 #   needs: lmp (Debian's lammps), a python with numpy, scipy (PY), packbed (PB).
 set -euo pipefail
-S=$(cd "$(dirname "$0")" && pwd)
-WORK=${WORK:-/work/dem}
-PY=${PY:-/tmp/venv2/bin/python}
-PB=${PB:-$S/../../target/release/packbed}
+source "$(cd "$(dirname "$0")" && pwd)/common.sh"   # WORK, PY, PB, N, lock, pour, bed
 BONDS=${BONDS:-10 100 1}
 SETTLE_BONDS=${SETTLE_BONDS:-100 10}
 DISTS="bidisperse lognormal"
-N=2000
-mkdir -p "$WORK/runs" "$WORK/packbed"
-lock() { if [ -n "${IN_LOCK:-}" ]; then "$@"; else flock "$WORK/lock" "$@"; fi; }
 STAGES=${*:-dem packbed dc table}
-
-pour() {   # pour NAME pour.py-args...   (as in gr-cohesion.sh)
-  local name=$1; shift
-  local d=$WORK/runs/$name
-  [ -f "$d/measure.json" ] && return 0
-  rm -rf "$d"
-  python3 "$S/pour.py" --out "$d" "$@"
-  (cd "$d" && lock env OMP_NUM_THREADS=1 /usr/bin/time -v -o time.txt nice -n 19 \
-      lmp -in in.pour -log log.lammps > screen.txt 2>&1)
-  echo "$name $(grep FINAL "$d/log.lammps" | tail -1) $(date -u +%T)"
-  lock nice -n 19 "$PY" "$S/measure.py" "$d/bed.dump" --json "$d/measure.json" > /dev/null
-}
-
-species() {   # the species block of packbed_runs.sh
-  case $1 in
-    bidisperse) printf '[[species]]\nradius = 0.5\nratio = 1\n\n[[species]]\nradius = 0.7\nratio = 1\n' ;;
-    lognormal)  printf '[[species]]\nsize = { dist = "lognormal", median = 0.5, gsd = 1.3 }\n' ;;
-  esac
-}
-
-bed() {    # bed DIST RULE "SETTLING-TOML" SEED   (as gr-cohesion.sh's bed)
-  local d=$WORK/packbed/$1_$2_s$4
-  [ -f "$d/measure.json" ] && return 0
-  mkdir -p "$d"
-  printf 'dim = 3\nseed = %s\n\n[box]\nwidth = 10\ndepth = 10\nheight = 200\nperiodic = true\n\n[fill]\ncount = %s\nbase_layer = "none"\n\n%s\n%s' \
-    "$4" "$N" "$(species "$1")" "$3" > "$d/cfg.toml"
-  lock env RAYON_NUM_THREADS=1 /usr/bin/time -v -o "$d/time.txt" nice -n 19 \
-    "$PB" run "$d/cfg.toml" --out "$d" --no-pictures --measures packing,coordination -q
-  lock nice -n 19 "$PY" "$S/measure.py" "$d/particles.csv" --box 10 --json "$d/measure.json" > /dev/null
-}
 
 for stage in $STAGES; do
   case $stage in

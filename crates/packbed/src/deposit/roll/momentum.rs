@@ -113,7 +113,7 @@ pub(super) fn head_on<const D: usize>(hits: &ContactSet<D>, p: &Vector<D>, t: &V
 /// holds it there (with `mu = tan α`, a block on a plane less steep than α
 /// slows down and stays, on a steeper one it speeds up). The energy is the
 /// one [`Motion::slid`] books, sampled at [`SPENT_SAMPLES`] points of the arc
-/// and the first sign change bisected to rounding: an energy that dips below
+/// and the first sign change bisected to 1e-13 of a radian: an energy that dips below
 /// zero and rises again between two samples is missed, which on the short
 /// arcs between contacts changes where a particle stops by less than a
 /// sample's length, never whether it overlaps.
