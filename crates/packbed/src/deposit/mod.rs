@@ -363,7 +363,18 @@ impl<'p, const D: usize> Engine<'p, D> {
             self.report.redrops += 1;
             tries += 1;
             if tries >= MAX_REDROPS_PER_PARTICLE {
-                return Err(Error::Impossible(body.stuck(tries)));
+                return Err(Error::Impossible(match self.settling.momentum {
+                    // Not the geometry: an energy that impacts barely drain
+                    // outlasts the move budget on every drop.
+                    Some(m) => format!(
+                        "{} under the momentum rule (restitution {}, sliding friction {}): its energy outlasts {} moves; lower `restitution` or `drop_height`, or add `sliding_friction`",
+                        body.stuck(tries),
+                        m.restitution,
+                        m.sliding_friction,
+                        roll::MAX_MOVES
+                    ),
+                    None => body.stuck(tries),
+                }));
             }
         }
     }
