@@ -371,6 +371,43 @@ fn with_nearly_elastic_impacts_the_heap_stands_at_the_friction_angle() {
 }
 
 #[test]
+fn in_3d_nearly_elastic_heaps_stand_at_the_friction_angle_above_the_pockets_floor() {
+    // 3D heaps of 20,000 spheres (scripts/settling-heaps.sh elastic, seed 1,
+    // a fall of 7 diameters): α 25° and 35° stand at 25.1° and 35.7°; α 15°
+    // at 20.0°, the floor the pockets set (20.7° with no friction at all).
+    let slope = |settling: &str| {
+        let c = config(&format!(
+            "dim = 3\nseed = 1\n[box]\nwidth = 200\ndepth = 200\nheight = 400\n[fill]\n\
+             count = 20000\nbase_layer = \"none\"\n[[species]]\nradius = 1\n[feed]\n\
+             pattern = \"point\"\nspread = 10\n[settling]\n{settling}\n"
+        ));
+        let (b, _) = run::<3>(&c);
+        assert_checked(
+            &b,
+            &InvariantChecks::new(TOL).held_by(&rule(settling)),
+            settling,
+        );
+        let (_, summary) = analyze(&b, c.analysis.contact_tol);
+        summary.packing.unwrap().heap.expect("a heap").slope_degrees
+    };
+    for a in [25.0 as Real, 35.0] {
+        let flank = slope(&format!(
+            "friction_angle = {a}\nrestitution = 0.99\ndrop_height = 14"
+        ));
+        eprintln!("α {a}°: flank {flank:.1}°");
+        assert!((flank - a).abs() < 3.0, "α {a}: flank {flank}");
+    }
+    let floor = slope("restitution = 0.99\ndrop_height = 14");
+    let low = slope("friction_angle = 15\nrestitution = 0.99\ndrop_height = 14");
+    eprintln!("no friction: {floor:.1}°, α 15°: {low:.1}°");
+    assert!((17.0..24.0).contains(&floor), "{floor}");
+    assert!(
+        (low - floor).abs() < 2.0,
+        "α 15°: {low}, no friction {floor}"
+    );
+}
+
+#[test]
 fn heaps_poured_from_a_point_pass_the_checker() {
     // A point feed pours a heap against nothing: the rules hold particles on
     // its flanks as on a flat bed.
