@@ -310,6 +310,31 @@ fn a_point_or_line_feed_drops_about_its_place_with_its_spread() {
     assert!(near_high > 150 && near_low > 150, "{near_low} {near_high}");
 }
 
+/// The flank slope, in degrees, of the heap of equal spheres of radius 1
+/// that `settling` pours from a point (the heaps of scripts/settling-heaps.sh,
+/// seed 1: 3D 20,000 spheres in a box 100 diameters wide, spread 10; 2D 4,000
+/// discs in a box 300 wide, spread 20), after the checker has passed its bed.
+fn heap_slope<const D: usize>(settling: &str) -> Real {
+    let (b, count, spread) = if D == 3 {
+        ("width = 200\ndepth = 200\nheight = 400", 20000, 10)
+    } else {
+        ("width = 600\nheight = 1200", 4000, 20)
+    };
+    let c = config(&format!(
+        "dim = {D}\nseed = 1\n[box]\n{b}\n[fill]\ncount = {count}\nbase_layer = \"none\"\n\
+         [[species]]\nradius = 1\n[feed]\npattern = \"point\"\nspread = {spread}\n\
+         [settling]\n{settling}\n"
+    ));
+    let (bed, _) = run::<D>(&c);
+    assert_checked(
+        &bed,
+        &InvariantChecks::new(TOL).held_by(&rule(settling)),
+        settling,
+    );
+    let (_, summary) = analyze(&bed, c.analysis.contact_tol);
+    summary.packing.unwrap().heap.expect("a heap").slope_degrees
+}
+
 #[test]
 fn with_momentum_the_friction_angle_pours_a_heap_not_a_spire() {
     // A 2D heap of 4,000 discs poured from a point (scripts/settling-heaps.sh,
@@ -317,22 +342,10 @@ fn with_momentum_the_friction_angle_pours_a_heap_not_a_spire() {
     // spot less steep than α (any disc's top): a spire of 83–86°. Moving
     // (restitution 0.9), it slides over those spots and stops where its
     // energy is spent: a flank at 23–48° that steepens with α.
-    let slope = |settling: &str| {
-        let c = config(&format!(
-            "dim = 2\nseed = 1\n[box]\nwidth = 600\nheight = 1200\n[fill]\ncount = 4000\n\
-             base_layer = \"none\"\n[[species]]\nradius = 1\n[feed]\npattern = \"point\"\n\
-             spread = 20\n[settling]\n{settling}\n"
-        ));
-        let (b, _) = run::<2>(&c);
-        let checks = InvariantChecks::new(TOL).held_by(&rule(settling));
-        assert_checked(&b, &checks, settling);
-        let (_, summary) = analyze(&b, c.analysis.contact_tol);
-        summary.packing.unwrap().heap.expect("a heap").slope_degrees
-    };
     let mut last = 0.0;
     for a in [15, 25, 35] {
-        let spire = slope(&format!("friction_angle = {a}"));
-        let heap = slope(&format!("friction_angle = {a}\nrestitution = 0.9"));
+        let spire = heap_slope::<2>(&format!("friction_angle = {a}"));
+        let heap = heap_slope::<2>(&format!("friction_angle = {a}\nrestitution = 0.9"));
         eprintln!("α {a}°: held where it lands {spire:.1}°, moving {heap:.1}°");
         assert!(spire > 80.0, "α {a}: {spire}");
         assert!(
@@ -351,20 +364,9 @@ fn with_nearly_elastic_impacts_the_heap_stands_at_the_friction_angle() {
     // block's balance, and the flank stands at α (seed 1: 15.2°, 26.8°,
     // 32.0°; at e = 0.9 it stood 8–15° steeper).
     for a in [15.0 as Real, 25.0, 35.0] {
-        let settling = format!("friction_angle = {a}\nrestitution = 0.99\ndrop_height = 14");
-        let c = config(&format!(
-            "dim = 2\nseed = 1\n[box]\nwidth = 600\nheight = 1200\n[fill]\ncount = 4000\n\
-             base_layer = \"none\"\n[[species]]\nradius = 1\n[feed]\npattern = \"point\"\n\
-             spread = 20\n[settling]\n{settling}\n"
+        let slope = heap_slope::<2>(&format!(
+            "friction_angle = {a}\nrestitution = 0.99\ndrop_height = 14"
         ));
-        let (b, _) = run::<2>(&c);
-        assert_checked(
-            &b,
-            &InvariantChecks::new(TOL).held_by(&rule(&settling)),
-            &settling,
-        );
-        let (_, summary) = analyze(&b, c.analysis.contact_tol);
-        let slope = summary.packing.unwrap().heap.expect("a heap").slope_degrees;
         eprintln!("α {a}°: flank {slope:.1}°");
         assert!((slope - a).abs() < 4.0, "α {a}: flank {slope}");
     }
@@ -375,30 +377,15 @@ fn in_3d_nearly_elastic_heaps_stand_at_the_friction_angle_above_the_pockets_floo
     // 3D heaps of 20,000 spheres (scripts/settling-heaps.sh elastic, seed 1,
     // a fall of 7 diameters): α 25° and 35° stand at 25.1° and 35.7°; α 15°
     // at 20.0°, the floor the pockets set (20.7° with no friction at all).
-    let slope = |settling: &str| {
-        let c = config(&format!(
-            "dim = 3\nseed = 1\n[box]\nwidth = 200\ndepth = 200\nheight = 400\n[fill]\n\
-             count = 20000\nbase_layer = \"none\"\n[[species]]\nradius = 1\n[feed]\n\
-             pattern = \"point\"\nspread = 10\n[settling]\n{settling}\n"
-        ));
-        let (b, _) = run::<3>(&c);
-        assert_checked(
-            &b,
-            &InvariantChecks::new(TOL).held_by(&rule(settling)),
-            settling,
-        );
-        let (_, summary) = analyze(&b, c.analysis.contact_tol);
-        summary.packing.unwrap().heap.expect("a heap").slope_degrees
-    };
     for a in [25.0 as Real, 35.0] {
-        let flank = slope(&format!(
+        let flank = heap_slope::<3>(&format!(
             "friction_angle = {a}\nrestitution = 0.99\ndrop_height = 14"
         ));
         eprintln!("α {a}°: flank {flank:.1}°");
         assert!((flank - a).abs() < 3.0, "α {a}: flank {flank}");
     }
-    let floor = slope("restitution = 0.99\ndrop_height = 14");
-    let low = slope("friction_angle = 15\nrestitution = 0.99\ndrop_height = 14");
+    let floor = heap_slope::<3>("restitution = 0.99\ndrop_height = 14");
+    let low = heap_slope::<3>("friction_angle = 15\nrestitution = 0.99\ndrop_height = 14");
     eprintln!("no friction: {floor:.1}°, α 15°: {low:.1}°");
     assert!((17.0..24.0).contains(&floor), "{floor}");
     assert!(
