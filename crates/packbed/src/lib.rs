@@ -171,7 +171,9 @@ pub use analysis::percolation::percolation;
 pub use analysis::pores::triangulation::Triangulation;
 pub use analysis::profile::profile;
 pub use analysis::regions::regional_packing;
-pub use analysis::validate::{check_bed, check_bed_with, InvariantChecks, Report as CheckReport};
+pub use analysis::validate::{
+    check_bed, check_bed_with, InvariantChecks, Report as CheckReport, Supports,
+};
 pub use analysis::voids::voids;
 pub use analysis::{analyze, analyze_with, bulk_region, coordination, PercolationOptions};
 pub use config::{BaseLayerKind, Fill, Settling, SettlingConfig, SizeConfig, SpeciesConfig};

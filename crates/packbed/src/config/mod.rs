@@ -1,6 +1,7 @@
 //! The run configuration: the TOML schema (strict: unknown keys are errors;
 //! `docs/reference/formats.md`, "The config file") and its validation into a [`Plan`] the engine can run.
 
+mod compaction;
 mod edit;
 mod feed;
 mod feeds;
@@ -18,6 +19,7 @@ pub use edit::named;
 pub(crate) use edit::{feed_parameter, species_parameter};
 pub use edit::{parse_numbers, BoxSpec, Edit, MeasureList, Numbers, Overrides, SWEEP_PARAMETERS};
 
+pub use compaction::{Compaction, CompactionConfig};
 pub use feed::Feed;
 pub use feeds::{FeedStage, FeedStageConfig};
 pub use filtration::{Drive, FiltrationConfig};

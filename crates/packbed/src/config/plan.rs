@@ -70,6 +70,8 @@ pub struct Plan<const D: usize> {
     pub settling: Settling,
     /// Where particles enter.
     pub feed: Feed,
+    /// The compaction after settling, if any.
+    pub compaction: Option<super::Compaction>,
     /// The feeds one after another (`[[feeds]]`); empty: one feed of every
     /// species, filled as `fill` says, settled by `settling`.
     pub feeds: Vec<FeedStage>,
@@ -500,6 +502,7 @@ impl Config {
                 "settling.restitution: the momentum rule settles spheres and discs; a rigid chain's momentum is not modelled (remove the chains' species or the restitution)",
             ));
         }
+        let compaction = self.compaction(&species, &feeds)?;
         let r_max = Self::r_max(&species);
         let container = self.container.resolve::<D>(&species, r_max)?;
         // A mesh's wires span the box, so its species come with the box.
@@ -640,8 +643,40 @@ impl Config {
             large_radius,
             settling,
             feed,
+            compaction,
             feeds,
         })
+    }
+
+    /// `[compaction]`, checked: spheres and discs dropped on a bare floor.
+    fn compaction(
+        &self,
+        species: &[Species],
+        feeds: &[FeedStage],
+    ) -> Result<Option<super::Compaction>> {
+        let Some(c) = &self.compaction else {
+            return Ok(None);
+        };
+        let c = c.resolve()?;
+        if self.mode == Mode::Rsa {
+            return Err(Error::config(
+                "[compaction] compacts a settled bed; mode = \"rsa\" settles none (remove [compaction], or use mode = \"deposit\")",
+            ));
+        }
+        if species
+            .iter()
+            .any(|s| matches!(s.shape, Shape::Chain { .. }))
+        {
+            return Err(Error::config(
+                "[compaction] moves spheres and discs; a rigid chain's rotations are not modelled (remove the chains' species or [compaction])",
+            ));
+        }
+        if feeds.iter().any(|f| f.file.is_some() || f.mesh.is_some()) {
+            return Err(Error::config(
+                "[compaction] would move the laid medium (a mesh or a bed file) with the cake; compact a cake on a bare floor",
+            ));
+        }
+        Ok(Some(c))
     }
 
     /// The `[[feeds]]`, checked, each species marked with its feed; none

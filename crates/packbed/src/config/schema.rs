@@ -61,6 +61,9 @@ pub struct Config {
     /// Where particles enter (default: uniformly over the box).
     #[serde(default, skip_serializing_if = "FeedConfig::is_default")]
     pub feed: FeedConfig,
+    /// Compact the settled bed (`[compaction]`; default: not).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compaction: Option<super::CompactionConfig>,
     /// Several feeds, one after another (`[[feeds]]`); empty: one feed.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub feeds: Vec<super::FeedStageConfig>,
@@ -290,6 +293,7 @@ impl Default for Config {
             species: default_species(),
             settling: SettlingConfig::default(),
             feed: FeedConfig::default(),
+            compaction: None,
             feeds: Vec::new(),
             analysis: AnalysisConfig::default(),
             filtration: None,

@@ -5,6 +5,7 @@ mod arc_search;
 mod base_layer;
 mod body;
 pub mod chain;
+pub mod compaction;
 pub(crate) mod obstacle;
 pub(crate) mod roll;
 pub mod rsa;
@@ -52,6 +53,8 @@ pub struct DepositReport {
     pub filtrate: Vec<Filtrate>,
     /// How far the medium was lifted above the open floor (0 without one).
     pub medium_lift: Real,
+    /// What the compaction after settling did (none without `[compaction]`).
+    pub compaction: Option<compaction::CompactionReport>,
 }
 
 /// Re-drops of one particle after which the run gives up (never seen in practice).
@@ -490,11 +493,15 @@ pub fn deposit<const D: usize>(
     plan: &Plan<D>,
     progress: &mut Progress,
 ) -> Result<(Bed<D>, DepositReport)> {
-    match plan.mode {
-        Mode::Deposit if speculate::worth_it() => speculate::on_every_core(plan, progress),
-        Mode::Deposit => Engine::new(plan)?.run(progress, false),
-        Mode::Rsa => rsa::rsa(plan, progress),
+    let (mut bed, mut report) = match plan.mode {
+        Mode::Deposit if speculate::worth_it() => speculate::on_every_core(plan, progress)?,
+        Mode::Deposit => Engine::new(plan)?.run(progress, false)?,
+        Mode::Rsa => rsa::rsa(plan, progress)?,
+    };
+    if let Some(c) = &plan.compaction {
+        report.compaction = Some(compaction::compact(&mut bed, c)?);
     }
+    Ok((bed, report))
 }
 
 /// Builds the bed a configuration describes, in its dimension.

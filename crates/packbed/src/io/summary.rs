@@ -94,6 +94,9 @@ pub struct RunSummary {
     /// Forces and breakage under load (with a `[fragmentation]` table).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fragmentation: Option<FragmentationSummary>,
+    /// The compaction after settling (with a `[compaction]` table).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub compaction: Option<crate::deposit::compaction::CompactionReport>,
     /// What the filter medium let through, held and left above it (beds
     /// with a `medium = true` feed).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -232,6 +235,7 @@ impl RunSummary {
             analysis: analysis.clone(),
             psd,
             fragmentation: None,
+            compaction: report.compaction,
             capture: capture(config, bed, report),
             filtration: None,
             timing,

@@ -7,6 +7,7 @@ mod common;
 mod analysis;
 mod chain_orientation;
 mod chains;
+mod compaction;
 mod ensemble;
 mod feeds;
 mod fibres;
