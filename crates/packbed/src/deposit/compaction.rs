@@ -3,7 +3,7 @@
 //! particles into one another's pockets, until no move of the whole bed lowers
 //! it further. Drop-and-roll settles one particle at a time on a frozen bed;
 //! a frictionless DEM pour (φ ≈ 0.64) is denser because the bed moves as a
-//! whole. This is the documented compaction of docs/settling.md.
+//! whole.
 //!
 //! Each step solves a convex quadratic programme in the displacements `u`
 //! (in mean diameters) of every sphere:
@@ -15,7 +15,8 @@
 //!   and each wall its distance.
 //!
 //! The step is refined as the bed converges, so that the contacts, opened by
-//! the square of each slide, close (docs/settling.md, "Compaction").
+//! the square of each slide, close: docs/settling.md,
+//! "Compaction: denser than 0.60".
 //!
 //! The pair constraint keeps the pair apart exactly for any displacement, not
 //! only small ones: the new distance `|d + Δd|` is at least its projection
