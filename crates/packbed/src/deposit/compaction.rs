@@ -58,14 +58,13 @@ pub struct CompactionReport {
     pub seconds: f64,
 }
 
-/// Gap kept between pairs and from walls, in mean diameters: well above the
-/// solver's feasibility tolerance, well below the contact tolerance of the
-/// analysis (10⁻⁶ of a radius).
+/// Gap kept between pairs and from walls, in mean diameters: about the
+/// solver's feasibility error, so that a step seldom needs halving, and far
+/// below the contact tolerance of the analysis (10⁻⁶ of a radius).
 const MARGIN: Real = 1e-9;
 
 /// The overlap a step may leave, in mean diameters: the rounding of the
-/// distances of a bed some 10⁴ diameters across. A pair at contact is held
-/// at its gap (0) by the programme, which meets that only to its tolerance.
+/// distances of a bed some 10⁴ diameters across.
 const ROUNDING: Real = 1e-12;
 
 /// Longest move of a sphere in one step, in steps: a free sphere falls one
@@ -114,7 +113,7 @@ pub fn compact<const D: usize>(bed: &mut Bed<D>, c: &Compaction) -> Result<Compa
         stopped_by: "steps",
         ..CompactionReport::default()
     };
-    if n == 0 || c.steps == 0 {
+    if n == 0 {
         report.stopped_by = "until";
         return Ok(report);
     }
@@ -127,24 +126,18 @@ pub fn compact<const D: usize>(bed: &mut Bed<D>, c: &Compaction) -> Result<Compa
         .collect();
     let total: Real = weights.iter().sum();
     let finest = c.step * FINEST;
-    // The step of the whole bed (each sphere's, for the programme).
     let mut step = c.step;
-    let mut own = vec![c.step; n];
     for _ in 0..c.steps {
-        let widest = own.iter().copied().fold(0.0, Real::max);
-        let pairs = pairs_within(bed, unit * reach(widest));
-        let Some(u) = solve_step(bed, &pairs, &weights, unit, &own) else {
+        let pairs = pairs_within(bed, unit * reach(step));
+        let Some(u) = solve_step(bed, &pairs, &weights, unit, step) else {
             report.stopped_by = "solver";
             break;
         };
         let moves: Vec<Real> = (0..n)
             .map(|i| (0..D).map(|k| u[i * D + k].powi(2)).sum::<Real>().sqrt())
             .collect();
-        let cap = moves
-            .iter()
-            .zip(&own)
-            .map(|(m, s)| LONGEST_MOVE * s / m)
-            .fold(1.0, Real::min);
+        let furthest = moves.iter().copied().fold(0.0, Real::max);
+        let cap = (LONGEST_MOVE * step / furthest).min(1.0);
         let Some(t) = largest_safe_fraction(&pairs, &u, unit, cap) else {
             report.stopped_by = "overlap";
             break;
@@ -162,7 +155,7 @@ pub fn compact<const D: usize>(bed: &mut Bed<D>, c: &Compaction) -> Result<Compa
         report.steps += 1;
         report.descent += descent * unit;
         report.last_descent = descent;
-        let longest = t * moves.iter().copied().fold(0.0, Real::max);
+        let longest = t * furthest;
         if longest > 0.1 * step && step < c.step {
             // A sphere moves freely (off a support, out of an unstable
             // balance, down a slope): coarser steps bring it down sooner.
@@ -179,7 +172,6 @@ pub fn compact<const D: usize>(bed: &mut Bed<D>, c: &Compaction) -> Result<Compa
                 break;
             }
         }
-        own.fill(step);
     }
     report.seconds = start.elapsed().as_secs_f64();
     if bed.centres.iter().any(|p| !p.is_finite()) {
@@ -246,7 +238,7 @@ fn solve_step<const D: usize>(
     pairs: &[Pair<D>],
     weights: &[Real],
     unit: Real,
-    steps: &[Real],
+    step: Real,
 ) -> Option<Vec<Real>> {
     let n = bed.centres.len() * D;
     let p = CscMatrix::new(
@@ -254,7 +246,7 @@ fn solve_step<const D: usize>(
         n,
         (0..=n).collect(),
         (0..n).collect(),
-        (0..n).map(|v| weights[v / D] / steps[v / D]).collect(),
+        (0..n).map(|v| weights[v / D] / step).collect(),
     );
     let mut q = vec![0.0; n];
     for (i, w) in weights.iter().enumerate() {
