@@ -239,6 +239,35 @@ fn slurm_ensembles_equal_local_ones() {
         &["sweep.csv", "sweep.md"],
     );
 
+    // 2c. A sweep over compaction steps (the compaction's wall time is left
+    // out of the statistics, which are the same bytes on any machine).
+    let compact = s.input(
+        "compact.toml",
+        "dim = 2\n[box]\nwidth = 12.3\nheight = 400\nperiodic = true\n[fill]\ncount = 150\n\
+         base_layer = \"none\"\n[[species]]\nradius = 0.5\n\
+         [sweep]\nparameter = \"compaction.steps\"\nvalues = [0, 40]\n",
+    );
+    let compact = compact.to_str().unwrap();
+    run_ok(
+        &conf,
+        &work,
+        &[
+            "ensemble", compact, "--runs", "2", "--out", "cp-local", "-q",
+        ],
+    );
+    run_ok(
+        &conf,
+        &work,
+        &[
+            "slurm", compact, "--runs", "2", "--tasks", "2", "--out", "cp-cl", "--submit", "--wait",
+        ],
+    );
+    assert_same(
+        &work.join("cp-local"),
+        &work.join("cp-cl"),
+        &["sweep.csv", "sweep.md"],
+    );
+
     // 3. A task cancelled mid-run: `--wait` names it and its log, exits 1,
     // and cancels the merge that can no longer run; the same command again
     // resumes, and the result equals the local one.

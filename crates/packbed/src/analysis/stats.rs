@@ -35,9 +35,10 @@ const NOT_MEASURES: [&str; 8] = [
 ];
 
 /// Wall times kept beside a measure rather than under [`TIMING_KEY`] (the
-/// filtration's own time): left out of the statistics of the bed, which
-/// must be the same bytes whatever machine built the replicates.
-const WALL_TIMES: [&str; 1] = ["filtration.seconds"];
+/// filtration's and the compaction's own times): left out of the statistics
+/// of the bed, which must be the same bytes whatever machine built the
+/// replicates.
+const WALL_TIMES: [&str; 2] = ["filtration.seconds", "compaction.seconds"];
 
 /// The key of the wall times in `summary.json`, kept out of the statistics of
 /// the bed because they depend on the machine and its load.
@@ -446,19 +447,28 @@ mod tests {
                    "coordination": {"histogram": [1, 2, 1]},
                    "packing_profile": [0.1, 0.3],
                    "species": [{"name": "large", "ratio": 1, "placed": 4}],
+                   "compaction": {"steps": 3, "seconds": 1.5},
                    "timing": {"deposit_seconds": 0.25}}),
             json!({"seed": 6, "packing": {"global": 0.7, "flag": false},
                    "coordination": {"histogram": [0, 2, 3, 1]},
                    "packing_profile": [0.3],
                    "species": [{"name": "large", "ratio": 1, "placed": 6}],
+                   "compaction": {"steps": 5, "seconds": 2.5},
                    "timing": {"deposit_seconds": 0.75}}),
         ];
         let a = measures_of(&runs).unwrap();
         assert_eq!(a.replicates, 2);
         let names: Vec<&str> = a.measures.iter().map(|m| m.name.as_str()).collect();
+        // The compaction's wall time is left out: the statistics are the
+        // same bytes on any machine.
         assert_eq!(
             names,
-            ["packing.global", "packing.flag", "species.large.placed"]
+            [
+                "packing.global",
+                "packing.flag",
+                "species.large.placed",
+                "compaction.steps"
+            ]
         );
         let g = a.measures[0].stats;
         assert!((g.mean - 0.6).abs() < 1e-15);
@@ -467,6 +477,7 @@ mod tests {
         assert_eq!(a.measures[1].kind, Kind::Percent);
         assert_eq!(a.measures[1].stats.mean, 50.0);
         assert_eq!(a.measures[2].stats.mean, 5.0);
+        assert_eq!(a.measures[3].stats.mean, 4.0);
         let h = &a.histograms[0];
         assert_eq!(h.counts, [1.0, 4.0, 4.0, 1.0]);
         assert_eq!(h.fraction, [0.1, 0.4, 0.4, 0.1]);

@@ -62,6 +62,20 @@ pub enum Edit {
     FeedCount(usize, u64),
     /// `feeds[K].mass_per_area`: a feed's amount as kg of solids per m².
     FeedMass(usize, Real),
+    /// One key of `[compaction]` (the table is added when the config has
+    /// none): a sweep from the settled bed toward the compacted one.
+    Compaction(CompactionEdit),
+}
+
+/// A change to `[compaction]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CompactionEdit {
+    /// Most steps (0: the settled bed).
+    Steps(u32),
+    /// How far a free sphere falls in one step, in mean diameters.
+    Step(Real),
+    /// The descent, as a share of the step, below which the step is refined.
+    Until(Real),
 }
 
 /// A change to `[filtration]`.
@@ -178,7 +192,7 @@ impl FromStr for BoxSpec {
 }
 
 /// The parameters a sweep can vary, with the form of their values.
-pub const SWEEP_PARAMETERS: [(&str, &str); 35] = [
+pub const SWEEP_PARAMETERS: [(&str, &str); 38] = [
     ("ratio", "a list with one number ratio per species, e.g. [1, 2]"),
     (
         "radii",
@@ -235,6 +249,18 @@ pub const SWEEP_PARAMETERS: [(&str, &str); 35] = [
     (
         "settling.sliding_friction",
         "the sliding friction coefficient of the momentum rule, >= 0",
+    ),
+    (
+        "compaction.steps",
+        "a whole number: most compaction steps (0 keeps the settled bed)",
+    ),
+    (
+        "compaction.step",
+        "how far a free sphere falls in one compaction step, mean diameters, (0, 0.25]",
+    ),
+    (
+        "compaction.until",
+        "the compaction's descent, as a share of the step, below which the step is refined",
     ),
     (
         "analysis.drainage.pressure",
@@ -339,6 +365,12 @@ impl Edit {
             "settling.sliding_friction" => {
                 Edit::Settling(SettlingEdit::SlidingFriction(one()?))
             }
+            "compaction.steps" => match whole(one()?)? {
+                n if n <= u64::from(u32::MAX) => Edit::Compaction(CompactionEdit::Steps(n as u32)),
+                n => return Err(format!("compaction.steps must be at most {}, got {n}", u32::MAX)),
+            },
+            "compaction.step" => Edit::Compaction(CompactionEdit::Step(one()?)),
+            "compaction.until" => Edit::Compaction(CompactionEdit::Until(one()?)),
             "analysis.drainage.pressure" => Edit::DrainagePressure(one()?),
             "analysis.drainage.reduced_pressure" => Edit::DrainageReducedPressure(one()?),
             "filtration.pressure" => Edit::Filtration(FiltrationEdit::Pressure(one()?)),
@@ -518,6 +550,14 @@ impl Config {
                     SettlingEdit::Restitution(e) => s.restitution = Some(e),
                     SettlingEdit::DropHeight(h) => s.drop_height = Some(h),
                     SettlingEdit::SlidingFriction(mu) => s.sliding_friction = Some(mu),
+                }
+            }
+            Edit::Compaction(e) => {
+                let c = self.compaction.get_or_insert_with(Default::default);
+                match *e {
+                    CompactionEdit::Steps(n) => c.steps = Some(n),
+                    CompactionEdit::Step(x) => c.step = Some(x),
+                    CompactionEdit::Until(x) => c.until = Some(x),
                 }
             }
         }
@@ -1001,6 +1041,18 @@ mod tests {
             (
                 "settling.sliding_friction",
                 Edit::Settling(SettlingEdit::SlidingFriction(5.0)),
+            ),
+            (
+                "compaction.steps",
+                Edit::Compaction(CompactionEdit::Steps(5)),
+            ),
+            (
+                "compaction.step",
+                Edit::Compaction(CompactionEdit::Step(5.0)),
+            ),
+            (
+                "compaction.until",
+                Edit::Compaction(CompactionEdit::Until(5.0)),
             ),
         ];
         for (p, edit) in cases {
