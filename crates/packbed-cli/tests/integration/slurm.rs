@@ -99,6 +99,30 @@ fn cat<'a>(parts: &[&[&'a str]]) -> Vec<&'a str> {
     parts.iter().flat_map(|p| p.iter().copied()).collect()
 }
 
+/// Runs the sweep `config` (two replicates) locally and as two Slurm tasks,
+/// into `{tag}-local` and `{tag}-cl`: the same sweep statistics.
+fn sweep_same_on_cluster(conf: &str, work: &Path, config: &Path, tag: &str) {
+    let config = config.to_str().unwrap();
+    let (local, cluster) = (format!("{tag}-local"), format!("{tag}-cl"));
+    run_ok(
+        conf,
+        work,
+        &["ensemble", config, "--runs", "2", "--out", &local, "-q"],
+    );
+    run_ok(
+        conf,
+        work,
+        &[
+            "slurm", config, "--runs", "2", "--tasks", "2", "--out", &cluster, "--submit", "--wait",
+        ],
+    );
+    assert_same(
+        &work.join(local),
+        &work.join(cluster),
+        &["sweep.csv", "sweep.md"],
+    );
+}
+
 fn assert_same(a: &Path, b: &Path, files: &[&str]) {
     for f in files {
         let (x, y) = (a.join(f), b.join(f));
@@ -220,24 +244,7 @@ fn slurm_ensembles_equal_local_ones() {
          cohesion_diameter = 1\ncohesion_exponent = 0.7\n\
          [sweep]\nparameter = \"settling.restitution\"\nvalues = [0.2, 0.6]\n",
     );
-    let settle = settle.to_str().unwrap();
-    run_ok(
-        &conf,
-        &work,
-        &["ensemble", settle, "--runs", "2", "--out", "st-local", "-q"],
-    );
-    run_ok(
-        &conf,
-        &work,
-        &[
-            "slurm", settle, "--runs", "2", "--tasks", "2", "--out", "st-cl", "--submit", "--wait",
-        ],
-    );
-    assert_same(
-        &work.join("st-local"),
-        &work.join("st-cl"),
-        &["sweep.csv", "sweep.md"],
-    );
+    sweep_same_on_cluster(&conf, &work, &settle, "st");
 
     // 2c. A sweep over compaction steps (the compaction's wall time is left
     // out of the statistics, which are the same bytes on any machine).
@@ -247,26 +254,7 @@ fn slurm_ensembles_equal_local_ones() {
          base_layer = \"none\"\n[[species]]\nradius = 0.5\n\
          [sweep]\nparameter = \"compaction.steps\"\nvalues = [0, 40]\n",
     );
-    let compact = compact.to_str().unwrap();
-    run_ok(
-        &conf,
-        &work,
-        &[
-            "ensemble", compact, "--runs", "2", "--out", "cp-local", "-q",
-        ],
-    );
-    run_ok(
-        &conf,
-        &work,
-        &[
-            "slurm", compact, "--runs", "2", "--tasks", "2", "--out", "cp-cl", "--submit", "--wait",
-        ],
-    );
-    assert_same(
-        &work.join("cp-local"),
-        &work.join("cp-cl"),
-        &["sweep.csv", "sweep.md"],
-    );
+    sweep_same_on_cluster(&conf, &work, &compact, "cp");
 
     // 3. A task cancelled mid-run: `--wait` names it and its log, exits 1,
     // and cancels the merge that can no longer run; the same command again
