@@ -8,6 +8,9 @@
 //! - `until` (default 0.01): when a step lowers the centre of mass by less
 //!   than this share of the step, the step is quartered, down to 10⁻³ of
 //!   `step`, where the compaction stops once nothing moves.
+//! - `friction` (default 0): the Coulomb coefficient of every contact, as
+//!   the cone of Anitescu's convex relaxation (a contact slides only where
+//!   the slope of the slide exceeds it).
 //!
 //! Spheres and discs only, on a bare floor (no chains, no laid medium), in
 //! `mode = "deposit"`.
@@ -30,6 +33,9 @@ pub struct CompactionConfig {
     /// this share of it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub until: Option<Real>,
+    /// The friction coefficient of the contacts (0: frictionless).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<Real>,
 }
 
 /// How a settled bed is compacted: `[compaction]`, resolved.
@@ -42,6 +48,8 @@ pub struct Compaction {
     /// Refine the step when a step lowers the centre of mass by less than
     /// this share of it.
     pub until: Real,
+    /// The friction coefficient of the contacts (0: frictionless).
+    pub friction: Real,
 }
 
 /// Default most steps.
@@ -73,7 +81,20 @@ impl CompactionConfig {
                 crate::math::display_length(until)
             )));
         }
-        Ok(Compaction { steps, step, until })
+        let friction = self.friction.unwrap_or(0.0);
+        let in_range = friction >= 0.0 && friction.is_finite();
+        if !in_range {
+            return Err(Error::config(format!(
+                "compaction.friction must be a coefficient, 0 or more, got {}",
+                crate::math::display_length(friction)
+            )));
+        }
+        Ok(Compaction {
+            steps,
+            step,
+            until,
+            friction,
+        })
     }
 }
 
@@ -87,6 +108,7 @@ mod tests {
             steps: None,
             step,
             until,
+            friction: None,
         };
         assert!(c(None, None).resolve().is_ok());
         for bad in [0.0, -0.1, 0.3, Real::NAN, Real::INFINITY] {
@@ -96,6 +118,14 @@ mod tests {
         for bad in [-1.0, Real::NAN, Real::INFINITY] {
             let e = c(None, Some(bad)).resolve().unwrap_err().to_string();
             assert!(e.contains("compaction.until must be"), "{e}");
+        }
+        for bad in [-0.1, Real::NAN, Real::INFINITY] {
+            let f = CompactionConfig {
+                friction: Some(bad),
+                ..Default::default()
+            };
+            let e = f.resolve().unwrap_err().to_string();
+            assert!(e.contains("compaction.friction must be"), "{e}");
         }
     }
 }

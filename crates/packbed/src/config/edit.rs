@@ -76,6 +76,8 @@ pub enum CompactionEdit {
     Step(Real),
     /// The descent, as a share of the step, below which the step is refined.
     Until(Real),
+    /// The contacts' friction coefficient.
+    Friction(Real),
 }
 
 /// A change to `[filtration]`.
@@ -192,7 +194,7 @@ impl FromStr for BoxSpec {
 }
 
 /// The parameters a sweep can vary, with the form of their values.
-pub const SWEEP_PARAMETERS: [(&str, &str); 38] = [
+pub const SWEEP_PARAMETERS: [(&str, &str); 39] = [
     ("ratio", "a list with one number ratio per species, e.g. [1, 2]"),
     (
         "radii",
@@ -257,6 +259,10 @@ pub const SWEEP_PARAMETERS: [(&str, &str); 38] = [
     (
         "compaction.step",
         "how far a free sphere falls in one compaction step, mean diameters, (0, 0.25]",
+    ),
+    (
+        "compaction.friction",
+        "the friction coefficient of the compaction's contacts, >= 0",
     ),
     (
         "compaction.until",
@@ -371,6 +377,7 @@ impl Edit {
             },
             "compaction.step" => Edit::Compaction(CompactionEdit::Step(one()?)),
             "compaction.until" => Edit::Compaction(CompactionEdit::Until(one()?)),
+            "compaction.friction" => Edit::Compaction(CompactionEdit::Friction(one()?)),
             "analysis.drainage.pressure" => Edit::DrainagePressure(one()?),
             "analysis.drainage.reduced_pressure" => Edit::DrainageReducedPressure(one()?),
             "filtration.pressure" => Edit::Filtration(FiltrationEdit::Pressure(one()?)),
@@ -558,6 +565,7 @@ impl Config {
                     CompactionEdit::Steps(n) => c.steps = Some(n),
                     CompactionEdit::Step(x) => c.step = Some(x),
                     CompactionEdit::Until(x) => c.until = Some(x),
+                    CompactionEdit::Friction(x) => c.friction = Some(x),
                 }
             }
         }

@@ -12,7 +12,10 @@
 //!   weights `wᵢ` the masses, plus a proximal term under which a free sphere
 //!   falls one step);
 //! - each pair keeps `n·(uᵢ − uⱼ) ≥ −gap` (`n` the unit vector from j to i),
-//!   and each wall its distance.
+//!   and each wall its distance; with `friction` µ, pairs near contact keep
+//!   their relative move in Anitescu's cone `n·Δu + gap ≥ µ |Δuₜ|` (a
+//!   second-order cone: a contact slides only by opening µ times the
+//!   slide), so the bed stops where Coulomb friction holds it.
 //!
 //! The step is refined as the bed converges, so that the contacts, opened by
 //! the square of each slide, close: docs/settling.md,
@@ -35,7 +38,8 @@ use crate::grid::Grid;
 use crate::math::{Real, Vector};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
-    DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus,
+    DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT, SecondOrderConeT,
+    SolverStatus, SupportedConeT,
 };
 use serde::Serialize;
 
@@ -129,7 +133,7 @@ pub fn compact<const D: usize>(bed: &mut Bed<D>, c: &Compaction) -> Result<Compa
     let mut step = c.step;
     for _ in 0..c.steps {
         let pairs = pairs_within(bed, unit * reach(step));
-        let Some(u) = solve_step(bed, &pairs, &weights, unit, step) else {
+        let Some(u) = solve_step(bed, &pairs, &weights, unit, step, c.friction) else {
             report.stopped_by = "solver";
             break;
         };
@@ -233,12 +237,20 @@ fn pairs_within<const D: usize>(bed: &Bed<D>, cut: Real) -> Vec<Pair<D>> {
 
 /// The step's displacements (in diameters, `D` per sphere), or `None` if the
 /// programme was not solved.
+///
+/// With `friction` µ > 0, each pair closer than µ times the reach of the step
+/// keeps its relative move in Anitescu's cone instead of the half-space:
+/// `n·(uᵢ − uⱼ) + gap ≥ µ |(uᵢ − uⱼ)ₜ|` (ₜ: the part across `n`). A contact
+/// then slides only by opening µ times the slide, so a sphere on a slope of
+/// tilt θ slides down only where tan θ > µ (Coulomb's threshold), and the
+/// cone is inside the half-space, so the pair still cannot overlap.
 fn solve_step<const D: usize>(
     bed: &Bed<D>,
     pairs: &[Pair<D>],
     weights: &[Real],
     unit: Real,
     step: Real,
+    friction: Real,
 ) -> Option<Vec<Real>> {
     let n = bed.centres.len() * D;
     let p = CscMatrix::new(
@@ -252,49 +264,106 @@ fn solve_step<const D: usize>(
     for (i, w) in weights.iter().enumerate() {
         q[i * D + D - 1] = *w;
     }
-    // A row for each pair and wall.
+    // Frictional pairs: those a step's slide could reach (a slide of up to
+    // the reach opens a sliding contact by µ times it).
+    let sticky = |pair: &Pair<D>| friction > 0.0 && pair.gap <= friction * reach(step) * unit;
+    let (free, cones): (Vec<&Pair<D>>, Vec<&Pair<D>>) = pairs.iter().partition(|p| !sticky(p));
+    // Rows: one per free pair (−n·uᵢ + n·uⱼ ≤ gap − margin), then D per
+    // frictional pair: that row, then µ tᵢ·(uᵢ − uⱼ) for each tangent tᵢ.
     let (mut rows, mut cols, mut vals) = (Vec::new(), Vec::new(), Vec::new());
-    let mut b = Vec::with_capacity(pairs.len());
-    for (row, pair) in pairs.iter().enumerate() {
-        // −n·uᵢ + n·uⱼ ≤ gap − margin.
+    let mut b = Vec::new();
+    // The pair of each normal row (None for a tangent row).
+    let mut normal_of = Vec::new();
+    let mut push = |row: usize, pair: &Pair<D>, v: &Vector<D>, scale: Real| {
         for k in 0..D {
             rows.push(row);
             cols.push(pair.i * D + k);
-            vals.push(-pair.n[k]);
+            vals.push(-scale * v[k]);
             if let Some(j) = pair.j {
                 rows.push(row);
                 cols.push(j * D + k);
-                vals.push(pair.n[k]);
+                vals.push(scale * v[k]);
             }
         }
+    };
+    for pair in free.iter().chain(&cones) {
+        push(b.len(), pair, &pair.n, 1.0);
         b.push(pair.gap / unit - MARGIN);
+        normal_of.push(Some(pair.gap));
+        if sticky(pair) {
+            for t in tangents(&pair.n) {
+                push(b.len(), pair, &t, friction);
+                b.push(0.0);
+                normal_of.push(None);
+            }
+        }
     }
     let a = CscMatrix::new_from_triplets(b.len(), n, rows, cols, vals);
+    let mut kinds: Vec<SupportedConeT<Real>> = Vec::new();
+    if !free.is_empty() {
+        kinds.push(NonnegativeConeT(free.len()));
+    }
+    kinds.extend(cones.iter().map(|_| SecondOrderConeT(D)));
     // Pairs are pushed a margin apart, so that the solver's tolerance does
     // not overlap them. A row of spheres touching around a periodic box (or
     // from wall to wall) cannot all part: then each pair closer than the
     // margin is held at its gap instead, and the exact check may shorten
     // the step.
-    solve(&p, &q, &a, &b).or_else(|| {
-        let held: Vec<Real> = pairs
+    solve(&p, &q, &a, &b, &kinds).or_else(|| {
+        let held: Vec<Real> = normal_of
             .iter()
             .zip(&b)
-            .map(|(pair, rhs)| rhs.max(pair.gap.min(0.0) / unit))
+            .map(|(gap, rhs)| match gap {
+                Some(gap) => rhs.max(gap.min(0.0) / unit),
+                None => *rhs,
+            })
             .collect();
-        solve(&p, &q, &a, &held)
+        solve(&p, &q, &a, &held, &kinds)
     })
 }
 
-/// The minimiser of `uᵀPu/2 + qᵀu` subject to `Au ≤ b`, if it was found.
-fn solve(p: &CscMatrix<Real>, q: &[Real], a: &CscMatrix<Real>, b: &[Real]) -> Option<Vec<Real>> {
+/// `D − 1` orthonormal vectors across the unit vector `n`: Gram–Schmidt on
+/// the axes, each time the axis that keeps the most length (at least
+/// √((D−1)/D) of it), so the basis is well conditioned for every `n`.
+fn tangents<const D: usize>(n: &Vector<D>) -> Vec<Vector<D>> {
+    let mut basis: Vec<Vector<D>> = Vec::with_capacity(D - 1);
+    while basis.len() < D - 1 {
+        let across = |k: usize| {
+            let mut v = Vector::<D>::axis(k);
+            v = v - *n * v.dot(n);
+            for t in &basis {
+                v = v - *t * v.dot(t);
+            }
+            v
+        };
+        let best = (0..D)
+            .map(across)
+            .max_by(|a, b| a.norm2().total_cmp(&b.norm2()))
+            .and_then(|v| v.normalized());
+        match best {
+            Some(t) => basis.push(t),
+            None => break,
+        }
+    }
+    basis
+}
+
+/// The minimiser of `uᵀPu/2 + qᵀu` subject to `Au + s = b`, `s` in `cones`,
+/// if it was found.
+fn solve(
+    p: &CscMatrix<Real>,
+    q: &[Real],
+    a: &CscMatrix<Real>,
+    b: &[Real],
+    cones: &[SupportedConeT<Real>],
+) -> Option<Vec<Real>> {
     let settings = DefaultSettingsBuilder::default()
         .verbose(false)
         .max_threads(1)
         .direct_solve_method(SOLVE_METHOD.into())
         .build()
         .ok()?;
-    let cones = [NonnegativeConeT(b.len())];
-    let mut solver = DefaultSolver::new(p, q, a, b, &cones, settings).ok()?;
+    let mut solver = DefaultSolver::new(p, q, a, b, cones, settings).ok()?;
     solver.solve();
     match solver.solution.status {
         SolverStatus::Solved | SolverStatus::AlmostSolved => {}
@@ -345,6 +414,7 @@ mod tests {
             steps: 1000,
             step: 0.05,
             until: 0.01,
+            friction: 0.0,
         }
     }
 
@@ -369,6 +439,64 @@ mod tests {
         // The centre of mass came down by half the top disc's fall.
         let fall = (4.0_f64 - 0.09).sqrt();
         assert!((r.descent - fall / 2.0).abs() < 1e-7, "{r:?}");
+    }
+
+    #[test]
+    fn friction_holds_a_disc_on_a_slope_flatter_than_its_angle() {
+        // A disc on top of another, 0.6 r off its axis: its contact normal is
+        // tilted by θ with sin θ = 0.6 / 2, tan θ = 0.3145. By Coulomb's
+        // threshold it stays for µ above tan θ, and below it slides off
+        // (then both lie on the floor). The lower disc's floor contact carries
+        // a share sin θ cos θ / 2 = 0.14 of the load across it, which µ holds
+        // where the upper one stays.
+        let top = 1.0 + (4.0_f64 - 0.36).sqrt();
+        let tilt = (0.3_f64).asin().tan();
+        for (mu, holds) in [(0.35, true), (0.5, true), (0.15, false), (0.0, false)] {
+            assert_eq!(mu > tilt, holds);
+            let mut bed = Bed::of_discs([20.0, 20.0], true, &[(10.0, 1.0, 1.0), (10.6, top, 1.0)]);
+            let before = bed.centres.clone();
+            let c = Compaction {
+                friction: mu,
+                ..default()
+            };
+            let r = compact(&mut bed, &c).unwrap();
+            assert_eq!(r.stopped_by, "until", "µ {mu}: {r:?}");
+            if holds {
+                for (a, b) in bed.centres.iter().zip(&before) {
+                    assert!((*a - *b).norm() < 1e-5, "µ {mu}: {a:?} moved from {b:?}");
+                }
+            } else {
+                for c in &bed.centres {
+                    assert!((c[1] - 1.0).abs() < 1e-8, "µ {mu}: {c:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn tangents_are_orthonormal_and_across_the_normal() {
+        let check = |n: Vector<3>| {
+            let n = n.normalized().unwrap();
+            let t = tangents(&n);
+            assert_eq!(t.len(), 2);
+            for (k, a) in t.iter().enumerate() {
+                assert!((a.norm() - 1.0).abs() < 1e-14 && a.dot(&n).abs() < 1e-14);
+                for b in &t[k + 1..] {
+                    assert!(a.dot(b).abs() < 1e-14);
+                }
+            }
+        };
+        for n in [
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 0.0],
+            [0.3, -0.4, 0.5],
+            [1.0, 1.0, 1.0],
+        ] {
+            check(Vector(n));
+        }
+        let t = tangents(&Vector([0.6, 0.8]));
+        assert_eq!(t.len(), 1);
+        assert!((t[0].dot(&Vector([0.6, 0.8]))).abs() < 1e-15);
     }
 
     #[test]
