@@ -82,10 +82,12 @@ impl CompactionConfig {
             )));
         }
         let friction = self.friction.unwrap_or(0.0);
-        let in_range = friction >= 0.0 && friction.is_finite();
+        // Beyond 10 a cone is all but a stop (a slide opens its contact ten
+        // times as far), and the solver's scaling suffers.
+        let in_range = (0.0..=10.0).contains(&friction);
         if !in_range {
             return Err(Error::config(format!(
-                "compaction.friction must be a coefficient, 0 or more, got {}",
+                "compaction.friction must be a coefficient from 0 to 10, got {}",
                 crate::math::display_length(friction)
             )));
         }
@@ -119,7 +121,7 @@ mod tests {
             let e = c(None, Some(bad)).resolve().unwrap_err().to_string();
             assert!(e.contains("compaction.until must be"), "{e}");
         }
-        for bad in [-0.1, Real::NAN, Real::INFINITY] {
+        for bad in [-0.1, 10.5, Real::NAN, Real::INFINITY] {
             let f = CompactionConfig {
                 friction: Some(bad),
                 ..Default::default()

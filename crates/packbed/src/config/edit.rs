@@ -262,7 +262,7 @@ pub const SWEEP_PARAMETERS: [(&str, &str); 39] = [
     ),
     (
         "compaction.friction",
-        "the friction coefficient of the compaction's contacts, >= 0",
+        "the friction coefficient of the compaction's contacts, 0 to 10",
     ),
     (
         "compaction.until",
