@@ -272,8 +272,8 @@ fn solve_step<const D: usize>(
     // frictional pair: that row, then µ tᵢ·(uᵢ − uⱼ) for each tangent tᵢ.
     let (mut rows, mut cols, mut vals) = (Vec::new(), Vec::new(), Vec::new());
     let mut b = Vec::new();
-    // The pair of each normal row (None for a tangent row).
-    let mut normal_of = Vec::new();
+    // The gap of each normal row (None for a tangent row), for the retry.
+    let mut gap_of = Vec::new();
     let mut push = |row: usize, pair: &Pair<D>, v: &Vector<D>, scale: Real| {
         for k in 0..D {
             rows.push(row);
@@ -289,12 +289,12 @@ fn solve_step<const D: usize>(
     for pair in free.iter().chain(&cones) {
         push(b.len(), pair, &pair.n, 1.0);
         b.push(pair.gap / unit - MARGIN);
-        normal_of.push(Some(pair.gap));
+        gap_of.push(Some(pair.gap));
         if sticky(pair) {
             for t in tangents(&pair.n) {
                 push(b.len(), pair, &t, friction);
                 b.push(0.0);
-                normal_of.push(None);
+                gap_of.push(None);
             }
         }
     }
@@ -310,7 +310,7 @@ fn solve_step<const D: usize>(
     // margin is held at its gap instead, and the exact check may shorten
     // the step.
     solve(&p, &q, &a, &b, &kinds).or_else(|| {
-        let held: Vec<Real> = normal_of
+        let held: Vec<Real> = gap_of
             .iter()
             .zip(&b)
             .map(|(gap, rhs)| match gap {
@@ -323,8 +323,8 @@ fn solve_step<const D: usize>(
 }
 
 /// `D − 1` orthonormal vectors across the unit vector `n`: Gram–Schmidt on
-/// the axes, each time the axis that keeps the most length (at least
-/// √((D−1)/D) of it), so the basis is well conditioned for every `n`.
+/// the axes, each time the axis that keeps the most length (the first keeps
+/// at least √((D−1)/D) of it), so the basis is well conditioned for every `n`.
 fn tangents<const D: usize>(n: &Vector<D>) -> Vec<Vector<D>> {
     let mut basis: Vec<Vector<D>> = Vec::with_capacity(D - 1);
     while basis.len() < D - 1 {
