@@ -137,10 +137,10 @@ pub fn compact<const D: usize>(bed: &mut Bed<D>, c: &Compaction) -> Result<Compa
             report.stopped_by = "solver";
             break;
         };
-        let moves: Vec<Real> = (0..n)
-            .map(|i| (0..D).map(|k| u[i * D + k].powi(2)).sum::<Real>().sqrt())
-            .collect();
-        let furthest = moves.iter().copied().fold(0.0, Real::max);
+        let furthest = u
+            .chunks_exact(D)
+            .map(|m| m.iter().map(|x| x * x).sum::<Real>().sqrt())
+            .fold(0.0, Real::max);
         let cap = (LONGEST_MOVE * step / furthest).min(1.0);
         let Some(t) = largest_safe_fraction(&pairs, &u, unit, cap) else {
             report.stopped_by = "overlap";
@@ -286,16 +286,18 @@ fn solve_step<const D: usize>(
             }
         }
     };
-    for pair in free.iter().chain(&cones) {
+    let tagged = free.iter().map(|p| (p, false));
+    for (pair, cone) in tagged.chain(cones.iter().map(|p| (p, true))) {
         push(b.len(), pair, &pair.n, 1.0);
         b.push(pair.gap / unit - MARGIN);
         gap_of.push(Some(pair.gap));
-        if sticky(pair) {
-            for t in tangents(&pair.n) {
-                push(b.len(), pair, &t, friction);
-                b.push(0.0);
-                gap_of.push(None);
-            }
+        if !cone {
+            continue;
+        }
+        for t in tangents(&pair.n) {
+            push(b.len(), pair, &t, friction);
+            b.push(0.0);
+            gap_of.push(None);
         }
     }
     let a = CscMatrix::new_from_triplets(b.len(), n, rows, cols, vals);
