@@ -1035,6 +1035,26 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
+    /// A circle of radius 2 about (0, 0, 5) in a plane tilted by `tilt`
+    /// toward `phi`, started at angle `theta` of the plane.
+    pub(super) fn tilted_arc(theta: Real, phi: Real, tilt: Real) -> Arc<3> {
+        let n = Vector([tilt.sin() * phi.cos(), tilt.sin() * phi.sin(), tilt.cos()]);
+        let mut e = Vector([1.0, 0.0, 0.0]);
+        e -= n * n.dot(&e);
+        let e1 = e.normalized().unwrap();
+        let e2 = Vector([
+            n[1] * e1[2] - n[2] * e1[1],
+            n[2] * e1[0] - n[0] * e1[2],
+            n[0] * e1[1] - n[1] * e1[0],
+        ]);
+        Arc {
+            m: Vector([0.0, 0.0, 5.0]),
+            rho: 2.0,
+            u: e1 * theta.cos() + e2 * theta.sin(),
+            v: e2 * theta.cos() - e1 * theta.sin(),
+        }
+    }
+
     proptest! {
         /// The friction event of an arc is where its downhill slope has
         /// fallen to `s`: the unit tangent there points down by exactly `s`,
@@ -1047,19 +1067,12 @@ mod tests {
             s in 0.02 as Real..0.9,
         ) {
             // A circle in a tilted plane, started heading down more steeply than s.
-            let n = Vector([tilt.sin() * phi.cos(), tilt.sin() * phi.sin(), tilt.cos()]);
-            let mut e = Vector([1.0, 0.0, 0.0]);
-            e -= n * n.dot(&e);
-            let e1 = e.normalized().unwrap();
-            let e2 = Vector([
-                n[1] * e1[2] - n[2] * e1[1],
-                n[2] * e1[0] - n[0] * e1[2],
-                n[0] * e1[1] - n[1] * e1[0],
-            ]);
-            let (u, v) = (e1 * theta.cos() + e2 * theta.sin(), e2 * theta.cos() - e1 * theta.sin());
-            let (u, v) = if v[2] > 0.0 { (u, -v) } else { (u, v) };
+            let mut arc = tilted_arc(theta, phi, tilt);
+            if arc.v[2] > 0.0 {
+                arc.v = -arc.v;
+            }
+            let (u, v) = (arc.u, arc.v);
             prop_assume!(-v[2] > s + 1e-6);
-            let arc = Arc::<3> { m: Vector([0.0, 0.0, 5.0]), rho: 2.0, u, v };
             let tangent = |t: Real| u * -t.sin() + v * t.cos();
             match slope_trig(&arc, s).downcrossing(1e-14) {
                 Some(x) => {

@@ -353,28 +353,9 @@ pub(super) fn way_out<const D: usize>(
 
 #[cfg(test)]
 mod tests {
+    use super::super::tests::tilted_arc;
     use super::*;
     use proptest::prelude::*;
-
-    /// A circle of radius 2 about (0, 0, 5) in a plane tilted by `tilt`
-    /// toward `phi`, started at angle `theta` of the plane.
-    fn tilted_arc(theta: Real, phi: Real, tilt: Real) -> Arc<3> {
-        let n = Vector([tilt.sin() * phi.cos(), tilt.sin() * phi.sin(), tilt.cos()]);
-        let mut e = Vector([1.0, 0.0, 0.0]);
-        e -= n * n.dot(&e);
-        let e1 = e.normalized().unwrap();
-        let e2 = Vector([
-            n[1] * e1[2] - n[2] * e1[1],
-            n[2] * e1[0] - n[0] * e1[2],
-            n[0] * e1[1] - n[1] * e1[0],
-        ]);
-        Arc {
-            m: Vector([0.0, 0.0, 5.0]),
-            rho: 2.0,
-            u: e1 * theta.cos() + e2 * theta.sin(),
-            v: e2 * theta.cos() - e1 * theta.sin(),
-        }
-    }
 
     proptest! {
         /// Where the bound says the energy lasts, it lasts at every one of
