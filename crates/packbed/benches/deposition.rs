@@ -61,6 +61,7 @@ fn deposition(cr: &mut Criterion) {
             restitution: None,
             drop_height: None,
             sliding_friction: None,
+            climb_over: false,
         }
         .config();
         group.throughput(Throughput::Elements(n));

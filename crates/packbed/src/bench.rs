@@ -104,6 +104,9 @@ pub struct BenchBed {
     /// With `--restitution`: the sliding friction coefficient.
     #[cfg_attr(feature = "cli", arg(long, value_name = "MU"))]
     pub sliding_friction: Option<f64>,
+    /// With `--restitution`: a climb that meets a particle rolls on over it.
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub climb_over: bool,
 }
 
 impl BenchBed {
@@ -149,6 +152,7 @@ impl BenchBed {
             restitution: self.restitution,
             drop_height: self.drop_height,
             sliding_friction: self.sliding_friction,
+            climb_over: self.climb_over.then_some(true),
         };
         c.species.truncate(1);
         c.species[0].radius = Some(RADIUS);
@@ -409,6 +413,9 @@ pub fn text(r: &BenchResult, spec: Option<&BenchBed>) -> String {
             }
             if let Some(mu) = b.sliding_friction {
                 rule.push(format!("sliding friction {mu}"));
+            }
+            if b.climb_over {
+                rule.push("climbing over".to_string());
             }
             let sizes = if rule.is_empty() {
                 sizes

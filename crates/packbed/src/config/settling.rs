@@ -35,7 +35,9 @@
 //!   tangential part of its energy and e² of the normal part, and leaves a
 //!   pocket over its lowest open rim when its energy is above the rim. This
 //!   moves the rule toward denser beds. `sliding_friction = µ` (default 0)
-//!   takes µ times each move's horizontal travel from the energy. Spheres
+//!   takes µ times each move's horizontal travel from the energy.
+//!   `climb_over = true`: a climb out of a pocket that meets another
+//!   particle rolls on over it (default: that way out is closed). Spheres
 //!   and discs only; not with `contacts`.
 //!
 //! Side walls are no contacts for `contacts` and `sticking`: they guide a
@@ -76,6 +78,10 @@ pub struct SettlingConfig {
     /// The momentum rule's sliding friction coefficient (needs `restitution`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sliding_friction: Option<Real>,
+    /// With momentum: a climb out of a pocket that meets another particle
+    /// rolls on over it instead of ending there (needs `restitution`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub climb_over: Option<bool>,
 }
 
 impl SettlingConfig {
@@ -200,12 +206,18 @@ impl SettlingConfig {
                 )))
             }
         };
+        if self.climb_over.is_some() && self.restitution.is_none() {
+            return Err(Error::config(
+                "settling.climb_over is the momentum rule's: give `restitution` too",
+            ));
+        }
         match self.restitution {
             None => Ok(None),
             Some(e) if (0.0..1.0).contains(&e) => Ok(Some(Momentum {
                 restitution: e,
                 drop_height,
                 sliding_friction,
+                climb_over: self.climb_over.unwrap_or(false),
             })),
             Some(e) => Err(Error::config(format!(
                 "settling.restitution must be in [0, 1), got {e}"
@@ -251,6 +263,10 @@ pub struct Momentum {
     /// times its horizontal travel (a block sliding down a plane loses
     /// `µ N ds = µ m g dx`).
     pub sliding_friction: Real,
+    /// A climb out of a pocket that meets another particle rolls on over it
+    /// (on the groove of the blocker and the supports the way on keeps)
+    /// instead of ending there.
+    pub climb_over: bool,
 }
 
 impl Settling {
@@ -343,6 +359,7 @@ mod tests {
             ),
             ("restitution = 0.5\ncontacts = 3", "does not combine"),
             ("sliding_friction = 0.3", "settling.sliding_friction"),
+            ("climb_over = true", "settling.climb_over"),
             (
                 "restitution = 0\nsliding_friction = -1",
                 "settling.sliding_friction",
@@ -382,8 +399,11 @@ mod tests {
                 restitution: 0.0,
                 drop_height: None,
                 sliding_friction: 0.0,
+                climb_over: false,
             })
         );
+        let s = resolve("restitution = 0.5\nclimb_over = true").unwrap();
+        assert!(s.momentum.unwrap().climb_over);
         let s = resolve("restitution = 0.4\ndrop_height = 7").unwrap();
         assert_eq!(s.momentum.unwrap().drop_height, Some(7.0));
     }

@@ -281,16 +281,9 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
             let direction = if residual.norm() <= REST_TOL * (1.0 + total_force) {
                 if is_stable(&keep, &p) {
                     if let Some(m) = motion.as_mut() {
-                        if let Some(exit) = momentum::way_out(
-                            terrain,
-                            &keep,
-                            &p,
-                            r,
-                            tol,
-                            m.energy(),
-                            m.mu(),
-                            &mut batch,
-                        ) {
+                        if let Some(exit) =
+                            momentum::way_out(terrain, &keep, &p, r, tol, m, &mut batch)
+                        {
                             m.descended(-exit.barrier);
                             p = exit.top;
                             active = exit.kept;
@@ -360,6 +353,10 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
         // With friction the arc also ends where its slope falls below the
         // angle (in a groove, before its lowest point): held there.
         let mut held = false;
+        // Held where a moving particle's energy ran out: checked against its
+        // supports' forces below, since an arc on from a rim may lean on a
+        // support that no longer pushes.
+        let mut moving = false;
         if let (Some(s), Some(m)) = (rule.slope, motion.as_ref().filter(|m| m.energy() > 0.0)) {
             // Moving: held where its energy is spent on a stretch less steep
             // than the angle, not where the stretch begins.
@@ -368,6 +365,7 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
                 end_rank = x.diamond();
                 released = None;
                 held = true;
+                moving = true;
             }
         } else if let Some(s) = rule.slope {
             if let Some(x) = slope_trig(&arc, s).downcrossing(1e-14) {
@@ -392,7 +390,7 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
                 m.impact(momentum::head_on(&hits, &p, &arc.tangent_at(&stop)));
             }
         }
-        if held && end_rank < hit_rank {
+        if held && end_rank < hit_rank && (!moving || friction_holds(&keep, &p, rule.slope)) {
             return Some(p);
         }
         fresh = hit_rank <= end_rank && (0..hits.len).any(|i| holds(&hits.get(i), &p));
@@ -427,6 +425,28 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
         }
     }
     None
+}
+
+/// Whether static friction holds a particle at `p` on the supports `keep`
+/// under the friction angle's sine `slope`: its forces balance, or the way
+/// its weight pushes it (along the supports that push back) is less steep.
+fn friction_holds<const D: usize>(
+    keep: &ContactSet<D>,
+    p: &Vector<D>,
+    slope: Option<Real>,
+) -> bool {
+    let Some(s) = slope else {
+        return true;
+    };
+    let mut normals = [Vector::<D>::zero(); MAX_ACTIVE];
+    for (i, n) in normals.iter_mut().enumerate().take(keep.len) {
+        *n = keep.get(i).surface.normal_at(p);
+    }
+    let mut lambda = [0.0; MAX_ACTIVE];
+    let residual = nnls(&normals[..keep.len], Vector::up(), &mut lambda);
+    let total: Real = lambda[..keep.len].iter().sum();
+    residual.norm() <= REST_TOL * (1.0 + total)
+        || (-residual).normalized().is_none_or(|d| -d[D - 1] < s)
 }
 
 /// True for a particle with no kinetic energy left (every particle of a

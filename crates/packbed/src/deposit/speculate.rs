@@ -635,7 +635,7 @@ mod tests {
     fn batches_build_the_one_at_a_time_bed_under_every_settling_rule() {
         // The sticking draws come from the entry point, not the run's
         // generator: batches stay as long as under the rolling rule. The
-        // momentum rule's climbs over rims are legs of the trail too; it
+        // momentum rule's climbs over rims (and over blockers) are legs of the trail too; it
         // settles spheres and discs only, so its 2D bed has no chains.
         let rules = [
             "contacts = 1",
@@ -647,6 +647,7 @@ mod tests {
             "restitution = 0.5\ndrop_height = 30",
             "restitution = 0\nsliding_friction = 0.3\nsticking = 0.1",
             "restitution = 0.5\nfriction_angle = 25",
+            "restitution = 0.95\ndrop_height = 80\nfriction_angle = 10\nclimb_over = true",
         ];
         for rule in rules {
             same::<3>(&format!(

@@ -392,6 +392,14 @@ fn in_3d_nearly_elastic_heaps_stand_at_the_friction_angle_above_the_pockets_floo
         (low - floor).abs() < 2.0,
         "α 15°: {low}, no friction {floor}"
     );
+    // Below the floor the heap needs climbs that roll on over their
+    // blockers (`climb_over`): α 10° then stands at 12.2° (seed 1), where
+    // without them every α below 20° gives about 20°.
+    let over = heap_slope::<3>(
+        "friction_angle = 10\nrestitution = 0.99\ndrop_height = 14\nclimb_over = true",
+    );
+    eprintln!("α 10°, climbing over: {over:.1}°");
+    assert!(over < 15.0 && over < low - 5.0, "{over} against {low}");
 }
 
 #[test]
@@ -533,6 +541,57 @@ fn momentum_climbs_the_groove_of_two_supports_out_of_a_three_sphere_pocket() {
 }
 
 #[test]
+fn with_climb_over_a_blocked_climb_rolls_on_over_its_blocker() {
+    // The pocket of `momentum_leaves_a_pocket_only_over_a_rim_its_energy_clears`
+    // (discs of radius 1 at x = 9 and 11, the pocket at x = 10, 1 + √3 high),
+    // each way up blocked by a floating disc level with the point 105° round
+    // the support (15° short of its top), 2 beside it: the climb over the right support meets
+    // C head-on-ish (cos² θ = sin² 105°), then rolls up C's side to its top,
+    // 2 higher, down its far side and onto the floor at C's x + 2 (the left
+    // one mirrors it). Restitution 0.9, no friction: it lands keeping
+    // 1 − 0.19 · 3/4 of its fall, climbs 2 sin 105° − √3 to the blocker,
+    // keeps 1 − 0.19 sin² 105° of what is left, and needs 2 more.
+    let (s105, c105) = (105.0 as Real).to_radians().sin_cos();
+    let touch = [11.0 + 2.0 * c105, 1.0 + 2.0 * s105];
+    let c = [touch[0] + 2.0, touch[1]];
+    let d = [20.0 - c[0], c[1]];
+    let b = Bed::of_spheres(
+        [20.0, 50.0],
+        false,
+        [
+            ([9.0, 1.0], 1.0, 0),
+            ([11.0, 1.0], 1.0, 0),
+            (c, 1.0, 0),
+            (d, 1.0, 0),
+        ],
+    );
+    let pocket = [10.0, 1.0 + (3.0 as Real).sqrt()];
+    let lost = 1.0 - 0.9 * 0.9;
+    let to_blocker = 2.0 * s105 - (3.0 as Real).sqrt();
+    let needed = (to_blocker + 2.0 / (1.0 - lost * s105 * s105)) / (1.0 - lost * 0.75);
+    for (h, over, leaves) in [
+        (1.03 * needed, false, false),
+        (0.97 * needed, true, false),
+        (1.03 * needed, true, true),
+    ] {
+        let mut text = format!("restitution = 0.9\ndrop_height = {h}");
+        if over {
+            text.push_str("\nclimb_over = true");
+        }
+        let p = drop_one(&b, 1.0, [10.0, 0.0], &rule(&text));
+        if leaves {
+            assert!((p[1] - 1.0).abs() < 1e-9, "h {h}: {p:?}");
+            assert!(
+                (p[0] - (c[0] + 2.0)).abs() < 1e-9 || (p[0] - (d[0] - 2.0)).abs() < 1e-9,
+                "h {h}: {p:?}"
+            );
+        } else {
+            close(p, pocket, 1e-12);
+        }
+    }
+}
+
+#[test]
 fn momentum_packs_denser_friction_takes_it_back_and_the_checker_passes() {
     // Momentum lets a sphere leave shallow pockets: denser than rolling
     // (φ 0.58); sliding friction spends the energy and brings it back.
@@ -554,10 +613,20 @@ fn momentum_packs_denser_friction_takes_it_back_and_the_checker_passes() {
         last = phi;
     }
     for mix in [sphere, MIXES[0]] {
-        for periodic in [false, true] {
-            let settling = "restitution = 0.5\ndrop_height = 4\nsticking = 0.1";
+        for (periodic, settling) in [
+            (false, "restitution = 0.5\ndrop_height = 4\nsticking = 0.1"),
+            (true, "restitution = 0.5\ndrop_height = 4\nsticking = 0.1"),
+            (
+                false,
+                "restitution = 0.9\ndrop_height = 10\nclimb_over = true",
+            ),
+            (
+                true,
+                "restitution = 0.9\ndrop_height = 10\nclimb_over = true",
+            ),
+        ] {
             let held = rule(settling);
-            let what = format!("{mix} / periodic {periodic}");
+            let what = format!("{mix} / periodic {periodic} / {settling}");
             let (b, report) = run::<3>(&bed_config(3, periodic, 600, mix, settling));
             assert_eq!(report.redrops, 0, "{what}");
             assert_checked(&b, &InvariantChecks::new(TOL).held_by(&held), &what);

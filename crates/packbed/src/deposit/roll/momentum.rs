@@ -21,7 +21,7 @@
 //! particles come to rest, not how they get there, and the geometry stays
 //! exact: every rest is still a contact of `D` supports, or the floor.
 
-use super::{blocked_on_arc, circle, ContactSet, Terrain};
+use super::{blocked_on_arc, circle, first_contact_on_arc, ContactSet, Terrain};
 use crate::config::Momentum;
 use crate::deposit::arc_search::Batch;
 use crate::deposit::obstacle::is_floor;
@@ -37,6 +37,8 @@ pub(super) struct Motion {
     drop: Real,
     /// Sliding friction: the energy lost per unit of horizontal travel.
     mu: Real,
+    /// Whether a climb that meets a particle rolls on over it.
+    climb_over: bool,
     /// Zero until the first impact.
     energy: Real,
     landed: bool,
@@ -49,6 +51,7 @@ impl Motion {
             lost: 1.0 - m.restitution * m.restitution,
             drop: m.drop_height.unwrap_or(2.0 * r),
             mu: m.sliding_friction,
+            climb_over: m.climb_over,
             energy: 0.0,
             landed: false,
         }
@@ -92,7 +95,12 @@ impl Motion {
     /// An impact where `cos2` is the largest `cos² θ` between the direction
     /// of travel and a new contact's normal.
     pub(super) fn impact(&mut self, cos2: Real) {
-        self.energy *= 1.0 - self.lost * cos2.clamp(0.0, 1.0);
+        self.energy *= self.kept_at_impact(cos2);
+    }
+
+    /// The share of the energy an impact of [`Motion::impact`] keeps.
+    fn kept_at_impact(&self, cos2: Real) -> Real {
+        1.0 - self.lost * cos2.clamp(0.0, 1.0)
     }
 }
 
@@ -267,18 +275,19 @@ fn kept<const D: usize>(held: &ContactSet<D>, gone: usize) -> ContactSet<D> {
 }
 
 /// The lowest open rim of the pocket `held` (the supports at `p`) below the
-/// energy `energy`, if any. A sphere on the floor has no way out.
-#[allow(clippy::too_many_arguments)]
+/// energy of `motion`, if any; with `climb_over`, else the first blocked
+/// climb, lowest first, that goes on over its blockers to a rim (see
+/// [`over_the_blockers`]). A sphere on the floor has no way out.
 pub(super) fn way_out<const D: usize>(
     terrain: &Terrain<'_, D>,
     held: &ContactSet<D>,
     p: &Vector<D>,
     r: Real,
     tol: Real,
-    energy: Real,
-    mu: Real,
+    motion: &Motion,
     batch: &mut Batch<D>,
 ) -> Option<Exit<D>> {
+    let (energy, mu) = (motion.energy, motion.mu);
     if energy <= 0.0 || (0..held.len).any(|i| is_floor(held.get(i).key)) {
         return None;
     }
@@ -347,6 +356,136 @@ pub(super) fn way_out<const D: usize>(
             onward: arc.tangent_at(&top),
             barrier,
         });
+    }
+    if motion.climb_over {
+        for &Rim { gone, arc, top, .. } in &rims[..n] {
+            let climb = Climb {
+                kept: kept(held, gone),
+                arc,
+                top,
+            };
+            if let Some(exit) = over_the_blockers(terrain, climb, p, r, tol, motion, batch) {
+                return Some(exit);
+            }
+        }
+    }
+    None
+}
+
+/// One arc of a climb: the supports kept, the circle, its highest point.
+struct Climb<const D: usize> {
+    kept: ContactSet<D>,
+    arc: Arc<D>,
+    top: Crossing,
+}
+
+/// Blocked climbs a particle may roll on over, one after another, before
+/// its way out counts as closed.
+const MOST_BLOCKERS: usize = 6;
+
+/// A climb from `p` that meets a particle, carried on over it: at the
+/// blocker the sphere keeps its energy less the climb, the friction and the
+/// impact, and rolls on along the groove of the blocker and the supports the
+/// way on keeps (of the circles that leave one support, the one whose
+/// direction is nearest its own), up to that circle's highest point, and
+/// so on over at most [`MOST_BLOCKERS`] blockers. It is out where a circle
+/// reaches its top unblocked, or where the way on already goes down (over
+/// the crest at the blocker). Where the energy runs out first, or two
+/// particles are met at once, the way is closed.
+fn over_the_blockers<const D: usize>(
+    terrain: &Terrain<'_, D>,
+    mut climb: Climb<D>,
+    p: &Vector<D>,
+    r: Real,
+    tol: Real,
+    motion: &Motion,
+    batch: &mut Batch<D>,
+) -> Option<Exit<D>> {
+    let mut at = *p;
+    let mut energy = motion.energy;
+    let mut hits = ContactSet::<D>::new();
+    // The energy left at `to` after sliding there from `at`, as `slid` books it.
+    let left = |energy: Real, at: &Vector<D>, to: &Vector<D>| {
+        energy + at.height() - to.height() - motion.mu * (*to - *at).horizontal().norm()
+    };
+    for _ in 0..MOST_BLOCKERS {
+        let Climb { kept, arc, top } = climb;
+        let (hit, rank) = first_contact_on_arc(
+            terrain,
+            &arc,
+            &kept,
+            r,
+            &top,
+            top.diamond(),
+            tol,
+            &mut hits,
+            batch,
+        );
+        let stop = if rank.is_finite() { hit } else { top };
+        terrain.went(Leg::Roll { arc, stop });
+        let q = arc.point_at(&stop);
+        energy = left(energy, &at, &q);
+        if energy <= 0.0 {
+            return None;
+        }
+        if !rank.is_finite() {
+            return Some(Exit {
+                top: q,
+                kept,
+                onward: arc.tangent_at(&top),
+                barrier: motion.energy - energy,
+            });
+        }
+        if hits.len != 1 {
+            return None;
+        }
+        let heading = arc.tangent_at(&hit);
+        energy *= motion.kept_at_impact(head_on(&hits, &q, &heading));
+        // On with the blocker and all supports but one: the one the way on
+        // leaves, along the circle nearest the heading.
+        let mut next: Option<(Real, Climb<D>)> = None;
+        for j in 0..kept.len {
+            let mut on = kept;
+            on.remove_key(kept.get(j).key);
+            on.push(hits.get(0));
+            let Some(a) = circle(&on, &q, &heading) else {
+                continue;
+            };
+            if a.v.dot(&kept.get(j).surface.normal_at(&q)) < 0.0 {
+                // Into the support it would leave.
+                continue;
+            }
+            let along = a.v.dot(&heading);
+            if next.as_ref().is_none_or(|(best, _)| along > *best) {
+                let start = Crossing { cos: 1.0, sin: 0.0 };
+                next = Some((
+                    along,
+                    Climb {
+                        kept: on,
+                        arc: a,
+                        top: start,
+                    },
+                ));
+            }
+        }
+        let (_, mut on) = next?;
+        let (uz, vz) = (on.arc.u.height(), on.arc.v.height());
+        if vz <= 0.0 {
+            // Over the crest at the blocker: on from here, downhill.
+            return Some(Exit {
+                top: q,
+                onward: on.arc.v,
+                kept: on.kept,
+                barrier: motion.energy - energy,
+            });
+        }
+        let h = uz.hypot(vz);
+        on.top = Crossing {
+            cos: uz / h,
+            sin: vz / h,
+        };
+        climb = on;
+        at = q;
     }
     None
 }
