@@ -1070,6 +1070,11 @@ fn settling_rules_run_and_bad_ones_are_refused() {
             &["settling.restitution", "1"][..],
         ),
         (
+            "climb.toml",
+            "[settling]\nclimb_over = true\n",
+            &["settling.climb_over", "restitution"][..],
+        ),
+        (
             "n.toml",
             "[settling]\ncohesion_diameter = 5\ncohesion_exponent = -1\n",
             &["settling.cohesion_exponent", "-1"][..],
