@@ -229,7 +229,6 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
     // Just above everything the particle could touch on its way down.
     p[D - 1] = terrain.max_top(&p, &p, r) + r;
     let mut active = ContactSet::<D>::new();
-    let mut normals = [Vector::<D>::zero(); MAX_ACTIVE];
     let mut lambda = [0.0; MAX_ACTIVE];
     let mut keep = ContactSet::<D>::new();
     let mut hits = ContactSet::<D>::new();
@@ -266,10 +265,7 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
             keep = active;
             direction
         } else {
-            for i in 0..active.len {
-                normals[i] = active.get(i).surface.normal_at(&p);
-            }
-            let residual = nnls(&normals[..active.len], Vector::up(), &mut lambda);
+            let (residual, balanced) = weight_on(&active, &p, &mut lambda);
             keep.clear();
             for i in 0..active.len {
                 if lambda[i] > FORCE_TOL {
@@ -277,8 +273,7 @@ pub(crate) fn settle<const D: usize, R: rand::Rng + ?Sized>(
                     keep.push(active.get(i));
                 }
             }
-            let total_force: Real = lambda[..active.len].iter().sum();
-            let direction = if residual.norm() <= REST_TOL * (1.0 + total_force) {
+            let direction = if balanced {
                 if is_stable(&keep, &p) {
                     if let Some(m) = motion.as_mut() {
                         if let Some(exit) =
@@ -438,15 +433,26 @@ fn friction_holds<const D: usize>(
     let Some(s) = slope else {
         return true;
     };
+    let (residual, balanced) = weight_on(keep, p, &mut [0.0; MAX_ACTIVE]);
+    balanced || (-residual).normalized().is_none_or(|d| -d[D - 1] < s)
+}
+
+/// The weight (a unit force up, to be met) on the contacts `set` at `p`: the
+/// non-negative contact forces that best meet it, into `lambda`; the part
+/// they leave unmet; and whether that part is nil (to `REST_TOL` of the
+/// forces), so that the particle is balanced.
+fn weight_on<const D: usize>(
+    set: &ContactSet<D>,
+    p: &Vector<D>,
+    lambda: &mut [Real; MAX_ACTIVE],
+) -> (Vector<D>, bool) {
     let mut normals = [Vector::<D>::zero(); MAX_ACTIVE];
-    for (i, n) in normals.iter_mut().enumerate().take(keep.len) {
-        *n = keep.get(i).surface.normal_at(p);
+    for (i, n) in normals.iter_mut().enumerate().take(set.len) {
+        *n = set.get(i).surface.normal_at(p);
     }
-    let mut lambda = [0.0; MAX_ACTIVE];
-    let residual = nnls(&normals[..keep.len], Vector::up(), &mut lambda);
-    let total: Real = lambda[..keep.len].iter().sum();
-    residual.norm() <= REST_TOL * (1.0 + total)
-        || (-residual).normalized().is_none_or(|d| -d[D - 1] < s)
+    let residual = nnls(&normals[..set.len], Vector::up(), lambda);
+    let total: Real = lambda[..set.len].iter().sum();
+    (residual, residual.norm() <= REST_TOL * (1.0 + total))
 }
 
 /// True for a particle with no kinetic energy left (every particle of a

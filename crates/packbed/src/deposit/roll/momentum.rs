@@ -88,8 +88,7 @@ impl Motion {
     /// to friction µ times its horizontal travel (the chord's: exact on a
     /// plane, and on a circle short against its radius).
     pub(super) fn slid<const D: usize>(&mut self, a: &Vector<D>, b: &Vector<D>) {
-        let travel = (*b - *a).horizontal().norm();
-        self.energy = (self.energy + a.height() - b.height() - self.mu * travel).max(0.0);
+        self.energy = left_after(self.energy, self.mu, a, b).max(0.0);
     }
 
     /// An impact where `cos2` is the largest `cos² θ` between the direction
@@ -102,6 +101,14 @@ impl Motion {
     fn kept_at_impact(&self, cos2: Real) -> Real {
         1.0 - self.lost * cos2.clamp(0.0, 1.0)
     }
+}
+
+/// The energy left at `b` of a sphere that had `energy` at `a` and slid
+/// there under friction `mu`: its descent gained, µ times its horizontal
+/// travel lost (negative where it ran out on the way). The one account of
+/// [`Motion::slid`], the stop along an arc and the climbs over blockers.
+fn left_after<const D: usize>(energy: Real, mu: Real, a: &Vector<D>, b: &Vector<D>) -> Real {
+    energy + a.height() - b.height() - mu * (*b - *a).horizontal().norm()
 }
 
 /// The largest `cos²` between the unit direction `t` and the normals of the
@@ -133,10 +140,7 @@ pub(super) fn spent_on_arc<const D: usize>(
     s: Real,
     end: &Crossing,
 ) -> Option<Crossing> {
-    let left = |x: &Crossing| {
-        let q = arc.point_at(x);
-        energy + p.height() - q.height() - mu * (q - *p).horizontal().norm()
-    };
+    let left = |x: &Crossing| left_after(energy, mu, p, &arc.point_at(x));
     let mut t_end = end.sin.atan2(end.cos);
     if t_end < 0.0 {
         t_end += std::f64::consts::TAU;
@@ -312,16 +316,11 @@ pub(super) fn way_out<const D: usize>(
         if arc.m.height() + arc.rho * h_below - p.height() >= energy {
             continue;
         }
-        let h = uz.hypot(vz);
-        if h == 0.0 {
+        let Some(top) = highest(&arc) else {
             continue;
-        }
-        let top = Crossing {
-            cos: uz / h,
-            sin: vz / h,
         };
         // The climb to the rim, and the friction on the way (its chord).
-        let barrier = arc.m.height() + arc.rho * h - p.height()
+        let barrier = arc.m.height() + arc.rho * uz.hypot(vz) - p.height()
             + mu * (arc.point_at(&top) - *p).horizontal().norm();
         if barrier < energy {
             rims[n] = Rim {
@@ -372,6 +371,16 @@ pub(super) fn way_out<const D: usize>(
     None
 }
 
+/// The highest point of `arc`'s circle, as a crossing (none for a level one).
+fn highest<const D: usize>(arc: &Arc<D>) -> Option<Crossing> {
+    let (uz, vz) = (arc.u.height(), arc.v.height());
+    let h = uz.hypot(vz);
+    (h != 0.0).then(|| Crossing {
+        cos: uz / h,
+        sin: vz / h,
+    })
+}
+
 /// One arc of a climb: the supports kept, the circle, its highest point.
 struct Climb<const D: usize> {
     kept: ContactSet<D>,
@@ -404,16 +413,16 @@ fn over_the_blockers<const D: usize>(
     let mut at = *p;
     let mut energy = motion.energy;
     let mut hits = ContactSet::<D>::new();
-    // The energy left at `to` after sliding there from `at`, as `slid` books it.
-    let left = |energy: Real, at: &Vector<D>, to: &Vector<D>| {
-        energy + at.height() - to.height() - motion.mu * (*to - *at).horizontal().norm()
-    };
     for _ in 0..MOST_BLOCKERS {
-        let Climb { kept, arc, top } = climb;
+        let Climb {
+            kept: supports,
+            arc,
+            top,
+        } = climb;
         let (hit, rank) = first_contact_on_arc(
             terrain,
             &arc,
-            &kept,
+            &supports,
             r,
             &top,
             top.diamond(),
@@ -424,14 +433,14 @@ fn over_the_blockers<const D: usize>(
         let stop = if rank.is_finite() { hit } else { top };
         terrain.went(Leg::Roll { arc, stop });
         let q = arc.point_at(&stop);
-        energy = left(energy, &at, &q);
+        energy = left_after(energy, motion.mu, &at, &q);
         if energy <= 0.0 {
             return None;
         }
         if !rank.is_finite() {
             return Some(Exit {
                 top: q,
-                kept,
+                kept: supports,
                 onward: arc.tangent_at(&top),
                 barrier: motion.energy - energy,
             });
@@ -443,48 +452,39 @@ fn over_the_blockers<const D: usize>(
         energy *= motion.kept_at_impact(head_on(&hits, &q, &heading));
         // On with the blocker and all supports but one: the one the way on
         // leaves, along the circle nearest the heading.
-        let mut next: Option<(Real, Climb<D>)> = None;
-        for j in 0..kept.len {
-            let mut on = kept;
-            on.remove_key(kept.get(j).key);
+        let mut next: Option<(Real, ContactSet<D>, Arc<D>)> = None;
+        for j in 0..supports.len {
+            let mut on = kept(&supports, j);
             on.push(hits.get(0));
             let Some(a) = circle(&on, &q, &heading) else {
                 continue;
             };
-            if a.v.dot(&kept.get(j).surface.normal_at(&q)) < 0.0 {
+            if a.v.dot(&supports.get(j).surface.normal_at(&q)) < 0.0 {
                 // Into the support it would leave.
                 continue;
             }
             let along = a.v.dot(&heading);
-            if next.as_ref().is_none_or(|(best, _)| along > *best) {
-                let start = Crossing { cos: 1.0, sin: 0.0 };
-                next = Some((
-                    along,
-                    Climb {
-                        kept: on,
-                        arc: a,
-                        top: start,
-                    },
-                ));
+            if next.as_ref().is_none_or(|(best, ..)| along > *best) {
+                next = Some((along, on, a));
             }
         }
-        let (_, mut on) = next?;
-        let (uz, vz) = (on.arc.u.height(), on.arc.v.height());
-        if vz <= 0.0 {
+        let (_, on, a) = next?;
+        if a.v.height() <= 0.0 {
             // Over the crest at the blocker: on from here, downhill.
             return Some(Exit {
                 top: q,
-                onward: on.arc.v,
-                kept: on.kept,
+                onward: a.v,
+                kept: on,
                 barrier: motion.energy - energy,
             });
         }
-        let h = uz.hypot(vz);
-        on.top = Crossing {
-            cos: uz / h,
-            sin: vz / h,
+        // Going up, so the circle has a highest point.
+        let top = highest(&a)?;
+        climb = Climb {
+            kept: on,
+            arc: a,
+            top,
         };
-        climb = on;
         at = q;
     }
     None
