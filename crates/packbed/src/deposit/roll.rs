@@ -810,7 +810,7 @@ fn arc_of<const D: usize, const RELEASES: bool>(
             for &(n, _) in &planes[..np] {
                 v -= n * n.dot(&v);
             }
-            let v = v.normalized()?;
+            let v = along_circle(v, direction)?;
             let arc = Arc {
                 m,
                 rho: rho2.sqrt(),
@@ -845,7 +845,10 @@ fn arc_of<const D: usize, const RELEASES: bool>(
             let mut q = *p - m;
             q -= a * a.dot(&q);
             let u = q.normalized()?;
-            let v = (*direction - u * direction.dot(&u) - a * direction.dot(&a)).normalized()?;
+            let v = along_circle(
+                *direction - u * direction.dot(&u) - a * direction.dot(&a),
+                direction,
+            )?;
             let arc = Arc { m, rho, u, v };
             if !RELEASES {
                 return Some((arc, releases));
@@ -870,6 +873,17 @@ fn arc_of<const D: usize, const RELEASES: bool>(
         }
         _ => None,
     }
+}
+
+/// The unit tangent of a circle from `v`, the part of `direction` along it;
+/// none where `direction` is square to the circle (its part along it no more
+/// than rounding): a normalised rounding error would point anywhere, off
+/// the supports (a climb over a blocker heading straight at a wall met this).
+fn along_circle<const D: usize>(v: Vector<D>, direction: &Vector<D>) -> Option<Vector<D>> {
+    if v.norm() <= 1e-12 * direction.norm() {
+        return None;
+    }
+    v.normalized()
 }
 
 /// First new contact along `arc` up to `end`: where (as a point of the unit
@@ -1078,6 +1092,57 @@ mod tests {
             rho: 2.0,
             u: e1 * theta.cos() + e2 * theta.sin(),
             v: e2 * theta.cos() - e1 * theta.sin(),
+        }
+    }
+
+    /// A groove of two spheres whose centres lie in one plane with the
+    /// moving centre: its circle crosses that plane square to it.
+    fn groove_in_a_plane(y: Real) -> (ContactSet<3>, Vector<3>) {
+        let mut set = ContactSet::<3>::new();
+        for (k, centre) in [[24.5, y, 2.2], [26.05, y, 3.7]].into_iter().enumerate() {
+            set.push(Obstacle {
+                surface: Surface::Ball {
+                    centre: Vector(centre),
+                    radius: 2.0,
+                },
+                key: particle_key(k as u32, 0),
+            });
+        }
+        // On both spheres, in their plane.
+        let (c1, c2) = (Vector([24.5, y, 2.2]), Vector([26.05, y, 3.7]));
+        let e = c2 - c1;
+        let d = e.norm();
+        let a = e / d;
+        let side = Vector([-a[2], 0.0, a[0]]);
+        let p = c1 + a * (d / 2.0) + side * (4.0 - d * d / 4.0).sqrt();
+        (set, p)
+    }
+
+    #[test]
+    fn a_direction_square_to_the_circle_gives_no_arc() {
+        // The case a climb over a blocker met beside a wall: the way on asked
+        // along the plane of the centres, where the circle runs across it
+        // (along y). A normalised rounding error used to give a unit vector
+        // off the supports; the way is now no way.
+        for y in [29.0, 0.3, -7.125] {
+            let (set, p) = groove_in_a_plane(y);
+            for g in set.items[..set.len].iter() {
+                assert!(g.surface.gap(&p).abs() < 1e-12, "{p:?}");
+            }
+            for dir in [[1.0, 0.0, 0.0], [0.6, 0.0, -0.8], [0.0, 0.0, -1.0]] {
+                assert!(circle(&set, &p, &Vector(dir)).is_none(), "y {y}, {dir:?}");
+            }
+            // A part across the plane well above rounding
+            // gives the circle's own tangent, square to both normals.
+            for tilt in [1e-3, 0.3, 1.0] {
+                let dir = Vector([1.0, tilt, 0.0]);
+                let arc = circle(&set, &p, &dir).expect("an arc");
+                assert!((arc.v[1].abs() - 1.0).abs() < 1e-12, "{:?}", arc.v);
+                assert!(arc.v[1] > 0.0);
+                for g in set.items[..set.len].iter() {
+                    assert!(arc.v.dot(&g.surface.normal_at(&p)).abs() < 1e-12);
+                }
+            }
         }
     }
 

@@ -548,9 +548,11 @@ fn with_climb_over_a_blocked_climb_rolls_on_over_its_blocker() {
     // the support (15° short of its top), 2 beside it: the climb over the right support meets
     // C head-on-ish (cos² θ = sin² 105°), then rolls up C's side to its top,
     // 2 higher, down its far side and onto the floor at C's x + 2 (the left
-    // one mirrors it). Restitution 0.9, no friction: it lands keeping
-    // 1 − 0.19 · 3/4 of its fall, climbs 2 sin 105° − √3 to the blocker,
-    // keeps 1 − 0.19 sin² 105° of what is left, and needs 2 more.
+    // one mirrors it). Restitution 0.9: it lands keeping 1 − 0.19 · 3/4 of
+    // its fall, climbs 2 sin 105° − √3 to the blocker, keeps
+    // 1 − 0.19 sin² 105° of what is left, and needs 2 more. Sliding friction
+    // µ takes µ times the horizontal travel: 1 + 2 cos 105° to the blocker,
+    // 2 on to its top.
     let (s105, c105) = (105.0 as Real).to_radians().sin_cos();
     let touch = [11.0 + 2.0 * c105, 1.0 + 2.0 * s105];
     let c = [touch[0] + 2.0, touch[1]];
@@ -568,25 +570,29 @@ fn with_climb_over_a_blocked_climb_rolls_on_over_its_blocker() {
     let pocket = [10.0, 1.0 + (3.0 as Real).sqrt()];
     let lost = 1.0 - 0.9 * 0.9;
     let to_blocker = 2.0 * s105 - (3.0 as Real).sqrt();
-    let needed = (to_blocker + 2.0 / (1.0 - lost * s105 * s105)) / (1.0 - lost * 0.75);
-    for (h, over, leaves) in [
-        (1.03 * needed, false, false),
-        (0.97 * needed, true, false),
-        (1.03 * needed, true, true),
-    ] {
-        let mut text = format!("restitution = 0.9\ndrop_height = {h}");
-        if over {
-            text.push_str("\nclimb_over = true");
-        }
-        let p = drop_one(&b, 1.0, [10.0, 0.0], &rule(&text));
-        if leaves {
-            assert!((p[1] - 1.0).abs() < 1e-9, "h {h}: {p:?}");
-            assert!(
-                (p[0] - (c[0] + 2.0)).abs() < 1e-9 || (p[0] - (d[0] - 2.0)).abs() < 1e-9,
-                "h {h}: {p:?}"
-            );
-        } else {
-            close(p, pocket, 1e-12);
+    for mu in [0.0, 0.2] {
+        let to_blocker = to_blocker + mu * (1.0 + 2.0 * c105);
+        let over_it = (2.0 + 2.0 * mu) / (1.0 - lost * s105 * s105);
+        let needed = (to_blocker + over_it) / (1.0 - lost * 0.75);
+        for (h, over, leaves) in [
+            (1.03 * needed, false, false),
+            (0.97 * needed, true, false),
+            (1.03 * needed, true, true),
+        ] {
+            let mut text = format!("restitution = 0.9\ndrop_height = {h}\nsliding_friction = {mu}");
+            if over {
+                text.push_str("\nclimb_over = true");
+            }
+            let p = drop_one(&b, 1.0, [10.0, 0.0], &rule(&text));
+            if leaves {
+                assert!((p[1] - 1.0).abs() < 1e-9, "µ {mu}, h {h}: {p:?}");
+                assert!(
+                    (p[0] - (c[0] + 2.0)).abs() < 1e-9 || (p[0] - (d[0] - 2.0)).abs() < 1e-9,
+                    "µ {mu}, h {h}: {p:?}"
+                );
+            } else {
+                close(p, pocket, 1e-12);
+            }
         }
     }
 }
@@ -623,6 +629,15 @@ fn momentum_packs_denser_friction_takes_it_back_and_the_checker_passes() {
             (
                 true,
                 "restitution = 0.9\ndrop_height = 10\nclimb_over = true",
+            ),
+            (
+                false,
+                "restitution = 0.9\ndrop_height = 10\nclimb_over = true\n\
+                 friction_angle = 15\nsliding_friction = 0.1",
+            ),
+            (
+                true,
+                "restitution = 0.99\ndrop_height = 10\nclimb_over = true\nfriction_angle = 20",
             ),
         ] {
             let held = rule(settling);
