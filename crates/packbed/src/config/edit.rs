@@ -112,6 +112,8 @@ pub enum SettlingEdit {
     DropHeight(Real),
     /// The sliding friction coefficient (momentum).
     SlidingFriction(Real),
+    /// Whether a blocked climb rolls on over its blocker (momentum).
+    ClimbOver(bool),
 }
 
 /// A change to `[analysis.drying]`.
@@ -194,7 +196,7 @@ impl FromStr for BoxSpec {
 }
 
 /// The parameters a sweep can vary, with the form of their values.
-pub const SWEEP_PARAMETERS: [(&str, &str); 39] = [
+pub const SWEEP_PARAMETERS: [(&str, &str); 40] = [
     ("ratio", "a list with one number ratio per species, e.g. [1, 2]"),
     (
         "radii",
@@ -251,6 +253,10 @@ pub const SWEEP_PARAMETERS: [(&str, &str); 39] = [
     (
         "settling.sliding_friction",
         "the sliding friction coefficient of the momentum rule, >= 0",
+    ),
+    (
+        "settling.climb_over",
+        "true or false: a blocked climb rolls on over its blocker (momentum)",
     ),
     (
         "compaction.steps",
@@ -323,16 +329,26 @@ impl Edit {
         if let (SweepValue::Text(t), false) = (value, parameter.ends_with(".size.table")) {
             return Err(format!("expected a number, got the text \"{t}\""));
         }
+        if parameter == "settling.climb_over" {
+            return match value {
+                SweepValue::Flag(b) => Ok(Edit::Settling(SettlingEdit::ClimbOver(*b))),
+                _ => Err("expected true or false".into()),
+            };
+        }
+        if let SweepValue::Flag(b) = value {
+            return Err(format!("expected a number, got {b}"));
+        }
         let list = || match value {
             SweepValue::Number(x) => vec![*x],
             SweepValue::List(v) => v.clone(),
-            SweepValue::Text(_) => Vec::new(),
+            SweepValue::Text(_) | SweepValue::Flag(_) => Vec::new(),
         };
         let one = || match value {
             SweepValue::Number(x) => Ok(*x),
             SweepValue::List(v) if v.len() == 1 => Ok(v[0]),
             SweepValue::List(v) => Err(format!("expected one number, got a list of {}", v.len())),
             SweepValue::Text(t) => Err(format!("expected a number, got the text \"{t}\"")),
+            SweepValue::Flag(b) => Err(format!("expected a number, got {b}")),
         };
         Ok(match parameter {
             "ratio" => Edit::Ratio(list()),
@@ -557,6 +573,7 @@ impl Config {
                     SettlingEdit::Restitution(e) => s.restitution = Some(e),
                     SettlingEdit::DropHeight(h) => s.drop_height = Some(h),
                     SettlingEdit::SlidingFriction(mu) => s.sliding_friction = Some(mu),
+                    SettlingEdit::ClimbOver(b) => s.climb_over = Some(b),
                 }
             }
             Edit::Compaction(e) => {

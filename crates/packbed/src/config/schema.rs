@@ -233,8 +233,8 @@ pub struct SweepConfig {
     pub labels: Option<Vec<String>>,
 }
 
-/// One value of a swept parameter: a number, a list of numbers, or a text
-/// (a PSD table's file).
+/// One value of a swept parameter: a number, a list of numbers, a text
+/// (a PSD table's file), or a switch.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
 pub enum SweepValue {
@@ -244,6 +244,8 @@ pub enum SweepValue {
     List(Vec<f64>),
     /// A text: a file name.
     Text(String),
+    /// A switch: `true` or `false`.
+    Flag(bool),
 }
 
 /// `[ensemble]`: defaults of `packbed ensemble` stored with the config.

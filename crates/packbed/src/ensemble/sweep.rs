@@ -42,7 +42,7 @@ impl SweepValue {
         match self {
             SweepValue::Number(x) => vec![*x],
             SweepValue::List(v) => v.clone(),
-            SweepValue::Text(_) => Vec::new(),
+            SweepValue::Text(_) | SweepValue::Flag(_) => Vec::new(),
         }
     }
 }
@@ -109,6 +109,7 @@ impl SweepConfig {
                 SweepValue::Text(t) => vec![std::path::Path::new(t)
                     .file_stem()
                     .map_or_else(|| t.clone(), |s| s.to_string_lossy().into_owned())],
+                SweepValue::Flag(b) => vec![b.to_string()],
                 _ => nums.iter().map(|&x| fmt_num(x)).collect(),
             };
             let label = match &self.labels {
@@ -249,6 +250,29 @@ mod tests {
     }
 
     #[test]
+    fn a_switch_is_swept() {
+        let base = "[settling]\nrestitution = 0.9\n";
+        let c = config(&format!(
+            "{base}[sweep]\nparameter = \"settling.climb_over\"\nvalues = [false, true]\n"
+        ));
+        let pts = c.sweep.as_ref().unwrap().points(&c).unwrap();
+        let on: Vec<Option<bool>> = pts.iter().map(|p| p.config.settling.climb_over).collect();
+        assert_eq!(on, [Some(false), Some(true)]);
+        assert_eq!(pts[1].label, "true");
+        assert_eq!(pts[0].dir, "00-climb-over-false");
+        // The rule refuses it without momentum, as the config does.
+        let c = config("[sweep]\nparameter = \"settling.climb_over\"\nvalues = [true]\n");
+        let e = c
+            .sweep
+            .as_ref()
+            .unwrap()
+            .points(&c)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("values[0]") && e.contains("restitution"), "{e}");
+    }
+
+    #[test]
     fn bad_sweeps_are_explained() {
         let bad = [
             (
@@ -281,6 +305,14 @@ mod tests {
             (
                 "parameter = \"ratio\"\nvalues = [\"a.csv\"]",
                 "expected a number",
+            ),
+            (
+                "parameter = \"fill.count\"\nvalues = [true]",
+                "values[0]: expected a number, got true",
+            ),
+            (
+                "parameter = \"settling.climb_over\"\nvalues = [1]",
+                "values[0]: expected true or false",
             ),
             (
                 "parameter = \"analysis.drying.concentration\"\nvalues = [-1]",

@@ -403,7 +403,7 @@ pub fn sweep_plots(sweep: &SweepConfig, points: &[(&str, &Aggregate)]) -> Vec<(S
         .iter()
         .map(|v| match v {
             SweepValue::Number(x) => Some(*x),
-            SweepValue::List(_) | SweepValue::Text(_) => None,
+            SweepValue::List(_) | SweepValue::Text(_) | SweepValue::Flag(_) => None,
         })
         .collect::<Option<Vec<f64>>>()
         .filter(|xs| xs.len() == points.len());
