@@ -878,7 +878,8 @@ fn arc_of<const D: usize, const RELEASES: bool>(
 /// The unit tangent of a circle from `v`, the part of `direction` along it;
 /// none where `direction` is square to the circle (its part along it no more
 /// than rounding): a normalised rounding error would point anywhere, off
-/// the supports (a climb over a blocker heading straight at a wall met this).
+/// the supports (as for a climb over a blocker heading along a wall, its
+/// supports' centres in the plane of its path).
 fn along_circle<const D: usize>(v: Vector<D>, direction: &Vector<D>) -> Option<Vector<D>> {
     if v.norm() <= 1e-12 * direction.norm() {
         return None;
@@ -1098,18 +1099,18 @@ mod tests {
     /// A groove of two spheres whose centres lie in one plane with the
     /// moving centre: its circle crosses that plane square to it.
     fn groove_in_a_plane(y: Real) -> (ContactSet<3>, Vector<3>) {
+        let (c1, c2) = (Vector([24.5, y, 2.2]), Vector([26.05, y, 3.7]));
         let mut set = ContactSet::<3>::new();
-        for (k, centre) in [[24.5, y, 2.2], [26.05, y, 3.7]].into_iter().enumerate() {
+        for (k, centre) in [c1, c2].into_iter().enumerate() {
             set.push(Obstacle {
                 surface: Surface::Ball {
-                    centre: Vector(centre),
+                    centre,
                     radius: 2.0,
                 },
                 key: particle_key(k as u32, 0),
             });
         }
         // On both spheres, in their plane.
-        let (c1, c2) = (Vector([24.5, y, 2.2]), Vector([26.05, y, 3.7]));
         let e = c2 - c1;
         let d = e.norm();
         let a = e / d;
@@ -1120,10 +1121,9 @@ mod tests {
 
     #[test]
     fn a_direction_square_to_the_circle_gives_no_arc() {
-        // The case a climb over a blocker met beside a wall: the way on asked
-        // along the plane of the centres, where the circle runs across it
-        // (along y). A normalised rounding error used to give a unit vector
-        // off the supports; the way is now no way.
+        // A climb over a blocker beside a wall: the way on asked along the
+        // plane of the centres, where the circle runs across it (along y).
+        // No direction in that plane gives an arc.
         for y in [29.0, 0.3, -7.125] {
             let (set, p) = groove_in_a_plane(y);
             for g in set.items[..set.len].iter() {
