@@ -309,6 +309,56 @@ fn a_sweep_over_compaction_steps_densifies_the_bed() {
     assert!(!s.read("one/sweep.csv").contains("compaction.seconds"));
 }
 
+/// A compaction cut short by its step budget is a warning: `run` prints it
+/// on stderr and keeps it in `summary.json`, and its summary names the
+/// steps and the stop; an ensemble says how many replicates warned (a
+/// compaction needs at least six steps to reach its finest step and stop).
+#[test]
+fn a_compaction_cut_short_is_a_warning() {
+    let s = Scratch::new();
+    let bed = "dim = 2\n[box]\nwidth = 12.3\nheight = 400\nperiodic = true\n[fill]\ncount = 150\n\
+               base_layer = \"none\"\n[[species]]\nradius = 0.5\n[compaction]\nsteps = 2\n";
+    let one = s.input("short.toml", bed).display().to_string();
+    let o = s.ok(&["run", &one, "--out", "bed", "--no-pictures"]);
+    let says = "packbed: warning: compaction: stopped at its budget of 2 steps";
+    assert!(o.stderr.contains(says), "{}", o.stderr);
+    assert_contains(
+        &o.stdout,
+        "compaction: 2 steps (stopped by the step budget)",
+    );
+    let v: Value = serde_json::from_str(&s.read("bed/summary.json")).unwrap();
+    assert_eq!(v["compaction"]["stopped_by"], "steps");
+    let kept = v["warnings"].as_array().expect("warnings in summary.json");
+    assert!(
+        kept.iter()
+            .any(|w| w.as_str().unwrap().starts_with("compaction: stopped")),
+        "{kept:?}"
+    );
+    let many = s
+        .input(
+            "short-ensemble.toml",
+            &format!("{bed}[ensemble]\nruns = 2\n"),
+        )
+        .display()
+        .to_string();
+    let o = s.ok(&["ensemble", &many, "--out", "ens", "-q"]);
+    let count = "2 of 2 replicates warned; the first, ens/runs/0000/summary.json: compaction:";
+    assert!(o.stderr.contains(count), "{}", o.stderr);
+    assert!(
+        o.stderr
+            .contains("compaction: stopped at its budget of 2 steps"),
+        "{}",
+        o.stderr
+    );
+    // Without the cut, no such warning.
+    let whole = s
+        .input("whole.toml", &bed.replace("steps = 2", "steps = 0"))
+        .display()
+        .to_string();
+    let o = s.ok(&["run", &whole, "--out", "settled", "--no-pictures", "-q"]);
+    assert!(!o.stderr.contains("compaction"), "{}", o.stderr);
+}
+
 #[test]
 fn bad_inputs_are_refused() {
     let s = Scratch::new();

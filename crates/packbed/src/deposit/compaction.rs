@@ -62,6 +62,30 @@ pub struct CompactionReport {
     pub seconds: f64,
 }
 
+impl CompactionReport {
+    /// The warning of a compaction that stopped before its stop rule held
+    /// (`None` once it did, or when `compaction.steps = 0` asked for no
+    /// step): φ and Z are then those of a bed that may still be settling.
+    pub fn warning(&self) -> Option<String> {
+        let n = self.steps;
+        match self.stopped_by {
+            "steps" if n > 0 => Some(format!(
+                "compaction: stopped at its budget of {n} steps before it came to rest (the last step still lowered the centre of mass by {:.1e} mean diameters); the bed may still be settling: raise compaction.steps",
+                self.last_descent
+            )),
+            "solver" => Some(format!(
+                "compaction: the quadratic programme of step {} was not solved to its tolerance; the bed is as step {n} left it (no overlap), not at rest",
+                n + 1
+            )),
+            "overlap" => Some(format!(
+                "compaction: step {} overlapped even at 2^-30 of its length; the bed is as step {n} left it (no overlap), not at rest",
+                n + 1
+            )),
+            _ => None,
+        }
+    }
+}
+
 /// Gap kept between pairs and from walls, in mean diameters: about the
 /// solver's feasibility error, so that a step seldom needs halving, and far
 /// below the contact tolerance of the analysis (10⁻⁶ of a radius).
@@ -472,6 +496,49 @@ mod tests {
                     assert!((c[1] - 1.0).abs() < 1e-8, "µ {mu}: {c:?}");
                 }
             }
+        }
+    }
+
+    #[test]
+    fn a_compaction_cut_short_says_so() {
+        // The disc balanced off-axis of the first test: it needs dozens of
+        // steps to reach the floor, so a budget of 2 cuts it short, and the
+        // warning says how far its last step still brought the bed down.
+        let bed = || {
+            Bed::of_discs(
+                [20.0, 20.0],
+                true,
+                &[(10.0, 1.0, 1.0), (10.3, 1.0 + (4.0_f64 - 0.09).sqrt(), 1.0)],
+            )
+        };
+        let short = Compaction {
+            steps: 2,
+            ..default()
+        };
+        let r = compact(&mut bed(), &short).unwrap();
+        assert_eq!((r.stopped_by, r.steps), ("steps", 2), "{r:?}");
+        assert!(r.last_descent > 1e-4, "{r:?}");
+        let w = r.warning().expect("a warning");
+        assert!(w.contains("budget of 2 steps"), "{w}");
+        assert!(w.contains(&format!("{:.1e}", r.last_descent)), "{w}");
+        let done = compact(&mut bed(), &default()).unwrap();
+        assert_eq!((done.stopped_by, done.warning()), ("until", None));
+        let none = Compaction {
+            steps: 0,
+            ..default()
+        };
+        assert_eq!(compact(&mut bed(), &none).unwrap().warning(), None);
+        for (why, says) in [("solver", "not solved"), ("overlap", "overlapped")] {
+            let cut = CompactionReport {
+                stopped_by: why,
+                steps: 7,
+                ..r
+            };
+            let w = cut.warning().expect("a warning");
+            assert!(
+                w.contains(says) && w.contains("step 8") && w.contains("step 7 left"),
+                "{w}"
+            );
         }
     }
 

@@ -3,7 +3,7 @@
 use super::manifest::{check_out, first_difference, write_manifest, Manifest, Shard, MANIFEST};
 use super::proof::{config_hash, not_belonging};
 use super::write::{write_point, write_sweep};
-use super::{points, run_dir, seeds, Outcome};
+use super::{points, replicates_warned, run_dir, seeds, Outcome};
 use crate::error::{Error, Result};
 use crate::io::Staging;
 use std::fs;
@@ -175,6 +175,11 @@ pub fn merge_with(dirs: &[PathBuf], out: &Path, pictures: bool) -> Result<Outcom
             s.commit()?;
             values.push(v);
         }
+        let runs: Vec<u64> = (0..values.len() as u64).collect();
+        let dir = out.join(&p.dir);
+        outcome
+            .warnings
+            .extend(replicates_warned(&dir, &runs, &values));
         merged.push((p, values));
     }
     let wall = start.elapsed().as_secs_f64();

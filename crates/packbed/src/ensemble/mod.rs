@@ -244,3 +244,29 @@ pub fn runs_of(asked: Option<u64>, config: &Config) -> Result<u64> {
 pub fn run_dir(dir: &Path, i: u64) -> PathBuf {
     dir.join("runs").join(format!("{i:04}"))
 }
+
+/// One warning line for a point under `dir` whose replicates (numbered
+/// `runs`, their summaries `values`) warned: how many did, and the first
+/// warning of the first that did. A replicate's warning (a compaction cut
+/// short, sizes far from those requested) would otherwise stay in its own
+/// `summary.json`, unseen behind the statistics.
+fn replicates_warned(dir: &Path, runs: &[u64], values: &[serde_json::Value]) -> Option<String> {
+    let warned = |v: &serde_json::Value| {
+        v.get("warnings")
+            .and_then(serde_json::Value::as_array)
+            .and_then(|w| w.first())
+            .and_then(serde_json::Value::as_str)
+            .map(str::to_owned)
+    };
+    let mut all = runs
+        .iter()
+        .zip(values)
+        .filter_map(|(&i, v)| Some((i, warned(v)?)));
+    let (first, text) = all.next()?;
+    Some(format!(
+        "{} of {} replicates warned; the first, {}: {text}",
+        1 + all.count(),
+        runs.len(),
+        run_dir(dir, first).join("summary.json").display()
+    ))
+}

@@ -4,7 +4,9 @@
 use super::manifest::{check_out, config_key, io_err, write_manifest, Manifest, MANIFEST};
 use super::proof::{config_hash, not_belonging, ReplicateProof};
 use super::write::{write_point, write_sweep};
-use super::{points, run_dir, seeds, worker_threads, EnsembleOptions, Outcome, Tick};
+use super::{
+    points, replicates_warned, run_dir, seeds, worker_threads, EnsembleOptions, Outcome, Tick,
+};
 use crate::config::Config;
 use crate::error::{Error, Result};
 use crate::io::Staging;
@@ -143,6 +145,7 @@ pub fn run(
         .build()
         .map_err(|e| Error::Impossible(format!("cannot start worker threads: {e}")))?;
     let mut results = Vec::with_capacity(pts.len());
+    let mut warned = Vec::new();
     for p in &pts {
         let dir = out.join(&p.dir);
         // Made here, once, rather than by the first replicates racing for it.
@@ -183,6 +186,7 @@ pub fn run(
                 run_dir(&dir, mine[k]).join("summary.json").display()
             )));
         }
+        warned.extend(replicates_warned(&dir, &mine, &values));
         results.push((p, dir, values, built));
     }
     let wall = start.elapsed().as_secs_f64();
@@ -190,7 +194,7 @@ pub fn run(
         points: Vec::new(),
         wall_seconds: wall,
         files: Vec::new(),
-        warnings: Vec::new(),
+        warnings: warned,
         reduced_from: earlier.map(|m| m.runs).filter(|&r| r > opts.runs),
     };
     for (p, dir, values, built) in results {

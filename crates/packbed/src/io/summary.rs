@@ -217,6 +217,7 @@ impl RunSummary {
         warnings.extend(psd.iter().filter_map(|p| p.departure.warning()));
         warnings.extend(unitless_tables(bed, config.analysis.length_unit));
         warnings.extend(analysis.cake.iter().flat_map(|c| c.implausible()));
+        warnings.extend(report.compaction.and_then(|c| c.warning()));
         RunSummary {
             packbed_version: env!("CARGO_PKG_VERSION"),
             warnings,

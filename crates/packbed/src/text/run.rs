@@ -133,6 +133,19 @@ pub fn run_text(s: &RunSummary, out: &Path, files: &[PathBuf]) -> String {
         &names,
         bulk_hint(s).as_deref(),
     ));
+    if let Some(c) = &s.compaction {
+        let why = match c.stopped_by {
+            "until" => "at rest",
+            "steps" => "the step budget",
+            "solver" => "the solver",
+            _ => "an overlap",
+        };
+        let _ = writeln!(
+            t,
+            "  compaction: {} steps (stopped by {why}), centre of mass down {:.4}, {:.1} s",
+            c.steps, c.descent, c.seconds
+        );
+    }
     if let Some(c) = &s.capture {
         let x50 = c.x50.map_or("none within the sizes fed".to_string(), |x| {
             format!("{x:.4}")
