@@ -135,14 +135,14 @@ pub fn run_text(s: &RunSummary, out: &Path, files: &[PathBuf]) -> String {
     ));
     if let Some(c) = &s.compaction {
         let why = match c.stopped_by {
-            "until" => "at rest",
-            "steps" => "the step budget",
-            "solver" => "the solver",
-            _ => "an overlap",
+            "until" => "came to rest",
+            "steps" => "stopped by the step budget",
+            "solver" => "stopped by the solver",
+            _ => "stopped by an overlap",
         };
         let _ = writeln!(
             t,
-            "  compaction: {} steps (stopped by {why}), centre of mass down {:.4}, {:.1} s",
+            "  compaction: {} steps ({why}), centre of mass down {:.4}, {:.1} s",
             c.steps, c.descent, c.seconds
         );
     }
