@@ -22,9 +22,11 @@ Example::
 
 Errors are ``ValueError`` subclasses (:class:`PackbedError` and below) with the
 command's one-line messages; Ctrl-C stops a long call with ``KeyboardInterrupt``.
+What the command prints as a warning (a compaction cut short, sizes far from
+those requested, replicates that warned) is a :class:`PackbedWarning`.
 """
 
-from ._core import Bed, compare, deposit, ensemble, merge, read, resolve_config
+from ._core import Bed, PackbedWarning, compare, deposit, ensemble, merge, read, resolve_config
 from ._packbed import (
     ConfigError,
     DataError,
@@ -45,6 +47,7 @@ __all__ = [
     "FileError",
     "ImpossibleError",
     "PackbedError",
+    "PackbedWarning",
     "SettingError",
     "__version__",
     "compare",

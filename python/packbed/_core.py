@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import os
 import tempfile
+import warnings
 from pathlib import Path
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
@@ -24,6 +25,19 @@ ConfigLike = Union[None, PathLike, Mapping[str, Any]]
 
 
 # ---------------------------------------------------------------- arguments
+
+
+class PackbedWarning(UserWarning):
+    """A result was written, but something in it needs a look: the warnings
+    ``packbed`` prints on stderr (a compaction cut short by its step budget,
+    sizes far from those requested, replicates of an ensemble that warned).
+    The same texts are under ``warnings`` in ``summary.json``."""
+
+
+def _warn(texts: Iterable[str]) -> None:
+    # stacklevel 3: the warning points at the user's call of deposit/ensemble/merge.
+    for text in texts:
+        warnings.warn(text, PackbedWarning, stacklevel=3)
 
 
 def _plain(value: Any) -> Any:
@@ -491,7 +505,9 @@ def deposit(
              count=count, seed=seed, mode=mode, large=large, measures=measures),
     )
     with _Progress(progress, "particles") as p:
-        return Bed(_native.deposit(resolved, p))
+        bed = Bed(_native.deposit(resolved, p))
+    _warn((bed.summary or {}).get("warnings", []))
+    return bed
 
 
 def read(path: PathLike, box: Union[None, str, Sequence[float]] = None, periodic: Optional[bool] = None) -> Bed:
@@ -555,14 +571,15 @@ def ensemble(
         target = os.path.join(scratch, "out") if out is None else _path("out", out)
         if client is None:
             with _Progress(progress, "beds") as p:
-                points, _files = _native.ensemble(resolved, runs_n, target, jobs_n, None, bool(pictures), p)
+                points, _files, warned = _native.ensemble(resolved, runs_n, target, jobs_n, None, bool(pictures), p)
         else:
             from ._dask import run_on
 
             if not (hasattr(client, "submit") and hasattr(client, "nthreads")):
                 raise SettingError(f"client: give a dask.distributed.Client, got {type(client).__name__}")
 
-            points, _files = run_on(client, resolved, runs_n, target, jobs_n or 1, bool(pictures), progress)
+            points, _files, warned = run_on(client, resolved, runs_n, target, jobs_n or 1, bool(pictures), progress)
+        _warn(warned)
         return _statistics(points)
 
 
@@ -572,7 +589,8 @@ def merge(dirs: Iterable[PathLike], out: PathLike, *, pictures: bool = True) -> 
     Returns the statistics as :func:`ensemble` does.
     """
     paths = [_path("dirs", d) for d in dirs]
-    points, _files = _native.merge(paths, _path("out", out), bool(pictures))
+    points, _files, warned = _native.merge(paths, _path("out", out), bool(pictures))
+    _warn(warned)
     return _statistics(points)
 
 

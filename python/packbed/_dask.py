@@ -43,7 +43,7 @@ def run_on(
     jobs: int,
     pictures: bool,
     progress: Any,
-) -> Tuple[List[Tuple[Optional[str], str]], List[str]]:
+) -> Tuple[List[Tuple[Optional[str], str]], List[str], List[str]]:
     """Runs the ensemble's shards on ``client``'s cluster and merges them into ``out``."""
     try:
         from distributed import as_completed

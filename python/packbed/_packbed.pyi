@@ -32,7 +32,7 @@ class ImpossibleError(PackbedError):
     """The request cannot be carried out."""
 
 _Progress = Optional[Callable[[int, int], Any]]
-_Made = Tuple[List[Tuple[Optional[str], Path]], List[Path]]
+_Made = Tuple[List[Tuple[Optional[str], Path]], List[Path], List[str]]
 
 class Bed:
     """A packed bed (see `packbed.Bed`)."""

@@ -75,3 +75,30 @@ def test_merge_of_shards(tmp_path, run_cli):
     stats = packbed.merge([tmp_path / "s0", tmp_path / "s1"], tmp_path / "merged", pictures=False)
     assert (tmp_path / "merged" / "ensemble.csv").read_bytes() == (tmp_path / "whole" / "ensemble.csv").read_bytes()
     assert stats["replicates"] == 4
+
+
+# A compaction cut short by its step budget: the command warns on stderr;
+# Python raises the same texts as PackbedWarning (and with filterwarnings =
+# error, a warning no test expects fails the suite).
+SHORT = {
+    "dim": 2,
+    "box": {"width": 12.3, "height": 400, "periodic": True},
+    "fill": {"count": 150, "base_layer": "none"},
+    "species": [{"radius": 0.5}],
+    "compaction": {"steps": 2},
+}
+
+
+def test_a_warning_of_the_command_is_a_python_warning(tmp_path):
+    with pytest.warns(packbed.PackbedWarning, match=r"^compaction: stopped at its budget of 2 steps") as caught:
+        bed = packbed.deposit(SHORT)
+    assert [str(w.message) for w in caught] == bed.summary["warnings"]
+    with pytest.warns(packbed.PackbedWarning, match=r"^2 of 2 replicates warned; the first, .*compaction: stopped"):
+        packbed.ensemble(SHORT, runs=2, jobs=1, out=tmp_path / "ens", pictures=False)
+    with pytest.warns(packbed.PackbedWarning, match=r"^2 of 2 replicates warned"):
+        packbed.merge([tmp_path / "ens"], tmp_path / "merged", pictures=False)
+    # Run to rest, nothing to say.
+    whole = dict(SHORT, compaction={"steps": 0})
+    bed = packbed.deposit(whole)
+    packbed.ensemble(whole, runs=2, jobs=1, pictures=False)
+    assert bed.summary.get("warnings", []) == []

@@ -12,8 +12,10 @@ use std::path::PathBuf;
 use std::sync::atomic::Ordering;
 
 /// What an ensemble or merge made: the output folder of each point (one for a
-/// plain ensemble, one per sweep value) with its label, and the files written.
-type Made = (Vec<(Option<String>, PathBuf)>, Vec<PathBuf>);
+/// plain ensemble, one per sweep value) with its label, the files written, and
+/// the warnings the command prints (replicates that warned, plots not drawn),
+/// which Python raises as `PackbedWarning`s.
+type Made = (Vec<(Option<String>, PathBuf)>, Vec<PathBuf>, Vec<String>);
 
 fn made(outcome: &packbed::Outcome) -> Made {
     let points = outcome
@@ -25,7 +27,7 @@ fn made(outcome: &packbed::Outcome) -> Made {
     for p in &outcome.points {
         files.extend(p.files.iter().cloned());
     }
-    (points, files)
+    (points, files, outcome.warnings.clone())
 }
 
 /// Runs replicates `0..runs` of a resolved config (canonical JSON) into

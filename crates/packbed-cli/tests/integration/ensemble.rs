@@ -357,6 +357,26 @@ fn a_compaction_cut_short_is_a_warning() {
         .to_string();
     let o = s.ok(&["run", &whole, "--out", "settled", "--no-pictures", "-q"]);
     assert!(!o.stderr.contains("compaction"), "{}", o.stderr);
+    // The descent is a length: a bed in um says so.
+    let in_um = s
+        .input(
+            "short-um.toml",
+            &format!("{bed}[analysis]\nlength_unit = \"um\"\n"),
+        )
+        .display()
+        .to_string();
+    let o = s.ok(&["run", &in_um, "--out", "in-um", "--no-pictures"]);
+    let line = o
+        .stdout
+        .lines()
+        .find(|l| l.contains("compaction: 2 steps"))
+        .unwrap_or_else(|| panic!("{}", o.stdout));
+    let down = line.split("centre of mass down ").nth(1).expect(line);
+    let (number, rest) = down.split_once(' ').expect(line);
+    assert!(
+        number.parse::<f64>().is_ok() && rest.starts_with("um,"),
+        "{line}"
+    );
 }
 
 #[test]

@@ -140,9 +140,15 @@ pub fn run_text(s: &RunSummary, out: &Path, files: &[PathBuf]) -> String {
             "solver" => "stopped by the solver",
             _ => "stopped by an overlap",
         };
+        // The descent is a length: in the bed's unit where it has one.
+        let unit = s
+            .config
+            .analysis
+            .length_unit
+            .map_or(String::new(), |u| format!(" {}", u.name()));
         let _ = writeln!(
             t,
-            "  compaction: {} steps ({why}), centre of mass down {:.4}, {:.1} s",
+            "  compaction: {} steps ({why}), centre of mass down {:.4}{unit}, {:.1} s",
             c.steps, c.descent, c.seconds
         );
     }
