@@ -15,7 +15,12 @@ pub struct BenchArgs {
     pub spec: BenchBed,
     /// Lognormal radii of median 10 and this geometric standard deviation
     /// (truncated as a config's are by default) instead of equal spheres.
-    #[arg(long, value_name = "G", conflicts_with = "radii")]
+    #[arg(
+        long,
+        value_name = "G",
+        conflicts_with = "radii",
+        allow_negative_numbers = true
+    )]
     pub gsd: Option<f64>,
     /// One species per radius, in equal numbers (e.g. `10,50`), instead of
     /// equal spheres of radius 10.

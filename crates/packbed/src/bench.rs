@@ -86,23 +86,41 @@ pub struct BenchBed {
     pub base_layer: bool,
     /// Settle by a rule of `[settling]` (docs/settling.md): stop at the K-th
     /// contact.
-    #[cfg_attr(feature = "cli", arg(long, value_name = "K"))]
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, value_name = "K", allow_negative_numbers = true)
+    )]
     pub contacts: Option<u8>,
     /// Settle by a rule: stick at each new contact with probability P.
-    #[cfg_attr(feature = "cli", arg(long, value_name = "P"))]
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, value_name = "P", allow_negative_numbers = true)
+    )]
     pub sticking: Option<f64>,
     /// Settle by a rule: stop where the path is less steep than this angle.
-    #[cfg_attr(feature = "cli", arg(long, value_name = "DEGREES"))]
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, value_name = "DEGREES", allow_negative_numbers = true)
+    )]
     pub friction_angle: Option<f64>,
     /// Settle by a rule: momentum, with this restitution at each impact.
-    #[cfg_attr(feature = "cli", arg(long, value_name = "E"))]
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, value_name = "E", allow_negative_numbers = true)
+    )]
     pub restitution: Option<f64>,
     /// With `--restitution`: the fall before the first impact, in the
     /// bench's length units (its spheres' radius is 10).
-    #[cfg_attr(feature = "cli", arg(long, value_name = "H"))]
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, value_name = "H", allow_negative_numbers = true)
+    )]
     pub drop_height: Option<f64>,
     /// With `--restitution`: the sliding friction coefficient.
-    #[cfg_attr(feature = "cli", arg(long, value_name = "MU"))]
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, value_name = "MU", allow_negative_numbers = true)
+    )]
     pub sliding_friction: Option<f64>,
     /// With `--restitution`: a climb that meets a particle rolls on over it.
     #[cfg_attr(feature = "cli", arg(long))]

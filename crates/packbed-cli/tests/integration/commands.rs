@@ -171,6 +171,17 @@ fn bad_override_syntax_is_explained() {
         &["bench", "--radii", "10,-2"],
         &["--radii", "`-2`", "positive"],
     );
+    // A negative value of a rule reaches the rule's own check, not the
+    // argument parser's "unexpected argument".
+    assert_user_error(&s, &["bench", "--gsd", "-2"], &["--gsd", "`-2`"]);
+    for (flag, setting) in [
+        ("--restitution", "settling.restitution"),
+        ("--sticking", "settling.sticking"),
+        ("--friction-angle", "settling.friction_angle"),
+    ] {
+        assert_user_error(&s, &["bench", flag, "-0.5"], &[setting, "-0.5"]);
+    }
+    assert_user_error(&s, &["bench", "--contacts", "-1"], &["--contacts", "-1"]);
     assert_user_error(&s, &["analyze"], &["analyze"]);
 }
 
