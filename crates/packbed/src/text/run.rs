@@ -74,12 +74,13 @@ pub fn run_text(s: &RunSummary, out: &Path, files: &[PathBuf]) -> String {
             sp.placed
         );
     }
+    // Lengths of the run's lines in the bed's unit where it has one.
+    let unit = s
+        .config
+        .analysis
+        .length_unit
+        .map_or(String::new(), |u| format!(" {}", u.name()));
     if let Some(p) = &s.psd {
-        let unit = s
-            .config
-            .analysis
-            .length_unit
-            .map_or(String::new(), |u| format!(" {}", u.name()));
         let d = |x: &crate::analysis::psd::PsdStats| {
             format!("{} / {} / {}", length(x.d10), length(x.d50), length(x.d90))
         };
@@ -140,12 +141,6 @@ pub fn run_text(s: &RunSummary, out: &Path, files: &[PathBuf]) -> String {
             "solver" => "stopped by the solver",
             _ => "stopped by an overlap",
         };
-        // The descent is a length: in the bed's unit where it has one.
-        let unit = s
-            .config
-            .analysis
-            .length_unit
-            .map_or(String::new(), |u| format!(" {}", u.name()));
         let _ = writeln!(
             t,
             "  compaction: {} steps ({why}), centre of mass down {:.4}{unit}, {:.1} s",
