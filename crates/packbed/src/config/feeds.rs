@@ -225,15 +225,6 @@ pub(crate) fn resolve_feeds(
             }
         }
         let rule = stage.settling.as_ref().unwrap_or(settling).resolve()?;
-        if rule.momentum.is_some()
-            && picked
-                .iter()
-                .any(|&i| matches!(species[i as usize].shape, Shape::Chain { .. }))
-        {
-            return Err(Error::config(format!(
-                "{what}.settling.restitution: the momentum rule settles spheres and discs; a rigid chain's momentum is not modelled"
-            )));
-        }
         out.push(FeedStage {
             species: picked,
             count: stage.count,

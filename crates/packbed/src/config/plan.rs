@@ -492,16 +492,6 @@ impl Config {
                 "[settling] rules how dropped particles come to rest; mode = \"rsa\" drops none (remove [settling], or use mode = \"deposit\")",
             ));
         }
-        if settling.momentum.is_some()
-            && feeds.is_empty()
-            && species
-                .iter()
-                .any(|s| matches!(s.shape, Shape::Chain { .. }))
-        {
-            return Err(Error::config(
-                "settling.restitution: the momentum rule settles spheres and discs; a rigid chain's momentum is not modelled (remove the chains' species or the restitution)",
-            ));
-        }
         let compaction = self.compaction(&species, &feeds)?;
         let r_max = Self::r_max(&species);
         let container = self.container.resolve::<D>(&species, r_max)?;

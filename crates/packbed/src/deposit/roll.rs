@@ -21,6 +21,8 @@ use std::cell::{Cell, RefCell};
 
 mod momentum;
 
+pub(crate) use momentum::Motion;
+
 /// Most contacts tracked at once (more happen only in degenerate ties).
 const MAX_ACTIVE: usize = 6;
 /// Moves after which a particle counts as stuck and is dropped again elsewhere.

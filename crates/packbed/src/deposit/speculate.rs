@@ -662,11 +662,8 @@ mod tests {
                  [fill]\ncount = 1000\nbase_layer = \"none\"\n[[species]]\nradius = 8\n\
                  [feed]\npattern = \"point\"\nspread = 40\n[settling]\n{rule}\n"
             ));
-            let chains = if rule.contains("restitution") {
-                ""
-            } else {
-                "ratio = 3\n[[species]]\nradius = 10\nshape = \"chain\"\nbeads = 3\nratio = 1\n"
-            };
+            let chains =
+                "ratio = 3\n[[species]]\nradius = 10\nshape = \"chain\"\nbeads = 3\nratio = 1\n";
             same::<2>(&format!(
                 "dim = 2\nseed = 9\n[box]\nwidth = 1000\nheight = 3000\n\
                  [fill]\ncount = 1500\n[[species]]\nradius = 10\n{chains}\

@@ -40,6 +40,7 @@
 //! stuck (the engine re-drops it and counts it).
 
 mod contacts;
+mod momentum;
 mod project;
 mod rest;
 mod settle;

@@ -7,7 +7,7 @@ use super::{
 };
 use crate::config::Settling;
 use crate::deposit::obstacle::Obstacle;
-use crate::deposit::roll::Terrain;
+use crate::deposit::roll::{Motion, Terrain};
 use crate::deposit::rule::{counts, holds, Sticks};
 use crate::math::{nnls_gen, Gen, Real, Vector};
 use std::collections::VecDeque;
@@ -25,6 +25,8 @@ const REST_TOL: Real = 1e-10;
 const POST_REST_TOL: Real = 1e-9;
 /// Most tipping moves after failed line searches, per chain.
 const MAX_NUDGES: usize = 8;
+/// Most pockets a chain with momentum leaves before it stays in the next.
+const MOST_EXITS: usize = 32;
 
 /// Settles a chain entering at `start` (its horizontal position and axis; it is
 /// first lowered to just above everything under it). Returns its resting pose
@@ -56,7 +58,8 @@ pub(crate) fn settle_chain<const D: usize, R: rand::Rng + ?Sized>(
         sticks: Sticks::new(rule, shape.r, &entry[..2 * D - 1]),
         met: Vec::new(),
     };
-    Descent::new(&settler, pose, rule).run(rng, moves)
+    let motion = rule.settling.momentum.map(|m| Motion::new(&m, shape.r));
+    Descent::new(&settler, pose, rule, motion).run(rng, moves)
 }
 
 impl<const D: usize> Settler<'_, '_, D> {
@@ -134,10 +137,35 @@ struct Descent<'s, 't, 'a, 'r, const D: usize> {
     /// Tipping moves tried after failed line searches.
     nudges: usize,
     trace: Trace,
+    /// The momentum rule's account of the chain's motion (see
+    /// `chain::momentum`), if the rule has one.
+    momentum: Option<Momentum<D>>,
+    /// The rule (sticking, contacts, friction) stopped the chain: it stays.
+    by_rule: bool,
+}
+
+/// The kinetic energy a chain carries, and what its account needs.
+struct Momentum<const D: usize> {
+    motion: Motion,
+    /// The unit generalised direction of the last move (an impact keeps the
+    /// part of the energy tangent to the contact met).
+    heading: Gen,
+    /// The fall of the last iteration, if it fell.
+    fell: Option<Real>,
+    /// The touching contacts before the last selection: one not among them
+    /// is an impact.
+    was_held: Vec<(u32, u64)>,
+    /// The rests left so far: a chain back in one of them stays.
+    rests: Vec<Pose<D>>,
 }
 
 impl<'s, 't, 'a, 'r, const D: usize> Descent<'s, 't, 'a, 'r, D> {
-    fn new(settler: &'s Settler<'t, 'a, D>, pose: Pose<D>, rule: Rule<'r>) -> Self {
+    fn new(
+        settler: &'s Settler<'t, 'a, D>,
+        pose: Pose<D>,
+        rule: Rule<'r>,
+        motion: Option<Motion>,
+    ) -> Self {
         let r = settler.shape.r;
         let mut target = Gen::zero();
         target[D - 1] = 1.0;
@@ -159,13 +187,30 @@ impl<'s, 't, 'a, 'r, const D: usize> Descent<'s, 't, 'a, 'r, D> {
             tight: false,
             nudges: 0,
             trace: Trace::new(),
+            momentum: motion.map(|motion| Momentum {
+                motion,
+                heading: -target,
+                fell: None,
+                was_held: Vec::with_capacity(MAX_TOUCHING),
+                rests: Vec::new(),
+            }),
+            by_rule: false,
         }
     }
 
     fn run<R: rand::Rng + ?Sized>(mut self, rng: &mut R, moves: &mut u64) -> Option<Pose<D>> {
         for it in 0..MAX_ITERATIONS {
             *moves += 1;
-            match self.iterate(it, rng) {
+            let before = self.pose;
+            let flow = self.iterate(it, rng);
+            if let Some(m) = self.momentum.as_mut() {
+                match m.fell.take() {
+                    Some(dz) => m.motion.fell(dz),
+                    None => m.motion.slid(&before.com, &self.pose.com),
+                }
+            }
+            match flow {
+                Flow::Rest if self.leave_pocket(moves) => self.h_prev = Real::INFINITY,
                 Flow::Rest => return Some(self.pose),
                 Flow::Stuck => return None,
                 Flow::Fresh => self.h_prev = Real::INFINITY,
@@ -190,13 +235,24 @@ impl<'s, 't, 'a, 'r, const D: usize> Descent<'s, 't, 'a, 'r, D> {
         } else {
             self.contact
         };
+        if let Some(mo) = self.momentum.as_mut() {
+            mo.was_held.clear();
+            mo.was_held.extend_from_slice(&self.held);
+        }
         self.select_touching(band, was_tight);
         let m = self.m;
         if m == 0 {
-            self.pose.com[D - 1] -= self.settler.fall_distance(&self.pose);
+            let dz = self.settler.fall_distance(&self.pose);
+            self.pose.com[D - 1] -= dz;
+            if let Some(mo) = self.momentum.as_mut() {
+                mo.fell = Some(dz);
+                mo.heading = -self.target;
+            }
             return Flow::Fresh;
         }
+        self.impacts();
         if self.rule.ruled && self.stops_here() && self.shut() {
+            self.by_rule = true;
             return Flow::Rest;
         }
         for j in 0..m {
@@ -211,6 +267,7 @@ impl<'s, 't, 'a, 'r, const D: usize> Descent<'s, 't, 'a, 'r, D> {
             .settling
             .slope
             .is_some_and(|s| residual.norm() < s)
+            && self.spent()
             && self.shut()
         {
             return Flow::Rest;
@@ -233,6 +290,78 @@ impl<'s, 't, 'a, 'r, const D: usize> Descent<'s, 't, 'a, 'r, D> {
             }
         }
         self.descend(it, &residual, band, rng)
+    }
+
+    /// Whether the chain has no kinetic energy left (always, without the
+    /// momentum rule): friction may hold it.
+    fn spent(&self) -> bool {
+        self.momentum
+            .as_ref()
+            .is_none_or(|m| m.motion.energy() <= 0.0)
+    }
+
+    /// The momentum rule's impacts: each touching contact that did not touch
+    /// before takes its share of the energy, `E' = E (1 − (1 − e²) cos² θ)`
+    /// with θ between the last move's direction and the contact's
+    /// generalised normal (as for a sphere; for one bead the same angle).
+    /// Of several met at once, the most head-on counts.
+    fn impacts(&mut self) {
+        let Some(mo) = self.momentum.as_mut() else {
+            return;
+        };
+        let mut cos2: Real = 0.0;
+        for &i in &self.which[..self.m] {
+            let c = &self.candidates[i];
+            if mo
+                .was_held
+                .iter()
+                .any(|&(b, k)| b == c.bead && k == c.obstacle.key)
+            {
+                continue;
+            }
+            let along = c.row.dot(&mo.heading);
+            if along < 0.0 {
+                cos2 = cos2.max(along * along / c.row.norm2());
+            }
+        }
+        if cos2 > 0.0 {
+            mo.motion.impact(cos2);
+        }
+    }
+
+    /// At a rest, with momentum: leaves the pocket over its lowest rim the
+    /// energy clears (`Settler::way_out`), unless a rule stopped the chain,
+    /// it has left [`MOST_EXITS`] pockets, or it is back in one it left.
+    /// Returns whether it left.
+    fn leave_pocket(&mut self, moves: &mut u64) -> bool {
+        let Some(mo) = self.momentum.as_mut() else {
+            return false;
+        };
+        let r = self.settler.shape.r;
+        let pose = self.pose;
+        let back = mo
+            .rests
+            .iter()
+            .any(|p| (p.com - pose.com).norm() < 1e-6 * r && (p.axis - pose.axis).norm() < 1e-6);
+        if self.by_rule || back || mo.rests.len() >= MOST_EXITS || mo.motion.energy() <= 0.0 {
+            return false;
+        }
+        mo.rests.push(pose);
+        let Some(exit) = self.settler.way_out(&pose, &mo.motion, self.contact) else {
+            return false;
+        };
+        *moves += exit.steps;
+        mo.motion.set_energy(exit.energy);
+        let mut heading = Gen::zero();
+        for k in 0..D {
+            heading[k] = exit.pose.com[k] - pose.com[k];
+        }
+        if let Some(h) = heading.normalized() {
+            mo.heading = h;
+        }
+        self.pose = exit.pose;
+        self.held.clear();
+        true
     }
 
     /// Whether the chain stops where it touches before it balances: it
@@ -441,6 +570,9 @@ impl<'s, 't, 'a, 'r, const D: usize> Descent<'s, 't, 'a, 'r, D> {
         if let Some(h) = self.line_search(&u, h, speed, rate_z) {
             self.trace
                 .note(format_args!("   step h {h:.3e} rate {rate_z:.3e}"));
+            if let Some(mo) = self.momentum.as_mut() {
+                mo.heading = u / u.norm();
+            }
             self.h_prev = h;
             return Flow::Again;
         }

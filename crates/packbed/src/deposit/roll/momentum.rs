@@ -30,7 +30,7 @@ use crate::geometry::{Arc, Crossing};
 use crate::math::{Real, Vector};
 
 /// The kinetic energy of one settling sphere, as a height.
-pub(super) struct Motion {
+pub(crate) struct Motion {
     /// `1 − e²`: the share of the normal energy an impact takes.
     lost: Real,
     /// The free fall before the first impact.
@@ -46,7 +46,7 @@ pub(super) struct Motion {
 
 impl Motion {
     /// The motion of a sphere of radius `r`.
-    pub(super) fn new(m: &Momentum, r: Real) -> Self {
+    pub(crate) fn new(m: &Momentum, r: Real) -> Self {
         Motion {
             lost: 1.0 - m.restitution * m.restitution,
             drop: m.drop_height.unwrap_or(2.0 * r),
@@ -58,19 +58,30 @@ impl Motion {
     }
 
     /// The energy left.
-    pub(super) fn energy(&self) -> Real {
+    pub(crate) fn energy(&self) -> Real {
         self.energy
     }
 
     /// The sliding friction coefficient.
-    pub(super) fn mu(&self) -> Real {
+    pub(crate) fn mu(&self) -> Real {
         self.mu
+    }
+
+    /// Whether a climb that meets a particle rolls on over it.
+    pub(crate) fn climb_over(&self) -> bool {
+        self.climb_over
+    }
+
+    /// Sets the energy left (a chain's climb out of a pocket is accounted
+    /// step by step where it climbs, and handed back at its end).
+    pub(crate) fn set_energy(&mut self, energy: Real) {
+        self.energy = energy.max(0.0);
     }
 
     /// A free fall of `dz`: the first lands with the energy of `drop_height`
     /// (the particle fell from the feed, not from just above the bed, where
     /// the engine starts it); later ones add their height.
-    pub(super) fn fell(&mut self, dz: Real) {
+    pub(crate) fn fell(&mut self, dz: Real) {
         if self.landed {
             self.descended(dz);
         } else {
@@ -80,25 +91,25 @@ impl Motion {
     }
 
     /// A move that lost `dz` of height (negative: climbed).
-    pub(super) fn descended(&mut self, dz: Real) {
+    pub(crate) fn descended(&mut self, dz: Real) {
         self.energy = (self.energy + dz).max(0.0);
     }
 
     /// A move on supports from `a` to `b`: it gains its descent and loses
     /// to friction µ times its horizontal travel (the chord's: exact on a
     /// plane, and on a circle short against its radius).
-    pub(super) fn slid<const D: usize>(&mut self, a: &Vector<D>, b: &Vector<D>) {
+    pub(crate) fn slid<const D: usize>(&mut self, a: &Vector<D>, b: &Vector<D>) {
         self.energy = left_after(self.energy, self.mu, a, b).max(0.0);
     }
 
     /// An impact where `cos2` is the largest `cos² θ` between the direction
     /// of travel and a new contact's normal.
-    pub(super) fn impact(&mut self, cos2: Real) {
+    pub(crate) fn impact(&mut self, cos2: Real) {
         self.energy *= self.kept_at_impact(cos2);
     }
 
     /// The share of the energy an impact of [`Motion::impact`] keeps.
-    fn kept_at_impact(&self, cos2: Real) -> Real {
+    pub(crate) fn kept_at_impact(&self, cos2: Real) -> Real {
         1.0 - self.lost * cos2.clamp(0.0, 1.0)
     }
 }
