@@ -34,7 +34,7 @@ const HALVINGS: usize = 12;
 
 /// A chain's way out of its pocket.
 pub(super) struct Exit<const D: usize> {
-    /// Past the top, on the far side.
+    /// Just past the top, on the far side.
     pub pose: Pose<D>,
     /// The energy left there.
     pub energy: Real,
@@ -109,7 +109,7 @@ impl<const D: usize> Settler<'_, '_, D> {
     }
 
     /// Climbs from `start` away from the support `gone`, keeping `kept`
-    /// shut, to the top of the climb and a step beyond; `None` where the
+    /// shut, to just past the top of the climb; `None` where the
     /// energy runs out first, another obstacle is met (without
     /// `climb_over`), or the kept supports leave no freedom.
     fn climb(
