@@ -11,6 +11,7 @@
 //! 3. a one-bead chain is a sphere: the same bed for the same seed;
 //! 4. determinism.
 
+use crate::common::order_parameter;
 use crate::common::{config, run, TOL};
 use packbed::Bed;
 use packbed::{check_bed, CheckReport as Report};
@@ -51,28 +52,6 @@ fn with_chain<const D: usize>(fixed: &Bed<D>, beads: &[Vector<D>], r: Real) -> B
 fn assert_ok(report: &Report, what: &str) {
     assert!(report.is_ok(), "{what}: {report}");
     assert!(report.max_overlap <= TOL, "{what}: {report}");
-}
-
-/// Order parameter `<(3 cos² θ − 1)/2>` of chain axes with respect to the
-/// vertical (end bead to end bead; periodic images unwrapped).
-fn order_parameter<const D: usize>(bed: &Bed<D>) -> (Real, usize) {
-    let mut sum = 0.0;
-    let mut n = 0;
-    let mut i = 0;
-    while i < bed.len() {
-        let mut j = i;
-        while j + 1 < bed.len() && bed.bodies[j + 1] == bed.bodies[i] {
-            j += 1;
-        }
-        if j > i {
-            let a = bed.container.displacement(&bed.centres[i], &bed.centres[j]);
-            let c = a[D - 1] / a.norm();
-            sum += 0.5 * (3.0 * c * c - 1.0);
-            n += 1;
-        }
-        i = j + 1;
-    }
-    (sum / n.max(1) as Real, n)
 }
 
 // ---------------------------------------------------------------------------

@@ -3,7 +3,7 @@
 //! fixes exactly (a particle stopping at its k-th contact adds k contacts, so
 //! the bulk mean coordination is 2k).
 
-use crate::common::{assert_checked, config, run, TOL};
+use crate::common::{assert_checked, config, order_parameter, run, TOL};
 use packbed::analyze;
 use packbed::Bed;
 use packbed::InvariantChecks;
@@ -464,6 +464,31 @@ fn with_size_dependent_cohesion_fine_powders_pack_looser() {
     }
 }
 
+/// Two touching discs of radius 1 on the floor of a walled box, at x = 4
+/// and 6: a pocket at x = 5, 1 + √3 high.
+fn two_disc_pocket() -> Bed<2> {
+    Bed::of_spheres(
+        [10.0, 50.0],
+        false,
+        [([4.0, 1.0], 1.0, 0), ([6.0, 1.0], 1.0, 0)],
+    )
+}
+
+/// Three touching unit spheres on the floor of a walled box, their
+/// centroid at (10, 9 + √3/3): a pocket 1 + √(8/3) high.
+fn three_sphere_pocket() -> Bed<3> {
+    let s3 = (3.0 as Real).sqrt();
+    Bed::of_spheres(
+        [20.0, 20.0, 50.0],
+        false,
+        [
+            ([9.0, 9.0, 1.0], 1.0, 0),
+            ([11.0, 9.0, 1.0], 1.0, 0),
+            ([10.0, 9.0 + s3, 1.0], 1.0, 0),
+        ],
+    )
+}
+
 #[test]
 fn momentum_leaves_a_pocket_only_over_a_rim_its_energy_clears() {
     // Two touching discs of radius 1 on the floor, at x = 4 and 6; a disc
@@ -472,11 +497,7 @@ fn momentum_leaves_a_pocket_only_over_a_rim_its_energy_clears() {
     // h (1 − (1 − e²) cos² 30°) of its fall h. The rims are the discs' tops,
     // 3 high: 2 − √3 above the pocket. Over a rim it rolls down the far side
     // to the floor, at x = 2 or 8.
-    let b = Bed::of_spheres(
-        [10.0, 50.0],
-        false,
-        [([4.0, 1.0], 1.0, 0), ([6.0, 1.0], 1.0, 0)],
-    );
+    let b = two_disc_pocket();
     let barrier = 2.0 - (3.0 as Real).sqrt();
     let pocket = [5.0, 1.0 + (3.0 as Real).sqrt()];
     for e in [0.0, 0.5] {
@@ -514,15 +535,7 @@ fn momentum_climbs_the_groove_of_two_supports_out_of_a_three_sphere_pocket() {
     // keeps two supports, 1 + √3 high. Restitution 0: it keeps a third of
     // its fall's energy.
     let s3 = (3.0 as Real).sqrt();
-    let b = Bed::of_spheres(
-        [20.0, 20.0, 50.0],
-        false,
-        [
-            ([9.0, 9.0, 1.0], 1.0, 0),
-            ([11.0, 9.0, 1.0], 1.0, 0),
-            ([10.0, 9.0 + s3, 1.0], 1.0, 0),
-        ],
-    );
+    let b = three_sphere_pocket();
     let centroid = [10.0, 9.0 + s3 / 3.0];
     let rest = 1.0 + (8.0 as Real / 3.0).sqrt();
     let needed = 3.0 * (1.0 + s3 - rest);
@@ -684,11 +697,7 @@ fn a_one_bead_chain_leaves_a_pocket_over_the_rims_a_sphere_does() {
     // followed in steps) on the hand-solved pockets of the sphere tests
     // above: 2D, two discs; 3D, three spheres; the same energy thresholds
     // to 3 %, the same rests.
-    let b2 = Bed::of_spheres(
-        [10.0, 50.0],
-        false,
-        [([4.0, 1.0], 1.0, 0), ([6.0, 1.0], 1.0, 0)],
-    );
+    let b2 = two_disc_pocket();
     let s3 = (3.0 as Real).sqrt();
     for e in [0.0, 0.5] {
         let needed = (2.0 - s3) / (1.0 - (1.0 - e * e) * 0.75);
@@ -706,15 +715,7 @@ fn a_one_bead_chain_leaves_a_pocket_over_the_rims_a_sphere_does() {
             }
         }
     }
-    let b3 = Bed::of_spheres(
-        [20.0, 20.0, 50.0],
-        false,
-        [
-            ([9.0, 9.0, 1.0], 1.0, 0),
-            ([11.0, 9.0, 1.0], 1.0, 0),
-            ([10.0, 9.0 + s3, 1.0], 1.0, 0),
-        ],
-    );
+    let b3 = three_sphere_pocket();
     let centroid = [10.0, 9.0 + s3 / 3.0];
     let rest = 1.0 + (8.0 as Real / 3.0).sqrt();
     let needed = 3.0 * (1.0 + s3 - rest);
@@ -745,35 +746,14 @@ fn momentum_packs_rod_beds_denser_and_flatter() {
     // parameter S = <(3 cos² θ − 1) / 2> of their axes to the vertical falls
     // (toward −1/2, all flat).
     let rods = "[[species]]\nradius = 1\nshape = \"chain\"\nbeads = 3\n";
-    let order = |b: &Bed<3>| {
-        let mut sum = 0.0;
-        let mut n = 0;
-        for w in b.bodies.chunks(3) {
-            assert!(w.len() == 3 && w[0] == w[2], "rods of three beads in order");
-        }
-        let mut k = 0;
-        while k + 2 < b.len() {
-            let mut a = b.centres[k + 2] - b.centres[k];
-            for i in 0..2 {
-                // Unwrap a rod across the periodic sides (box 30 wide).
-                if a[i] > 15.0 {
-                    a[i] -= 30.0;
-                } else if a[i] < -15.0 {
-                    a[i] += 30.0;
-                }
-            }
-            let c = a[2] / a.norm();
-            sum += 1.5 * c * c - 0.5;
-            n += 1;
-            k += 3;
-        }
-        sum / n as Real
-    };
     let plain = bed_config(3, true, 4500, rods, "");
     let moving = bed_config(3, true, 4500, rods, "restitution = 0.5\ndrop_height = 10");
     let (phi0, _) = bulk::<3>(&plain);
     let (phi, _) = bulk::<3>(&moving);
-    let (s0, s) = (order(&run::<3>(&plain).0), order(&run::<3>(&moving).0));
+    let (s0, s) = (
+        order_parameter(&run::<3>(&plain).0).0,
+        order_parameter(&run::<3>(&moving).0).0,
+    );
     eprintln!("rods: bulk φ {phi0:.4} -> {phi:.4}, S {s0:.3} -> {s:.3}");
     assert!(phi > phi0 + 0.005, "φ {phi} against rolling {phi0}");
     assert!(s < s0 - 0.05, "S {s} against rolling {s0}");

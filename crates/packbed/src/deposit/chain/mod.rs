@@ -210,6 +210,22 @@ impl<const D: usize> Settler<'_, '_, D> {
         )
     }
 
+    /// Conservative advancement: the longest step along `u` (turning at the
+    /// rate `turn`) before candidate `c`'s gap could close, a lower bound on
+    /// the gap along the step from the convexity of the distance to a point
+    /// and a bound on the curvature of the rotation (infinite if it opens).
+    fn advancement(&self, c: &Candidate<D>, u: &Gen, turn: Real) -> Real {
+        let rate = c.row.dot(u);
+        let gap = c.gap.max(0.0);
+        let kappa = turn * turn * self.shape.offset(c.bead).abs();
+        let disc = (rate * rate + 4.0 * kappa * gap).sqrt() - rate;
+        if disc > 0.0 {
+            2.0 * gap / disc
+        } else {
+            Real::INFINITY
+        }
+    }
+
     /// A bound on how far any point of the chain moved from `a` to `b`.
     #[inline]
     fn reach(&self, a: &Pose<D>, b: &Pose<D>) -> Real {

@@ -257,15 +257,10 @@ impl<const D: usize> Settler<'_, '_, D> {
             if is_kept(kept, c) || (c.bead == gone.0 && c.obstacle.key == gone.1.key) {
                 continue;
             }
-            let rate = c.row.dot(d);
-            if c.gap < band && rate >= -1e-12 {
+            if c.gap < band && c.row.dot(d) >= -1e-12 {
                 continue; // touching, not closing
             }
-            let kappa = turn * turn * self.shape.offset(c.bead).abs();
-            let disc = (rate * rate + 4.0 * kappa * c.gap.max(0.0)).sqrt() - rate;
-            if disc > 0.0 {
-                h = h.min(2.0 * c.gap.max(0.0) / disc);
-            }
+            h = h.min(self.advancement(c, d, turn));
         }
         h
     }

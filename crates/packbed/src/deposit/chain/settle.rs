@@ -579,22 +579,16 @@ impl<'s, 't, 'a, 'r, const D: usize> Descent<'s, 't, 'a, 'r, D> {
         self.no_step(it, residual.norm(), h, rng)
     }
 
-    /// Bounds the step `h` along `u` by conservative advancement against every
-    /// candidate not touching: a lower bound on each gap along the step, from
-    /// the convexity of the distance to a point and a bound on the curvature
-    /// of the rotation (`turn` the rate of turning).
+    /// Bounds the step `h` along `u` by conservative advancement
+    /// (`Settler::advancement`) against every candidate not touching (`turn`
+    /// the rate of turning).
     fn advancement_bound(&self, mut h: Real, u: &Gen, turn: Real, band: Real) -> Real {
         let m = self.m;
         for (i, c) in self.candidates.iter().enumerate() {
             if c.gap < band || (c.gap < 2.0 * band && self.which[..m].contains(&i)) {
                 continue;
             }
-            let rate = c.row.dot(u);
-            let kappa = turn * turn * self.settler.shape.offset(c.bead).abs();
-            let disc = (rate * rate + 4.0 * kappa * c.gap).sqrt() - rate;
-            if disc > 0.0 {
-                h = h.min(2.0 * c.gap / disc);
-            }
+            h = h.min(self.settler.advancement(c, u, turn));
         }
         h
     }
