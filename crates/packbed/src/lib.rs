@@ -179,6 +179,7 @@ pub use analysis::{analyze, analyze_with, bulk_region, coordination, Percolation
 pub use config::{BaseLayerKind, Fill, Settling, SettlingConfig, SizeConfig, SpeciesConfig};
 pub use container::{Container, Wall};
 pub use deposit::chain::{ChainShape, Pose};
+pub use deposit::compaction::CompactionStop;
 pub use deposit::{build, deposit, drop_onto, DepositReport, Entry};
 pub use ensemble::seeds::replicate_seed;
 pub use ensemble::{run_dir as ensemble_run_dir, ENSEMBLE_FILES, MANIFEST, SWEEP_FILES};

@@ -53,13 +53,39 @@ pub struct CompactionReport {
     pub descent: Real,
     /// The last step's descent of the centre of mass, in mean diameters.
     pub last_descent: Real,
-    /// Why it stopped: `until` (converged), `steps` (the step budget) or
-    /// `solver` (the quadratic programme was not solved to its tolerance) or
-    /// `overlap` (even 2⁻³⁰ of a step overlapped); the bed is then as the last
-    /// step left it.
-    pub stopped_by: &'static str,
+    /// Why it stopped.
+    pub stopped_by: CompactionStop,
     /// Wall time in seconds.
     pub seconds: f64,
+}
+
+/// Why a compaction stopped: `compaction.stopped_by` of `summary.json`, in
+/// lower case.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CompactionStop {
+    /// Converged: its stop rule held at the finest step.
+    Until,
+    /// The step budget ran out first.
+    #[default]
+    Steps,
+    /// A step's quadratic programme was not solved to its tolerance; the bed
+    /// is as the last step left it.
+    Solver,
+    /// Even 2⁻³⁰ of a step overlapped; the bed is as the last step left it.
+    Overlap,
+}
+
+impl CompactionStop {
+    /// Why it stopped, in the words of the run's text.
+    pub fn says(self) -> &'static str {
+        match self {
+            Self::Until => "came to rest",
+            Self::Steps => "stopped by the step budget",
+            Self::Solver => "stopped by the solver",
+            Self::Overlap => "stopped by an overlap",
+        }
+    }
 }
 
 impl CompactionReport {
@@ -69,15 +95,15 @@ impl CompactionReport {
     pub fn warning(&self) -> Option<String> {
         let n = self.steps;
         match self.stopped_by {
-            "steps" if n > 0 => Some(format!(
+            CompactionStop::Steps if n > 0 => Some(format!(
                 "compaction: stopped at its budget of {n} steps before it came to rest (the last step still lowered the centre of mass by {:.1e} mean diameters); the bed may still be settling: raise compaction.steps",
                 self.last_descent
             )),
-            "solver" => Some(format!(
+            CompactionStop::Solver => Some(format!(
                 "compaction: the quadratic programme of step {} was not solved to its tolerance; the bed is as step {n} left it (no overlap), not at rest",
                 n + 1
             )),
-            "overlap" => Some(format!(
+            CompactionStop::Overlap => Some(format!(
                 "compaction: step {} overlapped even at 2^-30 of its length; the bed is as step {n} left it (no overlap), not at rest",
                 n + 1
             )),
@@ -137,12 +163,9 @@ struct Pair<const D: usize> {
 pub fn compact<const D: usize>(bed: &mut Bed<D>, c: &Compaction) -> Result<CompactionReport> {
     let start = std::time::Instant::now();
     let n = bed.centres.len();
-    let mut report = CompactionReport {
-        stopped_by: "steps",
-        ..CompactionReport::default()
-    };
+    let mut report = CompactionReport::default();
     if n == 0 {
-        report.stopped_by = "until";
+        report.stopped_by = CompactionStop::Until;
         return Ok(report);
     }
     let r_mean = bed.radii.iter().sum::<Real>() / n as Real;
@@ -158,7 +181,7 @@ pub fn compact<const D: usize>(bed: &mut Bed<D>, c: &Compaction) -> Result<Compa
     for _ in 0..c.steps {
         let pairs = pairs_within(bed, unit * reach(step));
         let Some(u) = solve_step(bed, &pairs, &weights, unit, step, c.friction) else {
-            report.stopped_by = "solver";
+            report.stopped_by = CompactionStop::Solver;
             break;
         };
         let furthest = u
@@ -167,7 +190,7 @@ pub fn compact<const D: usize>(bed: &mut Bed<D>, c: &Compaction) -> Result<Compa
             .fold(0.0, Real::max);
         let cap = (LONGEST_MOVE * step / furthest).min(1.0);
         let Some(t) = largest_safe_fraction(&pairs, &u, unit, cap) else {
-            report.stopped_by = "overlap";
+            report.stopped_by = CompactionStop::Overlap;
             break;
         };
         let mut descent = 0.0;
@@ -196,7 +219,7 @@ pub fn compact<const D: usize>(bed: &mut Bed<D>, c: &Compaction) -> Result<Compa
             if step > finest {
                 step = (step * 0.25).max(finest);
             } else if longest < STILL * step {
-                report.stopped_by = "until";
+                report.stopped_by = CompactionStop::Until;
                 break;
             }
         }
@@ -456,7 +479,7 @@ mod tests {
             &[(10.0, 1.0, 1.0), (10.3, 1.0 + (4.0_f64 - 0.09).sqrt(), 1.0)],
         );
         let r = compact(&mut bed, &default()).unwrap();
-        assert_eq!(r.stopped_by, "until", "{r:?}");
+        assert_eq!(r.stopped_by, CompactionStop::Until, "{r:?}");
         for c in &bed.centres {
             assert!((c[1] - 1.0).abs() < 1e-8, "{c:?}");
         }
@@ -486,7 +509,7 @@ mod tests {
                 ..default()
             };
             let r = compact(&mut bed, &c).unwrap();
-            assert_eq!(r.stopped_by, "until", "µ {mu}: {r:?}");
+            assert_eq!(r.stopped_by, CompactionStop::Until, "µ {mu}: {r:?}");
             if holds {
                 for (a, b) in bed.centres.iter().zip(&before) {
                     assert!((*a - *b).norm() < 1e-5, "µ {mu}: {a:?} moved from {b:?}");
@@ -516,19 +539,25 @@ mod tests {
             ..default()
         };
         let r = compact(&mut bed(), &short).unwrap();
-        assert_eq!((r.stopped_by, r.steps), ("steps", 2), "{r:?}");
+        assert_eq!((r.stopped_by, r.steps), (CompactionStop::Steps, 2), "{r:?}");
         assert!(r.last_descent > 1e-4, "{r:?}");
         let w = r.warning().expect("a warning");
         assert!(w.contains("budget of 2 steps"), "{w}");
         assert!(w.contains(&format!("{:.1e}", r.last_descent)), "{w}");
         let done = compact(&mut bed(), &default()).unwrap();
-        assert_eq!((done.stopped_by, done.warning()), ("until", None));
+        assert_eq!(
+            (done.stopped_by, done.warning()),
+            (CompactionStop::Until, None)
+        );
         let none = Compaction {
             steps: 0,
             ..default()
         };
         assert_eq!(compact(&mut bed(), &none).unwrap().warning(), None);
-        for (why, says) in [("solver", "not solved"), ("overlap", "overlapped")] {
+        for (why, says) in [
+            (CompactionStop::Solver, "not solved"),
+            (CompactionStop::Overlap, "overlapped"),
+        ] {
             let cut = CompactionReport {
                 stopped_by: why,
                 steps: 7,
@@ -581,7 +610,7 @@ mod tests {
             &[(1.5, 1.0, 1.0), (3.5, 1.0, 1.0), (2.5, h, 1.0)],
         );
         let r = compact(&mut bed, &default()).unwrap();
-        assert_eq!(r.stopped_by, "until", "{r:?}");
+        assert_eq!(r.stopped_by, CompactionStop::Until, "{r:?}");
         let expect = [[1.0, 1.0], [4.0, 1.0], [2.5, 1.0 + 1.75_f64.sqrt()]];
         for (c, e) in bed.centres.iter().zip(expect) {
             assert!((*c - Vector(e)).norm() < 1e-7, "{c:?} != {e:?}");

@@ -135,12 +135,7 @@ pub fn run_text(s: &RunSummary, out: &Path, files: &[PathBuf]) -> String {
         bulk_hint(s).as_deref(),
     ));
     if let Some(c) = &s.compaction {
-        let why = match c.stopped_by {
-            "until" => "came to rest",
-            "steps" => "stopped by the step budget",
-            "solver" => "stopped by the solver",
-            _ => "stopped by an overlap",
-        };
+        let why = c.stopped_by.says();
         let _ = writeln!(
             t,
             "  compaction: {} steps ({why}), centre of mass down {:.4}{unit}, {:.1} s",

@@ -5,7 +5,7 @@
 //! measured against the same bed settled without it.
 
 use crate::common::{config, run, TOL};
-use packbed::{analyze, Bed, InvariantChecks, Real, Supports};
+use packbed::{analyze, Bed, CompactionStop, InvariantChecks, Real, Supports};
 
 /// The bed of `text` with and without `[compaction]` (the table's keys in
 /// `compaction`): bulk φ and mean Z of each, and the compacted bed.
@@ -23,7 +23,10 @@ fn with_and_without<const D: usize>(text: &str, compaction: &str) -> ([(Real, Re
     let (after, report) = run::<D>(&compacted);
     let c = report.compaction.expect("a compaction report");
     eprintln!("{c:?}");
-    assert!(["until", "steps"].contains(&c.stopped_by), "{c:?}");
+    assert!(
+        [CompactionStop::Until, CompactionStop::Steps].contains(&c.stopped_by),
+        "{c:?}"
+    );
     ([measure(&before), measure(&after)], after)
 }
 
@@ -98,7 +101,7 @@ fn friction_in_the_compaction_reaches_a_frictional_pour() {
     let (bed, report) = run::<3>(&compacted);
     let c = report.compaction.expect("a compaction report");
     eprintln!("{c:?}");
-    assert_eq!(c.stopped_by, "until", "{c:?}");
+    assert_eq!(c.stopped_by, CompactionStop::Until, "{c:?}");
     let (_, s) = analyze(&bed, compacted.analysis.contact_tol);
     let phi = s.packing.unwrap().bulk.expect("bulk");
     let z = s.coordination.unwrap().mean_bulk.expect("bulk");
