@@ -32,30 +32,35 @@ from scipy.spatial import cKDTree
 TOLS = {"1e-6": 1e-6, "1e-3": 1e-3, "1e-2": 1e-2}
 
 
-def read_bed(path, box):
-    """Return (x, y, z, r, Lx, Ly)."""
+def read_columns(path, box):
+    """The columns of a bed by name, with x and y from 0, and its x, y
+    period: the last frame of a LAMMPS dump (`radius` renamed `r`) or a
+    packbed CSV (the period given as `box`)."""
     with open(path) as f:
         text = f.read()
     if text.startswith("ITEM:"):
-        # last frame of a LAMMPS dump
         start = text.rfind("ITEM: TIMESTEP")
         lines = text[start:].splitlines()
         i = lines.index(next(l for l in lines if l.startswith("ITEM: BOX BOUNDS")))
         xb = [float(v) for v in lines[i + 1].split()[:2]]
         yb = [float(v) for v in lines[i + 2].split()[:2]]
         j = lines.index(next(l for l in lines if l.startswith("ITEM: ATOMS")))
-        cols = lines[j].split()[2:]
+        cols = ["r" if c == "radius" else c for c in lines[j].split()[2:]]
         data = np.array([l.split() for l in lines[j + 1:] if l.strip()], dtype=float)
         c = {name: data[:, k] for k, name in enumerate(cols)}
-        Lx, Ly = xb[1] - xb[0], yb[1] - yb[0]
-        return c["x"] - xb[0], c["y"] - yb[0], c["z"], c["radius"], Lx, Ly
-    # packbed CSV
+        c["x"], c["y"] = c["x"] - xb[0], c["y"] - yb[0]
+        return c, xb[1] - xb[0], yb[1] - yb[0]
     header = text.splitlines()[0].split(",")
     data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    c = {name: data[:, k] for k, name in enumerate(header)}
     if box is None:
         sys.exit("a CSV bed needs --box L (the x, y period)")
-    return c["x"], c["y"], c["z"], c["r"], box, box
+    return {name: data[:, k] for k, name in enumerate(header)}, box, box
+
+
+def read_bed(path, box):
+    """Return (x, y, z, r, Lx, Ly)."""
+    c, Lx, Ly = read_columns(path, box)
+    return c["x"], c["y"], c["z"], c["r"], Lx, Ly
 
 
 def slab_volume(z, r, a, b):
@@ -144,20 +149,24 @@ def measure(x, y, z, r, Lx, Ly):
     return out
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def cli(doc, read, fn, hide=()):
+    """The command line of a measure: BED [--box L] [--json FILE]; prints the
+    JSON without the keys in `hide`, writes all of it to FILE."""
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("bed")
     ap.add_argument("--box", type=float, help="x, y period of a CSV bed")
     ap.add_argument("--json", help="write the JSON here too")
     a = ap.parse_args()
-    out = measure(*read_bed(a.bed, a.box))
+    out = fn(*read(a.bed, a.box))
     out["file"] = a.bed
-    s = json.dumps(out, indent=1)
     if a.json:
         with open(a.json, "w") as f:
-            f.write(s + "\n")
-    short = {k: v for k, v in out.items() if k not in ("g_r",)}
-    print(json.dumps(short))
+            f.write(json.dumps(out, indent=1) + "\n")
+    print(json.dumps({k: v for k, v in out.items() if k not in hide}))
+
+
+def main():
+    cli(__doc__, read_bed, measure, hide=("g_r",))
 
 
 if __name__ == "__main__":
