@@ -14,10 +14,13 @@ the sphere pours differ only in the particles and their insertion:
     not interact (neigh_modify exclude molecule/intra);
   - a rod is one rigid body (fix rigid/small molecule): its mass and inertia
     are the sum of its beads';
-  - fix pour inserts the rods at rest, at random positions and orientations
-    (LAMMPS rotates each inserted molecule about a random axis), at fix pour's
+  - fix pour inserts the rods at random positions and orientations (LAMMPS
+    rotates each inserted molecule about a random axis), at fix pour's
     volume fraction VOL_POUR, into a slab ABOVE_BED d above the final bed's top,
-    RAIN d tall: a rain of loose clouds, as pour.py's batches;
+    RAIN d tall, each moving down at the speed of a fall from the slab's top
+    (fix pour's rule; checked: the lowest of a cloud start at 4.86 sqrt(g d)
+    in a slab 12 d tall): a rain of loose clouds that all fall from the slab's
+    top, faster on impact than pour.py's batches, which start at rest;
   - after the pour, the bed is run until the kinetic energy per bead is below
     KE_TOL m_ref g d or for at most --settle, and the final frame is written
     to bed.dump (id mol radius x y z vx vy vz).
