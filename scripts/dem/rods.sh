@@ -30,15 +30,17 @@ rule() {
     m0.6)    printf '[settling]\nrestitution = 0.5\nsliding_friction = 0.6\n' ;;
     a10)     printf '[settling]\nfriction_angle = 10\n' ;;
     a20)     printf '[settling]\nfriction_angle = 20\n' ;;
+    *)       echo "rods.sh: unknown rule $1 (default m0 m0.3 m0.6 a10 a20)" >&2; return 1 ;;
   esac
 }
 for r in ${RULES:-default m0 m0.3 m0.6 a10 a20}; do
   for seed in 1 2 3; do
     d=$WORK/rods/packbed_${r}_s$seed
     [ -f "$d/measure.json" ] && continue
+    spec=$(rule "$r")
     mkdir -p "$d"
     printf 'dim = 3\nseed = %s\n\n[box]\nwidth = 10\ndepth = 10\nheight = 80\nperiodic = true\n\n[fill]\ncount = %s\nbase_layer = "none"\n\n[[species]]\nradius = 0.5\nshape = "chain"\nbeads = 3\nspacing = 2\norientation = "random"\n\n%s\n' \
-      "$seed" "$((3 * RODS))" "$(rule "$r")" > "$d/cfg.toml"
+      "$seed" "$((3 * RODS))" "$spec" > "$d/cfg.toml"
     lock env RAYON_NUM_THREADS=1 /usr/bin/time -v -o "$d/time.txt" nice -n 19 \
       "$PB" run "$d/cfg.toml" --out "$d" --no-pictures -q
     (cd "$S" && lock nice -n 19 "$PY" measure_rods.py "$d/particles.csv" --box 10 --json "$d/measure.json" > /dev/null)
