@@ -2,8 +2,8 @@
 """Fit the cohesion law's d_c to a published porosity-against-size relation,
 and check the fitted law against a relation it was not fitted to.
 
-The law (docs/settling.md): a particle of diameter d sticks at a new contact
-with probability p = 1 / (1 + (d / d_c)^n).  Its two parameters are fitted
+The law (docs/settling.md; its fit: docs/settling-validation.md): a particle
+of diameter d sticks at a new contact with probability p = 1 / (1 + (d / d_c)^n).  Its two parameters are fitted
 here to Wu & Wang (2006), the porosity of freshly deposited sediment against
 its median diameter, and compared with Komura (1963), which was not used in
 the fit.  Both are correlations of measured porosities of particles settled

@@ -1,5 +1,5 @@
 #!/bin/bash
-# The heap tables of docs/settling.md: the flank slope (`packing.heap`) of a
+# The heap tables of docs/settling-validation.md: the flank slope (`packing.heap`) of a
 # heap poured from a point under each rule, 2D and 3D.
 # Run from the repository root after `cargo build --release`.
 #   scripts/settling-heaps.sh          every rule, seed 1; prints

@@ -1,5 +1,5 @@
 #!/bin/bash
-# The settling rules' validation table of docs/settling.md: bulk packing
+# The settling rules' validation table of docs/settling-validation.md: bulk packing
 # fraction and mean coordination of each rule, 3D and 2D, seeds 1-3.
 # Run from the repository root after `cargo build --release`; writes into a
 # scratch directory and prints one line per bed:

@@ -1,7 +1,7 @@
 #!/bin/bash
 # DEM pours of rigid 3-bead rods (pour_rods.py) beside packbed's rules for the
-# same rods, measured alike by measure_rods.py (docs/settling.md, "Momentum
-# for rigid chains": the DEM peer).  Scratch folder WORK (default /work/dem),
+# same rods, measured alike by measure_rods.py (docs/settling-validation.md,
+# "Momentum for rods": the DEM peer).  Scratch folder WORK (default /work/dem),
 # never the repository; one process at a time, each on one core (common.sh).
 #   needs: lmp (Debian's lammps, with RIGID and GRANULAR), PY (numpy, scipy), PB.
 set -euo pipefail

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""The rods' table (docs/settling.md): DEM pours and packbed rules side by
-side, from rods.sh's WORK/rods/*/measure.json and time.txt.
+"""The rods' table (docs/settling-validation.md, "Momentum for rods"): DEM
+pours and packbed rules side by side, from rods.sh's WORK/rods/*/measure.json
+and time.txt.
 Usage: rods_table.py [WORK/rods]"""
 import glob
 import json
