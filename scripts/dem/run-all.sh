@@ -41,7 +41,9 @@ RULES="m0 m0.3 m0.6" OUT=packbed_momentum N=2000 ./packbed_runs.sh
 venv/bin/python fill_results.py   # the tables in RESULTS.md
 # the rest of the calibration, with this venv and this packbed
 if [ "${REST:-0}" = 1 ]; then
-  export PY=$PWD/venv/bin/python PB=$(realpath "${PB:-../../target/release/packbed}")
+  venv/bin/pip install -q matplotlib   # a venv made before it needed the plots
+  PB=$(realpath "${PB:-../../target/release/packbed}")
+  export PY=$PWD/venv/bin/python PB
   ./gr-cohesion.sh
   ./cohesion-sizes.sh
   ./gr-sizes.sh
